@@ -1,0 +1,34 @@
+// 3D Harris interest-point response (Laptev-Lindeberg form) on an opacity volume.
+//
+//   g = grad I            central differences in world units, border voxels replicated
+//   M = G_sigma * (g g^T)  separable Gaussian of width KernelWidth (voxels), border replicated
+//   R = det(M) - k tr(M)^3
+//
+// For a single slice (one axis of size 1) the 2D form R = det(M2) - k tr(M2)^2 on the two
+// in-plane axes is used, since the 3D determinant of a slice is always zero.
+#pragma once
+
+#include "ImageGrid.h"
+
+namespace mcv
+{
+
+struct HarrisParameters
+{
+  double sigma = 1.5;  // Gaussian standard deviation, in voxels
+  int kernelWidth = 5; // taps per axis (odd, >= 1)
+  double k = 0.004;    // sensitivity constant
+};
+
+// Normalised 1D Gaussian taps (size kernelWidth, sums to 1). Shared by the CPU and GPU paths.
+void gaussianTaps(const HarrisParameters& params, float* taps);
+
+// Returns an empty string when the parameters are usable, else what is wrong.
+const char* checkHarrisParameters(const HarrisParameters& params);
+
+// CPU (OpenMP) response for every voxel. `opacity` and `response` hold grid.voxelCount()
+// floats, x fastest. Requires grid.extendedAxes() >= 2 and valid parameters.
+void computeHarrisResponseCPU(
+  const float* opacity, const ImageGrid& grid, const HarrisParameters& params, float* response);
+
+} // namespace mcv

@@ -1,0 +1,52 @@
+// Scalars -> opacity: a piecewise-linear function applied to one or more channels.
+#pragma once
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace mcv
+{
+
+// Piecewise-linear opacity: nodes (x ascending, alpha in [0,1]); constant beyond the ends.
+struct OpacityFunction
+{
+  std::vector<double> x;
+  std::vector<double> alpha;
+
+  // 0 at `lo` rising linearly to 1 at `hi` (the default: a channel's own range).
+  static OpacityFunction ramp(double lo, double hi);
+  bool empty() const { return x.empty(); }
+  double evaluate(double value) const;
+};
+
+enum class ScalarType
+{
+  Int8,
+  UInt8,
+  Int16,
+  UInt16,
+  Int32,
+  UInt32,
+  Float32,
+  Float64
+};
+
+// One channel of an interleaved array: value of voxel v is data[v * numComponents + component].
+struct ChannelView
+{
+  const void* data = nullptr;
+  ScalarType type = ScalarType::Float32;
+  int numComponents = 1;
+  int component = 0;
+};
+
+// Finite min and max of a channel; {+inf, -inf} when it holds no finite value.
+std::pair<double, double> finiteRange(const ChannelView& channel, std::size_t count);
+
+// opacity[v] = max(opacity[v], f(channel[v])) for every voxel (OpenMP). NaN/Inf voxels
+// map to 0; returns how many there were so the caller can warn.
+std::size_t accumulateOpacity(
+  const ChannelView& channel, std::size_t count, const OpacityFunction& f, float* opacity);
+
+} // namespace mcv

@@ -1,0 +1,37 @@
+// GPU path of the best-viewpoint pipeline: Harris response and top-N selection on the
+// device. Plain C++ interface (no CUDA types), so the core can call it; built only when
+// MCV_ENABLE_CUDA is on (the core then defines MCV_HAS_CUDA).
+#pragma once
+
+#include "../Filters/Core/HarrisResponse.h"
+#include "../Filters/Core/ImageGrid.h"
+#include "../Filters/Core/TopResponses.h"
+
+#include <string>
+
+namespace mcv
+{
+namespace cuda
+{
+
+// True when a CUDA device can be used; else `reason` says why (never reads the device
+// count after an error: see notes/gpu.md).
+bool deviceUsable(std::string* reason = nullptr);
+
+struct GpuStageTimings
+{
+  double uploadMs = 0, harrisMs = 0, selectMs = 0, downloadMs = 0;
+};
+
+// Host volume in, top-N interest points out (same contract as computeHarrisResponseCPU +
+// selectTopResponsesCPU). Returns false with `error` set on any CUDA failure, so the
+// caller can fall back to the CPU.
+bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisParameters& params,
+  int N, InterestPoints& out, std::string* error, GpuStageTimings* timings = nullptr);
+
+// The whole response volume back to the host (tests compare it with the CPU path).
+bool harrisResponse(const float* hostOpacity, const ImageGrid& grid,
+  const HarrisParameters& params, float* hostResponse, std::string* error);
+
+} // namespace cuda
+} // namespace mcv
