@@ -1,0 +1,65 @@
+#include "Device.h"
+
+#ifdef MCV_HAS_CUDA
+#include "../../cuda/HarrisCuda.h"
+#endif
+
+#include <mutex>
+
+namespace mcv
+{
+
+const char* deviceName(Device device)
+{
+  switch (device)
+  {
+    case Device::Auto:
+      return "Auto";
+    case Device::CPU:
+      return "CPU";
+    case Device::GPU:
+      return "GPU";
+  }
+  return "unknown";
+}
+
+bool gpuUsable(std::string* reason)
+{
+  // Asking the driver once is enough: a GPU does not come or go while we run.
+  static std::once_flag once;
+  static bool usable = false;
+  static std::string why;
+  std::call_once(once, [] {
+#ifdef MCV_HAS_CUDA
+    usable = cuda::deviceUsable(&why);
+#else
+    why = "this build has no CUDA support";
+#endif
+  });
+  if (!usable && reason)
+  {
+    *reason = why;
+  }
+  return usable;
+}
+
+Device resolveDevice(Device requested, std::string* warning)
+{
+  if (requested == Device::CPU)
+  {
+    return Device::CPU;
+  }
+  std::string why;
+  if (gpuUsable(&why))
+  {
+    return Device::GPU;
+  }
+  if (warning)
+  {
+    *warning = std::string("Device ") + deviceName(requested) + ": no usable GPU (" + why +
+      "); running on the CPU.";
+  }
+  return Device::CPU;
+}
+
+} // namespace mcv

@@ -1,0 +1,155 @@
+#include "OpacityFunction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+namespace mcv
+{
+
+OpacityFunction OpacityFunction::ramp(double lo, double hi)
+{
+  OpacityFunction f;
+  if (!(hi > lo))
+  {
+    // A constant channel: everything at or above its value is opaque.
+    f.x = { lo };
+    f.alpha = { 1.0 };
+    return f;
+  }
+  f.x = { lo, hi };
+  f.alpha = { 0.0, 1.0 };
+  return f;
+}
+
+double OpacityFunction::evaluate(double value) const
+{
+  if (x.empty())
+  {
+    return 0.0;
+  }
+  if (value <= x.front())
+  {
+    // Below a single-node function (constant channel) nothing is opaque.
+    return x.size() == 1 && value < x.front() ? 0.0 : alpha.front();
+  }
+  if (value >= x.back())
+  {
+    return alpha.back();
+  }
+  const auto upper = std::upper_bound(x.begin(), x.end(), value);
+  const std::size_t i = static_cast<std::size_t>(upper - x.begin());
+  const double t = (value - x[i - 1]) / (x[i] - x[i - 1]);
+  return alpha[i - 1] + t * (alpha[i] - alpha[i - 1]);
+}
+
+namespace
+{
+
+
+template <typename Visit>
+void withTypedData(const ChannelView& c, Visit&& visit)
+{
+  switch (c.type)
+  {
+    case ScalarType::Int8:
+      visit(static_cast<const std::int8_t*>(c.data));
+      break;
+    case ScalarType::UInt8:
+      visit(static_cast<const std::uint8_t*>(c.data));
+      break;
+    case ScalarType::Int16:
+      visit(static_cast<const std::int16_t*>(c.data));
+      break;
+    case ScalarType::UInt16:
+      visit(static_cast<const std::uint16_t*>(c.data));
+      break;
+    case ScalarType::Int32:
+      visit(static_cast<const std::int32_t*>(c.data));
+      break;
+    case ScalarType::UInt32:
+      visit(static_cast<const std::uint32_t*>(c.data));
+      break;
+    case ScalarType::Float32:
+      visit(static_cast<const float*>(c.data));
+      break;
+    case ScalarType::Float64:
+      visit(static_cast<const double*>(c.data));
+      break;
+  }
+}
+
+template <typename T>
+constexpr bool hasSmallRange = std::is_integral<T>::value && sizeof(T) <= 2;
+
+} // namespace
+
+std::pair<double, double> finiteRange(const ChannelView& channel, std::size_t count)
+{
+  double lo = std::numeric_limits<double>::infinity();
+  double hi = -std::numeric_limits<double>::infinity();
+  withTypedData(channel, [&](auto data) {
+    const std::int64_t n = static_cast<std::int64_t>(count);
+    const int stride = channel.numComponents, offset = channel.component;
+#pragma omp parallel for reduction(min : lo) reduction(max : hi)
+    for (std::int64_t v = 0; v < n; ++v)
+    {
+      const double value = static_cast<double>(data[v * stride + offset]);
+      if (std::isfinite(value))
+      {
+        lo = std::min(lo, value);
+        hi = std::max(hi, value);
+      }
+    }
+  });
+  return { lo, hi };
+}
+
+std::size_t accumulateOpacity(
+  const ChannelView& channel, std::size_t count, const OpacityFunction& f, float* opacity)
+{
+  std::size_t nonFinite = 0;
+  withTypedData(channel, [&](auto data) {
+    using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+    const std::int64_t n = static_cast<std::int64_t>(count);
+    const int stride = channel.numComponents, offset = channel.component;
+    if constexpr (hasSmallRange<T>)
+    {
+      // 8/16-bit scalars: one table lookup per voxel instead of a search.
+      const std::int64_t lowest = std::numeric_limits<T>::lowest();
+      std::vector<float> table(static_cast<std::size_t>(std::numeric_limits<T>::max() - lowest + 1));
+      for (std::size_t i = 0; i < table.size(); ++i)
+      {
+        table[i] = static_cast<float>(f.evaluate(static_cast<double>(lowest + std::int64_t(i))));
+      }
+#pragma omp parallel for
+      for (std::int64_t v = 0; v < n; ++v)
+      {
+        const float a = table[static_cast<std::size_t>(data[v * stride + offset] - lowest)];
+        opacity[v] = std::max(opacity[v], a);
+      }
+    }
+    else
+    {
+      std::size_t bad = 0;
+#pragma omp parallel for reduction(+ : bad)
+      for (std::int64_t v = 0; v < n; ++v)
+      {
+        const double value = static_cast<double>(data[v * stride + offset]);
+        if (!std::isfinite(value))
+        {
+          ++bad; // NaN/Inf voxels stay transparent
+          continue;
+        }
+        opacity[v] = std::max(opacity[v], static_cast<float>(f.evaluate(value)));
+      }
+      nonFinite = bad;
+    }
+  });
+  return nonFinite;
+}
+
+} // namespace mcv
