@@ -1,0 +1,233 @@
+// The whole best-viewpoint pipeline (CPU) on synthetic volumes with known answers.
+#include "BestViewpoint.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace
+{
+
+using mcv::Vec3;
+
+double axisAngleDegrees(const Vec3& a, const Vec3& b)
+{
+  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  return std::acos(std::min(1.0, std::abs(dot) / (na * nb))) * 180.0 / M_PI;
+}
+
+Vec3 normalized(Vec3 v)
+{
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return { v[0] / n, v[1] / n, v[2] / n };
+}
+
+// Opacity = max over isotropic Gaussian blobs placed at world positions (sigma in world units).
+std::vector<float> blobVolume(const mcv::ImageGrid& g, const std::vector<Vec3>& centres, double sigma)
+{
+  std::vector<float> I(g.voxelCount(), 0.f);
+  for (std::size_t v = 0; v < I.size(); ++v)
+  {
+    const Vec3 p = g.worldPosition(static_cast<std::int64_t>(v));
+    double best = 0;
+    for (const Vec3& c : centres)
+    {
+      const double d2 = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]);
+      best = std::max(best, std::exp(-d2 / (2 * sigma * sigma)));
+    }
+    I[v] = static_cast<float>(best);
+  }
+  return I;
+}
+
+// Blob centres spread over the plane through `centre` with unit normal `n`.
+std::vector<Vec3> centresOnPlane(const Vec3& centre, const Vec3& n, double radius, int count, unsigned seed)
+{
+  const Vec3 helper = std::abs(n[0]) < 0.9 ? Vec3{ 1, 0, 0 } : Vec3{ 0, 1, 0 };
+  const Vec3 u = normalized({ n[1] * helper[2] - n[2] * helper[1], n[2] * helper[0] - n[0] * helper[2],
+    n[0] * helper[1] - n[1] * helper[0] });
+  const Vec3 w = { n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0] };
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> c(-radius, radius);
+  std::vector<Vec3> out;
+  while (static_cast<int>(out.size()) < count)
+  {
+    const double a = c(rng), b = c(rng);
+    if (a * a + b * b <= radius * radius)
+    {
+      out.push_back({ centre[0] + a * u[0] + b * w[0], centre[1] + a * u[1] + b * w[1],
+        centre[2] + a * u[2] + b * w[2] });
+    }
+  }
+  return out;
+}
+
+mcv::BestViewpointOptions cpuOptions()
+{
+  mcv::BestViewpointOptions o;
+  o.device = mcv::Device::CPU;
+  return o;
+}
+
+TEST(BestViewpoint, BlobsOnTiltedPlaneGiveThePlaneNormal)
+{
+  mcv::ImageGrid g;
+  g.dims = { 64, 64, 64 };
+  const Vec3 normal = normalized({ 1, 2, 3 });
+  const std::vector<float> I = blobVolume(g, centresOnPlane({ 31.5, 31.5, 31.5 }, normal, 24, 40, 1), 1.5);
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_TRUE(r.view.valid) << r.view.message;
+  EXPECT_EQ(r.points.size(), 2048u);
+  EXPECT_LT(axisAngleDegrees(r.view.best, normal), 2.0);
+  EXPECT_LT(r.view.eigenvalues[2], 0.05);
+}
+
+TEST(BestViewpoint, RodGivesWorstDirectionAlongTheRod)
+{
+  mcv::ImageGrid g;
+  g.dims = { 48, 48, 48 };
+  const Vec3 axis = normalized({ 1, 1, 0.5 });
+  std::vector<Vec3> centres;
+  for (double t = -18; t <= 18; t += 4)
+  {
+    centres.push_back({ 23.5 + t * axis[0], 23.5 + t * axis[1], 23.5 + t * axis[2] });
+  }
+  const std::vector<float> I = blobVolume(g, centres, 1.5);
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+  ASSERT_TRUE(r.ok() && r.view.valid);
+  EXPECT_LT(axisAngleDegrees(r.view.worst, axis), 2.0);
+  EXPECT_GT(r.view.eigenvalues[0], 0.9);
+}
+
+TEST(BestViewpoint, SymmetricBoxGivesNearEqualEigenvalues)
+{
+  mcv::ImageGrid g;
+  g.dims = { 40, 40, 40 };
+  std::vector<Vec3> corners;
+  for (int c = 0; c < 8; ++c)
+  {
+    corners.push_back({ c & 1 ? 29.5 : 9.5, c & 2 ? 29.5 : 9.5, c & 4 ? 29.5 : 9.5 });
+  }
+  // Eight identical blobs at the corners of a cube: every principal axis is equivalent.
+  const std::vector<float> I = blobVolume(g, corners, 1.5);
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+  ASSERT_TRUE(r.ok() && r.view.valid);
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_NEAR(r.view.eigenvalues[i], 1.0 / 3.0, 0.02);
+  }
+}
+
+TEST(BestViewpoint, AnisotropicSpacingIsRespected)
+{
+  // The plane x_world = z_world sampled with spacing (1, 1, 2): its normal is (1, 0, -1)/sqrt2
+  // in world space but (2, 0, -1)/sqrt5 in index space.
+  mcv::ImageGrid g;
+  g.dims = { 64, 48, 32 };
+  g.spacing = { 1.0, 1.0, 2.0 };
+  g.origin = { -10.0, 5.0, 3.0 };
+  const Vec3 normal = normalized({ 1, 0, -1 });
+  const Vec3 centre = { -10 + 31.5, 5 + 23.5, 3 + 31.0 };
+  const std::vector<float> I = blobVolume(g, centresOnPlane(centre, normal, 20, 30, 2), 2.0);
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+  ASSERT_TRUE(r.ok() && r.view.valid);
+  EXPECT_LT(axisAngleDegrees(r.view.best, normal), 2.0);
+  EXPECT_GT(axisAngleDegrees(r.view.best, normalized({ 2, 0, -1 })), 10.0);
+  EXPECT_NEAR(r.view.center[1], centre[1], 3.0);
+}
+
+TEST(BestViewpoint, ConstantVolumeWarnsAndGivesNoDirection)
+{
+  mcv::ImageGrid g;
+  g.dims = { 20, 20, 20 };
+  for (float value : { 0.f, 0.5f })
+  {
+    std::vector<float> I(g.voxelCount(), value);
+    const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+    ASSERT_TRUE(r.ok());
+    EXPECT_FALSE(r.view.valid);
+    EXPECT_FALSE(r.warnings.empty());
+    EXPECT_EQ(r.points.size(), 0u);
+    for (int a = 0; a < 3; ++a)
+    {
+      EXPECT_FALSE(std::isnan(r.view.best[a]));
+      EXPECT_FALSE(std::isnan(r.view.eigenvalues[a]));
+    }
+  }
+}
+
+TEST(BestViewpoint, SingleSliceGivesItsNormal)
+{
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    mcv::ImageGrid g;
+    g.dims = { 50, 50, 50 };
+    g.dims[axis] = 1;
+    std::vector<Vec3> centres;
+    std::mt19937 rng(axis);
+    std::uniform_real_distribution<double> c(8, 42);
+    for (int b = 0; b < 12; ++b)
+    {
+      Vec3 p = { c(rng), c(rng), c(rng) };
+      p[axis] = 0;
+      centres.push_back(p);
+    }
+    const std::vector<float> I = blobVolume(g, centres, 1.5);
+    const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+    ASSERT_TRUE(r.ok()) << r.error;
+    ASSERT_TRUE(r.view.valid) << r.view.message;
+    Vec3 normal = { 0, 0, 0 };
+    normal[axis] = 1;
+    EXPECT_LT(axisAngleDegrees(r.view.best, normal), 1e-6);
+    EXPECT_FALSE(r.warnings.empty()); // says it is a single slice
+  }
+}
+
+TEST(BestViewpoint, BadInputGivesErrors)
+{
+  mcv::ImageGrid g;
+  g.dims = { 10, 10, 10 };
+  std::vector<float> I(g.voxelCount(), 0.f);
+  mcv::BestViewpointOptions o = cpuOptions();
+  o.numberOfInterestPoints = 0;
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), g, o).ok());
+  o.numberOfInterestPoints = -3;
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), g, o).ok());
+  o = cpuOptions();
+  o.harris.kernelWidth = 4;
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), g, o).ok());
+  mcv::ImageGrid empty;
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), empty, cpuOptions()).ok());
+  mcv::ImageGrid line;
+  line.dims = { 10, 1, 1 };
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), line, cpuOptions()).ok());
+  mcv::ImageGrid flat = g;
+  flat.spacing[1] = 0.0;
+  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), flat, cpuOptions()).ok());
+}
+
+TEST(BestViewpoint, GpuRequestWithoutGpuFallsBackWithWarning)
+{
+  if (mcv::gpuUsable())
+  {
+    GTEST_SKIP() << "a GPU is usable here; the fallback is not exercised";
+  }
+  mcv::ImageGrid g;
+  g.dims = { 24, 24, 24 };
+  const std::vector<float> I = blobVolume(g, { { 8, 8, 8 }, { 16, 12, 10 }, { 10, 18, 16 } }, 1.5);
+  mcv::BestViewpointOptions o;
+  o.device = mcv::Device::GPU;
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.deviceUsed, mcv::Device::CPU);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_NE(r.warnings.front().find("no usable GPU"), std::string::npos);
+  EXPECT_TRUE(r.view.valid);
+}
+
+} // namespace
