@@ -7,7 +7,8 @@
 //     find_package(ZLIB REQUIRED)
 //     target_link_libraries(<target> PRIVATE ZLIB::ZLIB)
 // Targets that only use the synthetic makers or loadVolPackDen() need nothing (the inline
-// functions that call zlib are then never emitted).
+// functions that call zlib are then never emitted). Where zlib is missing, define
+// MCV_TESTVOLUMES_NO_ZLIB: loadNifti() then reads plain .nii only (.nii.gz throws).
 //
 // Errors: the loaders throw std::runtime_error with a message that names the file and
 // what is wrong with it. Tests use dataFile()/haveDataFile() to skip missing volumes.
@@ -15,7 +16,9 @@
 
 #include "ImageGrid.h"
 
+#ifndef MCV_TESTVOLUMES_NO_ZLIB
 #include <zlib.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -141,43 +144,88 @@ struct NiftiInfo
   bool swapped = false;
 };
 
-// RAII gzFile.
-struct GzFile
+// Sequential reader of a possibly gzip-compressed file: zlib's gzread (which reads plain
+// files too), or, built with MCV_TESTVOLUMES_NO_ZLIB, std::ifstream for plain files only.
+class ByteReader
 {
-  gzFile f = nullptr;
-  explicit GzFile(const std::string& path) : f(gzopen(path.c_str(), "rb")) {}
-  ~GzFile()
+public:
+  explicit ByteReader(const std::string& path) : path_(path)
   {
-    if (f)
-      gzclose(f);
+#ifndef MCV_TESTVOLUMES_NO_ZLIB
+    f_ = gzopen(path.c_str(), "rb");
+    if (!f_)
+      throw std::runtime_error(path + ": cannot open (run scripts/fetch-data.sh?)");
+#else
+    const bool gz = path.size() > 3 && path.compare(path.size() - 3, 3, ".gz") == 0;
+    if (gz)
+      throw std::runtime_error(path + ": this build has no zlib (MCV_TESTVOLUMES_NO_ZLIB): "
+                                      "cannot read gzip-compressed files");
+    in_.open(path, std::ios::binary);
+    if (!in_)
+      throw std::runtime_error(path + ": cannot open (run scripts/fetch-data.sh?)");
+#endif
   }
-  GzFile(const GzFile&) = delete;
-  GzFile& operator=(const GzFile&) = delete;
+  ~ByteReader()
+  {
+#ifndef MCV_TESTVOLUMES_NO_ZLIB
+    if (f_)
+      gzclose(f_);
+#endif
+  }
+  ByteReader(const ByteReader&) = delete;
+  ByteReader& operator=(const ByteReader&) = delete;
+
+  // Reads exactly `bytes` bytes or throws.
+  void read(void* dst, std::size_t bytes)
+  {
+    auto* out = static_cast<unsigned char*>(dst);
+    while (bytes > 0)
+    {
+      const unsigned chunk = static_cast<unsigned>(std::min<std::size_t>(bytes, 1u << 30));
+#ifndef MCV_TESTVOLUMES_NO_ZLIB
+      const int got = gzread(f_, out, chunk);
+      if (got <= 0)
+      {
+        int err = Z_OK;
+        const char* msg = gzerror(f_, &err);
+        throw std::runtime_error(path_ + ": truncated or unreadable (" +
+          (err != Z_OK && msg ? std::string(msg) : std::string("unexpected end of file")) + ")");
+      }
+#else
+      in_.read(reinterpret_cast<char*>(out), chunk);
+      const std::streamsize got = in_.gcount();
+      if (got <= 0)
+        throw std::runtime_error(path_ + ": truncated (unexpected end of file)");
+#endif
+      out += got;
+      bytes -= static_cast<std::size_t>(got);
+    }
+  }
+
+  void skip(std::int64_t bytes)
+  {
+    std::vector<unsigned char> sink(1 << 16);
+    while (bytes > 0)
+    {
+      const std::size_t n = static_cast<std::size_t>(std::min<std::int64_t>(bytes, sink.size()));
+      read(sink.data(), n);
+      bytes -= static_cast<std::int64_t>(n);
+    }
+  }
+
+private:
+  std::string path_;
+#ifndef MCV_TESTVOLUMES_NO_ZLIB
+  gzFile f_ = nullptr;
+#else
+  std::ifstream in_;
+#endif
 };
 
-inline void gzReadExactly(gzFile f, void* dst, std::size_t bytes, const std::string& path)
-{
-  auto* out = static_cast<unsigned char*>(dst);
-  while (bytes > 0)
-  {
-    const unsigned chunk = static_cast<unsigned>(std::min<std::size_t>(bytes, 1u << 30));
-    const int got = gzread(f, out, chunk);
-    if (got <= 0)
-    {
-      int err = 0;
-      const char* msg = gzerror(f, &err);
-      throw std::runtime_error(path + ": truncated or unreadable (" +
-        (err != Z_OK && msg ? std::string(msg) : std::string("unexpected end of file")) + ")");
-    }
-    out += got;
-    bytes -= static_cast<std::size_t>(got);
-  }
-}
-
-inline NiftiInfo readNiftiHeader(gzFile f, const std::string& path)
+inline NiftiInfo readNiftiHeader(ByteReader& f, const std::string& path)
 {
   unsigned char h[348];
-  gzReadExactly(f, h, sizeof(h), path);
+  f.read(h, sizeof(h));
   auto i32 = [&](int off) {
     std::int32_t v;
     std::memcpy(&v, h + off, 4);
@@ -327,25 +375,13 @@ inline float convertVoxel(const unsigned char* p, const NiftiInfo& info)
   return static_cast<float>(v * info.slope + info.inter);
 }
 
-inline void skipBytes(gzFile f, std::int64_t bytes, const std::string& path)
-{
-  std::vector<unsigned char> sink(1 << 16);
-  while (bytes > 0)
-  {
-    const std::size_t n = static_cast<std::size_t>(std::min<std::int64_t>(bytes, sink.size()));
-    gzReadExactly(f, sink.data(), n, path);
-    bytes -= static_cast<std::int64_t>(n);
-  }
-}
 } // namespace detail
 
 // Number of 3D volumes in a NIfTI-1 file (product of dim[4..7]; 1 for a 3D file).
 inline std::int64_t niftiVolumeCount(const std::string& path)
 {
-  detail::GzFile f(path);
-  if (!f.f)
-    throw std::runtime_error(path + ": cannot open");
-  return detail::readNiftiHeader(f.f, path).volumes;
+  detail::ByteReader f(path);
+  return detail::readNiftiHeader(f, path).volumes;
 }
 
 // Volumes [first, first + count) of a NIfTI-1 file (.nii or .nii.gz, single file "n+1").
@@ -355,10 +391,8 @@ inline std::int64_t niftiVolumeCount(const std::string& path)
 inline std::vector<Volume> loadNiftiVolumes(
   const std::string& path, std::int64_t first, std::int64_t count)
 {
-  detail::GzFile f(path);
-  if (!f.f)
-    throw std::runtime_error(path + ": cannot open (run scripts/fetch-data.sh?)");
-  const detail::NiftiInfo info = detail::readNiftiHeader(f.f, path);
+  detail::ByteReader f(path);
+  const detail::NiftiInfo info = detail::readNiftiHeader(f, path);
   if (first < 0 || count < 0 || first + count > info.volumes)
     throw std::runtime_error(path + ": volume range [" + std::to_string(first) + ", " +
       std::to_string(first + count) + ") is outside the file's " +
@@ -368,7 +402,7 @@ inline std::vector<Volume> loadNiftiVolumes(
   grid.spacing = info.spacing;
   const std::size_t n = grid.voxelCount();
   const std::size_t volBytes = n * static_cast<std::size_t>(info.bytesPerVoxel);
-  detail::skipBytes(f.f, info.voxOffset - 348 + static_cast<std::int64_t>(volBytes) * first, path);
+  f.skip(info.voxOffset - 348 + static_cast<std::int64_t>(volBytes) * first);
 
   std::vector<Volume> out;
   out.reserve(static_cast<std::size_t>(count));
@@ -378,7 +412,7 @@ inline std::vector<Volume> loadNiftiVolumes(
       : path.find_last_of('/') + 1);
   for (std::int64_t v = 0; v < count; ++v)
   {
-    detail::gzReadExactly(f.f, raw.data(), volBytes, path);
+    f.read(raw.data(), volBytes);
     Volume vol;
     vol.grid = grid;
     vol.name = info.volumes > 1 ? base + "[" + std::to_string(first + v) + "]" : base;
