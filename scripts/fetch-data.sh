@@ -32,11 +32,13 @@ trap cleanup EXIT
 
 updated=0
 declare -A extracted=()
+declare -A unavailable=()
 failed=0
 
 extract_package() { # $1 = package; sets extracted[$1] to the folder it was unpacked into
   local pkg="$1"
   [ -n "${extracted[$pkg]:-}" ] && return 0
+  [ -n "${unavailable[$pkg]:-}" ] && return 1 # already reported
   if [ -z "$work" ]; then
     work="$(mktemp -d "${TMPDIR:-/tmp}/mcv-fetch.XXXXXX")"
     chmod 755 "$work" # apt's _apt sandbox user must be able to write downloads here
@@ -47,16 +49,17 @@ extract_package() { # $1 = package; sets extracted[$1] to the folder it was unpa
   if ! (cd "$work/$pkg" && apt-get download "$pkg" >/dev/null 2>"$work/$pkg.err"); then
     if [ "$updated" -eq 0 ] && [ "$(id -u)" -eq 0 ]; then
       echo "fetch-data: $pkg not downloadable yet; running apt-get update"
-      apt-get update >/dev/null
+      apt-get update >/dev/null || echo "fetch-data: apt-get update failed (offline?)" >&2
       updated=1
     elif [ "$updated" -eq 0 ] && command -v sudo >/dev/null 2>&1; then
       echo "fetch-data: $pkg not downloadable yet; running sudo apt-get update"
-      sudo apt-get update >/dev/null
+      sudo apt-get update >/dev/null || echo "fetch-data: apt-get update failed (offline?)" >&2
       updated=1
     fi
     if ! (cd "$work/$pkg" && apt-get download "$pkg" >/dev/null 2>"$work/$pkg.err"); then
       echo "fetch-data: ERROR: apt-get download $pkg failed:" >&2
       sed 's/^/  /' "$work/$pkg.err" >&2
+      unavailable[$pkg]=1
       return 1
     fi
   fi
