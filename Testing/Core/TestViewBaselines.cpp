@@ -2,6 +2,7 @@
 // and of their opacity ray caster.
 #include "ViewBaselines.h"
 
+#include "BestViewpoint.h"
 #include "TestVolumes.h"
 
 #include <gtest/gtest.h>
@@ -341,6 +342,85 @@ TEST(ViewpointEntropy, SingleSampleAndDeterminism)
   EXPECT_EQ(a.best, b.best);
   EXPECT_EQ(a.worst, b.worst);
   EXPECT_NE(a.best, a.worst);
+}
+
+// ------------------------------------------------------------------ through the entry point
+
+// A thin tilted disc: every method should look (about) along its normal.
+mt::Volume tiltedDisc(const Vec3& normal, float opacity)
+{
+  const auto grid = mt::makeGrid(48, 48, 48);
+  mt::Volume v = mt::constantVolume(grid, 0.0f);
+  const double n = norm(normal);
+  const Vec3 u = { normal[0] / n, normal[1] / n, normal[2] / n };
+  const auto c = mt::gridCenter(grid);
+  mt::forEachVoxel(grid, [&](int, int, int, double x, double y, double z, std::size_t idx) {
+    const Vec3 r = { x - c[0], y - c[1], z - c[2] };
+    const double h = dot(r, u);
+    const double radial2 = dot(r, r) - h * h;
+    if (std::fabs(h) <= 1.5 && radial2 <= 18.0 * 18.0)
+      v.values[idx] = opacity;
+  });
+  return v;
+}
+
+TEST(BaselinesThroughEntryPoint, TiltedDiscAllMethodsFindTheNormal)
+{
+  const Vec3 normal = { 1, 2, 3 };
+  const auto disc = tiltedDisc(normal, 0.3f);
+  mcv::BestViewpointOptions opt;
+  opt.device = mcv::Device::CPU;
+  opt.entropy.samples = 300;
+  opt.entropy.imageSize = 48;
+  double last = -1;
+  opt.progress = [&](double p) {
+    EXPECT_GE(p, last - 1e-12);
+    last = p;
+  };
+
+  opt.method = mcv::ViewMethod::ViewpointEntropy;
+  const auto entropy = mcv::computeBestViewpoint(disc.values.data(), disc.grid, opt);
+  ASSERT_TRUE(entropy.ok()) << entropy.error;
+  ASSERT_TRUE(entropy.view.valid) << entropy.view.message;
+  EXPECT_LT(axisAngleDeg(entropy.view.best, normal), 12.0);
+  EXPECT_GT(axisAngleDeg(entropy.view.worst, normal), 70.0);
+  EXPECT_DOUBLE_EQ(last, 1.0);
+
+  opt.method = mcv::ViewMethod::HarrisPCA;
+  last = -1;
+  const auto harris = mcv::computeBestViewpoint(disc.values.data(), disc.grid, opt);
+  ASSERT_TRUE(harris.ok()) << harris.error;
+  ASSERT_TRUE(harris.view.valid) << harris.view.message;
+  EXPECT_LT(axisAngleDeg(harris.view.best, normal), 5.0);
+  EXPECT_LT(axisAngleDeg(harris.view.best, entropy.view.best), 15.0);
+
+  // Area maximising only sees the disc's axis-aligned bounding box: (hd, dw, wh)/K of it.
+  opt.method = mcv::ViewMethod::AreaMaximizing;
+  last = -1;
+  const auto area = mcv::computeBestViewpoint(disc.values.data(), disc.grid, opt);
+  ASSERT_TRUE(area.ok()) << area.error;
+  ASSERT_TRUE(area.view.valid) << area.view.message;
+  const auto direct = mcv::areaMaximizingView(disc.values.data(), disc.grid);
+  EXPECT_EQ(area.view.best, direct.best);
+  for (int a = 0; a < 3; ++a)
+    EXPECT_GT(area.view.best[a], 0.0);
+}
+
+TEST(BaselinesThroughEntryPoint, TransparentVolumeWarnsWithoutNaN)
+{
+  const auto grid = mt::makeGrid(16, 16, 16);
+  const auto vol = mt::constantVolume(grid, 0.0f);
+  for (auto method : { mcv::ViewMethod::AreaMaximizing, mcv::ViewMethod::ViewpointEntropy })
+  {
+    mcv::BestViewpointOptions opt;
+    opt.method = method;
+    opt.device = mcv::Device::CPU;
+    const auto r = mcv::computeBestViewpoint(vol.values.data(), grid, opt);
+    ASSERT_TRUE(r.ok()) << r.error;
+    EXPECT_FALSE(r.view.valid);
+    EXPECT_FALSE(r.warnings.empty());
+    EXPECT_TRUE(allFinite(r.view));
+  }
 }
 
 } // namespace
