@@ -6,7 +6,7 @@
 //
 //   mcvBenchmarkCPU [--quick] [--runs N] [--entropy-runs N] [--sizes 64,128,...]
 //                   [--entropy-samples S] [--large-entropy-samples S] [--large-from N]
-//                   [--image-size P] [--no-real] [--no-synthetic]
+//                   [--image-size P] [--threads T] [--no-real] [--no-synthetic]
 //
 // Times are medians over --runs runs (Harris pipeline, area maximising) and --entropy-runs
 // runs (viewpoint entropy). The entropy baseline uses S sphere samples (default 400) at
@@ -47,6 +47,7 @@ struct Config
   int imageSize = 128;
   bool real = true;
   bool synthetic = true;
+  int threads = 0; // 0: OpenMP's default
 };
 
 struct Row
@@ -105,7 +106,7 @@ void usage()
 {
   std::printf("usage: mcvBenchmarkCPU [--quick] [--runs N] [--entropy-runs N] [--sizes a,b,..]\n"
               "         [--entropy-samples S] [--large-entropy-samples S] [--large-from N]\n"
-              "         [--image-size P] [--no-real] [--no-synthetic]\n");
+              "         [--image-size P] [--threads T] [--no-real] [--no-synthetic]\n");
 }
 
 bool parseArgs(int argc, char** argv, Config& c)
@@ -144,6 +145,8 @@ bool parseArgs(int argc, char** argv, Config& c)
       c.largeFrom = std::atoi(next("--large-from"));
     else if (a == "--image-size")
       c.imageSize = std::max(1, std::atoi(next("--image-size")));
+    else if (a == "--threads")
+      c.threads = std::max(1, std::atoi(next("--threads")));
     else if (a == "--no-real")
       c.real = false;
     else if (a == "--no-synthetic")
@@ -288,6 +291,8 @@ int main(int argc, char** argv)
   Config cfg;
   if (!parseArgs(argc, argv, cfg))
     return 2;
+  if (cfg.threads > 0)
+    omp_set_num_threads(cfg.threads);
 
   std::printf("mcvBenchmarkCPU: best viewpoint on the CPU (%d OpenMP threads)%s\n",
     omp_get_max_threads(), cfg.quick ? " [--quick: smoke run, not a measurement]" : "");
