@@ -1,0 +1,666 @@
+#include "vtkBestViewpoint.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMatrix3x3.h"
+#include "vtkObjectFactory.h"
+#include "vtkPiecewiseFunction.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+
+// The VTK-free core (Filters/Core).
+#include "BestViewpoint.h"
+#include "OpacityFunction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+vtkStandardNewMacro(vtkBestViewpoint);
+vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
+
+struct vtkBestViewpoint::vtkInternals
+{
+  std::vector<std::string> Channels;
+  std::string DeviceUsed = "CPU";
+};
+
+namespace
+{
+
+bool toScalarType(int vtkType, mcv::ScalarType& type)
+{
+  switch (vtkType)
+  {
+    case VTK_CHAR:
+#if VTK_TYPE_CHAR_IS_SIGNED
+      type = mcv::ScalarType::Int8;
+#else
+      type = mcv::ScalarType::UInt8;
+#endif
+      return true;
+    case VTK_SIGNED_CHAR:
+      type = mcv::ScalarType::Int8;
+      return true;
+    case VTK_UNSIGNED_CHAR:
+      type = mcv::ScalarType::UInt8;
+      return true;
+    case VTK_SHORT:
+      type = mcv::ScalarType::Int16;
+      return true;
+    case VTK_UNSIGNED_SHORT:
+      type = mcv::ScalarType::UInt16;
+      return true;
+    case VTK_INT:
+      type = mcv::ScalarType::Int32;
+      return true;
+    case VTK_UNSIGNED_INT:
+      type = mcv::ScalarType::UInt32;
+      return true;
+    case VTK_FLOAT:
+      type = mcv::ScalarType::Float32;
+      return true;
+    case VTK_DOUBLE:
+      type = mcv::ScalarType::Float64;
+      return true;
+    default:
+      return false;
+  }
+}
+
+// vtkPiecewiseFunction (data values -> opacity) as the core's piecewise-linear function.
+// Nodes are used as they are when every segment is linear (midpoint 0.5, sharpness 0, the
+// ParaView default); otherwise the function is sampled at 1024 points over its range.
+// Without clamping, VTK gives 0 outside the range: two zero nodes just outside keep that.
+mcv::OpacityFunction toCoreFunction(vtkPiecewiseFunction* pf)
+{
+  mcv::OpacityFunction f;
+  const int size = pf->GetSize();
+  if (size <= 0)
+  {
+    return f;
+  }
+  bool linear = true;
+  for (int i = 0; i < size; ++i)
+  {
+    double node[4];
+    pf->GetNodeValue(i, node);
+    if (std::abs(node[2] - 0.5) > 1e-9 || node[3] != 0.0)
+    {
+      linear = false;
+    }
+  }
+  double range[2];
+  pf->GetRange(range);
+  if (linear || size == 1 || !(range[1] > range[0]))
+  {
+    for (int i = 0; i < size; ++i)
+    {
+      double node[4];
+      pf->GetNodeValue(i, node);
+      f.x.push_back(node[0]);
+      f.alpha.push_back(node[1]);
+    }
+  }
+  else
+  {
+    const int samples = 1024;
+    std::vector<double> table(samples);
+    pf->GetTable(range[0], range[1], samples, table.data());
+    for (int i = 0; i < samples; ++i)
+    {
+      f.x.push_back(range[0] + (range[1] - range[0]) * i / (samples - 1));
+      f.alpha.push_back(table[i]);
+    }
+  }
+  for (double& a : f.alpha)
+  {
+    a = std::isfinite(a) ? std::min(1.0, std::max(0.0, a)) : 0.0;
+  }
+  // Strictly ascending x (ParaView allows duplicate nodes: a step).
+  for (std::size_t i = 1; i < f.x.size(); ++i)
+  {
+    if (!(f.x[i] > f.x[i - 1]))
+    {
+      f.x[i] = std::nextafter(f.x[i - 1], std::numeric_limits<double>::infinity());
+    }
+  }
+  if (!pf->GetClamping())
+  {
+    const double eps = 1e-9 * std::max(1.0, std::abs(f.x.back() - f.x.front()));
+    f.x.insert(f.x.begin(), f.x.front() - eps);
+    f.alpha.insert(f.alpha.begin(), 0.0);
+    f.x.push_back(f.x.back() + eps);
+    f.alpha.push_back(0.0);
+  }
+  return f;
+}
+
+std::string availableArrays(vtkPointData* pd)
+{
+  std::ostringstream os;
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+  {
+    const char* name = pd->GetArrayName(i);
+    os << (i ? ", " : "") << "'" << (name ? name : "(unnamed)") << "'";
+  }
+  return pd->GetNumberOfArrays() ? os.str() : std::string("none");
+}
+
+void addFieldVector(vtkFieldData* fd, const char* name, const double v[3])
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(3);
+  a->InsertNextTuple(v);
+  fd->AddArray(a);
+}
+
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkBestViewpoint::vtkBestViewpoint()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+}
+
+//------------------------------------------------------------------------------
+vtkBestViewpoint::~vtkBestViewpoint()
+{
+  this->SetOpacityFunction(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::AddChannel(const char* arrayName)
+{
+  if (arrayName && *arrayName)
+  {
+    this->Internals->Channels.emplace_back(arrayName);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::ClearChannels()
+{
+  if (!this->Internals->Channels.empty())
+  {
+    this->Internals->Channels.clear();
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::GetNumberOfChannels()
+{
+  return static_cast<int>(this->Internals->Channels.size());
+}
+
+//------------------------------------------------------------------------------
+const char* vtkBestViewpoint::GetChannel(int index)
+{
+  if (index < 0 || index >= this->GetNumberOfChannels())
+  {
+    return nullptr;
+  }
+  return this->Internals->Channels[index].c_str();
+}
+
+//------------------------------------------------------------------------------
+const char* vtkBestViewpoint::GetDeviceUsed()
+{
+  return this->Internals->DeviceUsed.c_str();
+}
+
+//------------------------------------------------------------------------------
+vtkMTimeType vtkBestViewpoint::GetMTime()
+{
+  vtkMTimeType t = this->Superclass::GetMTime();
+  if (this->OpacityFunction)
+  {
+    t = std::max(t, this->OpacityFunction->GetMTime());
+  }
+  return t;
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::FillInputPortInformation(int, vtkInformation* info)
+{
+  // vtkDataSet rather than vtkImageData so that other inputs get this filter's own,
+  // explicit error message (ParaView's XML restricts the input to image data anyway).
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The view of a volume is global: every rank asks for the whole volume.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    int wholeExtent[6];
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), wholeExtent, 6);
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::ResetResults()
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    this->BestViewDirection[i] = this->WorstViewDirection[i] = this->ViewUp[i] = 0.0;
+    this->EigenvalueSpectrum[i] = this->ViewCenter[i] = this->DataCenter[i] = 0.0;
+  }
+  for (double& t : this->StageTimings)
+  {
+    t = 0.0;
+  }
+  this->ViewValid = 0;
+  this->NumberOfPointsFound = 0;
+  this->NumberOfNonFiniteVoxels = 0;
+  this->Internals->DeviceUsed = "CPU";
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->ResetResults();
+  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
+  vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
+  if (!output)
+  {
+    vtkErrorMacro("No output polydata.");
+    return 0;
+  }
+
+  // ---- Argument checks -----------------------------------------------------------
+  vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  if (!image)
+  {
+    vtkErrorMacro("Input is " << (inputObject ? inputObject->GetClassName() : "missing")
+                              << ", not image data: BestViewpoint needs a vtkImageData "
+                                 "(resample other data to an image first).");
+    return 0;
+  }
+  if (this->NumberOfInterestPoints <= 0)
+  {
+    vtkErrorMacro("NumberOfInterestPoints must be positive (got "
+      << this->NumberOfInterestPoints << ").");
+    return 0;
+  }
+  int extent[6];
+  image->GetExtent(extent);
+  mcv::ImageGrid grid;
+  for (int a = 0; a < 3; ++a)
+  {
+    grid.dims[a] = extent[2 * a + 1] - extent[2 * a] + 1;
+  }
+  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
+  {
+    vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
+                                                      << extent[2] << " " << extent[3] << " "
+                                                      << extent[4] << " " << extent[5] << ").");
+    return 0;
+  }
+  const std::size_t count = grid.voxelCount();
+
+  vtkPointData* pd = image->GetPointData();
+  std::vector<vtkDataArray*> arrays;
+  if (!this->Internals->Channels.empty())
+  {
+    for (const std::string& name : this->Internals->Channels)
+    {
+      vtkAbstractArray* abstractArray = pd->GetAbstractArray(name.c_str());
+      if (!abstractArray)
+      {
+        vtkErrorMacro("No point array named '" << name
+                                               << "' in the input (point arrays: "
+                                               << availableArrays(pd) << ").");
+        return 0;
+      }
+      vtkDataArray* dataArray = vtkDataArray::SafeDownCast(abstractArray);
+      if (!dataArray)
+      {
+        vtkErrorMacro("Point array '" << name << "' is not numeric ("
+                                      << abstractArray->GetClassName() << ").");
+        return 0;
+      }
+      if (std::find(arrays.begin(), arrays.end(), dataArray) == arrays.end())
+      {
+        arrays.push_back(dataArray);
+      }
+    }
+  }
+  else if (vtkDataArray* scalars = pd->GetScalars())
+  {
+    arrays.push_back(scalars);
+  }
+  else
+  {
+    for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+    {
+      vtkDataArray* dataArray = pd->GetArray(i);
+      const char* name = dataArray ? dataArray->GetName() : nullptr;
+      if (dataArray && !(name && std::string(name) == "vtkGhostType") &&
+        !(name && std::string(name) == "vtkValidPointMask"))
+      {
+        arrays.push_back(dataArray);
+      }
+    }
+  }
+  if (arrays.empty())
+  {
+    vtkErrorMacro("Input has no point scalar array: BestViewpoint needs at least one "
+                  "numeric point-data array (point arrays: "
+      << availableArrays(pd) << ").");
+    return 0;
+  }
+
+  // Channels as the core sees them: contiguous (AOS) arrays of a supported type.
+  std::vector<vtkSmartPointer<vtkDataArray>> converted;
+  std::vector<mcv::ChannelView> channels;
+  std::vector<std::string> channelNames;
+  for (vtkDataArray* dataArray : arrays)
+  {
+    const char* name = dataArray->GetName() ? dataArray->GetName() : "(unnamed)";
+    if (static_cast<std::size_t>(dataArray->GetNumberOfTuples()) != count)
+    {
+      vtkErrorMacro("Point array '" << name << "' has " << dataArray->GetNumberOfTuples()
+                                    << " tuples for " << count << " voxels.");
+      return 0;
+    }
+    if (dataArray->GetNumberOfComponents() < 1)
+    {
+      vtkErrorMacro("Point array '" << name << "' has no components.");
+      return 0;
+    }
+    mcv::ScalarType type;
+    vtkDataArray* use = dataArray;
+    if (!toScalarType(dataArray->GetDataType(), type) || !dataArray->HasStandardMemoryLayout())
+    {
+      // 64-bit integers, bit arrays, SOA layouts...: a contiguous double copy.
+      vtkNew<vtkDoubleArray> copy;
+      copy->DeepCopy(dataArray);
+      converted.emplace_back(copy.Get());
+      use = copy;
+      type = mcv::ScalarType::Float64;
+    }
+    for (int c = 0; c < use->GetNumberOfComponents(); ++c)
+    {
+      mcv::ChannelView view;
+      view.data = use->GetVoidPointer(0);
+      view.type = type;
+      view.numComponents = use->GetNumberOfComponents();
+      view.component = c;
+      channels.push_back(view);
+      std::ostringstream channelName;
+      channelName << "'" << name << "'";
+      if (use->GetNumberOfComponents() > 1)
+      {
+        channelName << " component " << c;
+      }
+      channelNames.push_back(channelName.str());
+    }
+  }
+
+  // ---- Opacity volume: max over channels of the opacity function -----------------
+  this->UpdateProgress(0.0);
+  mcv::OpacityFunction userFunction;
+  if (this->OpacityFunction)
+  {
+    userFunction = toCoreFunction(this->OpacityFunction);
+    if (userFunction.empty())
+    {
+      vtkWarningMacro("The opacity function has no nodes: using each channel's own range "
+                      "mapped linearly to 0..1.");
+    }
+  }
+  std::vector<float> opacity(count, 0.0f);
+  std::size_t nonFinite = 0;
+  for (std::size_t c = 0; c < channels.size(); ++c)
+  {
+    mcv::OpacityFunction f = userFunction;
+    if (f.empty())
+    {
+      const std::pair<double, double> range = mcv::finiteRange(channels[c], count);
+      if (!(range.first <= range.second))
+      {
+        vtkWarningMacro("Channel " << channelNames[c]
+                                   << " holds no finite value: it adds no opacity.");
+        nonFinite += count;
+        continue;
+      }
+      if (range.first == range.second)
+      {
+        vtkWarningMacro("Channel " << channelNames[c] << " is constant (" << range.first
+                                   << "): it adds no opacity.");
+        nonFinite += mcv::accumulateOpacity(channels[c], count,
+          mcv::OpacityFunction{ { range.first }, { 0.0 } }, opacity.data());
+        continue;
+      }
+      f = mcv::OpacityFunction::ramp(range.first, range.second);
+    }
+    nonFinite += mcv::accumulateOpacity(channels[c], count, f, opacity.data());
+    this->UpdateProgress(0.05 * (c + 1) / channels.size());
+  }
+  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite);
+  if (nonFinite > 0)
+  {
+    vtkWarningMacro(<< nonFinite << " NaN/Inf voxel value(s) in the selected channels: "
+                                    "they were given opacity 0.");
+  }
+
+  // ---- Geometry --------------------------------------------------------------------
+  // Voxel (0,0,0) of the arrays is at extent-minimum; an oriented image (direction
+  // matrix not identity) is computed in its index frame and rotated back afterwards.
+  double spacing[3], origin[3];
+  image->GetSpacing(spacing);
+  image->GetOrigin(origin);
+  vtkMatrix3x3* direction = image->GetDirectionMatrix();
+  const bool oriented = direction && !direction->IsIdentity();
+  for (int a = 0; a < 3; ++a)
+  {
+    grid.spacing[a] = spacing[a];
+    grid.origin[a] = (oriented ? 0.0 : origin[a]) + extent[2 * a] * spacing[a];
+  }
+  auto toWorldPoint = [&](const mcv::Vec3& p) {
+    mcv::Vec3 w = p;
+    if (oriented)
+    {
+      double in[3] = { p[0], p[1], p[2] }, out[3];
+      direction->MultiplyPoint(in, out);
+      w = { origin[0] + out[0], origin[1] + out[1], origin[2] + out[2] };
+    }
+    return w;
+  };
+  auto toWorldVector = [&](const mcv::Vec3& v, double out[3]) {
+    double in[3] = { v[0], v[1], v[2] };
+    if (oriented)
+    {
+      direction->MultiplyPoint(in, out);
+      const double n = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+      for (int a = 0; a < 3; ++a)
+      {
+        out[a] = n > 0 ? out[a] / n : 0.0;
+      }
+    }
+    else
+    {
+      std::copy(in, in + 3, out);
+    }
+  };
+  double bounds[6];
+  image->GetBounds(bounds);
+  for (int a = 0; a < 3; ++a)
+  {
+    this->DataCenter[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]);
+  }
+
+  // ---- The core ----------------------------------------------------------------------
+  mcv::BestViewpointOptions options;
+  options.method = static_cast<mcv::ViewMethod>(this->Method);
+  options.harris.sigma = this->GaussianSigma;
+  options.harris.kernelWidth = this->KernelWidth;
+  options.harris.k = this->HarrisK;
+  options.numberOfInterestPoints = this->NumberOfInterestPoints;
+  options.device = static_cast<mcv::Device>(this->Device);
+  options.entropy.samples = this->EntropySamples;
+  options.entropy.imageSize = this->EntropyImageSize;
+  const std::thread::id callingThread = std::this_thread::get_id();
+  options.progress = [this, callingThread](double p) {
+    // UpdateProgress fires VTK events: only from the thread that runs the pipeline.
+    if (std::this_thread::get_id() == callingThread)
+    {
+      this->UpdateProgress(0.05 + 0.95 * std::min(1.0, std::max(0.0, p)));
+    }
+  };
+
+  const mcv::BestViewpointResult result =
+    mcv::computeBestViewpoint(opacity.data(), grid, options);
+  for (const std::string& warning : result.warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+  if (!result.ok())
+  {
+    vtkErrorMacro(<< result.error);
+    return 0;
+  }
+  this->Internals->DeviceUsed = mcv::deviceName(result.deviceUsed);
+  this->StageTimings[0] = result.timings.harrisMs;
+  this->StageTimings[1] = result.timings.selectMs;
+  this->StageTimings[2] = result.timings.pcaMs;
+  this->StageTimings[3] = result.timings.totalMs;
+
+  const mcv::ViewDirections& view = result.view;
+  this->ViewValid = view.valid ? 1 : 0;
+  if (view.valid)
+  {
+    toWorldVector(view.best, this->BestViewDirection);
+    toWorldVector(view.worst, this->WorstViewDirection);
+    toWorldVector(view.viewUp, this->ViewUp);
+    const mcv::Vec3 center = toWorldPoint(view.center);
+    for (int a = 0; a < 3; ++a)
+    {
+      this->EigenvalueSpectrum[a] = view.eigenvalues[a];
+      this->ViewCenter[a] = center[a];
+    }
+  }
+  else
+  {
+    const std::string message =
+      view.message.empty() ? std::string("no view direction could be found") : view.message;
+    if (std::find(result.warnings.begin(), result.warnings.end(), message) ==
+      result.warnings.end())
+    {
+      vtkWarningMacro(<< message);
+    }
+  }
+
+  // ---- Output: interest points (piece 0 only) and field data ----------------------------
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  const vtkIdType n = piece == 0 ? static_cast<vtkIdType>(result.points.size()) : 0;
+  this->NumberOfPointsFound = static_cast<int>(result.points.size());
+
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkFloatArray> scores;
+  scores->SetName("HarrisScore");
+  scores->SetNumberOfTuples(n);
+  vtkNew<vtkIdTypeArray> voxels;
+  voxels->SetName("VoxelIndex");
+  voxels->SetNumberOfTuples(n);
+  vtkNew<vtkIdTypeArray> connectivity;
+  connectivity->SetNumberOfTuples(n);
+  vtkNew<vtkIdTypeArray> offsets;
+  offsets->SetNumberOfTuples(n + 1);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const mcv::Vec3 p = toWorldPoint(result.pointPositions[i]);
+    points->SetPoint(i, p[0], p[1], p[2]);
+    scores->SetValue(i, result.points.scores[i]);
+    voxels->SetValue(i, static_cast<vtkIdType>(result.points.indices[i]));
+    connectivity->SetValue(i, i);
+    offsets->SetValue(i, i);
+  }
+  offsets->SetValue(n, n);
+  vtkNew<vtkCellArray> vertices;
+  vertices->SetData(offsets, connectivity);
+  output->SetPoints(points);
+  output->SetVerts(vertices);
+  output->GetPointData()->AddArray(scores);
+  output->GetPointData()->SetActiveScalars("HarrisScore");
+  output->GetPointData()->AddArray(voxels);
+
+  vtkFieldData* fd = output->GetFieldData();
+  addFieldVector(fd, "BestViewDirection", this->BestViewDirection);
+  addFieldVector(fd, "WorstViewDirection", this->WorstViewDirection);
+  addFieldVector(fd, "ViewUp", this->ViewUp);
+  addFieldVector(fd, "EigenvalueSpectrum", this->EigenvalueSpectrum);
+  addFieldVector(fd, "ViewCenter", this->ViewCenter);
+  addFieldVector(fd, "DataCenter", this->DataCenter);
+  vtkNew<vtkIntArray> valid;
+  valid->SetName("ViewValid");
+  valid->InsertNextValue(this->ViewValid);
+  fd->AddArray(valid);
+  vtkNew<vtkStringArray> device;
+  device->SetName("DeviceUsed");
+  device->InsertNextValue(this->Internals->DeviceUsed);
+  fd->AddArray(device);
+
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Channels:";
+  for (const std::string& name : this->Internals->Channels)
+  {
+    os << " " << name;
+  }
+  os << "\n";
+  os << indent << "OpacityFunction: " << this->OpacityFunction << "\n";
+  os << indent << "NumberOfInterestPoints: " << this->NumberOfInterestPoints << "\n";
+  os << indent << "GaussianSigma: " << this->GaussianSigma << "\n";
+  os << indent << "KernelWidth: " << this->KernelWidth << "\n";
+  os << indent << "HarrisK: " << this->HarrisK << "\n";
+  os << indent << "Method: " << this->Method << "\n";
+  os << indent << "EntropySamples: " << this->EntropySamples << "\n";
+  os << indent << "EntropyImageSize: " << this->EntropyImageSize << "\n";
+  os << indent << "Device: " << this->Device << "\n";
+  os << indent << "BestViewDirection: " << this->BestViewDirection[0] << " "
+     << this->BestViewDirection[1] << " " << this->BestViewDirection[2] << "\n";
+  os << indent << "ViewValid: " << this->ViewValid << "\n";
+}

@@ -1,0 +1,196 @@
+/**
+ * @class   vtkBestViewpoint
+ * @brief   best (and worst) view direction of a volume from 3D Harris interest points.
+ *
+ * Input: a vtkImageData whose point data holds one or more scalar arrays. Every component
+ * of every selected array is a channel. Each channel is mapped through the opacity
+ * function (OpacityFunction, in the channel's data values; when none is set, each
+ * channel's own finite range maps linearly to 0..1) and the opacity volume is the maximum
+ * over channels. NaN/Inf voxels get opacity 0 (with a warning giving their count).
+ *
+ * Channel selection (AddChannel/ClearChannels, the `Channels` property in ParaView):
+ * the named point arrays, all their components. With no name given: the active point
+ * scalars (all components), or, when there are no active scalars, every numeric point
+ * array.
+ *
+ * The work is done by mcv::computeBestViewpoint (Filters/Core, no VTK): Harris response
+ * R = det(M) - k tr(M)^3 with M the Gaussian-smoothed gradient tensor, the
+ * NumberOfInterestPoints strongest responses, PCA of their world positions. The camera
+ * looks along BestViewDirection (v3, least variance); WorstViewDirection is v1; ViewUp is
+ * v2 (so the widest spread runs horizontally). Eigenvalues are normalised to sum 1.
+ * Method selects the baselines instead (area maximising, viewpoint entropy); they give
+ * directions but no interest points.
+ *
+ * Output: the interest points as vtkPolyData (world positions, one vertex cell each) with
+ * point arrays `HarrisScore` (float) and `VoxelIndex` (linear voxel index, x fastest),
+ * and field-data copies of the directions. The directions are also available through
+ * the getters below (information-only properties in ParaView).
+ *
+ * In parallel runs the whole extent is requested on every rank (the view of a volume is
+ * a global quantity); only piece 0 emits the interest points.
+ */
+
+#ifndef vtkBestViewpoint_h
+#define vtkBestViewpoint_h
+
+#include "mcvFiltersViewpointModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkPiecewiseFunction;
+
+class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkBestViewpoint* New();
+  vtkTypeMacro(vtkBestViewpoint, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum MethodType
+  {
+    HARRIS_PCA = 0,
+    AREA_MAXIMIZING = 1,
+    VIEWPOINT_ENTROPY = 2
+  };
+
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
+
+  ///@{
+  /**
+   * Point arrays used as channels (all components of each). Empty: the active point
+   * scalars, else every numeric point array.
+   */
+  void AddChannel(const char* arrayName);
+  void ClearChannels();
+  int GetNumberOfChannels();
+  const char* GetChannel(int index);
+  ///@}
+
+  ///@{
+  /**
+   * Opacity transfer function applied to every channel, in data values. nullptr (the
+   * default): each channel's own finite range mapped linearly to 0..1.
+   */
+  void SetOpacityFunction(vtkPiecewiseFunction* function);
+  vtkGetObjectMacro(OpacityFunction, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /** Number N of strongest Harris responses kept as interest points (> 0; default 2048). */
+  vtkSetMacro(NumberOfInterestPoints, int);
+  vtkGetMacro(NumberOfInterestPoints, int);
+  ///@}
+
+  ///@{
+  /** Standard deviation of the Gaussian that smooths the gradient tensor, in voxels. */
+  vtkSetMacro(GaussianSigma, double);
+  vtkGetMacro(GaussianSigma, double);
+  ///@}
+
+  ///@{
+  /** Taps per axis of the separable Gaussian (odd; default 5). */
+  vtkSetMacro(KernelWidth, int);
+  vtkGetMacro(KernelWidth, int);
+  ///@}
+
+  ///@{
+  /** Harris sensitivity k in R = det(M) - k tr(M)^3 (default 0.004). */
+  vtkSetMacro(HarrisK, double);
+  vtkGetMacro(HarrisK, double);
+  ///@}
+
+  ///@{
+  /** HARRIS_PCA (default), AREA_MAXIMIZING or VIEWPOINT_ENTROPY. */
+  vtkSetClampMacro(Method, int, HARRIS_PCA, VIEWPOINT_ENTROPY);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /** Viewpoint entropy baseline: number of sphere samples (default 400). */
+  vtkSetMacro(EntropySamples, int);
+  vtkGetMacro(EntropySamples, int);
+  ///@}
+
+  ///@{
+  /** Viewpoint entropy baseline: side of the square opacity images (default 128). */
+  vtkSetMacro(EntropyImageSize, int);
+  vtkGetMacro(EntropyImageSize, int);
+  ///@}
+
+  ///@{
+  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU. */
+  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
+  vtkGetMacro(Device, int);
+  ///@}
+
+  ///@{
+  /** Results of the last execution (zeros when no direction could be found). */
+  vtkGetVector3Macro(BestViewDirection, double);
+  vtkGetVector3Macro(WorstViewDirection, double);
+  vtkGetVector3Macro(ViewUp, double);
+  vtkGetVector3Macro(EigenvalueSpectrum, double);
+  /** Mean of the interest points (HarrisPCA) or centre of the method's estimate. */
+  vtkGetVector3Macro(ViewCenter, double);
+  /** Centre of the input's bounds (world coordinates): the camera's focal point. */
+  vtkGetVector3Macro(DataCenter, double);
+  /** 1 when the directions are meaningful, 0 (with a warning) otherwise. */
+  vtkGetMacro(ViewValid, int);
+  /** Number of interest points found (HarrisPCA). */
+  vtkGetMacro(NumberOfPointsFound, int);
+  /** Voxels whose value was NaN or Inf (mapped to opacity 0). */
+  vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
+  /** Milliseconds: Harris, top-N selection, PCA, total (core timings). */
+  vtkGetVector4Macro(StageTimings, double);
+  /** "CPU" or "GPU": where the last execution ran. */
+  const char* GetDeviceUsed();
+  ///@}
+
+  /** Includes the opacity function's modification time. */
+  vtkMTimeType GetMTime() override;
+
+protected:
+  vtkBestViewpoint();
+  ~vtkBestViewpoint() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  void ResetResults();
+
+  vtkPiecewiseFunction* OpacityFunction = nullptr;
+  int NumberOfInterestPoints = 2048;
+  double GaussianSigma = 1.5;
+  int KernelWidth = 5;
+  double HarrisK = 0.004;
+  int Method = HARRIS_PCA;
+  int EntropySamples = 400;
+  int EntropyImageSize = 128;
+  int Device = DEVICE_AUTO;
+
+  double BestViewDirection[3] = { 0, 0, 0 };
+  double WorstViewDirection[3] = { 0, 0, 0 };
+  double ViewUp[3] = { 0, 0, 0 };
+  double EigenvalueSpectrum[3] = { 0, 0, 0 };
+  double ViewCenter[3] = { 0, 0, 0 };
+  double DataCenter[3] = { 0, 0, 0 };
+  int ViewValid = 0;
+  int NumberOfPointsFound = 0;
+  vtkIdType NumberOfNonFiniteVoxels = 0;
+  double StageTimings[4] = { 0, 0, 0, 0 };
+
+private:
+  vtkBestViewpoint(const vtkBestViewpoint&) = delete;
+  void operator=(const vtkBestViewpoint&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif

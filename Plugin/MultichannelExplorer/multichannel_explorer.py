@@ -1,0 +1,345 @@
+"""Python helpers of the MultichannelExplorer ParaView plugin.
+
+Shipped inside the plugin (PYTHON_MODULES): importable in pvpython, pvbatch and the GUI's
+Python shell once the plugin is loaded::
+
+    from paraview.simple import *
+    LoadPlugin("/path/to/MultichannelExplorer.so", remote=False, ns=globals())
+    import multichannel_explorer as mce
+
+    volume = OpenDataFile("ch2.nii.gz")
+    view = GetActiveViewOrCreate("RenderView")
+    Show(volume, view).SetRepresentationType("Volume")
+    result = mce.apply_best_viewpoint(volume, view)            # camera along v3
+    print(result.direction, result.eigenvalues)
+    mce.apply_best_viewpoint(volume, view, which="worst")       # camera along v1
+    mce.apply_best_viewpoint(volume, view, disambiguate=True)   # +v3 or -v3, by entropy
+
+The "Best Viewpoint" toolbar button of the GUI runs
+``apply_best_viewpoint(GetActiveSource(), GetActiveView(), disambiguate=True)``.
+
+Nothing here imports paraview.simple at module level, so importing the module is cheap
+and safe in any ParaView process.
+"""
+
+import math
+import os
+import tempfile
+
+__all__ = [
+    "ViewpointResult",
+    "best_viewpoint_filter",
+    "apply_best_viewpoint",
+    "set_camera_direction",
+    "image_entropy",
+    "image_statistics",
+]
+
+_FILTER_XML_NAME = "BestViewpoint"
+
+
+class ViewpointResult(dict):
+    """What apply_best_viewpoint did: a dict whose keys are also attributes.
+
+    Keys: ``direction`` (unit vector the camera looks along), ``which``, ``best``,
+    ``worst``, ``view_up``, ``eigenvalues`` (descending, sum 1), ``center`` (focal
+    point), ``valid``, ``device``, ``filter`` (the BestViewpoint proxy), ``entropies``
+    ({"+": bits, "-": bits} when disambiguate=True, else None), ``sign`` (+1 or -1
+    relative to the filter's direction), ``camera_position``.
+    """
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name)
+
+
+def _simple():
+    from paraview import simple
+
+    return simple
+
+
+def _warn(message):
+    """Warnings go where ParaView shows them (Output Messages in the GUI, stderr in
+    pvpython/pvbatch)."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        vtkOutputWindow.GetInstance().DisplayWarningText(
+            "multichannel_explorer: %s\n" % message)
+    except Exception:  # pragma: no cover - last resort
+        import sys
+
+        sys.stderr.write("multichannel_explorer: warning: %s\n" % message)
+
+
+def _same_proxy(a, b):
+    if a is None or b is None:
+        return False
+    a = getattr(a, "SMProxy", a)
+    b = getattr(b, "SMProxy", b)
+    return a is b or (hasattr(a, "GetGlobalID") and hasattr(b, "GetGlobalID")
+                      and a.GetGlobalID() == b.GetGlobalID())
+
+
+def _find_filter(source):
+    """The BestViewpoint filter already applied to `source`, or None."""
+    simple = _simple()
+    for proxy in simple.GetSources().values():
+        if proxy.SMProxy.GetXMLName() != _FILTER_XML_NAME:
+            continue
+        inputs = proxy.Input
+        if not isinstance(inputs, (list, tuple)):
+            inputs = [inputs]
+        for inp in inputs:
+            if _same_proxy(inp, source):
+                return proxy
+    return None
+
+
+def _volume_display(source, view):
+    """The source's representation in `view` when it is visible as a Volume, else None."""
+    if view is None:
+        return None
+    from paraview import servermanager
+
+    rep = servermanager.GetRepresentation(source, view)
+    if rep is None:
+        return None
+    try:
+        if not rep.Visibility or rep.Representation != "Volume":
+            return None
+    except AttributeError:
+        return None
+    return rep
+
+
+def best_viewpoint_filter(source, view=None, **filter_properties):
+    """Creates (or reuses) the BestViewpoint filter on `source`, sets its properties,
+    updates it and its information properties, and returns it.
+
+    When `source` is shown as a Volume in `view` and neither OpacityFunction nor
+    Channels is given, the filter follows that display: its Scalar Opacity Function and
+    its colouring array. The active source is left as it was.
+    """
+    if source is None:
+        raise ValueError("best_viewpoint_filter: no source given")
+    simple = _simple()
+    active = simple.GetActiveSource()
+    bvp = _find_filter(source)
+    if bvp is None:
+        ctor = getattr(simple, _FILTER_XML_NAME, None)
+        if ctor is None:
+            simple._add_functions(vars(simple))
+            ctor = getattr(simple, _FILTER_XML_NAME, None)
+        if ctor is None:
+            raise RuntimeError(
+                "The BestViewpoint filter is not available: load the MultichannelExplorer "
+                "plugin first, e.g. LoadPlugin(path, remote=False, ns=globals())")
+        bvp = ctor(Input=source)
+        if active is not None:
+            simple.SetActiveSource(active)
+
+    rep = _volume_display(source, view)
+    if rep is not None:
+        if "OpacityFunction" not in filter_properties:
+            filter_properties["OpacityFunction"] = rep.ScalarOpacityFunction
+        if "Channels" not in filter_properties:
+            try:
+                association, name = rep.ColorArrayName[0], rep.ColorArrayName[1]
+            except (IndexError, TypeError):
+                association, name = None, None
+            if name and association == "POINTS":
+                filter_properties["Channels"] = [name]
+    for key, value in filter_properties.items():
+        if key == "OpacityFunction" and value is None:
+            bvp.GetProperty("OpacityFunction").SetData(None)
+            continue
+        setattr(bvp, key, value)
+    bvp.UpdatePipeline()
+    bvp.UpdatePropertyInformation()
+    return bvp
+
+
+def _vec(proxy, name):
+    return [float(x) for x in proxy.GetPropertyValue(name)]
+
+
+def set_camera_direction(view, center, direction, view_up, fill=True):
+    """Points the camera of `view` along `direction` (from the camera towards `center`),
+    with `view_up`, keeping the current distance; then resets the camera so the visible
+    data fills the view (the direction is kept)."""
+    simple = _simple()
+    focal = [float(c) for c in center]
+    pos = [float(p) for p in view.CameraPosition]
+    old_focal = [float(p) for p in view.CameraFocalPoint]
+    distance = math.sqrt(sum((p - f) ** 2 for p, f in zip(pos, old_focal)))
+    if not distance > 1e-9:
+        distance = 1.0
+    view.CameraFocalPoint = focal
+    view.CameraPosition = [f - d * distance for f, d in zip(focal, direction)]
+    view.CameraViewUp = [float(u) for u in view_up]
+    if fill:
+        try:
+            view.ResetCamera(True)  # closest fit, direction kept
+        except TypeError:
+            view.ResetCamera()
+        # Reset moves the focal point to the centre of the visible bounds; keep ours
+        # (the volume's centre) at the same distance.
+        pos = [float(p) for p in view.CameraPosition]
+        f2 = [float(p) for p in view.CameraFocalPoint]
+        distance = math.sqrt(sum((p - f) ** 2 for p, f in zip(pos, f2)))
+        view.CameraFocalPoint = focal
+        view.CameraPosition = [f - d * distance for f, d in zip(focal, direction)]
+        view.CameraViewUp = [float(u) for u in view_up]
+    simple.Render(view)
+
+
+def _read_png(path):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
+def _luminance_histogram(image):
+    """256-bin histogram of the 8-bit luminance of a vtkImageData (RGB, RGBA or grey)."""
+    from vtkmodules.vtkImagingColor import vtkImageLuminance
+    from vtkmodules.vtkImagingCore import vtkImageExtractComponents
+    from vtkmodules.vtkImagingStatistics import vtkImageAccumulate
+
+    source = image
+    ncomp = image.GetPointData().GetScalars().GetNumberOfComponents()
+    if ncomp >= 3:
+        rgb = vtkImageExtractComponents()
+        rgb.SetInputData(image)
+        rgb.SetComponents(0, 1, 2)
+        lum = vtkImageLuminance()
+        lum.SetInputConnection(rgb.GetOutputPort())
+        lum.Update()
+        source = lum.GetOutput()
+    elif ncomp == 2:
+        grey = vtkImageExtractComponents()
+        grey.SetInputData(image)
+        grey.SetComponents(0)
+        grey.Update()
+        source = grey.GetOutput()
+    acc = vtkImageAccumulate()
+    acc.SetInputData(source)
+    acc.SetComponentExtent(0, 255, 0, 0, 0, 0)
+    acc.SetComponentOrigin(0, 0, 0)
+    acc.SetComponentSpacing(1, 1, 1)
+    acc.Update()
+    hist = acc.GetOutput().GetPointData().GetScalars()
+    counts = [hist.GetTuple1(i) for i in range(256)]
+    return counts, acc
+
+
+def image_entropy(image_or_path):
+    """Shannon entropy (bits) of the 8-bit luminance histogram of an image (a PNG path
+    or a vtkImageData)."""
+    image = _read_png(image_or_path) if isinstance(image_or_path, str) else image_or_path
+    counts, _ = _luminance_histogram(image)
+    total = float(sum(counts))
+    if total <= 0:
+        return 0.0
+    return -sum((c / total) * math.log2(c / total) for c in counts if c > 0)
+
+
+def image_statistics(image_or_path):
+    """{'mean', 'stddev', 'entropy', 'non_background_fraction'} of an image's luminance
+    (non-background: pixels that differ from the most common value)."""
+    image = _read_png(image_or_path) if isinstance(image_or_path, str) else image_or_path
+    counts, acc = _luminance_histogram(image)
+    total = float(sum(counts)) or 1.0
+    entropy = -sum((c / total) * math.log2(c / total) for c in counts if c > 0)
+    return {
+        "mean": float(acc.GetMean()[0]),
+        "stddev": float(acc.GetStandardDeviation()[0]),
+        "entropy": entropy,
+        "non_background_fraction": 1.0 - max(counts) / total,
+    }
+
+
+def _render_entropy(view, resolution=None):
+    simple = _simple()
+    fd, path = tempfile.mkstemp(prefix="mcv_view_", suffix=".png")
+    os.close(fd)
+    try:
+        params = {}
+        if resolution:
+            params["ImageResolution"] = list(resolution)
+        simple.SaveScreenshot(path, view, **params)
+        return image_entropy(path)
+    finally:
+        try:
+            os.remove(path)
+        except OSError:
+            pass
+
+
+def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
+                         **filter_properties):
+    """Turns the camera of `view` (default: the active view) to the best (or worst) view
+    of `source`, a volume (image data).
+
+    * Creates or updates a BestViewpoint filter on `source` with `filter_properties`
+      (e.g. NumberOfInterestPoints=1024, Channels=["a", "b"], Method="AreaMaximizing").
+      When `source` is shown as a Volume in `view`, the filter uses that display's
+      Scalar Opacity Function (and colouring array) unless they are given.
+    * which="best": the camera looks along v3 (least variance of the interest points);
+      which="worst": along v1. View-up is v2 in both cases.
+    * The focal point is the volume's centre; the camera is then reset (direction kept)
+      so the data fills the view, and the view is rendered.
+    * disambiguate=True: v and -v are equally good by variance; both are rendered and
+      the one whose image has the higher luminance entropy is kept.
+
+    Returns a ViewpointResult (dict with attribute access). When no direction could be
+    found (flat or constant volume), a warning is given, the camera is left as it was
+    and result.valid is False.
+    """
+    simple = _simple()
+    if which not in ("best", "worst"):
+        raise ValueError('which must be "best" or "worst", not %r' % (which,))
+    if source is None:
+        raise ValueError("apply_best_viewpoint: no source given")
+    if view is None:
+        view = simple.GetActiveViewOrCreate("RenderView")
+
+    bvp = best_viewpoint_filter(source, view, **filter_properties)
+    best = _vec(bvp, "BestViewDirection")
+    worst = _vec(bvp, "WorstViewDirection")
+    up = _vec(bvp, "ViewUp")
+    eig = _vec(bvp, "EigenvalueSpectrum")
+    center = _vec(bvp, "DataCenter")
+    valid = bool(bvp.GetPropertyValue("ViewValid"))
+    device = bvp.GetPropertyValue("DeviceUsed")
+    direction = best if which == "best" else worst
+    result = ViewpointResult(
+        direction=direction, which=which, best=best, worst=worst, view_up=up,
+        eigenvalues=eig, center=center, valid=valid, device=device, filter=bvp,
+        entropies=None, sign=1, camera_position=None)
+    if not valid or sum(d * d for d in direction) < 0.5:
+        _warn("no %s view direction for this volume (flat or constant opacity?): "
+              "the camera was not changed" % which)
+        result["valid"] = False
+        return result
+
+    sign = 1
+    if disambiguate:
+        entropies = {}
+        for s, key in ((1, "+"), (-1, "-")):
+            set_camera_direction(view, center, [s * d for d in direction], up)
+            entropies[key] = _render_entropy(view)
+        result["entropies"] = entropies
+        sign = 1 if entropies["+"] >= entropies["-"] else -1
+    final = [sign * d for d in direction]
+    set_camera_direction(view, center, final, up)
+    result["direction"] = final
+    result["sign"] = sign
+    result["camera_position"] = [float(p) for p in view.CameraPosition]
+    return result
