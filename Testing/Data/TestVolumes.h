@@ -639,7 +639,8 @@ inline Volume randomVolume(const ImageGrid& grid, std::uint64_t seed = 1)
 
 // A deterministic "structured" opacity volume of n^3 voxels (spacing 1), uint8-like
 // (values k/255): a soft ellipsoidal shell (a skull-like surface), a few dozen Gaussian
-// blobs of varied sizes inside it, a tilted rod, and low-amplitude noise. It has corners,
+// blobs of varied sizes inside it, a tilted rod, and low-amplitude noise inside the shell
+// (outside it the volume is exactly 0, like air after a transfer function). It has corners,
 // blobs and flat parts like a real scan, so top-N selection and ray casting do realistic
 // work. Used by the CPU and GPU benchmarks.
 inline Volume structuredVolume(int n, std::uint64_t seed = 7)
@@ -700,7 +701,9 @@ inline Volume structuredVolume(int n, std::uint64_t seed = 7)
           const double d2 = px * px + py * py + pz * pz;
           s += 0.7 * std::exp(-d2 / (2 * rodR * rodR));
         }
-        s += 0.03 * noise.uniform();
+        const double u = noise.uniform(); // drawn for every voxel: same sequence always
+        if (r < 1.1)
+          s += 0.03 * u; // low noise inside the head only: the air stays transparent
         s = std::min(1.0, std::max(0.0, s));
         v.values[static_cast<std::size_t>(k) * n * n + static_cast<std::size_t>(j) * n + i] =
           std::round(s * 255.0) / 255.0f;
