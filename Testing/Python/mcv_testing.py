@@ -1,0 +1,187 @@
+"""Shared helpers of the pvbatch tests of the MultichannelExplorer plugin.
+
+Every test is run as ``xvfb-run -a pvbatch <test>.py`` (see CMakeLists.txt) with:
+  MCV_PLUGIN      the plugin library (else: found through PV_PLUGIN_PATH, else
+                  <repo>/build-pv/lib/paraview-5.11/plugins/MultichannelExplorer/...)
+  MCV_DATA_DIR    the real volumes (default <repo>/.cache/volumes)
+  MCV_OUTPUT_DIR  where screenshots go (default <repo>/build-pv/Testing/Python/output)
+A test exits 0 on success, 1 on failure, 125 when its data is missing (CTest: skipped).
+No numpy: ParaView's Python on Debian 12 has none.
+"""
+
+import math
+import os
+import sys
+
+SKIP = 125
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+def data_dir():
+    return os.environ.get("MCV_DATA_DIR") or os.path.join(REPO, ".cache", "volumes")
+
+
+def output_dir():
+    out = os.environ.get("MCV_OUTPUT_DIR") or os.path.join(
+        REPO, "build-pv", "Testing", "Python", "output")
+    os.makedirs(out, exist_ok=True)
+    return out
+
+
+def data_file(name):
+    """Path of a real volume; exits with SKIP when it is missing."""
+    path = os.path.join(data_dir(), name)
+    if not os.path.exists(path):
+        print("SKIP: %s not found (run scripts/fetch-data.sh)" % path)
+        sys.exit(SKIP)
+    return path
+
+
+def load_plugin(ns):
+    """Loads the plugin (unless PV_PLUGIN_PATH already did) and returns the module."""
+    from paraview import simple
+
+    if not hasattr(simple, "BestViewpoint"):
+        plugin = os.environ.get("MCV_PLUGIN")
+        if not plugin:
+            for d in os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep) + [
+                    os.path.join(REPO, "build-pv", "lib", "paraview-5.11", "plugins",
+                                 "MultichannelExplorer")]:
+                candidate = os.path.join(d, "MultichannelExplorer.so")
+                if d and os.path.exists(candidate):
+                    plugin = candidate
+                    break
+        if not plugin:
+            print("FAIL: MultichannelExplorer plugin not found (set MCV_PLUGIN)")
+            sys.exit(1)
+        simple.LoadPlugin(plugin, remote=False)  # new constructors go into paraview.simple
+    ns.update({k: getattr(simple, k) for k in ("BestViewpoint", "VolPackDenReader",
+                                                "NIfTIImageReader")})
+    import multichannel_explorer
+
+    return multichannel_explorer
+
+
+class Checker(object):
+    """Collects failed checks; finish() prints a summary and exits."""
+
+    def __init__(self, name):
+        self.name = name
+        self.failures = []
+        self.count = 0
+
+    def check(self, condition, message):
+        self.count += 1
+        status = "ok  " if condition else "FAIL"
+        print("%s %s" % (status, message))
+        sys.stdout.flush()
+        if not condition:
+            self.failures.append(message)
+        return condition
+
+    def finish(self):
+        print("%s: %d checks, %d failed" % (self.name, self.count, len(self.failures)))
+        for f in self.failures:
+            print("  failed: " + f)
+        sys.stdout.flush()
+        # os._exit: pvbatch's own exit path must not turn a failure into 0 (or crash).
+        os._exit(1 if self.failures else 0)
+
+
+class Messages(object):
+    """Error and warning messages of one VTK object (the server-side object of a proxy in
+    pvbatch's built-in session), caught through vtkCommand observers."""
+
+    def __init__(self, proxy_or_object):
+        from vtkmodules.util.misc import calldata_type
+        from vtkmodules.util.vtkConstants import VTK_STRING
+
+        obj = proxy_or_object
+        if hasattr(obj, "GetClientSideObject"):
+            obj = obj.GetClientSideObject()
+        self.object = obj
+        self.errors = []
+        self.warnings = []
+
+        @calldata_type(VTK_STRING)
+        def on_error(caller, event, text):
+            self.errors.append(str(text))
+
+        @calldata_type(VTK_STRING)
+        def on_warning(caller, event, text):
+            self.warnings.append(str(text))
+
+        self._callbacks = (on_error, on_warning)  # keep them alive
+        obj.AddObserver("ErrorEvent", on_error)
+        obj.AddObserver("WarningEvent", on_warning)
+
+    def clear(self):
+        del self.errors[:]
+        del self.warnings[:]
+
+    def any_error(self, *words):
+        return any(all(w.lower() in e.lower() for w in words) for e in self.errors)
+
+    def any_warning(self, *words):
+        return any(all(w.lower() in e.lower() for w in words) for e in self.warnings)
+
+
+def norm(v):
+    return math.sqrt(sum(x * x for x in v))
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def unit(v):
+    n = norm(v)
+    return [x / n for x in v] if n > 0 else [0.0 for _ in v]
+
+
+def angle_deg(a, b, unsigned=False):
+    c = dot(unit(a), unit(b))
+    if unsigned:
+        c = abs(c)
+    return math.degrees(math.acos(max(-1.0, min(1.0, c))))
+
+
+def all_finite(values):
+    return all(math.isfinite(float(v)) for v in values)
+
+
+def camera_direction(view):
+    pos = [float(x) for x in view.CameraPosition]
+    focal = [float(x) for x in view.CameraFocalPoint]
+    return unit([f - p for f, p in zip(focal, pos)])
+
+
+def volume_view(source, size=(480, 400), array=None):
+    """A render view showing `source` as a volume coloured by `array` (default: first
+    point array), transfer functions over the data range. Returns (view, display)."""
+    from paraview import simple
+
+    view = simple.CreateView("RenderView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 1
+    display = simple.Show(source, view)
+    display.SetRepresentationType("Volume")
+    name = array or source.PointData.keys()[0]
+    simple.ColorBy(display, ("POINTS", name))
+    display.RescaleTransferFunctionToDataRange(True, False)
+    simple.Render(view)
+    return view, display
+
+
+def image_ok(mce, path, checker, label, min_stddev=8.0, min_fraction=0.05):
+    """Checks that a screenshot exists and is not blank (luminance spread and a part of
+    the pixels different from the background)."""
+    if not checker.check(os.path.exists(path) and os.path.getsize(path) > 0,
+                         "%s: screenshot written (%s)" % (label, path)):
+        return None
+    stats = mce.image_statistics(path)
+    checker.check(stats["stddev"] > min_stddev and
+                  stats["non_background_fraction"] > min_fraction,
+                  "%s: screenshot not blank (luminance stddev %.1f, %.0f%% non-background)"
+                  % (label, stats["stddev"], 100 * stats["non_background_fraction"]))
+    return stats
