@@ -16,6 +16,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import mcv_testing as T  # noqa: E402
+import builtins as B  # noqa: E402  (ProgrammableSource scripts may shadow all/abs/... in __main__)
 
 from paraview.simple import *  # noqa: E402,F401,F403
 
@@ -33,11 +34,11 @@ def check_filter(label, bvp, bounds):
     eig = [float(x) for x in bvp.GetPropertyValue("EigenvalueSpectrum")]
     C.check(int(bvp.GetPropertyValue("ViewValid")) == 1, "%s: ViewValid" % label)
     C.check(T.all_finite(best + worst + up + eig), "%s: results finite" % label)
-    C.check(all(abs(T.norm(v) - 1) < 1e-6 for v in (best, worst, up)),
+    C.check(B.all(B.abs(T.norm(v) - 1) < 1e-6 for v in (best, worst, up)),
             "%s: unit directions" % label)
-    C.check(abs(T.dot(best, worst)) < 1e-6 and abs(T.dot(best, up)) < 1e-6
-            and abs(T.dot(worst, up)) < 1e-6, "%s: orthogonal directions" % label)
-    C.check(abs(sum(eig) - 1) < 1e-6 and eig[0] >= eig[1] >= eig[2] >= 0,
+    C.check(B.abs(T.dot(best, worst)) < 1e-6 and B.abs(T.dot(best, up)) < 1e-6
+            and B.abs(T.dot(worst, up)) < 1e-6, "%s: orthogonal directions" % label)
+    C.check(B.abs(B.sum(eig) - 1) < 1e-6 and eig[0] >= eig[1] >= eig[2] >= 0,
             "%s: eigenvalues descending, sum 1: %s" % (label, eig))
     info = bvp.GetDataInformation()
     C.check(info.GetNumberOfPoints() == 2048, "%s: 2048 interest points (%d)"
@@ -49,7 +50,7 @@ def check_filter(label, bvp, bounds):
     C.check(score is not None and score.GetDataType() == 10,  # VTK_FLOAT
             "%s: HarrisScore is float" % label)
     pb = info.GetBounds()
-    C.check(all(pb[2 * a] >= bounds[2 * a] - 1e-6 and pb[2 * a + 1] <= bounds[2 * a + 1] + 1e-6
+    C.check(B.all(pb[2 * a] >= bounds[2 * a] - 1e-6 and pb[2 * a + 1] <= bounds[2 * a + 1] + 1e-6
                 for a in range(3)), "%s: points inside the volume %s" % (label, pb))
     print("%s: best %s worst %s up %s eigenvalues %s device %s timings(ms) %s" % (
         label, best, worst, up, eig, bvp.GetPropertyValue("DeviceUsed"), list(bvp.GetPropertyValue("StageTimings"))))
@@ -74,7 +75,7 @@ def run_volume(label, source):
     C.check(T.angle_deg([float(x) for x in view.CameraViewUp], up) < 0.01,
             "%s: camera view-up = ViewUp" % label)
     centre = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
-    C.check(max(abs(float(f) - c) for f, c in zip(view.CameraFocalPoint, centre)) < 1e-6,
+    C.check(B.max(B.abs(float(f) - c) for f, c in zip(view.CameraFocalPoint, centre)) < 1e-6,
             "%s: focal point at the volume centre" % label)
     shot = os.path.join(out, "%s_best.png" % label)
     SaveScreenshot(shot, view)
@@ -144,7 +145,7 @@ run_volume("brainsmall", den)
 den2 = VolPackDenReader(FileName=T.data_file("brainsmall.den"), DataSpacing=[1, 1, 2])
 den2.UpdatePipeline()
 b2 = den2.GetDataInformation().GetBounds()
-C.check(abs(b2[5] - 166.0) < 1e-9, "brainsmall: DataSpacing applied (z max %g)" % b2[5])
+C.check(B.abs(b2[5] - 166.0) < 1e-9, "brainsmall: DataSpacing applied (z max %g)" % b2[5])
 bvp2 = BestViewpoint(Input=den2)
 bvp2.UpdatePipeline()
 pb = bvp2.GetDataInformation().GetBounds()

@@ -1,0 +1,197 @@
+"""(b) Bad inputs: each gives a clear error or warning, never a crash or NaN.
+
+The filter's own messages are caught with vtkCommand Error/Warning observers on its
+server-side object (pvbatch runs a built-in session, so that object is in-process).
+Cases: not image data, no point array, a missing array name, an empty extent, a single
+slice (2D: its normal is the answer), NaN/Inf voxels, NumberOfInterestPoints <= 0, a
+constant volume, and broken .den files for the reader.
+"""
+import math
+import os
+import struct
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+import builtins as B  # noqa: E402  (ProgrammableSource scripts may shadow all/abs/... in __main__)
+
+from paraview.simple import *  # noqa: E402,F401,F403
+
+mce = T.load_plugin(globals())
+C = T.Checker("test_bad_inputs")
+
+
+def run(label, source, **props):
+    """Runs BestViewpoint on `source`; returns (filter, messages, results)."""
+    bvp = BestViewpoint(Input=source, **props)
+    msgs = T.Messages(bvp)
+    bvp.UpdatePipeline()
+    bvp.UpdatePropertyInformation()
+    res = {k: [float(x) for x in bvp.GetPropertyValue(k)]
+           for k in ("BestViewDirection", "WorstViewDirection", "ViewUp", "EigenvalueSpectrum")}
+    res["ViewValid"] = int(bvp.GetPropertyValue("ViewValid"))
+    res["points"] = bvp.GetDataInformation().GetNumberOfPoints()
+    print("%s: errors %s warnings %s" % (label, msgs.errors, msgs.warnings))
+    C.check(B.all(T.all_finite(res[k]) for k in ("BestViewDirection", "WorstViewDirection",
+                                               "ViewUp", "EigenvalueSpectrum")),
+            "%s: no NaN/Inf in the results" % label)
+    return bvp, msgs, res
+
+
+def image_source(dims, script_body, array_type="vtkFloatArray", name="values"):
+    """A ProgrammableSource producing image data of `dims` whose values come from
+    `script_body` (Python computing `v` from i, j, k; no numpy needed)."""
+    src = ProgrammableSource()
+    src.OutputDataSetType = "vtkImageData"
+    src.ScriptRequestInformation = (
+        "from paraview import util\n"
+        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n"
+        % (dims[0] - 1, dims[1] - 1, dims[2] - 1))
+    src.Script = (
+        "import math\n"
+        "from vtkmodules.vtkCommonCore import %s\n"
+        "out = self.GetOutput()\n"
+        "out.SetExtent(0, %d, 0, %d, 0, %d)\n"
+        "a = %s()\n"
+        "a.SetName('%s')\n"
+        "a.SetNumberOfTuples(%d)\n"
+        "n = 0\n"
+        "for k in range(%d):\n"
+        "    for j in range(%d):\n"
+        "        for i in range(%d):\n"
+        "%s\n"
+        "            a.SetValue(n, v)\n"
+        "            n += 1\n"
+        "out.GetPointData().SetScalars(a)\n"
+        % (array_type, dims[0] - 1, dims[1] - 1, dims[2] - 1, array_type, name,
+           dims[0] * dims[1] * dims[2], dims[2], dims[1], dims[0],
+           "\n".join("            " + line for line in script_body.splitlines())))
+    return src
+
+
+# ---- not image data ------------------------------------------------------------------
+sphere = Sphere()
+bvp, msgs, res = run("polydata input", sphere)
+C.check(msgs.any_error("not image data"), "polydata input: error 'not image data'")
+C.check(res["points"] == 0 and res["ViewValid"] == 0, "polydata input: empty output")
+Delete(bvp)
+
+# ---- no point array -----------------------------------------------------------------
+empty_arrays = ProgrammableSource()
+empty_arrays.OutputDataSetType = "vtkImageData"
+empty_arrays.ScriptRequestInformation = (
+    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, 9, 0, 9, 0, 9])\n")
+empty_arrays.Script = "self.GetOutput().SetExtent(0, 9, 0, 9, 0, 9)\n"
+bvp, msgs, res = run("no point array", empty_arrays)
+C.check(msgs.any_error("no point scalar array"), "no point array: error 'no point scalar array'")
+C.check(res["points"] == 0, "no point array: empty output")
+Delete(bvp)
+
+# ---- missing array name ---------------------------------------------------------------
+wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+bvp, msgs, res = run("missing array", wavelet, Channels=["NoSuchArray"])
+C.check(msgs.any_error("NoSuchArray", "RTData"),
+        "missing array: error names the array and the available ones")
+Delete(bvp)
+
+# ---- empty extent ---------------------------------------------------------------------
+empty = ProgrammableSource()
+empty.OutputDataSetType = "vtkImageData"
+empty.ScriptRequestInformation = (
+    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, -1, 0, -1, 0, -1])\n")
+empty.Script = "pass\n"
+bvp, msgs, res = run("empty extent", empty)
+C.check(msgs.any_error("empty extent"), "empty extent: error 'empty extent'")
+Delete(bvp)
+
+# ---- NumberOfInterestPoints <= 0 ----------------------------------------------------------
+for n in (0, -5):
+    bvp, msgs, res = run("N=%d" % n, wavelet, NumberOfInterestPoints=n)
+    C.check(msgs.any_error("NumberOfInterestPoints", "positive"),
+            "N=%d: error 'NumberOfInterestPoints must be positive'" % n)
+    C.check(res["points"] == 0, "N=%d: empty output" % n)
+    Delete(bvp)
+
+# ---- a 2D image: a single slice; its normal is the answer ---------------------------------
+slice2d = Wavelet(WholeExtent=[-20, 20, -20, 20, 0, 0])
+bvp, msgs, res = run("single slice", slice2d)
+C.check(not msgs.errors, "single slice: no error")
+C.check(res["ViewValid"] == 1 and B.abs(B.abs(res["BestViewDirection"][2]) - 1) < 1e-6,
+        "single slice: best direction is the slice normal %s" % res["BestViewDirection"])
+C.check(res["points"] > 0, "single slice: %d interest points" % res["points"])
+Delete(bvp)
+
+# ---- NaN/Inf voxels: opacity 0, a warning with their count ------------------------------
+# Bright blobs on the plane z = 12 (so the answer is known: view along z), plus NaN and
+# Inf voxels away from them.
+blobs = image_source((24, 24, 24), """
+v = 0.0
+for (cx, cy) in ((6, 6), (6, 17), (17, 6), (17, 17), (12, 12)):
+    v += math.exp(-((i - cx) ** 2 + (j - cy) ** 2 + (k - 12) ** 2) / 3.0)
+if (i, j) == (2, 2) and k in (3, 20):
+    v = float('nan')
+if (i, j, k) == (21, 2, 4):
+    v = float('inf')
+""")
+bvp, msgs, res = run("NaN/Inf voxels", blobs)
+C.check(not msgs.errors, "NaN/Inf voxels: no error")
+C.check(msgs.any_warning("3 NaN/Inf"), "NaN/Inf voxels: warning gives the count (3)")
+C.check(res["ViewValid"] == 1 and B.abs(B.abs(res["BestViewDirection"][2]) - 1) < 1e-3,
+        "NaN/Inf voxels: view along the blob plane's normal %s" % res["BestViewDirection"])
+Delete(bvp)
+
+# ---- constant volume: warning, no direction, no NaN ----------------------------------------
+const = image_source((16, 16, 16), "v = 7.0")
+bvp, msgs, res = run("constant volume", const)
+C.check(not msgs.errors, "constant volume: no error")
+C.check(len(msgs.warnings) > 0, "constant volume: a warning")
+C.check(res["ViewValid"] == 0 and res["BestViewDirection"] == [0.0, 0.0, 0.0],
+        "constant volume: ViewValid 0, no direction")
+view = CreateView("RenderView")
+Show(const, view)
+Render(view)
+before = [float(x) for x in view.CameraPosition]
+result = mce.apply_best_viewpoint(const, view)
+C.check(not result.valid and [float(x) for x in view.CameraPosition] == before,
+        "constant volume: apply_best_viewpoint leaves the camera and says valid=False")
+Delete(bvp)
+
+# ---- Channels: a non-numeric array is refused ----------------------------------------------
+# (Wavelet + a string field would need numpy; the message path is shared with 'missing'.)
+
+# ---- broken .den files ------------------------------------------------------------------------
+tmp = tempfile.mkdtemp(prefix="mcv_den_")
+not_den = os.path.join(tmp, "not_a_volume.den")
+with open(not_den, "wb") as f:
+    f.write(b"P6\n# this is a PPM image, not a density file\n" + bytes(100))
+truncated = os.path.join(tmp, "truncated.den")
+header = struct.pack("<h27hhi", 1, *([0, 0, 0, 3, 3, 3, 4, 4, 4] * 3), 0, 64)
+with open(truncated, "wb") as f:
+    f.write(header + bytes(10))  # 10 of 64 voxels
+inconsistent = os.path.join(tmp, "inconsistent.den")
+with open(inconsistent, "wb") as f:
+    f.write(struct.pack("<h27hhi", 1, *([0, 0, 0, 3, 3, 3, 4, 4, 4] * 3), 0, 65) + bytes(65))
+swapped = os.path.join(tmp, "bigendian.den")
+with open(swapped, "wb") as f:
+    f.write(struct.pack(">h27hhi", 1, *([0, 0, 0, 3, 3, 3, 4, 4, 4] * 3), 0, 64) +
+            bytes(range(64)))
+for path, words in ((not_den, "not a VolPack"), (truncated, "truncated"),
+                    (inconsistent, "inconsistent header"),
+                    (os.path.join(tmp, "missing.den"), "cannot open")):
+    reader = VolPackDenReader(FileName=path)
+    msgs = T.Messages(reader)
+    reader.UpdatePipeline()
+    print("%s: errors %s" % (os.path.basename(path), msgs.errors))
+    C.check(msgs.any_error(words), "%s: error '%s'" % (os.path.basename(path), words))
+    C.check(reader.GetDataInformation().GetNumberOfPoints() == 0,
+            "%s: no output" % os.path.basename(path))
+    Delete(reader)
+reader = VolPackDenReader(FileName=swapped)
+msgs = T.Messages(reader)
+reader.UpdatePipeline()
+rng = reader.PointData["Density"].GetRange() if reader.PointData["Density"] else None
+C.check(not msgs.errors and tuple(reader.GetDataInformation().GetExtent()) == (0, 3, 0, 3, 0, 3)
+        and rng == (0.0, 63.0), "big-endian .den: read (4x4x4, values 0..63)")
+
+C.finish()
