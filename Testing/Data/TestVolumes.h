@@ -679,7 +679,24 @@ inline Volume structuredVolume(int n, std::uint64_t seed = 7)
   for (std::int64_t k = 0; k < nn; ++k)
   {
     SplitMix64 noise(seed * 1000003ull + static_cast<std::uint64_t>(k));
+    // Blobs that can reach this slice, then this row (exact filters: the per-voxel test
+    // r2 < 16 s^2 fails for the others, so the sums are the same, in the same order).
+    std::vector<const B*> inSlice, inRow;
+    for (const B& b : blobs)
+    {
+      const double dz = static_cast<double>(k) - b.z;
+      if (dz * dz < 16 * b.s * b.s)
+        inSlice.push_back(&b);
+    }
     for (int j = 0; j < n; ++j)
+    {
+      inRow.clear();
+      for (const B* b : inSlice)
+      {
+        const double dy = j - b->y, dz = static_cast<double>(k) - b->z;
+        if (dy * dy + dz * dz < 16 * b->s * b->s)
+          inRow.push_back(b);
+      }
       for (int i = 0; i < n; ++i)
       {
         const double x = i - c, y = j - c, z = static_cast<double>(k) - c;
@@ -687,8 +704,9 @@ inline Volume structuredVolume(int n, std::uint64_t seed = 7)
         const double r = std::sqrt(x * x / (ax * ax) + y * y / (ay * ay) + z * z / (az * az));
         const double shellDist = std::fabs(r - 1.0) * std::min(ax, std::min(ay, az));
         double s = 0.6 * std::exp(-shellDist * shellDist / (2 * shellWidth * shellWidth));
-        for (const B& b : blobs)
+        for (const B* pb : inRow)
         {
+          const B& b = *pb;
           const double dx = i - b.x, dy = j - b.y, dz = static_cast<double>(k) - b.z;
           const double r2 = dx * dx + dy * dy + dz * dz;
           if (r2 < 16 * b.s * b.s)
@@ -708,6 +726,7 @@ inline Volume structuredVolume(int n, std::uint64_t seed = 7)
         v.values[static_cast<std::size_t>(k) * n * n + static_cast<std::size_t>(j) * n + i] =
           std::round(s * 255.0) / 255.0f;
       }
+    }
   }
   return v;
 }
