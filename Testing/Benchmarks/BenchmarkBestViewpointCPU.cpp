@@ -102,6 +102,19 @@ std::vector<int> parseList(const char* s)
   return out;
 }
 
+// The 1-minute load average (Linux), to tell a quiet machine from a busy one; -1 if unknown.
+double loadAverage()
+{
+  double l = -1;
+  if (FILE* f = std::fopen("/proc/loadavg", "r"))
+  {
+    if (std::fscanf(f, "%lf", &l) != 1)
+      l = -1;
+    std::fclose(f);
+  }
+  return l;
+}
+
 void usage()
 {
   std::printf("usage: mcvBenchmarkCPU [--quick] [--runs N] [--entropy-runs N] [--sizes a,b,..]\n"
@@ -294,8 +307,10 @@ int main(int argc, char** argv)
   if (cfg.threads > 0)
     omp_set_num_threads(cfg.threads);
 
-  std::printf("mcvBenchmarkCPU: best viewpoint on the CPU (%d OpenMP threads)%s\n",
-    omp_get_max_threads(), cfg.quick ? " [--quick: smoke run, not a measurement]" : "");
+  std::printf("mcvBenchmarkCPU: best viewpoint on the CPU (%d OpenMP threads, %d processors, "
+              "load average %.2f)%s\n",
+    omp_get_max_threads(), omp_get_num_procs(), loadAverage(),
+    cfg.quick ? " [--quick: smoke run, not a measurement]" : "");
   std::printf("Harris/PCA: N = 2048, sigma 1.5, 5 taps, k = 0.004; %d timed run(s) after one "
               "warm-up, median.\n",
     cfg.runs);
@@ -364,6 +379,8 @@ int main(int argc, char** argv)
       r.entropySamples, r.entropyMs, r.totalMs > 0 ? r.entropyMs / r.totalMs : NAN, r.areaMs,
       r.angleEntropy, r.angleArea, r.note.empty() ? "" : ("  " + r.note).c_str());
   }
+  std::printf("load average at the end: %.2f (times are only comparable on a quiet machine)\n",
+    loadAverage());
   std::printf("harris/select/pca/total: Harris pipeline stages (Device CPU); entropy: viewpoint "
               "entropy baseline with `samples` views; ent/tot = entropy / Harris total (same "
               "run); ang.*: angle between the Harris best axis and the baseline's best axis.\n");
