@@ -1,0 +1,385 @@
+// GPU benchmark of the best-viewpoint pipeline (Harris response + top-N) against the CPU
+// path, both measured in this run on the same deterministic structured volumes (uint8
+// opacity 0..255 on the GPU, the same values /255 in float on the CPU).
+//
+//   mcvBenchmarkGPU [--sizes 64,128,256,384,512] [--runs R] [--cpu-runs R] [--cpu-max N]
+//                   [--sweep] [--no-float]
+//
+// Per size: GPU stage times (CUDA events, median of R runs, volume resident on the GPU):
+// harris (fused kernel + level-1 histogram), select (radix select + compaction + sort, with
+// its one host synchronisation), download of the N points; "device" = their sum (the
+// volume already on the GPU, points on the host); wall = the host's clock around the same
+// call; "+H2D" adds the upload of the uint8 volume from pinned (and pageable) memory.
+// CPU: computeHarrisResponseCPU + selectTopResponsesCPU (OpenMP, all cores), median of
+// --cpu-runs runs, up to --cpu-max voxels per side. Agreement: top-N overlap between the
+// GPU (uint8) and CPU (float) points, and the angle between their PCA best views.
+// --sweep times the Harris kernel for several z chunks; the float path (the plugin's
+// input) is timed too unless --no-float.
+#include "cuda/HarrisCuda.h"
+#include "cuda/HarrisPipeline.h"
+
+#include "HarrisResponse.h"
+#include "TopResponses.h"
+#include "ViewFromPoints.h"
+
+#include "TestVolumes.h"
+
+#include <cuda_runtime.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+namespace
+{
+
+namespace mt = mcv::testing;
+using Clock = std::chrono::steady_clock;
+
+struct Config
+{
+  std::vector<int> sizes{ 64, 128, 256, 384, 512 };
+  int runs = 20;
+  int cpuRuns = 10;
+  int cpuMax = 256;
+  bool sweep = false;
+  bool floatPath = true;
+};
+
+struct Row
+{
+  int n = 0;
+  double harris = 0, select = 0, download = 0, device = 0, wall = 0;
+  double h2dPinned = 0, h2dPageable = 0;
+  double floatHarris = -1, floatDevice = -1, floatH2D = -1;
+  double cpu = -1;
+  double overlap = -1, angle = -1;
+  int zChunk = 0;
+  std::size_t points = 0;
+};
+
+double median(std::vector<double> v)
+{
+  if (v.empty())
+  {
+    return 0;
+  }
+  std::sort(v.begin(), v.end());
+  const std::size_t m = v.size() / 2;
+  return v.size() % 2 ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+
+double msSince(Clock::time_point t)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+[[noreturn]] void die(const std::string& what)
+{
+  std::fprintf(stderr, "mcvBenchmarkGPU: %s\n", what.c_str());
+  std::exit(1);
+}
+
+std::vector<int> parseList(const char* s)
+{
+  std::vector<int> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    out.push_back(std::atoi(item.c_str()));
+  }
+  return out;
+}
+
+double overlap(const mcv::InterestPoints& a, const mcv::InterestPoints& b)
+{
+  const std::size_t n = std::max(a.size(), b.size());
+  if (n == 0)
+  {
+    return 1.0;
+  }
+  std::unordered_set<std::int64_t> set(a.indices.begin(), a.indices.end());
+  std::size_t common = 0;
+  for (std::int64_t i : b.indices)
+  {
+    common += set.count(i);
+  }
+  return static_cast<double>(common) / static_cast<double>(n);
+}
+
+mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
+{
+  std::vector<mcv::Vec3> pts;
+  pts.reserve(p.size());
+  for (std::int64_t i : p.indices)
+  {
+    pts.push_back(g.worldPosition(i));
+  }
+  return mcv::computeViewDirections(pts).best;
+}
+
+double angleDegrees(const mcv::Vec3& a, const mcv::Vec3& b)
+{
+  const double d = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  return std::acos(std::min(1.0, d / std::max(na * nb, 1e-300))) * 180.0 / 3.14159265358979323846;
+}
+
+// The PyTorch pipeline of notes/gpu.md (torch.gradient, conv3d, topk, SVD; H200, volume
+// resident, median of 10), for orientation only: it was not measured in this run.
+double pytorchAnchorMs(int n)
+{
+  switch (n)
+  {
+    case 64:
+      return 1.9;
+    case 128:
+      return 3.8;
+    case 256:
+      return 20.5;
+    case 384:
+      return 68.0;
+    case 512:
+      return 160.0;
+    default:
+      return -1;
+  }
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  Config cfg;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto next = [&]() -> const char* {
+      if (i + 1 >= argc)
+        die("missing value after " + a);
+      return argv[++i];
+    };
+    if (a == "--sizes")
+      cfg.sizes = parseList(next());
+    else if (a == "--runs")
+      cfg.runs = std::max(1, std::atoi(next()));
+    else if (a == "--cpu-runs")
+      cfg.cpuRuns = std::max(1, std::atoi(next()));
+    else if (a == "--cpu-max")
+      cfg.cpuMax = std::atoi(next());
+    else if (a == "--sweep")
+      cfg.sweep = true;
+    else if (a == "--no-float")
+      cfg.floatPath = false;
+    else
+      die("unknown argument " + a);
+  }
+
+  std::string why;
+  if (!mcv::cuda::deviceUsable(&why))
+  {
+    std::printf("mcvBenchmarkGPU: no usable GPU (%s): nothing to measure.\n", why.c_str());
+    return 0;
+  }
+  int device = 0;
+  cudaGetDevice(&device);
+  cudaDeviceProp prop{};
+  cudaGetDeviceProperties(&prop, device);
+  std::printf("GPU: %s, %d SMs, %.0f MB L2, compute %d.%d; CPU threads: %d\n", prop.name,
+    prop.multiProcessorCount, prop.l2CacheSize / 1048576.0, prop.major, prop.minor,
+    omp_get_max_threads());
+  std::printf("N = 2048 interest points, Harris width 5, sigma 1.5, k 0.004; GPU runs %d "
+              "(median), CPU runs %d (median)\n\n",
+    cfg.runs, cfg.cpuRuns);
+
+  const mcv::HarrisParameters params;
+  const int N = 2048;
+  std::vector<Row> rows;
+  mcv::cuda::HarrisPipeline pipeline;
+  std::string error;
+
+  for (int n : cfg.sizes)
+  {
+    Row row;
+    row.n = n;
+    const auto t0 = Clock::now();
+    const mt::Volume vol = mt::structuredVolume(n);
+    std::vector<std::uint8_t> bytes(vol.values.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+    {
+      bytes[i] = static_cast<std::uint8_t>(std::lround(vol.values[i] * 255.0f));
+    }
+    std::printf("== %d^3 (%zu voxels; volume made in %.0f ms)\n", n, bytes.size(), msSince(t0));
+
+    // Upload, pageable then pinned (the same bytes).
+    std::vector<double> up;
+    for (int r = 0; r < 5; ++r)
+    {
+      if (!pipeline.uploadVolume(bytes.data(), vol.grid, &error))
+        die(error);
+      up.push_back(pipeline.lastUploadMs());
+    }
+    row.h2dPageable = median(up);
+    up.clear();
+    const bool pinned = cudaHostRegister(bytes.data(), bytes.size(), cudaHostRegisterDefault) == cudaSuccess;
+    (void)cudaGetLastError();
+    for (int r = 0; r < 5; ++r)
+    {
+      if (!pipeline.uploadVolume(bytes.data(), vol.grid, &error))
+        die(error);
+      up.push_back(pipeline.lastUploadMs());
+    }
+    row.h2dPinned = pinned ? median(up) : -1;
+    if (pinned)
+      cudaHostUnregister(bytes.data());
+
+    // Device-resident pipeline.
+    mcv::InterestPoints gpu;
+    pipeline.setZChunk(0);
+    for (int r = 0; r < 3; ++r) // warm-up (allocations, CUB temporaries)
+    {
+      if (!pipeline.topN(params, N, gpu, &error))
+        die(error);
+    }
+    std::vector<double> h, s, d, dev, wall;
+    for (int r = 0; r < cfg.runs; ++r)
+    {
+      mcv::cuda::GpuStageTimings t;
+      const auto w0 = Clock::now();
+      if (!pipeline.topN(params, N, gpu, &error, &t))
+        die(error);
+      wall.push_back(msSince(w0));
+      h.push_back(t.harrisMs);
+      s.push_back(t.selectMs);
+      d.push_back(t.downloadMs);
+      dev.push_back(t.harrisMs + t.selectMs + t.downloadMs);
+    }
+    row.harris = median(h);
+    row.select = median(s);
+    row.download = median(d);
+    row.device = median(dev);
+    row.wall = median(wall);
+    row.zChunk = pipeline.lastZChunk();
+    row.points = gpu.size();
+    std::printf("  GPU uint8: harris %.3f ms, select %.3f ms, download %.3f ms, device total "
+                "%.3f ms (wall %.3f ms), zChunk %d, %zu points\n",
+      row.harris, row.select, row.download, row.device, row.wall, row.zChunk, row.points);
+    std::printf("  H2D uint8: pinned %.3f ms, pageable %.3f ms\n", row.h2dPinned, row.h2dPageable);
+
+    if (cfg.sweep)
+    {
+      std::printf("  z-chunk sweep (harris ms, median of %d):", cfg.runs);
+      for (int zc : { 4, 8, 16, 32, 64, 128 })
+      {
+        if (zc > n)
+          continue;
+        pipeline.setZChunk(zc);
+        std::vector<double> hs;
+        mcv::InterestPoints tmp;
+        for (int r = 0; r < cfg.runs; ++r)
+        {
+          mcv::cuda::GpuStageTimings t;
+          if (!pipeline.topN(params, N, tmp, &error, &t))
+            die(error);
+          hs.push_back(t.harrisMs);
+        }
+        std::printf("  %d: %.3f", zc, median(hs));
+      }
+      std::printf("  (auto %d: %.3f)\n", row.zChunk, row.harris);
+      pipeline.setZChunk(0);
+    }
+
+    // Float input (what the plugin passes), same values / 255.
+    if (cfg.floatPath)
+    {
+      if (!pipeline.uploadVolume(vol.values.data(), vol.grid, &error))
+        die(error);
+      row.floatH2D = pipeline.lastUploadMs();
+      mcv::InterestPoints fp;
+      for (int r = 0; r < 2; ++r)
+        if (!pipeline.topN(params, N, fp, &error))
+          die(error);
+      std::vector<double> fh, fd;
+      for (int r = 0; r < cfg.runs; ++r)
+      {
+        mcv::cuda::GpuStageTimings t;
+        if (!pipeline.topN(params, N, fp, &error, &t))
+          die(error);
+        fh.push_back(t.harrisMs);
+        fd.push_back(t.harrisMs + t.selectMs + t.downloadMs);
+      }
+      row.floatHarris = median(fh);
+      row.floatDevice = median(fd);
+      std::printf("  GPU float: harris %.3f ms, device total %.3f ms, H2D (pageable) %.3f ms; "
+                  "overlap with uint8 %.4f\n",
+        row.floatHarris, row.floatDevice, row.floatH2D, overlap(fp, gpu));
+    }
+
+    // CPU path, same volume (float values = bytes / 255).
+    if (n <= cfg.cpuMax)
+    {
+      std::vector<float> response(vol.values.size());
+      mcv::InterestPoints cpu;
+      std::vector<double> times;
+      const int cpuRuns = n >= 256 ? std::min(cfg.cpuRuns, 5) : cfg.cpuRuns;
+      for (int r = 0; r < cpuRuns; ++r)
+      {
+        const auto c0 = Clock::now();
+        mcv::computeHarrisResponseCPU(vol.values.data(), vol.grid, params, response.data());
+        cpu = mcv::selectTopResponsesCPU(response.data(), response.size(), N);
+        times.push_back(msSince(c0));
+      }
+      row.cpu = median(times);
+      row.overlap = overlap(gpu, cpu);
+      row.angle = angleDegrees(bestView(gpu, vol.grid), bestView(cpu, vol.grid));
+      std::printf("  CPU: %.2f ms (median of %d); CPU/GPU-device %.0fx; top-N overlap %.4f; "
+                  "best-view angle %.4f deg\n",
+        row.cpu, cpuRuns, row.cpu / row.device, row.overlap, row.angle);
+    }
+    rows.push_back(row);
+    std::printf("\n");
+  }
+  pipeline.release();
+
+  std::printf("Best-viewpoint GPU pipeline (Harris 5^3 + top-2048), %s, times in ms "
+              "(medians)\n",
+    prop.name);
+  std::printf("%6s %8s %8s %8s %9s %9s %9s %10s %10s %9s %8s %8s %9s\n", "size", "harris",
+    "select", "device", "wall", "+H2Dpin", "+H2Dpage", "float-dev", "CPU", "CPU/GPU", "overlap",
+    "angle", "torch-ref");
+  for (const Row& r : rows)
+  {
+    char cpu[32] = "-", ratio[32] = "-", ov[32] = "-", ang[32] = "-", fl[32] = "-", ref[32] = "-";
+    if (r.cpu >= 0)
+    {
+      std::snprintf(cpu, sizeof(cpu), "%.1f", r.cpu);
+      std::snprintf(ratio, sizeof(ratio), "%.0fx", r.cpu / r.device);
+      std::snprintf(ov, sizeof(ov), "%.4f", r.overlap);
+      std::snprintf(ang, sizeof(ang), "%.3f", r.angle);
+    }
+    if (r.floatDevice >= 0)
+      std::snprintf(fl, sizeof(fl), "%.3f", r.floatDevice);
+    if (pytorchAnchorMs(r.n) > 0)
+      std::snprintf(ref, sizeof(ref), "%.1f", pytorchAnchorMs(r.n));
+    std::printf("%5d^3 %8.3f %8.3f %8.3f %9.3f %9.3f %9.3f %10s %10s %9s %8s %8s %9s\n", r.n,
+      r.harris, r.select, r.device, r.wall, r.device + r.h2dPinned, r.device + r.h2dPageable, fl,
+      cpu, ratio, ov, ang, ref);
+  }
+  std::printf("device = harris + select + download (volume resident, CUDA events); wall = host "
+              "clock of the same call;\n+H2Dpin/+H2Dpage add the uint8 upload from pinned/pageable "
+              "memory; float-dev = device total with float input;\nCPU = OpenMP "
+              "computeHarrisResponseCPU + selectTopResponsesCPU, this run; overlap/angle: GPU vs CPU "
+              "top-N set and PCA best view;\ntorch-ref = notes/gpu.md PyTorch pipeline on an H200 "
+              "(not measured in this run).\n");
+  return 0;
+}

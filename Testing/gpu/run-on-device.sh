@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# One call on the GPU machine (no ParaView there): configure, build, run the GPU tests and
+# the core tests, run the GPU benchmark, print a short table last. Logs go to $OUT when set
+# (the device tool brings that folder back), else to build-gpu/logs.
+#
+#   Testing/gpu/run-on-device.sh [benchmark arguments, e.g. --sizes 64,256 --sweep]
+#
+# Real volumes: put them in .cache/volumes (scripts/fetch-data.sh) and carry that folder.
+set -uo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(cd "$here/../.." && pwd)"
+cd "$repo"
+build=build-gpu
+logs="${OUT:-$repo/$build/logs}"
+mkdir -p "$logs"
+summary="$logs/summary.txt"
+: >"$summary"
+note() { echo "$*" | tee -a "$summary"; }
+
+note "== machine"
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm --format=csv,noheader 2>&1 | tee -a "$summary"
+nvcc --version 2>/dev/null | tail -1 | tee -a "$summary"
+cmake --version | head -1 | tee -a "$summary"
+ls .cache/volumes 2>/dev/null | tr '\n' ' ' | sed 's/^/volumes: /' | tee -a "$summary"; echo | tee -a "$summary"
+
+note "== configure + build"
+start=$(date +%s)
+if ! { cmake -S . -B "$build" -DMCV_BUILD_PARAVIEW=OFF -DCMAKE_CUDA_ARCHITECTURES=90 \
+         -DCMAKE_BUILD_TYPE=Release &&
+       cmake --build "$build" -j16; } >"$logs/build.log" 2>&1; then
+  tail -40 "$logs/build.log"
+  note "BUILD FAILED (see build.log)"
+  exit 1
+fi
+note "built in $(( $(date +%s) - start )) s"
+# Registers / spills of the Harris kernels (sm_90).
+cuobjdump -res-usage "$build/cuda/libmcvCuda.a" 2>/dev/null | grep -A1 "harrisKernel" |
+  grep -o "Function [^ ]*\|REG:[0-9]*\|STACK:[0-9]*\|SHARED:[0-9]*\|LOCAL:[0-9]*" |
+  paste -sd' ' | sed 's/Function /\n/g' | sed 's/_ZN3mcv4cuda6detail[^ ]*harrisKernelI/harrisKernel</' |
+  tee -a "$logs/build.log" | head -10
+
+note "== GPU tests"
+gpu_rc=0
+timeout 300 "$build/Testing/gpu/mcvGpuTests" >"$logs/gpu-tests.log" 2>&1 || gpu_rc=$?
+grep -E "^\[ (agreement|top-N|view) |overlap|FAILED|Failure|PASSED|SKIPPED|error" "$logs/gpu-tests.log" | head -80
+grep -E "^\[  (PASSED|FAILED|SKIPPED) |tests ran" "$logs/gpu-tests.log" | tee -a "$summary"
+note "mcvGpuTests exit code $gpu_rc"
+
+note "== core tests"
+core_rc=0
+timeout 240 "$build/Testing/Core/mcvCoreTests" --gtest_brief=1 >"$logs/core-tests.log" 2>&1 || core_rc=$?
+grep -E "FAILED|tests ran|PASSED" "$logs/core-tests.log" | tail -15 | tee -a "$summary"
+note "mcvCoreTests exit code $core_rc"
+
+note "== benchmark"
+bench_rc=0
+timeout 300 "$build/Testing/gpu/mcvBenchmarkGPU" "$@" >"$logs/bench.log" 2>&1 || bench_rc=$?
+grep -v "^  \|^$" "$logs/bench.log" | head -20 >/dev/null
+cat "$logs/bench.log" | sed -n '/^== /,$p' | grep -E "^==|GPU uint8|GPU float|H2D|CPU:|sweep" | head -60
+note "mcvBenchmarkGPU exit code $bench_rc"
+
+echo
+echo "================ summary ================"
+cat "$summary"
+echo
+sed -n '/^Best-viewpoint GPU pipeline/,$p' "$logs/bench.log" | tee -a "$summary"
+[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ]

@@ -1,0 +1,117 @@
+// The plain C++ entry points of the GPU path (HarrisCuda.h), on one shared device-resident
+// pipeline: its buffers stay allocated between calls (the best viewpoint is recomputed at
+// every transfer-function edit), and grow to the largest volume seen.
+#include "HarrisCuda.h"
+
+#include "CudaCheck.h"
+#include "HarrisKernel.cuh"
+#include "HarrisPipeline.h"
+
+#include <mutex>
+
+namespace mcv
+{
+namespace cuda
+{
+
+namespace
+{
+
+std::mutex& pipelineMutex()
+{
+  static std::mutex m;
+  return m;
+}
+
+// Never destroyed: freeing device memory from a static destructor can run after the CUDA
+// runtime has shut down; the driver reclaims everything at process exit.
+HarrisPipeline& sharedPipeline()
+{
+  static HarrisPipeline* p = new HarrisPipeline;
+  return *p;
+}
+
+bool setReason(std::string* reason, const std::string& why)
+{
+  if (reason)
+  {
+    *reason = why;
+  }
+  return false;
+}
+
+} // namespace
+
+bool deviceUsable(std::string* reason)
+{
+  int count = 0;
+  cudaError_t err = cudaGetDeviceCount(&count);
+  if (err != cudaSuccess)
+  {
+    // Without a driver (or with one too old) the count is undefined: never read it.
+    (void)cudaGetLastError();
+    return setReason(reason, std::string("no usable CUDA driver: ") + cudaGetErrorString(err));
+  }
+  if (count <= 0)
+  {
+    return setReason(reason, "no CUDA device");
+  }
+  int device = 0, major = 0, minor = 0;
+  if ((err = cudaGetDevice(&device)) != cudaSuccess ||
+    (err = cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, device)) != cudaSuccess ||
+    (err = cudaDeviceGetAttribute(&minor, cudaDevAttrComputeCapabilityMinor, device)) != cudaSuccess)
+  {
+    (void)cudaGetLastError();
+    return setReason(reason, std::string("cannot query the CUDA device: ") + cudaGetErrorString(err));
+  }
+  if ((err = cudaFree(nullptr)) != cudaSuccess) // creates the context: busy/unavailable devices
+  {
+    (void)cudaGetLastError();
+    return setReason(reason, std::string("cannot use CUDA device ") + std::to_string(device) +
+        ": " + cudaGetErrorString(err));
+  }
+  if ((err = detail::probeHarrisKernel()) != cudaSuccess)
+  {
+    (void)cudaGetLastError();
+    return setReason(reason, "this build has no GPU code for compute capability " +
+        std::to_string(major) + "." + std::to_string(minor) + " (" + cudaGetErrorString(err) + ")");
+  }
+  return true;
+}
+
+bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisParameters& params,
+  int N, InterestPoints& out, std::string* error, GpuStageTimings* timings)
+{
+  std::lock_guard<std::mutex> lock(pipelineMutex());
+  HarrisPipeline& pipeline = sharedPipeline();
+  const char* why = gpuUnsupportedReason(grid, params);
+  if (*why)
+  {
+    return detail::fail(error, why);
+  }
+  if (!pipeline.uploadVolume(hostOpacity, grid, error))
+  {
+    return false;
+  }
+  return pipeline.topN(params, N, out, error, timings);
+}
+
+bool harrisResponse(const float* hostOpacity, const ImageGrid& grid,
+  const HarrisParameters& params, float* hostResponse, std::string* error)
+{
+  std::lock_guard<std::mutex> lock(pipelineMutex());
+  HarrisPipeline& pipeline = sharedPipeline();
+  const char* why = gpuUnsupportedReason(grid, params);
+  if (*why)
+  {
+    return detail::fail(error, why);
+  }
+  if (!pipeline.uploadVolume(hostOpacity, grid, error))
+  {
+    return false;
+  }
+  return pipeline.response(params, hostResponse, error);
+}
+
+} // namespace cuda
+} // namespace mcv

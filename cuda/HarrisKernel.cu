@@ -1,0 +1,444 @@
+#include "HarrisKernel.cuh"
+
+#include <cfloat>
+#include <cstdint>
+
+namespace mcv
+{
+namespace cuda
+{
+namespace detail
+{
+namespace
+{
+
+__device__ __forceinline__ int clampi(int v, int lo, int hi)
+{
+  return min(max(v, lo), hi);
+}
+
+// Shared-memory layout of one block for radius R (all sizes in floats).
+template <int R>
+struct TileShape
+{
+  static constexpr int W = 2 * R + 1;                   // taps
+  static constexpr int IW = kHarrisTileX + 2 * R + 2;   // input tile (gradient + blur halo)
+  static constexpr int IH = kHarrisTileY + 2 * R + 2;
+  static constexpr int IS = IW * IH;
+  static constexpr int PWa = kHarrisTileX + 2 * R;      // product tile (blur halo)
+  static constexpr int PW = (PWa + 3) & ~3;             // row stride, float4-aligned
+  static constexpr int PH = kHarrisTileY + 2 * R;
+  static constexpr int LOADS = (IS + kHarrisThreads - 1) / kHarrisThreads;
+  static constexpr int ProdFloats = 6 * PH * PW;         // [6][PH][PW]
+  static constexpr int XbFloats = 6 * PH * kHarrisTileX; // [6][PH][TX] x-smoothed
+  static constexpr int InFloats = 3 * IS;                // ring of 3 input slices
+  static std::size_t smemBytes(bool hist)
+  {
+    return static_cast<std::size_t>(ProdFloats + XbFloats + InFloats) * sizeof(float) +
+      (hist ? kLevel1Bins * sizeof(unsigned) : 0);
+  }
+};
+
+template <typename T, int R>
+__global__ void __launch_bounds__(kHarrisThreads, 2)
+  harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
+  constexpr int LOADS = S::LOADS;
+  constexpr int TX = kHarrisTileX;
+  constexpr int CS = PH * PW; // channel stride of the product tile
+
+  extern __shared__ float4 smem4[];
+  float* sProd = reinterpret_cast<float*>(smem4);
+  float* sXb = sProd + S::ProdFloats;
+  float* sIn = sXb + S::XbFloats;
+  unsigned* sHist = reinterpret_cast<unsigned*>(sIn + S::InFloats);
+
+  const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
+  const int nx = a.nx, ny = a.ny, nz = a.nz;
+  const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
+  const int zb = blockIdx.z * a.zChunk;
+  const int ze = min(zb + a.zChunk, nz);
+  const std::size_t plane = static_cast<std::size_t>(nx) * ny;
+  const bool withHist = a.hist != nullptr;
+  if (withHist)
+  {
+    for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+    {
+      sHist[i] = 0;
+    }
+  }
+
+  // In-plane source offsets of this thread's input-tile elements (clamped: replicated border).
+  int inOff[LOADS];
+#pragma unroll
+  for (int i = 0; i < LOADS; ++i)
+  {
+    const int e = tid + i * kHarrisThreads;
+    if (e < IS)
+    {
+      const int ly = e / IW, lx = e - ly * IW;
+      inOff[i] = clampi(y0 - R - 1 + ly, 0, ny - 1) * nx + clampi(x0 - R - 1 + lx, 0, nx - 1);
+    }
+    else
+    {
+      inOff[i] = -1;
+    }
+  }
+  float pre[LOADS]; // the next input slice, loaded ahead of its use
+
+  auto loadSlice = [&](int q) {
+    const T* src = in + static_cast<std::size_t>(q) * plane;
+#pragma unroll
+    for (int i = 0; i < LOADS; ++i)
+    {
+      pre[i] = inOff[i] >= 0 ? static_cast<float>(__ldg(src + inOff[i])) : 0.f;
+    }
+  };
+  auto storeSlice = [&](int q) {
+    float* dst = sIn + (q % 3) * IS;
+#pragma unroll
+    for (int i = 0; i < LOADS; ++i)
+    {
+      const int e = tid + i * kHarrisThreads;
+      if (e < IS)
+      {
+        dst[e] = pre[i];
+      }
+    }
+  };
+
+  // Six gradient products of slice cz on the product tile. A product position outside the
+  // grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
+  auto products = [&](int cz) {
+    const float* sc = sIn + (cz % 3) * IS;
+    const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
+    const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+    {
+      const int py = p / PWa, px = p - py * PWa;
+      const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
+      const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
+      const int c = cy * IW + cx;
+      const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
+      const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
+      const float gz = (sp[c] - sm[c]) * a.scaleZ;
+      float* d = sProd + py * PW + px;
+      d[0] = gx * gx;
+      d[CS] = gx * gy;
+      d[2 * CS] = gx * gz;
+      d[3 * CS] = gy * gy;
+      d[4 * CS] = gy * gz;
+      d[5 * CS] = gz * gz;
+    }
+  };
+
+  // x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
+  auto xpass = [&]() {
+    constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
+    for (int t = tid; t < TASKS; t += kHarrisThreads)
+    {
+      const int row = t / XG; // channel * PH + row
+      const int g = t - row * XG;
+      const float4* src = reinterpret_cast<const float4*>(sProd + row * PW) + g;
+      float v[4 * NV];
+#pragma unroll
+      for (int j = 0; j < NV; ++j)
+      {
+        const float4 q = src[j];
+        v[4 * j] = q.x;
+        v[4 * j + 1] = q.y;
+        v[4 * j + 2] = q.z;
+        v[4 * j + 3] = q.w;
+      }
+      float o[4];
+#pragma unroll
+      for (int u = 0; u < 4; ++u)
+      {
+        float s = 0.f;
+#pragma unroll
+        for (int tt = 0; tt < W; ++tt)
+        {
+          s = fmaf(a.taps[tt], v[u + tt], s);
+        }
+        o[u] = s;
+      }
+      reinterpret_cast<float4*>(sXb + row * TX)[g] = make_float4(o[0], o[1], o[2], o[3]);
+    }
+  };
+
+  // z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of this
+  // thread: win[row][t][channel], t = 0 the oldest slice.
+  float win[2][W][6];
+#pragma unroll
+  for (int r = 0; r < 2; ++r)
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+#pragma unroll
+      for (int c = 0; c < 6; ++c)
+        win[r][t][c] = 0.f;
+
+  auto ypassPush = [&]() {
+    const int r0 = 2 * warp;
+#pragma unroll
+    for (int c = 0; c < 6; ++c)
+    {
+      float col[W + 1];
+#pragma unroll
+      for (int j = 0; j < W + 1; ++j)
+      {
+        col[j] = sXb[(c * PH + r0 + j) * TX + lane];
+      }
+      float s0 = 0.f, s1 = 0.f;
+#pragma unroll
+      for (int t = 0; t < W; ++t)
+      {
+        s0 = fmaf(a.taps[t], col[t], s0);
+        s1 = fmaf(a.taps[t], col[t + 1], s1);
+      }
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+      win[0][W - 1][c] = s0;
+      win[1][W - 1][c] = s1;
+    }
+  };
+  // The clamped slice repeats (z border): push the newest slice again.
+  auto repeatPush = [&]() {
+#pragma unroll
+    for (int c = 0; c < 6; ++c)
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+  };
+
+  auto emit = [&](int z) {
+#pragma unroll
+    for (int rr = 0; rr < 2; ++rr)
+    {
+      float m[6];
+#pragma unroll
+      for (int c = 0; c < 6; ++c)
+      {
+        float s = 0.f;
+#pragma unroll
+        for (int t = 0; t < W; ++t)
+        {
+          s = fmaf(a.taps[t], win[rr][t][c], s);
+        }
+        m[c] = s;
+      }
+      const float xx = m[0], xy = m[1], xz = m[2], yy = m[3], yz = m[4], zz = m[5];
+      float response;
+      if (a.planar)
+      {
+        const float tr = xx + yy;
+        response = (xx * yy - xy * xy) - a.k * tr * tr;
+      }
+      else
+      {
+        const float det =
+          xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+        const float tr = xx + yy + zz;
+        response = det - a.k * tr * tr * tr;
+      }
+      const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
+      const bool inside = gx < nx && gy < ny;
+      if (inside)
+      {
+        a.response[static_cast<std::size_t>(z) * plane + static_cast<std::size_t>(gy) * nx + gx] =
+          response;
+      }
+      if (withHist)
+      {
+        // Candidates (R > 0, finite) counted by their top 11 bits; one atomic per group of
+        // lanes that share a bin.
+        const bool cand = inside && response > 0.f && response <= FLT_MAX;
+        const unsigned bin = __float_as_uint(response) >> 21;
+        const unsigned active = __ballot_sync(0xffffffffu, cand);
+        if (cand)
+        {
+          const unsigned peers = __match_any_sync(active, bin);
+          if (lane == __ffs(peers) - 1)
+          {
+            atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
+          }
+        }
+      }
+    }
+  };
+
+  // Virtual slices sv = zb-R .. ze+R-1 feed the z window; sv outside the grid repeats the
+  // border slice. Each distinct clamped slice is computed once.
+  const int svBegin = zb - R, svEnd = ze + R;
+  const int czFirst = clampi(svBegin, 0, nz - 1);
+  const int czLast = clampi(svEnd - 1, 0, nz - 1);
+  const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
+  for (int q = max(czFirst - 1, 0); q <= min(czFirst + 1, nz - 1); ++q)
+  {
+    loadSlice(q);
+    storeSlice(q);
+  }
+  int nextLoad = min(czFirst + 1, nz - 1) + 1;
+  if (nextLoad <= qLast)
+  {
+    loadSlice(nextLoad);
+  }
+  int lastCz = -1;
+  for (int sv = svBegin; sv < svEnd; ++sv)
+  {
+    const int cz = clampi(sv, 0, nz - 1);
+    if (cz != lastCz)
+    {
+      if (lastCz >= 0 && nextLoad <= qLast)
+      {
+        // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
+        storeSlice(nextLoad);
+        ++nextLoad;
+        if (nextLoad <= qLast)
+        {
+          loadSlice(nextLoad);
+        }
+      }
+      __syncthreads();
+      products(cz);
+      __syncthreads();
+      xpass();
+      __syncthreads();
+      ypassPush();
+      lastCz = cz;
+    }
+    else
+    {
+      repeatPush();
+    }
+    if (sv >= zb + R)
+    {
+      emit(sv - R);
+    }
+  }
+
+  if (withHist)
+  {
+    __syncthreads();
+    for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+    {
+      const unsigned c = sHist[i];
+      if (c)
+      {
+        atomicAdd(&a.hist[i], static_cast<unsigned long long>(c));
+      }
+    }
+  }
+}
+
+int chooseZChunk(int tiles, int nz, int resident, int radius)
+{
+  // Model: time ~ waves * (slices per block + 2 radius halo slices); the largest chunk
+  // wins ties (less halo work).
+  if (resident < 1)
+  {
+    resident = 1;
+  }
+  double best = 1e300;
+  int bestChunk = nz;
+  for (int chunks = 1; chunks <= nz; ++chunks)
+  {
+    const int zc = (nz + chunks - 1) / chunks;
+    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
+    const long long waves = (blocks + resident - 1) / resident;
+    const double cost = static_cast<double>(waves) * (zc + 2 * radius);
+    if (cost < best)
+    {
+      best = cost;
+      bestChunk = zc;
+    }
+  }
+  return bestChunk;
+}
+
+template <typename T, int R>
+cudaError_t launchRadius(
+  const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
+{
+  using S = TileShape<R>;
+  const std::size_t smem = S::smemBytes(args.hist != nullptr);
+  auto kernel = harrisKernel<T, R>;
+  cudaError_t err =
+    cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(smem));
+  if (err != cudaSuccess)
+  {
+    return err;
+  }
+  const int tilesX = (args.nx + kHarrisTileX - 1) / kHarrisTileX;
+  const int tilesY = (args.ny + kHarrisTileY - 1) / kHarrisTileY;
+  if (zChunk <= 0)
+  {
+    int device = 0, sms = 1, perSM = 1;
+    if ((err = cudaGetDevice(&device)) != cudaSuccess ||
+      (err = cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device)) != cudaSuccess ||
+      (err = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perSM, kernel, kHarrisThreads, smem)) !=
+        cudaSuccess)
+    {
+      return err;
+    }
+    zChunk = chooseZChunk(tilesX * tilesY, args.nz, sms * perSM, R);
+  }
+  zChunk = min(max(zChunk, 1), args.nz);
+  HarrisKernelArgs a = args;
+  a.zChunk = zChunk;
+  if (used)
+  {
+    *used = zChunk;
+  }
+  const dim3 grid(tilesX, tilesY, (args.nz + zChunk - 1) / zChunk);
+  if (grid.y > 65535u || grid.z > 65535u)
+  {
+    return cudaErrorInvalidConfiguration;
+  }
+  kernel<<<grid, kHarrisThreads, smem, stream>>>(input, a);
+  return cudaGetLastError();
+}
+
+} // namespace
+
+template <typename T>
+cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
+  cudaStream_t stream, int* usedZChunk)
+{
+  switch (radius)
+  {
+    case 0:
+      return launchRadius<T, 0>(input, args, zChunk, stream, usedZChunk);
+    case 1:
+      return launchRadius<T, 1>(input, args, zChunk, stream, usedZChunk);
+    case 2:
+      return launchRadius<T, 2>(input, args, zChunk, stream, usedZChunk);
+    case 3:
+      return launchRadius<T, 3>(input, args, zChunk, stream, usedZChunk);
+    default:
+      return cudaErrorInvalidValue;
+  }
+}
+
+cudaError_t probeHarrisKernel()
+{
+  cudaFuncAttributes attributes;
+  return cudaFuncGetAttributes(&attributes, harrisKernel<float, 2>);
+}
+
+template cudaError_t launchHarris<float>(
+  const float*, HarrisKernelArgs, int, int, cudaStream_t, int*);
+template cudaError_t launchHarris<std::uint8_t>(
+  const std::uint8_t*, HarrisKernelArgs, int, int, cudaStream_t, int*);
+
+} // namespace detail
+} // namespace cuda
+} // namespace mcv

@@ -1,0 +1,65 @@
+// Device-resident best-viewpoint GPU pipeline: keeps the volume, the score volume and the
+// selection buffers on the GPU between calls, so that repeated runs (a transfer function
+// being edited; the benchmark) pay no allocation and, with the volume already uploaded,
+// no host-to-device copy. Plain C++ (no CUDA types): the GPU tests and the benchmark use it
+// directly; HarrisCuda.h's functions are built on one shared instance of it.
+//
+// Not thread-safe: one caller at a time per instance. Uses the current CUDA device.
+#pragma once
+
+#include "HarrisCuda.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace mcv
+{
+namespace cuda
+{
+
+class HarrisPipeline
+{
+public:
+  HarrisPipeline();
+  ~HarrisPipeline();
+  HarrisPipeline(const HarrisPipeline&) = delete;
+  HarrisPipeline& operator=(const HarrisPipeline&) = delete;
+
+  // Copies a volume (x fastest, grid.voxelCount() values) to the device; the copy time is
+  // kept as lastUploadMs(). uint8 volumes (0..255) rank exactly like value/255 in float,
+  // up to rounding: the response scales by 255^6.
+  bool uploadVolume(const float* host, const ImageGrid& grid, std::string* error);
+  bool uploadVolume(const std::uint8_t* host, const ImageGrid& grid, std::string* error);
+
+  // Harris response + top-N on the uploaded volume. timings (optional): harrisMs, selectMs,
+  // downloadMs measured with CUDA events on the GPU timeline, uploadMs = lastUploadMs().
+  bool topN(const HarrisParameters& params, int N, InterestPoints& out, std::string* error,
+    GpuStageTimings* timings = nullptr);
+
+  // Harris response of the uploaded volume, copied to `hostResponse` (voxelCount floats).
+  bool response(const HarrisParameters& params, float* hostResponse, std::string* error);
+
+  // Selection alone, from a host score volume (tests of the radix select: ties, NaN, ...).
+  bool selectFromScores(const float* hostScores, std::size_t count, int N, InterestPoints& out,
+    std::string* error);
+
+  // Output slices per block of the Harris kernel; 0 (default) picks it from the occupancy.
+  void setZChunk(int zChunk);
+  int lastZChunk() const;
+  double lastUploadMs() const;
+
+  // Frees every device buffer (they are allocated again on the next call).
+  void release();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Parameters the GPU path cannot run (the caller then uses the CPU), or "" when it can.
+const char* gpuUnsupportedReason(const ImageGrid& grid, const HarrisParameters& params);
+
+} // namespace cuda
+} // namespace mcv

@@ -1,0 +1,96 @@
+// Top-N selection on the device: the N largest positive finite scores of a device score
+// volume, ordered by score descending then linear index ascending (the CPU contract of
+// selectTopResponsesCPU). Only the N indices and scores come back to the host.
+//
+// Radix select on the float bits (positive floats order like their bit patterns):
+//   level 1: histogram of the top 11 bits over the volume (fused into the Harris kernel, or
+//            histogramLevel1) -> the bin b1 that holds the N-th largest score;
+//   compaction: a stable cub::DeviceSelect of the candidates with bits >= b1 << 21 (a few
+//            times N voxels: everything above the N-th score's bin, and that bin), in index
+//            order -> the list;
+//   levels 2 and 3 (11 and 10 bits) on the list -> the exact threshold T and `need`, the
+//            number of ties == T that still fit;
+//   stable selects of list entries > T and == T (index order), the first `need` ties
+//            appended; a stable radix sort of the <= N survivors by score descending.
+// One host synchronisation sits after level 1 (the list size sizes the CUB calls).
+#pragma once
+
+#include "../Filters/Core/TopResponses.h"
+
+#include <cuda_runtime.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace mcv
+{
+namespace cuda
+{
+namespace detail
+{
+
+struct SelectState
+{
+  unsigned long long total = 0;    // candidates (R > 0, finite)
+  unsigned long long above = 0;    // candidates strictly above the current bin / threshold
+  unsigned long long need = 0;     // ties == threshold taken (level 3)
+  unsigned long long listSize = 0; // candidates in or above the level-1 bin
+  unsigned int prefix = 0;         // bin bits fixed so far
+  unsigned int threshold = 0;      // T (bit pattern)
+  int takeAll = 0;                 // total <= N: every candidate is taken
+  int pad = 0;
+};
+
+class TopNSelector
+{
+public:
+  TopNSelector() = default;
+  ~TopNSelector();
+  TopNSelector(const TopNSelector&) = delete;
+  TopNSelector& operator=(const TopNSelector&) = delete;
+
+  // The level-1 histogram (kLevel1Bins counters) that the Harris kernel fills.
+  unsigned long long* level1Histogram() const { return Hist; }
+  // Allocates the fixed buffers (once) and zeroes the histograms on `stream`.
+  bool reset(cudaStream_t stream, std::string* error);
+  // Level-1 histogram of a score volume already on the device (when it was not fused).
+  bool histogramLevel1(const float* scores, std::size_t n, cudaStream_t stream, std::string* error);
+  // Selection from `n` device scores whose level-1 histogram is complete. `beforeDownload`
+  // and `afterDownload` (optional) are recorded around the copy of the N results.
+  bool select(const float* scores, std::size_t n, int N, cudaStream_t stream, InterestPoints& out,
+    std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr);
+  void release();
+
+private:
+  template <typename T>
+  bool grow(T*& buffer, std::size_t& capacity, std::size_t wanted, std::string* error);
+  bool growHost(std::size_t N, std::string* error);
+
+  unsigned long long* Hist = nullptr; // levels 1, 2, 3: 2048 + 2048 + 1024
+  SelectState* State = nullptr;
+  long long* Counts = nullptr; // CUB selected counts: list, above, ties
+  long long* ListIdx = nullptr;
+  unsigned* ListBits = nullptr;
+  long long* TiePos = nullptr;
+  std::size_t ListCap = 0, ListBitsCap = 0, TieCap = 0;
+  long long* AbovePos = nullptr;
+  unsigned* KeysIn = nullptr;
+  unsigned* KeysOut = nullptr;
+  long long* ValsIn = nullptr;
+  long long* ValsOut = nullptr;
+  std::size_t AboveCap = 0, KeysInCap = 0, KeysOutCap = 0, ValsInCap = 0, ValsOutCap = 0;
+  unsigned char* Temp = nullptr;
+  std::size_t TempCap = 0;
+  // pinned host mirrors
+  SelectState* HostState = nullptr;
+  long long* HostCounts = nullptr;
+  unsigned* HostKeys = nullptr;
+  long long* HostVals = nullptr;
+  std::size_t HostCap = 0;
+  int SmCount = 0;
+};
+
+} // namespace detail
+} // namespace cuda
+} // namespace mcv
