@@ -1,0 +1,28 @@
+#!/bin/sh
+# run_pvbatch.sh PVBATCH SCRIPT [ARGS...]: runs a pvbatch script under a virtual X server.
+# Debian's pvbatch aborts without a display. `xvfb-run -a` picks a free display number,
+# but two runs started at the same moment (other test suites on the machine) can race for
+# it; such a start-up failure (never a test failure) is retried up to 3 times.
+pvbatch="$1"
+shift
+if ! command -v xvfb-run >/dev/null 2>&1; then
+  if [ -n "$DISPLAY" ]; then exec "$pvbatch" "$@"; fi
+  echo "xvfb-run not found and no DISPLAY: install xvfb" >&2
+  exit 1
+fi
+log=$(mktemp "${TMPDIR:-/tmp}/mcv_pvbatch.XXXXXX")
+trap 'rm -f "$log"' EXIT
+attempt=1
+while :; do
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$pvbatch" "$@" >"$log" 2>&1
+  rc=$?
+  if [ $rc -ne 0 ] && [ $attempt -lt 3 ] &&
+     grep -q -E "bad X server connection|Xvfb failed to start|Can't open display|cannot open display" "$log"; then
+    echo "run_pvbatch.sh: X server start-up failed (attempt $attempt), retrying" >&2
+    attempt=$((attempt + 1))
+    sleep $attempt
+    continue
+  fi
+  cat "$log"
+  exit $rc
+done
