@@ -1,5 +1,6 @@
 // The whole best-viewpoint pipeline (CPU) on synthetic volumes with known answers.
 #include "BestViewpoint.h"
+#include "TestVolumes.h"
 
 #include <gtest/gtest.h>
 
@@ -26,22 +27,15 @@ Vec3 normalized(Vec3 v)
   return { v[0] / n, v[1] / n, v[2] / n };
 }
 
-// Opacity = max over isotropic Gaussian blobs placed at world positions (sigma in world units).
+// Opacity of isotropic Gaussian blobs (sigma in world units) at world positions.
 std::vector<float> blobVolume(const mcv::ImageGrid& g, const std::vector<Vec3>& centres, double sigma)
 {
-  std::vector<float> I(g.voxelCount(), 0.f);
-  for (std::size_t v = 0; v < I.size(); ++v)
+  std::vector<mcv::testing::Blob> blobs;
+  for (const Vec3& c : centres)
   {
-    const Vec3 p = g.worldPosition(static_cast<std::int64_t>(v));
-    double best = 0;
-    for (const Vec3& c : centres)
-    {
-      const double d2 = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]);
-      best = std::max(best, std::exp(-d2 / (2 * sigma * sigma)));
-    }
-    I[v] = static_cast<float>(best);
+    blobs.push_back({ c, sigma, 1.0 });
   }
-  return I;
+  return mcv::testing::gaussianBlobs(g, blobs).values;
 }
 
 // Blob centres spread over the plane through `centre` with unit normal `n`.
