@@ -2,6 +2,7 @@
 
 #include <cfloat>
 #include <cstdint>
+#include <type_traits>
 
 namespace mcv
 {
@@ -39,10 +40,27 @@ struct TileShape
   }
 };
 
-template <typename T, int R>
-__global__ void __launch_bounds__(kHarrisThreads, 2)
+// Phases 0..W-1 of the unrolled z loop, each with its compile-time window slot.
+template <int P, int W, typename F>
+__device__ __forceinline__ void forPhases(F& f, int sv, int svEnd)
+{
+  if constexpr (P < W)
+  {
+    if (sv + P < svEnd)
+    {
+      f(std::integral_constant<int, P>{}, sv + P);
+      forPhases<P + 1, W>(f, sv, svEnd);
+    }
+  }
+}
+
+// V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
+// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2.
+template <typename T, int R, int V>
+__global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
 {
+  constexpr bool UNROLL = (V & 1) != 0;
   using S = TileShape<R>;
   constexpr int W = S::W, IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
   constexpr int LOADS = S::LOADS;
@@ -111,16 +129,14 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
 
   // Six gradient products of slice cz on the product tile. A product position outside the
   // grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
+  // Interior blocks (the whole product tile inside the grid) skip the clamping.
+  const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
+    y0 + kHarrisTileY + R <= ny;
   auto products = [&](int cz) {
     const float* sc = sIn + (cz % 3) * IS;
     const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
     const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
-    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
-    {
-      const int py = p / PWa, px = p - py * PWa;
-      const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
-      const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
-      const int c = cy * IW + cx;
+    auto at = [&](int c, int py, int px) {
       const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
       const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
       const float gz = (sp[c] - sm[c]) * a.scaleZ;
@@ -131,6 +147,24 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       d[3 * CS] = gy * gy;
       d[4 * CS] = gy * gz;
       d[5 * CS] = gz * gz;
+    };
+    if (interior)
+    {
+      for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+      {
+        const int py = p / PWa, px = p - py * PWa;
+        at((py + 1) * IW + px + 1, py, px);
+      }
+    }
+    else
+    {
+      for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+      {
+        const int py = p / PWa, px = p - py * PWa;
+        const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
+        const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
+        at(cy * IW + cx, py, px);
+      }
     }
   };
 
@@ -179,7 +213,10 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       for (int c = 0; c < 6; ++c)
         win[r][t][c] = 0.f;
 
-  auto ypassPush = [&]() {
+  // y pass for the two voxels of this thread -> the newest z-window slot.
+  auto ypassStore = [&](auto phase) {
+    constexpr int P = decltype(phase)::value;
+    (void)P;
     const int r0 = 2 * warp;
 #pragma unroll
     for (int c = 0; c < 6; ++c)
@@ -197,29 +234,50 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
         s0 = fmaf(a.taps[t], col[t], s0);
         s1 = fmaf(a.taps[t], col[t + 1], s1);
       }
-#pragma unroll
-      for (int t = 0; t + 1 < W; ++t)
+      if constexpr (UNROLL)
       {
-        win[0][t][c] = win[0][t + 1][c];
-        win[1][t][c] = win[1][t + 1][c];
+        win[0][P][c] = s0;
+        win[1][P][c] = s1;
       }
-      win[0][W - 1][c] = s0;
-      win[1][W - 1][c] = s1;
+      else
+      {
+#pragma unroll
+        for (int t = 0; t + 1 < W; ++t)
+        {
+          win[0][t][c] = win[0][t + 1][c];
+          win[1][t][c] = win[1][t + 1][c];
+        }
+        win[0][W - 1][c] = s0;
+        win[1][W - 1][c] = s1;
+      }
     }
   };
-  // The clamped slice repeats (z border): push the newest slice again.
-  auto repeatPush = [&]() {
+  // The clamped slice repeats (z border): the newest slice enters the window again.
+  auto repeatStore = [&](auto phase) {
+    constexpr int P = decltype(phase)::value;
+    (void)P;
 #pragma unroll
     for (int c = 0; c < 6; ++c)
-#pragma unroll
-      for (int t = 0; t + 1 < W; ++t)
+    {
+      if constexpr (UNROLL)
       {
-        win[0][t][c] = win[0][t + 1][c];
-        win[1][t][c] = win[1][t + 1][c];
+        win[0][P][c] = win[0][(P + W - 1) % W][c];
+        win[1][P][c] = win[1][(P + W - 1) % W][c];
       }
+      else
+      {
+#pragma unroll
+        for (int t = 0; t + 1 < W; ++t)
+        {
+          win[0][t][c] = win[0][t + 1][c];
+          win[1][t][c] = win[1][t + 1][c];
+        }
+      }
+    }
   };
 
-  auto emit = [&](int z) {
+  auto emit = [&](auto phase, int z) {
+    constexpr int P = decltype(phase)::value;
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
     {
@@ -231,7 +289,8 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
 #pragma unroll
         for (int t = 0; t < W; ++t)
         {
-          s = fmaf(a.taps[t], win[rr][t][c], s);
+          // slot of the t-th oldest slice: a ring after phase P, else the shifted window
+          s = fmaf(a.taps[t], win[rr][UNROLL ? (P + 1 + t) % W : t][c], s);
         }
         m[c] = s;
       }
@@ -258,18 +317,25 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       }
       if (withHist)
       {
-        // Candidates (R > 0, finite) counted by their top 11 bits; one atomic per group of
-        // lanes that share a bin.
+        // Candidates (R > 0, finite) counted by their top 11 bits.
         const bool cand = inside && response > 0.f && response <= FLT_MAX;
         const unsigned bin = __float_as_uint(response) >> 21;
-        const unsigned active = __ballot_sync(0xffffffffu, cand);
-        if (cand)
+        if (a.histMode == 0)
         {
-          const unsigned peers = __match_any_sync(active, bin);
-          if (lane == __ffs(peers) - 1)
+          // one atomic per group of lanes that share a bin
+          const unsigned active = __ballot_sync(0xffffffffu, cand);
+          if (cand)
           {
-            atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
+            const unsigned peers = __match_any_sync(active, bin);
+            if (lane == __ffs(peers) - 1)
+            {
+              atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
+            }
           }
+        }
+        else if (cand)
+        {
+          atomicAdd(&sHist[bin], 1u);
         }
       }
     }
@@ -292,8 +358,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
     loadSlice(nextLoad);
   }
   int lastCz = -1;
-  for (int sv = svBegin; sv < svEnd; ++sv)
-  {
+  auto step = [&](auto phase, int sv) {
     const int cz = clampi(sv, 0, nz - 1);
     if (cz != lastCz)
     {
@@ -312,16 +377,30 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       __syncthreads();
       xpass();
       __syncthreads();
-      ypassPush();
+      ypassStore(phase);
       lastCz = cz;
     }
     else
     {
-      repeatPush();
+      repeatStore(phase);
     }
     if (sv >= zb + R)
     {
-      emit(sv - R);
+      emit(phase, sv - R);
+    }
+  };
+  if constexpr (UNROLL)
+  {
+    for (int sv = svBegin; sv < svEnd; sv += W)
+    {
+      forPhases<0, W>(step, sv, svEnd);
+    }
+  }
+  else
+  {
+    for (int sv = svBegin; sv < svEnd; ++sv)
+    {
+      step(std::integral_constant<int, W - 1>{}, sv);
     }
   }
 
@@ -364,13 +443,13 @@ int chooseZChunk(int tiles, int nz, int resident, int radius)
   return bestChunk;
 }
 
-template <typename T, int R>
+template <typename T, int R, int V>
 cudaError_t launchRadius(
   const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
 {
   using S = TileShape<R>;
   const std::size_t smem = S::smemBytes(args.hist != nullptr);
-  auto kernel = harrisKernel<T, R>;
+  auto kernel = harrisKernel<T, R, V>;
   cudaError_t err =
     cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(smem));
   if (err != cudaSuccess)
@@ -409,35 +488,49 @@ cudaError_t launchRadius(
 
 } // namespace
 
+cudaError_t probeHarrisKernel()
+{
+  cudaFuncAttributes attributes;
+  return cudaFuncGetAttributes(&attributes, harrisKernel<float, 2, kHarrisDefaultVariant>);
+}
+
 template <typename T>
 cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
-  cudaStream_t stream, int* usedZChunk)
+  cudaStream_t stream, int* usedZChunk, int variant)
 {
+  constexpr int D = kHarrisDefaultVariant;
   switch (radius)
   {
     case 0:
-      return launchRadius<T, 0>(input, args, zChunk, stream, usedZChunk);
+      return launchRadius<T, 0, D>(input, args, zChunk, stream, usedZChunk);
     case 1:
-      return launchRadius<T, 1>(input, args, zChunk, stream, usedZChunk);
+      return launchRadius<T, 1, D>(input, args, zChunk, stream, usedZChunk);
     case 2:
-      return launchRadius<T, 2>(input, args, zChunk, stream, usedZChunk);
+      // The default width: every variant is built (the benchmark compares them).
+      switch (variant < 0 ? D : variant)
+      {
+        case 0:
+          return launchRadius<T, 2, 0>(input, args, zChunk, stream, usedZChunk);
+        case 1:
+          return launchRadius<T, 2, 1>(input, args, zChunk, stream, usedZChunk);
+        case 2:
+          return launchRadius<T, 2, 2>(input, args, zChunk, stream, usedZChunk);
+        case 3:
+          return launchRadius<T, 2, 3>(input, args, zChunk, stream, usedZChunk);
+        default:
+          return cudaErrorInvalidValue;
+      }
     case 3:
-      return launchRadius<T, 3>(input, args, zChunk, stream, usedZChunk);
+      return launchRadius<T, 3, D>(input, args, zChunk, stream, usedZChunk);
     default:
       return cudaErrorInvalidValue;
   }
 }
 
-cudaError_t probeHarrisKernel()
-{
-  cudaFuncAttributes attributes;
-  return cudaFuncGetAttributes(&attributes, harrisKernel<float, 2>);
-}
-
 template cudaError_t launchHarris<float>(
-  const float*, HarrisKernelArgs, int, int, cudaStream_t, int*);
+  const float*, HarrisKernelArgs, int, int, cudaStream_t, int*, int);
 template cudaError_t launchHarris<std::uint8_t>(
-  const std::uint8_t*, HarrisKernelArgs, int, int, cudaStream_t, int*);
+  const std::uint8_t*, HarrisKernelArgs, int, int, cudaStream_t, int*, int);
 
 } // namespace detail
 } // namespace cuda

@@ -27,6 +27,10 @@ constexpr int kHarrisTileY = 16;
 constexpr int kHarrisThreads = 256; // 32 x 8, each thread owns two rows of the tile
 constexpr int kHarrisMaxRadius = 3; // kernel widths 1, 3, 5, 7 run on the GPU
 constexpr int kLevel1Bins = 2048;   // top 11 bits of a positive float
+// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM);
+// all four are built for width 5, the default variant for the other widths.
+constexpr int kHarrisVariants = 4;
+constexpr int kHarrisDefaultVariant = 0;
 
 struct HarrisKernelArgs
 {
@@ -38,14 +42,15 @@ struct HarrisKernelArgs
   float taps[2 * kHarrisMaxRadius + 1] = {};
   float* response = nullptr;
   unsigned long long* hist = nullptr; // level-1 histogram (kLevel1Bins) or null
+  int histMode = 0; // 0: warp-aggregated shared atomics (__match_any_sync); 1: plain
 };
 
 // Launches the kernel for input type T (float or uint8) and radius `radius` (0..3);
-// zChunk <= 0 picks one from the occupancy. Returns the launch error; *usedZChunk gets
-// the chunk (may be null).
+// zChunk <= 0 picks one from the occupancy; variant < 0 the default. Returns the launch
+// error; *usedZChunk gets the chunk (may be null).
 template <typename T>
 cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
-  cudaStream_t stream, int* usedZChunk);
+  cudaStream_t stream, int* usedZChunk, int variant = -1);
 
 // cudaSuccess when this build holds code the current device can run (else, typically,
 // cudaErrorNoKernelImageForDevice).

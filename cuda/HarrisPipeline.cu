@@ -96,6 +96,7 @@ struct HarrisPipeline::Impl
   std::size_t scoresCap = 0;
   detail::TopNSelector selector;
   int zChunk = 0, lastZChunk = 0;
+  int variant = -1, histMode = 0;
   double uploadMs = 0;
 
   ~Impl()
@@ -240,10 +241,13 @@ struct HarrisPipeline::Impl
     gaussianTaps(params, a.taps); // kernelWidth <= 7 taps (checked above)
     a.response = scores;
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
+    a.histMode = histMode;
     const int radius = params.kernelWidth / 2;
     const cudaError_t err = inputIsUint8
-      ? detail::launchHarris(static_cast<const std::uint8_t*>(input), a, radius, zChunk, stream, &lastZChunk)
-      : detail::launchHarris(static_cast<const float*>(input), a, radius, zChunk, stream, &lastZChunk);
+      ? detail::launchHarris(
+          static_cast<const std::uint8_t*>(input), a, radius, zChunk, stream, &lastZChunk, variant)
+      : detail::launchHarris(
+          static_cast<const float*>(input), a, radius, zChunk, stream, &lastZChunk, variant);
     MCV_CUDA_TRY(err);
     return true;
   }
@@ -277,7 +281,7 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[2], p.stream));
-  if (!p.selector.reset(p.stream, error) || !p.harris(params, true, error))
+  if (!p.selector.reset(N, p.stream, error) || !p.harris(params, true, error))
   {
     return false;
   }
@@ -337,7 +341,7 @@ bool HarrisPipeline::selectFromScores(
   }
   MCV_CUDA_TRY(cudaMemcpyAsync(
     p.scores, hostScores, count * sizeof(float), cudaMemcpyHostToDevice, p.stream));
-  return p.selector.reset(p.stream, error) &&
+  return p.selector.reset(N, p.stream, error) &&
     p.selector.histogramLevel1(p.scores, count, p.stream, error) &&
     p.selector.select(p.scores, count, N, p.stream, out, error);
 }
@@ -345,6 +349,12 @@ bool HarrisPipeline::selectFromScores(
 void HarrisPipeline::setZChunk(int zChunk)
 {
   impl_->zChunk = zChunk;
+}
+
+void HarrisPipeline::setKernelVariant(int variant, int histogramMode)
+{
+  impl_->variant = variant;
+  impl_->histMode = histogramMode;
 }
 
 int HarrisPipeline::lastZChunk() const
@@ -355,6 +365,43 @@ int HarrisPipeline::lastZChunk() const
 double HarrisPipeline::lastUploadMs() const
 {
   return impl_->uploadMs;
+}
+
+long long HarrisPipeline::lastListSize() const
+{
+  return impl_->selector.lastListSize();
+}
+
+bool HarrisPipeline::lastSelectUsedSlowPath() const
+{
+  return impl_->selector.lastUsedSlowPath();
+}
+
+void HarrisPipeline::setForceSlowSelect(bool force)
+{
+  impl_->selector.setForceSlowPath(force);
+}
+
+bool HarrisPipeline::timeHarrisKernel(
+  const HarrisParameters& params, bool withHistogram, double* ms, std::string* error)
+{
+  Impl& p = *impl_;
+  if (!p.init(error) || !p.selector.reset(1, p.stream, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[2], p.stream));
+  if (!p.harris(params, withHistogram, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
+  MCV_CUDA_TRY(cudaEventSynchronize(p.ev[3]));
+  if (ms)
+  {
+    *ms = p.elapsed(2, 3);
+  }
+  return true;
 }
 
 void HarrisPipeline::release()

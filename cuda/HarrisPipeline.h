@@ -47,8 +47,23 @@ public:
 
   // Output slices per block of the Harris kernel; 0 (default) picks it from the occupancy.
   void setZChunk(int zChunk);
+  // Harris kernel variant for width 5 (benchmark/tests): -1 default, 0..3 (bit 0: z loop
+  // unrolled into a register ring, bit 1: 3 blocks per SM); histogram mode 0: warp-
+  // aggregated shared atomics, 1: plain shared atomics.
+  void setKernelVariant(int variant, int histogramMode);
   int lastZChunk() const;
   double lastUploadMs() const;
+
+  // The last selection's compacted list (candidates in or above the N-th score's level-1
+  // bin) and whether it needed the slow path (list longer than the fast capacity).
+  long long lastListSize() const;
+  bool lastSelectUsedSlowPath() const;
+  // Test hook: always take the slow selection path.
+  void setForceSlowSelect(bool force);
+
+  // Harris kernel alone on the uploaded volume (benchmark attribution), in ms (CUDA events).
+  bool timeHarrisKernel(const HarrisParameters& params, bool withHistogram, double* ms,
+    std::string* error);
 
   // Frees every device buffer (they are allocated again on the next call).
   void release();

@@ -7,6 +7,7 @@
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_select.cuh>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/iterator/transform_output_iterator.h>
 
 #include <algorithm>
 #include <climits>
@@ -26,23 +27,24 @@ constexpr int kLevel3Bins = 1024; // bits 9..0
 constexpr unsigned kMaxFiniteBits = 0x7F7FFFFFu; // FLT_MAX: larger patterns are inf, NaN, < 0
 constexpr int kScanThreads = 1024;
 constexpr int kHistThreads = 256;
+constexpr int kFinishItems = 4; // list entries per thread and round in finishKernel
 
 __device__ __forceinline__ bool isCandidateBits(unsigned bits)
 {
   return bits - 1u < kMaxFiniteBits; // 1 <= bits <= FLT_MAX bits: R > 0 and finite
 }
 
-// One level of the radix select: finds the bin b (bins scanned from the top) with
-// count(bins above b) < need <= count(bins >= b), need = N - state.above.
-template <int BINS>
-__global__ void __launch_bounds__(kScanThreads) scanLevelKernel(
-  const unsigned long long* __restrict__ hist, int level, long long N, SelectState* state)
+using BlockScanU64 = cub::BlockScan<unsigned long long, kScanThreads>;
+
+// Finds, in a histogram of BINS counters scanned from the top bin down, the bin b with
+// count(bins above b) < need <= count(bins >= b). Called by all kScanThreads threads; the
+// one thread owning b writes *bin and *aboveBin. `total` receives the histogram's sum.
+template <int BINS, typename Count>
+__device__ void findBin(const Count* hist, unsigned long long need, BlockScanU64::TempStorage& temp,
+  unsigned* bin, unsigned long long* aboveBin, unsigned long long* total)
 {
   constexpr int PER = BINS / kScanThreads;
-  using Scan = cub::BlockScan<unsigned long long, kScanThreads>;
-  __shared__ typename Scan::TempStorage temp;
-  const int t = threadIdx.x;
-  const int hiBin = BINS - 1 - t * PER; // this thread's bins: hiBin, hiBin-1, ... (descending)
+  const int hiBin = BINS - 1 - static_cast<int>(threadIdx.x) * PER; // hiBin, hiBin-1, ...
   unsigned long long h[PER];
   unsigned long long mine = 0;
 #pragma unroll
@@ -51,54 +53,81 @@ __global__ void __launch_bounds__(kScanThreads) scanLevelKernel(
     h[j] = hist[hiBin - j];
     mine += h[j];
   }
-  const unsigned long long base = level == 1 ? 0ull : state->above;
-  const unsigned int prefix = state->prefix;
-  unsigned long long before = 0, total = 0;
-  Scan(temp).ExclusiveSum(mine, before, total); // also a barrier after the reads of *state
-  const unsigned long long need = static_cast<unsigned long long>(N) - base;
-  if (level == 1 && total <= static_cast<unsigned long long>(N))
+  unsigned long long before = 0, sum = 0;
+  BlockScanU64(temp).ExclusiveSum(mine, before, sum);
+  *total = sum;
+  unsigned long long run = before;
+#pragma unroll
+  for (int j = 0; j < PER; ++j)
   {
-    if (t == 0)
+    const unsigned long long above = run;
+    run += h[j];
+    if (above < need && run >= need)
     {
-      state->total = total;
+      *bin = static_cast<unsigned>(hiBin - j);
+      *aboveBin = above;
+    }
+  }
+}
+
+// One level of the radix select over a global histogram (single block). Level 1 also
+// decides the compaction bound and, with `fastCapacity`, whether the fast path fits.
+template <int BINS>
+__global__ void __launch_bounds__(kScanThreads) scanLevelKernel(const unsigned long long* __restrict__ hist,
+  int level, long long N, long long fastCapacity, SelectState* state)
+{
+  __shared__ BlockScanU64::TempStorage temp;
+  __shared__ unsigned sBin;
+  __shared__ unsigned long long sAbove;
+  const unsigned long long base = level == 1 ? 0ull : state->above;
+  const unsigned prefix = state->prefix;
+  const unsigned long long need = static_cast<unsigned long long>(N) - base;
+  unsigned long long total = 0;
+  findBin<BINS>(hist, need, temp, &sBin, &sAbove, &total); // reads of *state precede: barrier
+  __syncthreads();
+  if (threadIdx.x != 0)
+  {
+    return;
+  }
+  if (level == 1)
+  {
+    state->total = total;
+    state->overflow = 0;
+    if (total <= static_cast<unsigned long long>(N))
+    {
       state->takeAll = 1;
       state->above = total;
       state->need = 0;
       state->listSize = total;
       state->prefix = 0;
       state->threshold = 0;
+      state->low = 1u;
     }
-    return;
-  }
-  unsigned long long run = before;
-#pragma unroll
-  for (int j = 0; j < PER; ++j)
-  {
-    const unsigned long long aboveBin = run;
-    run += h[j];
-    if (aboveBin < need && run >= need)
+    else
     {
-      const unsigned bin = static_cast<unsigned>(hiBin - j);
-      if (level == 1)
-      {
-        state->total = total;
-        state->takeAll = 0;
-        state->prefix = bin;
-        state->above = aboveBin;
-        state->listSize = run;
-      }
-      else if (level == 2)
-      {
-        state->prefix = (prefix << 11) | bin;
-        state->above = base + aboveBin;
-      }
-      else
-      {
-        state->threshold = (prefix << 10) | bin;
-        state->above = base + aboveBin;
-        state->need = static_cast<unsigned long long>(N) - (base + aboveBin);
-      }
+      state->takeAll = 0;
+      state->prefix = sBin;
+      state->above = sAbove;
+      // count of bins >= b1 = count above + the bin itself
+      state->listSize = sAbove + hist[sBin];
+      state->low = sBin << 21;
     }
+    if (static_cast<long long>(state->listSize) > fastCapacity) // -1: always the slow path
+    {
+      state->overflow = 1;
+      state->low = 0xFFFFFFFFu; // the fast compaction selects nothing
+    }
+  }
+  else if (level == 2)
+  {
+    state->prefix = (prefix << 11) | sBin;
+    state->above = base + sAbove;
+  }
+  else
+  {
+    state->threshold = (prefix << 10) | sBin;
+    state->above = base + sAbove;
+    state->need = static_cast<unsigned long long>(N) - (base + sAbove);
   }
 }
 
@@ -135,6 +164,143 @@ __global__ void __launch_bounds__(kHistThreads) histogramLevel1Kernel(
   }
   flushHistogram(sh, kLevel1Bins, hist);
 }
+
+// ---------------------------------------------------------------------------------------
+// Fast path: levels 2 and 3 and the survivors in one block over the (short) list.
+// ---------------------------------------------------------------------------------------
+
+__global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,
+  const long long* __restrict__ listCount, SelectState* state, int N, unsigned* __restrict__ keys,
+  long long* __restrict__ vals)
+{
+  __shared__ BlockScanU64::TempStorage temp;
+  __shared__ unsigned h2[kLevel2Bins];
+  __shared__ unsigned h3[kLevel3Bins];
+  __shared__ unsigned sBin;
+  __shared__ unsigned long long sAbove;
+  const int t = threadIdx.x;
+  if (state->overflow)
+  {
+    return; // the list did not fit: the host runs the slow path
+  }
+  const long long m = *listCount;
+  const bool takeAll = state->takeAll != 0;
+  unsigned threshold = 0;
+  unsigned long long above = 0, need = 0, total = 0;
+  if (takeAll)
+  {
+    above = static_cast<unsigned long long>(m);
+  }
+  else
+  {
+    const unsigned bin1 = state->prefix;
+    above = state->above;
+    for (int i = t; i < kLevel2Bins; i += kScanThreads)
+      h2[i] = 0;
+    for (int i = t; i < kLevel3Bins; i += kScanThreads)
+      h3[i] = 0;
+    __syncthreads();
+    for (long long i = t; i < m; i += kScanThreads)
+    {
+      const unsigned bits = list[i].bits;
+      if ((bits >> 21) == bin1)
+        atomicAdd(&h2[(bits >> 10) & 0x7FFu], 1u);
+    }
+    __syncthreads();
+    findBin<kLevel2Bins>(h2, static_cast<unsigned long long>(N) - above, temp, &sBin, &sAbove, &total);
+    __syncthreads();
+    const unsigned prefix = (bin1 << 11) | sBin;
+    above += sAbove;
+    __syncthreads(); // sBin/sAbove are read by all before being written again
+    for (long long i = t; i < m; i += kScanThreads)
+    {
+      const unsigned bits = list[i].bits;
+      if ((bits >> 10) == prefix)
+        atomicAdd(&h3[bits & 0x3FFu], 1u);
+    }
+    __syncthreads();
+    findBin<kLevel3Bins>(h3, static_cast<unsigned long long>(N) - above, temp, &sBin, &sAbove, &total);
+    __syncthreads();
+    threshold = (prefix << 10) | sBin;
+    above += sAbove;
+    need = static_cast<unsigned long long>(N) - above;
+  }
+
+  // Survivors in index order (the list is in index order): entries > T into slots
+  // [0, above), the first `need` ties == T into [above, above + need).
+  unsigned long long gtBase = 0, eqBase = 0;
+  for (long long s0 = 0; s0 < m; s0 += static_cast<long long>(kScanThreads) * kFinishItems)
+  {
+    unsigned bits[kFinishItems];
+    long long index[kFinishItems];
+    bool gt[kFinishItems], eq[kFinishItems];
+    unsigned nGt = 0, nEq = 0;
+#pragma unroll
+    for (int j = 0; j < kFinishItems; ++j)
+    {
+      const long long i = s0 + static_cast<long long>(t) * kFinishItems + j;
+      gt[j] = eq[j] = false;
+      if (i < m)
+      {
+        const ListEntry e = list[i];
+        bits[j] = e.bits;
+        index[j] = e.index;
+        gt[j] = e.bits > threshold;
+        eq[j] = !takeAll && e.bits == threshold;
+      }
+      nGt += gt[j];
+      nEq += eq[j];
+    }
+    // (gt, eq) counts packed in one 64-bit sum: per round they stay far below 2^32.
+    unsigned long long before = 0, sum = 0;
+    BlockScanU64(temp).ExclusiveSum((static_cast<unsigned long long>(nGt) << 32) | nEq, before, sum);
+    unsigned long long offGt = gtBase + (before >> 32), offEq = eqBase + (before & 0xFFFFFFFFull);
+#pragma unroll
+    for (int j = 0; j < kFinishItems; ++j)
+    {
+      if (gt[j])
+      {
+        if (offGt < static_cast<unsigned long long>(N))
+        {
+          keys[offGt] = bits[j];
+          vals[offGt] = index[j];
+        }
+        ++offGt;
+      }
+      else if (eq[j])
+      {
+        if (offEq < need)
+        {
+          keys[above + offEq] = bits[j];
+          vals[above + offEq] = index[j];
+        }
+        ++offEq;
+      }
+    }
+    gtBase += sum >> 32;
+    eqBase += sum & 0xFFFFFFFFull;
+    __syncthreads(); // temp storage reuse
+  }
+  for (unsigned long long s = above + need + t; s < static_cast<unsigned long long>(N); s += kScanThreads)
+  {
+    keys[s] = 0u; // padding sorts last (real keys are >= 1)
+    vals[s] = LLONG_MAX;
+  }
+  if (t == 0)
+  {
+    state->threshold = threshold;
+    state->above = above;
+    state->need = need;
+    if (gtBase != above || (!takeAll && eqBase < need))
+    {
+      state->overflow = 2; // bookkeeping mismatch: reported as an error
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Slow path kernels (long lists)
+// ---------------------------------------------------------------------------------------
 
 // listBits[i] = bits of scores[listIdx[i]]; with `withLevel2`, the level-2 histogram of the
 // entries in the level-1 bin `bin1`.
@@ -224,7 +390,31 @@ __global__ void assembleKernel(const long long* __restrict__ abovePos,
   }
 }
 
-struct AtLeastBits // compaction predicate over voxel indices
+// ---------------------------------------------------------------------------------------
+// CUB functors
+// ---------------------------------------------------------------------------------------
+
+struct AtLeastLow // fast compaction: the bound comes from the level-1 scan on the device
+{
+  const float* scores;
+  const SelectState* state;
+  __device__ bool operator()(long long i) const
+  {
+    const unsigned bits = __float_as_uint(__ldg(scores + i));
+    return bits >= state->low && bits <= kMaxFiniteBits;
+  }
+};
+
+struct MakeEntry
+{
+  const float* scores;
+  __device__ ListEntry operator()(long long i) const
+  {
+    return ListEntry{ __float_as_uint(__ldg(scores + i)), 0u, i };
+  }
+};
+
+struct AtLeastBits // slow compaction: the bound is known on the host
 {
   const float* scores;
   unsigned low;
@@ -255,6 +445,11 @@ int gridFor(long long items, int sms)
   return static_cast<int>(std::max(1ll, std::min<long long>(blocks, 8ll * std::max(sms, 1))));
 }
 
+std::size_t alignUp(std::size_t x, std::size_t a)
+{
+  return (x + a - 1) / a * a;
+}
+
 } // namespace
 
 TopNSelector::~TopNSelector()
@@ -265,27 +460,27 @@ TopNSelector::~TopNSelector()
 void TopNSelector::release()
 {
   // Errors on free are ignored: nothing useful can be done with them here.
-  for (void* p : { static_cast<void*>(Hist), static_cast<void*>(State), static_cast<void*>(Counts),
+  for (void* p : { static_cast<void*>(Hist), static_cast<void*>(Result), static_cast<void*>(FastList),
          static_cast<void*>(ListIdx), static_cast<void*>(ListBits), static_cast<void*>(TiePos),
-         static_cast<void*>(AbovePos), static_cast<void*>(KeysIn), static_cast<void*>(KeysOut),
-         static_cast<void*>(ValsIn), static_cast<void*>(ValsOut), static_cast<void*>(Temp) })
+         static_cast<void*>(AbovePos), static_cast<void*>(KeysIn), static_cast<void*>(ValsIn),
+         static_cast<void*>(Temp) })
   {
     if (p)
     {
       cudaFree(p);
     }
   }
-  for (void* p : { static_cast<void*>(HostState), static_cast<void*>(HostCounts),
-         static_cast<void*>(HostKeys), static_cast<void*>(HostVals) })
+  if (HostResult)
   {
-    if (p)
-    {
-      cudaFreeHost(p);
-    }
+    cudaFreeHost(HostResult);
   }
   Hist = nullptr;
+  Result = HostResult = nullptr;
+  ResultBytes = 0;
+  ResultN = 0;
   State = nullptr;
   Counts = nullptr;
+  FastList = nullptr;
   ListIdx = nullptr;
   ListBits = nullptr;
   TiePos = nullptr;
@@ -293,12 +488,7 @@ void TopNSelector::release()
   KeysIn = KeysOut = nullptr;
   ValsIn = ValsOut = nullptr;
   Temp = nullptr;
-  HostState = nullptr;
-  HostCounts = nullptr;
-  HostKeys = nullptr;
-  HostVals = nullptr;
-  ListCap = ListBitsCap = TieCap = AboveCap = KeysInCap = KeysOutCap = ValsInCap = ValsOutCap = 0;
-  TempCap = HostCap = 0;
+  ListCap = ListBitsCap = TieCap = AboveCap = KeysInCap = ValsInCap = TempCap = 0;
 }
 
 template <typename T>
@@ -320,47 +510,52 @@ bool TopNSelector::grow(T*& buffer, std::size_t& capacity, std::size_t wanted, s
   return true;
 }
 
-bool TopNSelector::growHost(std::size_t N, std::string* error)
+bool TopNSelector::reset(int N, cudaStream_t stream, std::string* error)
 {
-  if (N <= HostCap && HostKeys)
-  {
-    return true;
-  }
-  if (HostKeys)
-  {
-    MCV_CUDA_TRY(cudaFreeHost(HostKeys));
-    HostKeys = nullptr;
-  }
-  if (HostVals)
-  {
-    MCV_CUDA_TRY(cudaFreeHost(HostVals));
-    HostVals = nullptr;
-  }
-  HostCap = 0;
-  MCV_CUDA_TRY(cudaMallocHost(reinterpret_cast<void**>(&HostKeys), N * sizeof(unsigned)));
-  MCV_CUDA_TRY(cudaMallocHost(reinterpret_cast<void**>(&HostVals), N * sizeof(long long)));
-  HostCap = N;
-  return true;
-}
-
-bool TopNSelector::reset(cudaStream_t stream, std::string* error)
-{
+  N = std::max(N, 1);
   if (!Hist)
   {
     MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&Hist),
       (kLevel1Bins + kLevel2Bins + kLevel3Bins) * sizeof(unsigned long long)));
-    MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&State), sizeof(SelectState)));
-    MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&Counts), 4 * sizeof(long long)));
-    MCV_CUDA_TRY(cudaMallocHost(reinterpret_cast<void**>(&HostState), sizeof(SelectState)));
-    MCV_CUDA_TRY(cudaMallocHost(reinterpret_cast<void**>(&HostCounts), 4 * sizeof(long long)));
+    MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&FastList), kFastListCapacity * sizeof(ListEntry)));
     int device = 0;
     MCV_CUDA_TRY(cudaGetDevice(&device));
     MCV_CUDA_TRY(cudaDeviceGetAttribute(&SmCount, cudaDevAttrMultiProcessorCount, device));
   }
+  if (N > ResultN)
+  {
+    if (Result)
+    {
+      MCV_CUDA_TRY(cudaFree(Result));
+      Result = nullptr;
+    }
+    if (HostResult)
+    {
+      MCV_CUDA_TRY(cudaFreeHost(HostResult));
+      HostResult = nullptr;
+    }
+    ResultN = 0;
+    const std::size_t uN = static_cast<std::size_t>(N);
+    ResultBytes = alignUp(uN * sizeof(long long) + uN * sizeof(unsigned), 16) +
+      alignUp(sizeof(SelectState), 16) + 4 * sizeof(long long);
+    MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&Result), ResultBytes));
+    MCV_CUDA_TRY(cudaMallocHost(reinterpret_cast<void**>(&HostResult), ResultBytes));
+    ValsOut = reinterpret_cast<long long*>(Result);
+    KeysOut = reinterpret_cast<unsigned*>(Result + uN * sizeof(long long));
+    const std::size_t stateOffset = alignUp(uN * sizeof(long long) + uN * sizeof(unsigned), 16);
+    State = reinterpret_cast<SelectState*>(Result + stateOffset);
+    Counts = reinterpret_cast<long long*>(Result + stateOffset + alignUp(sizeof(SelectState), 16));
+    ResultN = N;
+  }
+  if (!grow(KeysIn, KeysInCap, static_cast<std::size_t>(N), error) ||
+    !grow(ValsIn, ValsInCap, static_cast<std::size_t>(N), error))
+  {
+    return false;
+  }
   MCV_CUDA_TRY(cudaMemsetAsync(
     Hist, 0, (kLevel1Bins + kLevel2Bins + kLevel3Bins) * sizeof(unsigned long long), stream));
-  MCV_CUDA_TRY(cudaMemsetAsync(State, 0, sizeof(SelectState), stream));
-  MCV_CUDA_TRY(cudaMemsetAsync(Counts, 0, 4 * sizeof(long long), stream));
+  MCV_CUDA_TRY(cudaMemsetAsync(State, 0,
+    alignUp(sizeof(SelectState), 16) + 4 * sizeof(long long), stream)); // state + counts
   return true;
 }
 
@@ -378,51 +573,130 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
 {
   out.indices.clear();
   out.scores.clear();
-  if (!Hist)
+  LastListSize = 0;
+  LastSlow = false;
+  if (!Hist || N > ResultN)
   {
-    return fail(error, "TopNSelector::select called before reset()");
+    return fail(error, "TopNSelector::select called without reset(N)");
   }
-  unsigned long long* hist1 = Hist;
-  unsigned long long* hist2 = Hist + kLevel1Bins;
-  unsigned long long* hist3 = hist2 + kLevel2Bins;
-  const auto recordDownload = [&](cudaEvent_t e) -> cudaError_t {
+  const auto record = [&](cudaEvent_t e) -> cudaError_t {
     return e ? cudaEventRecord(e, stream) : cudaSuccess;
   };
   if (N <= 0 || n == 0)
   {
-    MCV_CUDA_TRY(recordDownload(beforeDownload));
-    MCV_CUDA_TRY(recordDownload(afterDownload));
+    MCV_CUDA_TRY(record(beforeDownload));
+    MCV_CUDA_TRY(record(afterDownload));
     MCV_CUDA_TRY(cudaStreamSynchronize(stream));
     return true;
   }
+  const thrust::counting_iterator<long long> first(0);
 
-  // Level 1 -> list size (the one host synchronisation inside the selection).
-  scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(hist1, 1, N, State);
+  // Fast path: level 1 -> compaction into the fixed list -> one block finishes -> sort.
+  scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(
+    Hist, 1, N, ForceSlow ? -1 : kFastListCapacity, State);
   MCV_CUDA_TRY(cudaGetLastError());
-  MCV_CUDA_TRY(cudaMemcpyAsync(HostState, State, sizeof(SelectState), cudaMemcpyDeviceToHost, stream));
-  MCV_CUDA_TRY(cudaStreamSynchronize(stream));
-  const SelectState level1 = *HostState;
-  const long long m = static_cast<long long>(level1.listSize);
-  if (m == 0)
-  {
-    MCV_CUDA_TRY(recordDownload(beforeDownload));
-    MCV_CUDA_TRY(recordDownload(afterDownload));
-    MCV_CUDA_TRY(cudaStreamSynchronize(stream));
-    return true;
-  }
-  const std::size_t um = static_cast<std::size_t>(m), uN = static_cast<std::size_t>(N);
-  if (!grow(ListIdx, ListCap, um, error) || !grow(ListBits, ListBitsCap, um, error) ||
-    !grow(TiePos, TieCap, um, error) || !grow(AbovePos, AboveCap, uN, error) ||
-    !grow(KeysIn, KeysInCap, uN, error) || !grow(KeysOut, KeysOutCap, uN, error) ||
-    !grow(ValsIn, ValsInCap, uN, error) || !grow(ValsOut, ValsOutCap, uN, error) ||
-    !growHost(uN, error))
+  const AtLeastLow fastOp{ scores, State };
+  auto fastOut = thrust::make_transform_output_iterator(FastList, MakeEntry{ scores });
+  std::size_t bytesFast = 0, bytesSort = 0;
+  MCV_CUDA_TRY(cub::DeviceSelect::If(
+    nullptr, bytesFast, first, fastOut, Counts, static_cast<long long>(n), fastOp, stream));
+  MCV_CUDA_TRY(cub::DeviceRadixSort::SortPairsDescending(
+    nullptr, bytesSort, KeysIn, KeysOut, ValsIn, ValsOut, N, 0, 32, stream));
+  if (!grow(Temp, TempCap, std::max(bytesFast, bytesSort), error))
   {
     return false;
   }
+  std::size_t tb = TempCap;
+  MCV_CUDA_TRY(cub::DeviceSelect::If(
+    Temp, tb, first, fastOut, Counts, static_cast<long long>(n), fastOp, stream));
+  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
+  MCV_CUDA_TRY(cudaGetLastError());
+  tb = TempCap;
+  MCV_CUDA_TRY(cub::DeviceRadixSort::SortPairsDescending(
+    Temp, tb, KeysIn, KeysOut, ValsIn, ValsOut, N, 0, 32, stream));
+  MCV_CUDA_TRY(record(beforeDownload));
+  MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
+  MCV_CUDA_TRY(record(afterDownload));
+  MCV_CUDA_TRY(cudaStreamSynchronize(stream));
 
-  // Temporary storage for every CUB call of this selection.
+  const std::size_t stateOffset = reinterpret_cast<unsigned char*>(State) - Result;
+  const SelectState* hostState = reinterpret_cast<const SelectState*>(HostResult + stateOffset);
+  if (hostState->overflow == 1)
+  {
+    // The list was longer than the fast capacity: size everything on the host and redo.
+    LastSlow = true;
+    MCV_CUDA_TRY(cudaMemsetAsync(Hist + kLevel1Bins, 0,
+      (kLevel2Bins + kLevel3Bins) * sizeof(unsigned long long), stream));
+    if (!selectSlow(scores, n, N, stream, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(record(beforeDownload));
+    MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
+    MCV_CUDA_TRY(record(afterDownload));
+    MCV_CUDA_TRY(cudaStreamSynchronize(stream));
+  }
+  return finish(N, hostState->takeAll != 0, hostState->total, out, error);
+}
+
+// Reads the copied result block: consistency checks, then the points.
+bool TopNSelector::finish(
+  int N, bool takeAll, unsigned long long total, InterestPoints& out, std::string* error)
+{
+  const std::size_t uN = static_cast<std::size_t>(N);
+  const std::size_t stateOffset = reinterpret_cast<unsigned char*>(State) - Result;
+  const std::size_t countsOffset = reinterpret_cast<unsigned char*>(Counts) - Result;
+  const SelectState st = *reinterpret_cast<const SelectState*>(HostResult + stateOffset);
+  const long long* counts = reinterpret_cast<const long long*>(HostResult + countsOffset);
+  const long long* vals = reinterpret_cast<const long long*>(HostResult);
+  const unsigned* keys = reinterpret_cast<const unsigned*>(HostResult + uN * sizeof(long long));
+  LastListSize = counts[0];
+  const unsigned long long count = st.above + st.need;
+  const bool consistent = st.overflow == 0 &&
+    static_cast<unsigned long long>(counts[0]) == st.listSize && count <= uN &&
+    (takeAll ? count == total : count == uN) && (!LastSlow || static_cast<unsigned long long>(counts[1]) == st.above);
+  if (!consistent)
+  {
+    return fail(error,
+      "GPU top-N selection is inconsistent (list " + std::to_string(counts[0]) + "/" +
+        std::to_string(st.listSize) + ", above " + std::to_string(st.above) + ", need " +
+        std::to_string(st.need) + ", flag " + std::to_string(st.overflow) + ")");
+  }
+  out.indices.resize(count);
+  out.scores.resize(count);
+  for (std::size_t i = 0; i < count; ++i)
+  {
+    out.indices[i] = vals[i];
+    float s;
+    static_assert(sizeof(s) == sizeof(unsigned), "float is 32 bits");
+    std::memcpy(&s, &keys[i], sizeof(s));
+    out.scores[i] = s;
+  }
+  return true;
+}
+
+// Slow path: the host learns the list size after level 1 and sizes the CUB calls with it.
+bool TopNSelector::selectSlow(
+  const float* scores, std::size_t n, int N, cudaStream_t stream, std::string* error)
+{
+  unsigned long long* hist1 = Hist;
+  unsigned long long* hist2 = Hist + kLevel1Bins;
+  unsigned long long* hist3 = hist2 + kLevel2Bins;
+  scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(hist1, 1, N, LLONG_MAX, State);
+  MCV_CUDA_TRY(cudaGetLastError());
+  MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
+  MCV_CUDA_TRY(cudaStreamSynchronize(stream));
+  const std::size_t stateOffset = reinterpret_cast<unsigned char*>(State) - Result;
+  const SelectState level1 = *reinterpret_cast<const SelectState*>(HostResult + stateOffset);
+  const long long m = static_cast<long long>(level1.listSize);
+  const std::size_t um = static_cast<std::size_t>(std::max(m, 1ll)), uN = static_cast<std::size_t>(N);
+  if (!grow(ListIdx, ListCap, um, error) || !grow(ListBits, ListBitsCap, um, error) ||
+    !grow(TiePos, TieCap, um, error) || !grow(AbovePos, AboveCap, uN, error))
+  {
+    return false;
+  }
   const thrust::counting_iterator<long long> first(0);
-  const AtLeastBits compactOp{ scores, level1.takeAll ? 1u : (level1.prefix << 21) };
+  const AtLeastBits compactOp{ scores, level1.low };
   const AboveThreshold aboveOp{ ListBits, State };
   const AtThreshold tieOp{ ListBits, State };
   std::size_t bytesCompact = 0, bytesAbove = 0, bytesTie = 0, bytesSort = 0;
@@ -449,11 +723,11 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   MCV_CUDA_TRY(cudaGetLastError());
   if (!level1.takeAll)
   {
-    scanLevelKernel<kLevel2Bins><<<1, kScanThreads, 0, stream>>>(hist2, 2, N, State);
+    scanLevelKernel<kLevel2Bins><<<1, kScanThreads, 0, stream>>>(hist2, 2, N, LLONG_MAX, State);
     MCV_CUDA_TRY(cudaGetLastError());
     level3Kernel<<<gridFor(m, SmCount), kHistThreads, 0, stream>>>(ListBits, m, State, hist3);
     MCV_CUDA_TRY(cudaGetLastError());
-    scanLevelKernel<kLevel3Bins><<<1, kScanThreads, 0, stream>>>(hist3, 3, N, State);
+    scanLevelKernel<kLevel3Bins><<<1, kScanThreads, 0, stream>>>(hist3, 3, N, LLONG_MAX, State);
     MCV_CUDA_TRY(cudaGetLastError());
   }
 
@@ -471,40 +745,6 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   tb = TempCap;
   MCV_CUDA_TRY(cub::DeviceRadixSort::SortPairsDescending(
     Temp, tb, KeysIn, KeysOut, ValsIn, ValsOut, N, 0, 32, stream));
-
-  MCV_CUDA_TRY(recordDownload(beforeDownload));
-  MCV_CUDA_TRY(cudaMemcpyAsync(HostKeys, KeysOut, uN * sizeof(unsigned), cudaMemcpyDeviceToHost, stream));
-  MCV_CUDA_TRY(cudaMemcpyAsync(HostVals, ValsOut, uN * sizeof(long long), cudaMemcpyDeviceToHost, stream));
-  MCV_CUDA_TRY(cudaMemcpyAsync(HostState, State, sizeof(SelectState), cudaMemcpyDeviceToHost, stream));
-  MCV_CUDA_TRY(cudaMemcpyAsync(HostCounts, Counts, 4 * sizeof(long long), cudaMemcpyDeviceToHost, stream));
-  MCV_CUDA_TRY(recordDownload(afterDownload));
-  MCV_CUDA_TRY(cudaStreamSynchronize(stream));
-
-  // Consistency of the device-side bookkeeping (a failure here is a bug, reported so the
-  // caller falls back to the CPU rather than returning a wrong set).
-  const SelectState final = *HostState;
-  const unsigned long long count = final.above + final.need;
-  if (HostCounts[0] != m || static_cast<unsigned long long>(HostCounts[1]) != final.above ||
-    count > static_cast<unsigned long long>(N) ||
-    (!level1.takeAll && count != static_cast<unsigned long long>(N)) ||
-    (level1.takeAll && count != level1.total))
-  {
-    return fail(error,
-      "GPU top-N selection is inconsistent (list " + std::to_string(HostCounts[0]) + "/" +
-        std::to_string(m) + ", above " + std::to_string(HostCounts[1]) + "/" +
-        std::to_string(final.above) + ", need " + std::to_string(final.need) + ")");
-  }
-  out.indices.resize(count);
-  out.scores.resize(count);
-  for (std::size_t i = 0; i < count; ++i)
-  {
-    out.indices[i] = HostVals[i];
-    unsigned bits = HostKeys[i];
-    float s;
-    static_assert(sizeof(s) == sizeof(bits), "float is 32 bits");
-    std::memcpy(&s, &bits, sizeof(s));
-    out.scores[i] = s;
-  }
   return true;
 }
 

@@ -10,9 +10,13 @@
 //            order -> the list;
 //   levels 2 and 3 (11 and 10 bits) on the list -> the exact threshold T and `need`, the
 //            number of ties == T that still fit;
-//   stable selects of list entries > T and == T (index order), the first `need` ties
-//            appended; a stable radix sort of the <= N survivors by score descending.
-// One host synchronisation sits after level 1 (the list size sizes the CUB calls).
+//   the list entries > T and the first `need` ties == T (index order) -> <= N survivors;
+//            a stable radix sort of them by score descending.
+// Fast path (no host synchronisation until the N results come back): the list holds at
+// most kFastListCapacity entries; levels 2, 3 and the survivors are one single-block
+// kernel. When the level-1 bin leaves a longer list (rare: a plateau of near-equal scores),
+// the slow path runs: the host reads the list size, sizes the buffers, and runs the same
+// steps with multi-block kernels and CUB selects.
 #pragma once
 
 #include "../Filters/Core/TopResponses.h"
@@ -38,9 +42,20 @@ struct SelectState
   unsigned long long listSize = 0; // candidates in or above the level-1 bin
   unsigned int prefix = 0;         // bin bits fixed so far
   unsigned int threshold = 0;      // T (bit pattern)
+  unsigned int low = 0;            // compaction bound: bits >= low (0xFFFFFFFF: none)
   int takeAll = 0;                 // total <= N: every candidate is taken
+  int overflow = 0;                // fast path: 1 = list too long (slow path), 2 = inconsistent
   int pad = 0;
 };
+
+struct ListEntry // one candidate of the compacted list
+{
+  unsigned bits;
+  unsigned pad;
+  long long index;
+};
+
+constexpr long long kFastListCapacity = 1 << 16;
 
 class TopNSelector
 {
@@ -52,8 +67,9 @@ public:
 
   // The level-1 histogram (kLevel1Bins counters) that the Harris kernel fills.
   unsigned long long* level1Histogram() const { return Hist; }
-  // Allocates the fixed buffers (once) and zeroes the histograms on `stream`.
-  bool reset(cudaStream_t stream, std::string* error);
+  // Allocates the buffers for N points (kept between calls) and zeroes the histograms and
+  // the selection state on `stream`. Call before the level-1 histogram is filled.
+  bool reset(int N, cudaStream_t stream, std::string* error);
   // Level-1 histogram of a score volume already on the device (when it was not fused).
   bool histogramLevel1(const float* scores, std::size_t n, cudaStream_t stream, std::string* error);
   // Selection from `n` device scores whose level-1 histogram is complete. `beforeDownload`
@@ -62,33 +78,44 @@ public:
     std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr);
   void release();
 
+  // Entries of the last selection's compacted list and whether it took the slow path.
+  long long lastListSize() const { return LastListSize; }
+  bool lastUsedSlowPath() const { return LastSlow; }
+  // Test hook: force the slow path.
+  void setForceSlowPath(bool force) { ForceSlow = force; }
+
 private:
+  bool selectSlow(const float* scores, std::size_t n, int N, cudaStream_t stream, std::string* error);
+  bool finish(int N, bool takeAll, unsigned long long total, InterestPoints& out, std::string* error);
   template <typename T>
   bool grow(T*& buffer, std::size_t& capacity, std::size_t wanted, std::string* error);
-  bool growHost(std::size_t N, std::string* error);
 
   unsigned long long* Hist = nullptr; // levels 1, 2, 3: 2048 + 2048 + 1024
+  // One device block copied back in one transfer: sorted values (N), sorted keys (N), the
+  // state, the CUB counts (list, above, ties); HostResult is its pinned mirror.
+  unsigned char* Result = nullptr;
+  unsigned char* HostResult = nullptr;
+  std::size_t ResultBytes = 0;
+  int ResultN = 0;
   SelectState* State = nullptr;
-  long long* Counts = nullptr; // CUB selected counts: list, above, ties
+  long long* Counts = nullptr;
+  ListEntry* FastList = nullptr;
   long long* ListIdx = nullptr;
   unsigned* ListBits = nullptr;
   long long* TiePos = nullptr;
   std::size_t ListCap = 0, ListBitsCap = 0, TieCap = 0;
   long long* AbovePos = nullptr;
   unsigned* KeysIn = nullptr;
-  unsigned* KeysOut = nullptr;
+  unsigned* KeysOut = nullptr; // in Result
   long long* ValsIn = nullptr;
-  long long* ValsOut = nullptr;
-  std::size_t AboveCap = 0, KeysInCap = 0, KeysOutCap = 0, ValsInCap = 0, ValsOutCap = 0;
+  long long* ValsOut = nullptr; // in Result
+  std::size_t AboveCap = 0, KeysInCap = 0, ValsInCap = 0;
   unsigned char* Temp = nullptr;
   std::size_t TempCap = 0;
-  // pinned host mirrors
-  SelectState* HostState = nullptr;
-  long long* HostCounts = nullptr;
-  unsigned* HostKeys = nullptr;
-  long long* HostVals = nullptr;
-  std::size_t HostCap = 0;
   int SmCount = 0;
+  long long LastListSize = 0;
+  bool LastSlow = false;
+  bool ForceSlow = false;
 };
 
 } // namespace detail

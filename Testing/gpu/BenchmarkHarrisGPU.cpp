@@ -3,7 +3,7 @@
 // opacity 0..255 on the GPU, the same values /255 in float on the CPU).
 //
 //   mcvBenchmarkGPU [--sizes 64,128,256,384,512] [--runs R] [--cpu-runs R] [--cpu-max N]
-//                   [--sweep] [--no-float]
+//                   [--sweep] [--variants] [--no-float] [--profile]
 //
 // Per size: GPU stage times (CUDA events, median of R runs, volume resident on the GPU):
 // harris (fused kernel + level-1 histogram), select (radix select + compaction + sort, with
@@ -13,8 +13,9 @@
 // CPU: computeHarrisResponseCPU + selectTopResponsesCPU (OpenMP, all cores), median of
 // --cpu-runs runs, up to --cpu-max voxels per side. Agreement: top-N overlap between the
 // GPU (uint8) and CPU (float) points, and the angle between their PCA best views.
-// --sweep times the Harris kernel for several z chunks; the float path (the plugin's
-// input) is timed too unless --no-float.
+// --sweep times the Harris kernel for several z chunks, --variants the kernel variants
+// (z-loop unrolling, 3 blocks/SM, histogram atomics) from 256^3 up; the float path (the
+// plugin's input) is timed too unless --no-float.
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
 
@@ -51,7 +52,9 @@ struct Config
   int cpuRuns = 10;
   int cpuMax = 256;
   bool sweep = false;
+  bool variants = false;
   bool floatPath = true;
+  bool profile = false; // one warm topN on the first size, then exit (for ncu)
 };
 
 struct Row
@@ -64,6 +67,8 @@ struct Row
   double overlap = -1, angle = -1;
   int zChunk = 0;
   std::size_t points = 0;
+  long long listSize = 0;
+  bool slow = false;
 };
 
 double median(std::vector<double> v)
@@ -179,6 +184,10 @@ int main(int argc, char** argv)
       cfg.cpuMax = std::atoi(next());
     else if (a == "--sweep")
       cfg.sweep = true;
+    else if (a == "--variants")
+      cfg.variants = true;
+    else if (a == "--profile")
+      cfg.profile = true;
     else if (a == "--no-float")
       cfg.floatPath = false;
     else
@@ -246,6 +255,15 @@ int main(int argc, char** argv)
     // Device-resident pipeline.
     mcv::InterestPoints gpu;
     pipeline.setZChunk(0);
+    if (cfg.profile)
+    {
+      for (int r = 0; r < 3; ++r)
+        if (!pipeline.topN(params, N, gpu, &error))
+          die(error);
+      std::printf("profile: 3 topN calls on %d^3 (the last one is warm), list %lld\n", n,
+        pipeline.lastListSize());
+      return 0;
+    }
     for (int r = 0; r < 3; ++r) // warm-up (allocations, CUB temporaries)
     {
       if (!pipeline.topN(params, N, gpu, &error))
@@ -271,9 +289,46 @@ int main(int argc, char** argv)
     row.wall = median(wall);
     row.zChunk = pipeline.lastZChunk();
     row.points = gpu.size();
+    row.listSize = pipeline.lastListSize();
+    row.slow = pipeline.lastSelectUsedSlowPath();
     std::printf("  GPU uint8: harris %.3f ms, select %.3f ms, download %.3f ms, device total "
-                "%.3f ms (wall %.3f ms), zChunk %d, %zu points\n",
-      row.harris, row.select, row.download, row.device, row.wall, row.zChunk, row.points);
+                "%.3f ms (wall %.3f ms), zChunk %d, %zu points, list %lld (%s path)\n",
+      row.harris, row.select, row.download, row.device, row.wall, row.zChunk, row.points,
+      row.listSize, row.slow ? "slow" : "fast");
+    {
+      double withHist = 0, without = 0;
+      std::vector<double> a, b;
+      for (int r = 0; r < cfg.runs; ++r)
+      {
+        if (!pipeline.timeHarrisKernel(params, true, &withHist, &error) ||
+          !pipeline.timeHarrisKernel(params, false, &without, &error))
+          die(error);
+        a.push_back(withHist);
+        b.push_back(without);
+      }
+      std::printf("  Harris kernel alone: %.3f ms with the level-1 histogram, %.3f ms without\n",
+        median(a), median(b));
+    }
+    if (cfg.variants && n >= 256)
+    {
+      std::printf("  kernel variants (harris+histogram ms, median of %d):", cfg.runs);
+      for (int v = 0; v < 4; ++v)
+        for (int hm = 0; hm < 2; ++hm)
+        {
+          pipeline.setKernelVariant(v, hm);
+          std::vector<double> hs;
+          for (int r = 0; r < cfg.runs; ++r)
+          {
+            double ms = 0;
+            if (!pipeline.timeHarrisKernel(params, true, &ms, &error))
+              die(error);
+            hs.push_back(ms);
+          }
+          std::printf("  v%d%s %.3f", v, hm ? "a" : "m", median(hs));
+        }
+      std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM; m: match_any, a: plain atomics)\n");
+      pipeline.setKernelVariant(-1, 0);
+    }
     std::printf("  H2D uint8: pinned %.3f ms, pageable %.3f ms\n", row.h2dPinned, row.h2dPageable);
 
     if (cfg.sweep)

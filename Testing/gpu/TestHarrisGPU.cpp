@@ -388,6 +388,35 @@ TEST(HarrisGPU, ZChunksGiveIdenticalResults)
   }
 }
 
+TEST(HarrisGPU, KernelVariantsGiveIdenticalResults)
+{
+  MCV_REQUIRE_GPU();
+  const mt::Volume v = smoothRandomVolume(mt::makeGrid(77, 45, 41, { 1.0, 0.8, 1.2 }), 51);
+  const HarrisParameters p;
+  mcv::cuda::HarrisPipeline pipeline;
+  std::string error;
+  ASSERT_TRUE(pipeline.uploadVolume(v.values.data(), v.grid, &error)) << error;
+  std::vector<float> reference(v.values.size()), other(v.values.size());
+  ASSERT_TRUE(pipeline.response(p, reference.data(), &error)) << error;
+  InterestPoints top0;
+  ASSERT_TRUE(pipeline.topN(p, kN, top0, &error)) << error;
+  for (int variant = 0; variant < 4; ++variant)
+    for (int histMode = 0; histMode < 2; ++histMode)
+      for (int chunk : { 0, 3 })
+      {
+        SCOPED_TRACE("variant " + std::to_string(variant) + ", histogram mode " +
+          std::to_string(histMode) + ", zChunk " + std::to_string(chunk));
+        pipeline.setKernelVariant(variant, histMode);
+        pipeline.setZChunk(chunk);
+        ASSERT_TRUE(pipeline.response(p, other.data(), &error)) << error;
+        EXPECT_TRUE(reference == other);
+        InterestPoints top;
+        ASSERT_TRUE(pipeline.topN(p, kN, top, &error)) << error;
+        EXPECT_EQ(top.indices, top0.indices);
+        EXPECT_EQ(top.scores, top0.scores);
+      }
+}
+
 TEST(HarrisGPU, Uint8VolumeRanksLikeFloat)
 {
   MCV_REQUIRE_GPU();
@@ -410,6 +439,9 @@ TEST(HarrisGPU, Uint8VolumeRanksLikeFloat)
   ASSERT_TRUE(pipeline.topN(p, kN, gpu, &error, &t)) << error;
   EXPECT_GT(t.harrisMs, 0.0);
   EXPECT_GE(t.selectMs, 0.0);
+  std::printf("[ select    ] structured 72 uint8: list of %lld candidates, %s path\n",
+    pipeline.lastListSize(), pipeline.lastSelectUsedSlowPath() ? "slow" : "fast");
+  EXPECT_FALSE(pipeline.lastSelectUsedSlowPath());
   expectTopNAgree(gpu, mcv::selectTopResponsesCPU(rc.data(), rc.size(), kN), v.grid, "uint8 top-N");
 }
 
@@ -462,17 +494,25 @@ TEST(HarrisGPU, FlatVolumeHasNoPoints)
 
 void expectSameSelection(const std::vector<float>& scores, int N, const std::string& what)
 {
-  SCOPED_TRACE(what + ", N = " + std::to_string(N));
-  mcv::cuda::HarrisPipeline pipeline;
-  InterestPoints gpu;
-  std::string error;
-  ASSERT_TRUE(pipeline.selectFromScores(scores.data(), scores.size(), N, gpu, &error)) << error;
   const InterestPoints cpu = mcv::selectTopResponsesCPU(scores.data(), scores.size(), N);
-  ASSERT_EQ(gpu.size(), cpu.size());
-  EXPECT_EQ(gpu.indices, cpu.indices);
-  for (std::size_t i = 0; i < cpu.size(); ++i)
+  mcv::cuda::HarrisPipeline pipeline;
+  for (bool forceSlow : { false, true })
   {
-    ASSERT_EQ(gpu.scores[i], cpu.scores[i]) << "at " << i;
+    SCOPED_TRACE(what + ", N = " + std::to_string(N) + (forceSlow ? ", slow path" : ""));
+    pipeline.setForceSlowSelect(forceSlow);
+    InterestPoints gpu;
+    std::string error;
+    ASSERT_TRUE(pipeline.selectFromScores(scores.data(), scores.size(), N, gpu, &error)) << error;
+    if (forceSlow)
+    {
+      EXPECT_TRUE(pipeline.lastSelectUsedSlowPath());
+    }
+    ASSERT_EQ(gpu.size(), cpu.size());
+    EXPECT_EQ(gpu.indices, cpu.indices);
+    for (std::size_t i = 0; i < cpu.size(); ++i)
+    {
+      ASSERT_EQ(gpu.scores[i], cpu.scores[i]) << "at " << i;
+    }
   }
 }
 
@@ -515,6 +555,13 @@ TEST(TopNGPU, LowBitsDecide)
   {
     expectSameSelection(s, N, "one level-1 bin");
   }
+  // 300000 entries in the N-th score's bin: longer than the fast list, the slow path runs.
+  mcv::cuda::HarrisPipeline pipeline;
+  InterestPoints gpu;
+  std::string error;
+  ASSERT_TRUE(pipeline.selectFromScores(s.data(), s.size(), 777, gpu, &error)) << error;
+  EXPECT_TRUE(pipeline.lastSelectUsedSlowPath());
+  EXPECT_EQ(pipeline.lastListSize(), static_cast<long long>(s.size()));
 }
 
 TEST(TopNGPU, FewerCandidatesThanN)

@@ -60,6 +60,19 @@ grep -v "^  \|^$" "$logs/bench.log" | head -20 >/dev/null
 cat "$logs/bench.log" | sed -n '/^== /,$p' | grep -E "^==|GPU uint8|GPU float|H2D|CPU:|sweep" | head -60
 note "mcvBenchmarkGPU exit code $bench_rc"
 
+if [ "${MCV_NCU:-0}" = 1 ] && command -v ncu >/dev/null 2>&1; then
+  note "== ncu (256^3): kernel durations of one warm topN, then the Harris kernel's stall profile"
+  timeout 120 ncu --clock-control none --metrics gpu__time_duration.sum --csv \
+    "$build/Testing/gpu/mcvBenchmarkGPU" --sizes 256 --profile >"$logs/ncu-durations.csv" 2>&1
+  grep -v "^==PROF==" "$logs/ncu-durations.csv" | tail -12 | cut -c1-400
+  timeout 150 ncu --clock-control none -k regex:harrisKernel -s 2 -c 1 --section SpeedOfLight \
+    --section Occupancy --section WarpStateStats --section SchedulerStats --section LaunchStats \
+    --section ComputeWorkloadAnalysis --section MemoryWorkloadAnalysis \
+    "$build/Testing/gpu/mcvBenchmarkGPU" --sizes 256 --profile >"$logs/ncu-harris.txt" 2>&1
+  grep -E "Duration|Throughput|Occupancy|Stall|Issue|Eligible|Active Warps|Registers|Shared Memory|Bank|Block Limit|L1/TEX Hit|L2 Hit|Pipe|Executed Ipc|One or More" \
+    "$logs/ncu-harris.txt" | head -60
+fi
+
 echo
 echo "================ summary ================"
 cat "$summary"
