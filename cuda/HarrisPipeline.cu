@@ -96,7 +96,7 @@ struct HarrisPipeline::Impl
   std::size_t scoresCap = 0;
   detail::TopNSelector selector;
   int zChunk = 0, lastZChunk = 0;
-  int variant = -1, histMode = 0;
+  int variant = -1, histMode = 1;
   double uploadMs = 0;
 
   ~Impl()

@@ -7,7 +7,6 @@
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_select.cuh>
 #include <thrust/iterator/counting_iterator.h>
-#include <thrust/iterator/transform_output_iterator.h>
 
 #include <algorithm>
 #include <climits>
@@ -27,7 +26,6 @@ constexpr int kLevel3Bins = 1024; // bits 9..0
 constexpr unsigned kMaxFiniteBits = 0x7F7FFFFFu; // FLT_MAX: larger patterns are inf, NaN, < 0
 constexpr int kScanThreads = 1024;
 constexpr int kHistThreads = 256;
-constexpr int kFinishItems = 4; // list entries per thread and round in finishKernel
 
 __device__ __forceinline__ bool isCandidateBits(unsigned bits)
 {
@@ -166,18 +164,155 @@ __global__ void __launch_bounds__(kHistThreads) histogramLevel1Kernel(
 }
 
 // ---------------------------------------------------------------------------------------
-// Fast path: levels 2 and 3 and the survivors in one block over the (short) list.
+// Fast path: a bandwidth-bound compaction (list order arbitrary), then one block finds the
+// exact threshold, gathers the survivors and sorts them (bitonic, in shared memory).
 // ---------------------------------------------------------------------------------------
 
-__global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,
-  const long long* __restrict__ listCount, SelectState* state, int N, unsigned* __restrict__ keys,
-  long long* __restrict__ vals)
+constexpr int kCompactThreads = 256;
+
+// Candidates with bits >= state->low into list[0, count) in no particular order: float4
+// loads, one atomic per warp that holds any (they are rare: a few times N in the volume).
+__global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __restrict__ scores,
+  long long n, const SelectState* __restrict__ state, ListEntry* __restrict__ list, long long cap,
+  unsigned long long* __restrict__ count)
 {
-  __shared__ BlockScanU64::TempStorage temp;
-  __shared__ unsigned h2[kLevel2Bins];
-  __shared__ unsigned h3[kLevel3Bins];
+  const unsigned low = state->low;
+  if (low == 0xFFFFFFFFu)
+  {
+    return; // the list would not fit: the host runs the slow path
+  }
+  const int lane = threadIdx.x & 31;
+  const long long n4 = n / 4;
+  const float4* s4 = reinterpret_cast<const float4*>(scores);
+  const long long stride = static_cast<long long>(gridDim.x) * blockDim.x;
+  for (long long base = static_cast<long long>(blockIdx.x) * blockDim.x; base < n4; base += stride)
+  {
+    const long long v = base + threadIdx.x; // warps iterate together (collectives below)
+    float4 q = make_float4(0.f, 0.f, 0.f, 0.f);
+    if (v < n4)
+    {
+      q = __ldg(s4 + v);
+    }
+    const unsigned b[4] = { __float_as_uint(q.x), __float_as_uint(q.y), __float_as_uint(q.z),
+      __float_as_uint(q.w) };
+    bool sel[4];
+    unsigned c = 0;
+#pragma unroll
+    for (int j = 0; j < 4; ++j)
+    {
+      sel[j] = v < n4 && b[j] >= low && b[j] <= kMaxFiniteBits;
+      c += sel[j];
+    }
+    if (__any_sync(0xffffffffu, c != 0))
+    {
+      unsigned incl = c;
+#pragma unroll
+      for (int o = 1; o < 32; o <<= 1)
+      {
+        const unsigned y = __shfl_up_sync(0xffffffffu, incl, o);
+        if (lane >= o)
+        {
+          incl += y;
+        }
+      }
+      unsigned long long pos = 0;
+      if (lane == 31)
+      {
+        pos = atomicAdd(count, static_cast<unsigned long long>(incl));
+      }
+      pos = __shfl_sync(0xffffffffu, pos, 31) + (incl - c);
+#pragma unroll
+      for (int j = 0; j < 4; ++j)
+      {
+        if (sel[j])
+        {
+          if (pos < static_cast<unsigned long long>(cap))
+          {
+            list[pos] = ListEntry{ b[j], 0u, 4 * v + j };
+          }
+          ++pos;
+        }
+      }
+    }
+  }
+  if (blockIdx.x == 0 && threadIdx.x < n - 4 * n4) // the last n % 4 scores
+  {
+    const long long i = 4 * n4 + threadIdx.x;
+    const unsigned bits = __float_as_uint(scores[i]);
+    if (bits >= low && bits <= kMaxFiniteBits)
+    {
+      const unsigned long long pos = atomicAdd(count, 1ull);
+      if (pos < static_cast<unsigned long long>(cap))
+      {
+        list[pos] = ListEntry{ bits, 0u, i };
+      }
+    }
+  }
+}
+
+// "a ranks before b": higher score first, then lower index.
+__device__ __forceinline__ bool ranksBefore(unsigned ka, long long ia, unsigned kb, long long ib)
+{
+  return ka > kb || (ka == kb && ia < ib);
+}
+
+// In-place bitonic sort of P (a power of two <= 2 * kScanThreads) pairs by ranksBefore, or
+// of the indices alone ascending when `keys` is null. Called by the whole block.
+__device__ void bitonicSort(unsigned* keys, long long* idx, int P)
+{
+  for (int k = 2; k <= P; k <<= 1)
+  {
+    for (int j = k >> 1; j > 0; j >>= 1)
+    {
+      for (int i = threadIdx.x; i < P / 2; i += blockDim.x)
+      {
+        const int lo = 2 * j * (i / j) + (i % j), hi = lo + j;
+        const bool up = (lo & k) == 0; // this run ends up best-first
+        const unsigned klo = keys ? keys[lo] : 0u, khi = keys ? keys[hi] : 0u;
+        const long long ilo = idx[lo], ihi = idx[hi];
+        const bool hiFirst = ranksBefore(khi, ihi, klo, ilo);
+        if (up ? hiFirst : !hiFirst)
+        {
+          if (keys)
+          {
+            keys[lo] = khi;
+            keys[hi] = klo;
+          }
+          idx[lo] = ihi;
+          idx[hi] = ilo;
+        }
+      }
+      __syncthreads();
+    }
+  }
+}
+
+constexpr int kFastMaxN = 2 * kScanThreads; // survivors sorted in one block
+constexpr int kFastMaxTies = 2048;           // ties at the threshold sortable in one block
+
+__global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,
+  const long long* __restrict__ listCount, SelectState* state, int N, unsigned* __restrict__ keysOut,
+  long long* __restrict__ valsOut)
+{
+  // Phase 1 uses the histograms and the scan, phase 2 the sort buffers (same storage).
+  __shared__ union
+  {
+    struct
+    {
+      unsigned h2[kLevel2Bins];
+      unsigned h3[kLevel3Bins];
+      BlockScanU64::TempStorage temp;
+    } levels;
+    struct
+    {
+      unsigned keys[kFastMaxN];
+      long long vals[kFastMaxN];
+      long long ties[kFastMaxTies];
+    } sort;
+  } sm;
   __shared__ unsigned sBin;
   __shared__ unsigned long long sAbove;
+  __shared__ unsigned sCountAbove, sCountTies;
   const int t = threadIdx.x;
   if (state->overflow)
   {
@@ -196,18 +331,19 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     const unsigned bin1 = state->prefix;
     above = state->above;
     for (int i = t; i < kLevel2Bins; i += kScanThreads)
-      h2[i] = 0;
+      sm.levels.h2[i] = 0;
     for (int i = t; i < kLevel3Bins; i += kScanThreads)
-      h3[i] = 0;
+      sm.levels.h3[i] = 0;
     __syncthreads();
     for (long long i = t; i < m; i += kScanThreads)
     {
       const unsigned bits = list[i].bits;
       if ((bits >> 21) == bin1)
-        atomicAdd(&h2[(bits >> 10) & 0x7FFu], 1u);
+        atomicAdd(&sm.levels.h2[(bits >> 10) & 0x7FFu], 1u);
     }
     __syncthreads();
-    findBin<kLevel2Bins>(h2, static_cast<unsigned long long>(N) - above, temp, &sBin, &sAbove, &total);
+    findBin<kLevel2Bins>(sm.levels.h2, static_cast<unsigned long long>(N) - above,
+      sm.levels.temp, &sBin, &sAbove, &total);
     __syncthreads();
     const unsigned prefix = (bin1 << 11) | sBin;
     above += sAbove;
@@ -216,85 +352,97 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     {
       const unsigned bits = list[i].bits;
       if ((bits >> 10) == prefix)
-        atomicAdd(&h3[bits & 0x3FFu], 1u);
+        atomicAdd(&sm.levels.h3[bits & 0x3FFu], 1u);
     }
     __syncthreads();
-    findBin<kLevel3Bins>(h3, static_cast<unsigned long long>(N) - above, temp, &sBin, &sAbove, &total);
+    findBin<kLevel3Bins>(sm.levels.h3, static_cast<unsigned long long>(N) - above,
+      sm.levels.temp, &sBin, &sAbove, &total);
     __syncthreads();
     threshold = (prefix << 10) | sBin;
     above += sAbove;
     need = static_cast<unsigned long long>(N) - above;
+    __syncthreads(); // the histograms are dead from here: their storage becomes the sort buffers
   }
 
-  // Survivors in index order (the list is in index order): entries > T into slots
-  // [0, above), the first `need` ties == T into [above, above + need).
-  unsigned long long gtBase = 0, eqBase = 0;
-  for (long long s0 = 0; s0 < m; s0 += static_cast<long long>(kScanThreads) * kFinishItems)
+  // Survivors: entries > T (fewer than N, any order) and the ties == T.
+  if (t == 0)
   {
-    unsigned bits[kFinishItems];
-    long long index[kFinishItems];
-    bool gt[kFinishItems], eq[kFinishItems];
-    unsigned nGt = 0, nEq = 0;
-#pragma unroll
-    for (int j = 0; j < kFinishItems; ++j)
-    {
-      const long long i = s0 + static_cast<long long>(t) * kFinishItems + j;
-      gt[j] = eq[j] = false;
-      if (i < m)
-      {
-        const ListEntry e = list[i];
-        bits[j] = e.bits;
-        index[j] = e.index;
-        gt[j] = e.bits > threshold;
-        eq[j] = !takeAll && e.bits == threshold;
-      }
-      nGt += gt[j];
-      nEq += eq[j];
-    }
-    // (gt, eq) counts packed in one 64-bit sum: per round they stay far below 2^32.
-    unsigned long long before = 0, sum = 0;
-    BlockScanU64(temp).ExclusiveSum((static_cast<unsigned long long>(nGt) << 32) | nEq, before, sum);
-    unsigned long long offGt = gtBase + (before >> 32), offEq = eqBase + (before & 0xFFFFFFFFull);
-#pragma unroll
-    for (int j = 0; j < kFinishItems; ++j)
-    {
-      if (gt[j])
-      {
-        if (offGt < static_cast<unsigned long long>(N))
-        {
-          keys[offGt] = bits[j];
-          vals[offGt] = index[j];
-        }
-        ++offGt;
-      }
-      else if (eq[j])
-      {
-        if (offEq < need)
-        {
-          keys[above + offEq] = bits[j];
-          vals[above + offEq] = index[j];
-        }
-        ++offEq;
-      }
-    }
-    gtBase += sum >> 32;
-    eqBase += sum & 0xFFFFFFFFull;
-    __syncthreads(); // temp storage reuse
+    sCountAbove = 0;
+    sCountTies = 0;
   }
-  for (unsigned long long s = above + need + t; s < static_cast<unsigned long long>(N); s += kScanThreads)
+  __syncthreads();
+  for (long long i = t; i < m; i += kScanThreads)
   {
-    keys[s] = 0u; // padding sorts last (real keys are >= 1)
-    vals[s] = LLONG_MAX;
+    const ListEntry e = list[i];
+    if (e.bits > threshold)
+    {
+      const unsigned slot = atomicAdd(&sCountAbove, 1u);
+      if (slot < static_cast<unsigned>(kFastMaxN))
+      {
+        sm.sort.keys[slot] = e.bits;
+        sm.sort.vals[slot] = e.index;
+      }
+    }
+    else if (!takeAll && e.bits == threshold)
+    {
+      const unsigned r = atomicAdd(&sCountTies, 1u);
+      if (r < static_cast<unsigned>(kFastMaxTies))
+      {
+        sm.sort.ties[r] = e.index;
+      }
+    }
+  }
+  __syncthreads();
+  const unsigned nAbove = sCountAbove, nTies = sCountTies;
+  if (nAbove != above || nTies < need)
+  {
+    if (t == 0)
+      state->overflow = 2; // bookkeeping mismatch: reported as an error
+    return;
+  }
+  if (nTies > need)
+  {
+    // More ties than places: the lowest indices win (the CPU's order).
+    if (nTies > static_cast<unsigned>(kFastMaxTies))
+    {
+      if (t == 0)
+        state->overflow = 1; // too many ties for one block: the slow path
+      return;
+    }
+    int P = 2;
+    while (P < static_cast<int>(nTies))
+      P <<= 1;
+    for (int i = static_cast<int>(nTies) + t; i < P; i += kScanThreads)
+      sm.sort.ties[i] = LLONG_MAX;
+    __syncthreads();
+    bitonicSort(nullptr, sm.sort.ties, P);
+  }
+  const int count = static_cast<int>(above + need);
+  for (int s = static_cast<int>(above) + t; s < count; s += kScanThreads)
+  {
+    sm.sort.keys[s] = threshold;
+    sm.sort.vals[s] = sm.sort.ties[s - static_cast<int>(above)];
+  }
+  int P = 2;
+  while (P < N)
+    P <<= 1;
+  for (int s = count + t; s < P; s += kScanThreads)
+  {
+    sm.sort.keys[s] = 0u; // padding sorts last (real keys are >= 1)
+    sm.sort.vals[s] = LLONG_MAX;
+  }
+  __syncthreads();
+  bitonicSort(sm.sort.keys, sm.sort.vals, P);
+  for (int s = t; s < N; s += kScanThreads)
+  {
+    keysOut[s] = sm.sort.keys[s];
+    valsOut[s] = sm.sort.vals[s];
   }
   if (t == 0)
   {
     state->threshold = threshold;
     state->above = above;
     state->need = need;
-    if (gtBase != above || (!takeAll && eqBase < need))
-    {
-      state->overflow = 2; // bookkeeping mismatch: reported as an error
-    }
   }
 }
 
@@ -393,26 +541,6 @@ __global__ void assembleKernel(const long long* __restrict__ abovePos,
 // ---------------------------------------------------------------------------------------
 // CUB functors
 // ---------------------------------------------------------------------------------------
-
-struct AtLeastLow // fast compaction: the bound comes from the level-1 scan on the device
-{
-  const float* scores;
-  const SelectState* state;
-  __device__ bool operator()(long long i) const
-  {
-    const unsigned bits = __float_as_uint(__ldg(scores + i));
-    return bits >= state->low && bits <= kMaxFiniteBits;
-  }
-};
-
-struct MakeEntry
-{
-  const float* scores;
-  __device__ ListEntry operator()(long long i) const
-  {
-    return ListEntry{ __float_as_uint(__ldg(scores + i)), 0u, i };
-  }
-};
 
 struct AtLeastBits // slow compaction: the bound is known on the host
 {
@@ -589,31 +717,34 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
     MCV_CUDA_TRY(cudaStreamSynchronize(stream));
     return true;
   }
-  const thrust::counting_iterator<long long> first(0);
-
-  // Fast path: level 1 -> compaction into the fixed list -> one block finishes -> sort.
-  scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(
-    Hist, 1, N, ForceSlow ? -1 : kFastListCapacity, State);
-  MCV_CUDA_TRY(cudaGetLastError());
-  const AtLeastLow fastOp{ scores, State };
-  auto fastOut = thrust::make_transform_output_iterator(FastList, MakeEntry{ scores });
-  std::size_t bytesFast = 0, bytesSort = 0;
-  MCV_CUDA_TRY(cub::DeviceSelect::If(
-    nullptr, bytesFast, first, fastOut, Counts, static_cast<long long>(n), fastOp, stream));
-  MCV_CUDA_TRY(cub::DeviceRadixSort::SortPairsDescending(
-    nullptr, bytesSort, KeysIn, KeysOut, ValsIn, ValsOut, N, 0, 32, stream));
-  if (!grow(Temp, TempCap, std::max(bytesFast, bytesSort), error))
+  if (N > kFastMaxN || ForceSlow)
   {
-    return false;
+    // Too many points for the one-block finish (or a test asking): the slow path alone.
+    LastSlow = true;
+    if (!selectSlow(scores, n, N, stream, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(record(beforeDownload));
+    MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
+    MCV_CUDA_TRY(record(afterDownload));
+    MCV_CUDA_TRY(cudaStreamSynchronize(stream));
+    const std::size_t offset = reinterpret_cast<unsigned char*>(State) - Result;
+    const SelectState* st = reinterpret_cast<const SelectState*>(HostResult + offset);
+    return finish(N, st->takeAll != 0, st->total, out, error);
   }
-  std::size_t tb = TempCap;
-  MCV_CUDA_TRY(cub::DeviceSelect::If(
-    Temp, tb, first, fastOut, Counts, static_cast<long long>(n), fastOp, stream));
-  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
+
+  // Fast path: level 1 -> compaction into the fixed list -> one block finishes and sorts.
+  scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(Hist, 1, N, kFastListCapacity, State);
   MCV_CUDA_TRY(cudaGetLastError());
-  tb = TempCap;
-  MCV_CUDA_TRY(cub::DeviceRadixSort::SortPairsDescending(
-    Temp, tb, KeysIn, KeysOut, ValsIn, ValsOut, N, 0, 32, stream));
+  const long long items = static_cast<long long>(n);
+  const int compactBlocks = static_cast<int>(std::max(1ll,
+    std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
+  compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
+    kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  MCV_CUDA_TRY(cudaGetLastError());
+  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysOut, ValsOut);
+  MCV_CUDA_TRY(cudaGetLastError());
   MCV_CUDA_TRY(record(beforeDownload));
   MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
   MCV_CUDA_TRY(record(afterDownload));

@@ -12,11 +12,14 @@
 //            number of ties == T that still fit;
 //   the list entries > T and the first `need` ties == T (index order) -> <= N survivors;
 //            a stable radix sort of them by score descending.
-// Fast path (no host synchronisation until the N results come back): the list holds at
-// most kFastListCapacity entries; levels 2, 3 and the survivors are one single-block
-// kernel. When the level-1 bin leaves a longer list (rare: a plateau of near-equal scores),
-// the slow path runs: the host reads the list size, sizes the buffers, and runs the same
-// steps with multi-block kernels and CUB selects.
+// Fast path (N <= 2048; no host synchronisation until the N results come back): the
+// compaction is a bandwidth-bound kernel (float4 loads, one atomic per warp holding a
+// candidate) into a list of at most kFastListCapacity entries, in no particular order;
+// one block then runs levels 2 and 3, gathers the survivors (and, if more ties == T exist
+// than places, sorts the ties by index) and bitonic-sorts them by (score desc, index asc).
+// Slow path (larger N, a list longer than the capacity, or more than 2048 ties at T): the
+// host reads the list size after level 1, and stable CUB selects in index order and a
+// stable CUB radix sort do the same steps.
 #pragma once
 
 #include "../Filters/Core/TopResponses.h"

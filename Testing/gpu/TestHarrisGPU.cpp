@@ -492,7 +492,8 @@ TEST(HarrisGPU, FlatVolumeHasNoPoints)
 // Selection alone: exactly the CPU's answer, ties included
 // ---------------------------------------------------------------------------------------
 
-void expectSameSelection(const std::vector<float>& scores, int N, const std::string& what)
+void expectSameSelection(
+  const std::vector<float>& scores, int N, const std::string& what, bool expectFastPath = false)
 {
   const InterestPoints cpu = mcv::selectTopResponsesCPU(scores.data(), scores.size(), N);
   mcv::cuda::HarrisPipeline pipeline;
@@ -506,6 +507,10 @@ void expectSameSelection(const std::vector<float>& scores, int N, const std::str
     if (forceSlow)
     {
       EXPECT_TRUE(pipeline.lastSelectUsedSlowPath());
+    }
+    else if (expectFastPath)
+    {
+      EXPECT_FALSE(pipeline.lastSelectUsedSlowPath());
     }
     ASSERT_EQ(gpu.size(), cpu.size());
     EXPECT_EQ(gpu.indices, cpu.indices);
@@ -562,6 +567,24 @@ TEST(TopNGPU, LowBitsDecide)
   ASSERT_TRUE(pipeline.selectFromScores(s.data(), s.size(), 777, gpu, &error)) << error;
   EXPECT_TRUE(pipeline.lastSelectUsedSlowPath());
   EXPECT_EQ(pipeline.lastListSize(), static_cast<long long>(s.size()));
+}
+
+TEST(TopNGPU, ModerateTiesOnTheFastPath)
+{
+  MCV_REQUIRE_GPU();
+  // ~200 copies of each value: more ties at the threshold than places, few enough for the
+  // one-block tie sort; the list (the threshold's level-1 bin) fits the fast path.
+  std::vector<float> s(200000);
+  for (std::size_t i = 0; i < s.size(); ++i)
+  {
+    s[i] = static_cast<float>((i * 7919) % 997) + 1.0f;
+  }
+  for (int N : { 1, 100, 1000, 2048 })
+  {
+    expectSameSelection(s, N, "moderate ties", true);
+  }
+  expectSameSelection(s, 2049, "N above the fast path's 2048");
+  expectSameSelection(s, 5000, "N above the fast path's 2048");
 }
 
 TEST(TopNGPU, FewerCandidatesThanN)
