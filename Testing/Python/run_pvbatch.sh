@@ -1,5 +1,5 @@
 #!/bin/sh
-# run_pvbatch.sh PVBATCH SCRIPT [ARGS...]: runs a pvbatch script under a virtual X server.
+# run_pvbatch.sh PROGRAM [ARGS...]: runs pvbatch (or paraview) under a virtual X server.
 # Debian's pvbatch aborts without a display. `xvfb-run -a` picks a free display number,
 # but two runs started at the same moment (other test suites on the machine) can race for
 # it; such a start-up failure (never a test failure) is retried up to 3 times.
