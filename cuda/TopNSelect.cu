@@ -397,7 +397,7 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
   if (nAbove != above || nTies < need)
   {
     if (t == 0)
-      state->overflow = 2; // bookkeeping mismatch: reported as an error
+      state->overflow = 2; // bookkeeping mismatch: the host redoes it on the slow path
     return;
   }
   if (nTies > need)
@@ -752,9 +752,11 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
 
   const std::size_t stateOffset = reinterpret_cast<unsigned char*>(State) - Result;
   const SelectState* hostState = reinterpret_cast<const SelectState*>(HostResult + stateOffset);
-  if (hostState->overflow == 1)
+  if (hostState->overflow != 0)
   {
-    // The list was longer than the fast capacity: size everything on the host and redo.
+    // 1: the list was longer than the fast capacity, or held more than 2048 ties at the
+    // threshold; 2: the fast bookkeeping disagreed (never seen; the slow path is the
+    // reference). Either way: size everything on the host and redo.
     LastSlow = true;
     MCV_CUDA_TRY(cudaMemsetAsync(Hist + kLevel1Bins, 0,
       (kLevel2Bins + kLevel3Bins) * sizeof(unsigned long long), stream));
