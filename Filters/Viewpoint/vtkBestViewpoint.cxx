@@ -1,6 +1,7 @@
 #include "vtkBestViewpoint.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
@@ -375,9 +376,12 @@ int vtkBestViewpoint::RequestData(
   }
   if (arrays.empty())
   {
+    const bool cellArrays = image->GetCellData()->GetNumberOfArrays() > 0;
     vtkErrorMacro("Input has no point scalar array: BestViewpoint needs at least one "
                   "numeric point-data array (point arrays: "
-      << availableArrays(pd) << ").");
+      << availableArrays(pd) << ")"
+      << (cellArrays ? "; it has cell arrays: convert them with Cell Data to Point Data."
+                     : "."));
     return 0;
   }
 

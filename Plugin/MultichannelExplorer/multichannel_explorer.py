@@ -317,6 +317,9 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
         raise ValueError("apply_best_viewpoint: no source given")
     if view is None:
         view = simple.GetActiveViewOrCreate("RenderView")
+    if not hasattr(view, "CameraPosition"):
+        raise ValueError("apply_best_viewpoint needs a render view, not %s"
+                         % view.GetXMLName())
 
     bvp = best_viewpoint_filter(source, view, **filter_properties)
     best = _vec(bvp, "BestViewDirection")
