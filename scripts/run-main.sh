@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The main job from a fresh Debian 12 machine: installs what is missing, fetches the real
 # volumes, builds, then runs the best viewpoint on the Colin27 brain (mricron-data) under
-# pvbatch and writes best- and worst-view images into ./output/best-viewpoint.
-# Arguments go to Examples/best_viewpoint.py (see its --help), e.g. --input FILE.
+# pvbatch and writes best- and worst-view images and a JSON report into
+# ./output/best_viewpoint. Arguments go to Examples/best_viewpoint.py: [VOLUME] [OUTPUT_DIR].
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MCV_BUILD_DIR:-$repo/build}"
@@ -12,6 +12,6 @@ plugin="$(find "$build" -name 'MultichannelExplorer.so' -print -quit)"
 [ -n "$plugin" ] || { echo "run-main: plugin not built" >&2; exit 1; }
 data="${MCV_DATA_DIR:-$repo/.cache/volumes}"
 args=("$@")
-[ "${#args[@]}" -gt 0 ] || args=(--input "$data/ch2.nii.gz" --output "$repo/output/best-viewpoint")
+[ "${#args[@]}" -gt 0 ] || args=("$data/ch2.nii.gz" "$repo/output/best_viewpoint")
 exec xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$repo/Examples/best_viewpoint.py" \
   --plugin "$plugin" "${args[@]}"
