@@ -94,4 +94,25 @@ shot = os.path.join(out, "multichannel_best.png")
 SaveScreenshot(shot, view)
 T.image_ok(mce, shot, C, "multichannel best")
 
+# A real 65-channel volume: dipy's small_64D.nii (10^3 voxels x 65 diffusion volumes),
+# read as one 65-component array (NIfTIImageReader, TimeAsVector on).
+dwi_path = os.path.join(T.data_dir(), "small_64D.nii")
+if os.path.exists(dwi_path):
+    dwi = OpenDataFile(dwi_path)
+    dwi.UpdatePipeline()
+    name = dwi.PointData.keys()[0]
+    C.check(dwi.PointData[name].GetNumberOfComponents() == 65,
+            "small_64D.nii: one 65-component array")
+    bvp = BestViewpoint(Input=dwi)
+    msgs = T.Messages(bvp)
+    bvp.UpdatePipeline()
+    bvp.UpdatePropertyInformation()
+    found = int(bvp.GetPropertyValue("NumberOfPointsFound"))
+    C.check(int(bvp.GetPropertyValue("ViewValid")) == 1 and 0 < found < 2048 and
+            bvp.GetDataInformation().GetNumberOfPoints() == found,
+            "65 channels: valid view from all %d candidates (fewer than N)" % found)
+    C.check(msgs.any_warning("fewer"), "65 channels: 'fewer than N' warning")
+else:
+    print("note: %s not found; 65-channel case skipped" % dwi_path)
+
 C.finish()
