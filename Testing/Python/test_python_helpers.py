@@ -106,6 +106,15 @@ SaveScreenshot(os.path.join(out, "helpers_edited_opacity.png"), view)
 T.image_ok(mce, os.path.join(out, "helpers_edited_opacity.png"), C, "edited opacity",
            min_stddev=4.0, min_fraction=0.02)
 
+# Non-linear segments (midpoint/sharpness) are sampled: still a valid, finite view.
+otf.Points = [0.0, 0.0, 0.3, 0.6, 90.0, 0.2, 0.5, 0.0, 255.0, 1.0, 0.5, 0.0]
+bvp.UpdatePipeline()
+bvp.UpdatePropertyInformation()
+curved = [float(x) for x in bvp.GetPropertyValue("BestViewDirection")]
+C.check(int(bvp.GetPropertyValue("ViewValid")) == 1 and T.all_finite(curved)
+        and B.abs(T.norm(curved) - 1) < 1e-9,
+        "opacity function with midpoint/sharpness: valid view %s" % curved)
+
 # ---- arguments ---------------------------------------------------------------------------------
 try:
     mce.apply_best_viewpoint(den, view, which="sideways")
