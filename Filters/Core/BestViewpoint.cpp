@@ -81,11 +81,7 @@ void harrisPCA(const float* opacity, const ImageGrid& grid, const BestViewpointO
   report(options, 0.9);
 
   const auto start = Clock::now();
-  result.pointPositions.reserve(result.points.size());
-  for (const std::int64_t index : result.points.indices)
-  {
-    result.pointPositions.push_back(grid.worldPosition(index));
-  }
+  result.pointPositions = worldPositions(result.points, grid);
   const std::size_t found = result.points.size();
   if (found == 0)
   {

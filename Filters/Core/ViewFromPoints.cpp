@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 
 namespace mcv
@@ -79,6 +80,29 @@ ViewDirections computeViewDirections(const std::vector<Vec3>& points)
                      "the worst one is equally good";
   }
   return result;
+}
+
+std::vector<Vec3> worldPositions(const InterestPoints& points, const ImageGrid& grid)
+{
+  std::vector<Vec3> out;
+  out.reserve(points.size());
+  for (const std::int64_t index : points.indices)
+  {
+    out.push_back(grid.worldPosition(index));
+  }
+  return out;
+}
+
+double axisAngleDegrees(const Vec3& a, const Vec3& b)
+{
+  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+  if (!(na > 0.0) || !(nb > 0.0))
+  {
+    return 0.0;
+  }
+  const double c = std::abs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb);
+  return std::acos(std::min(1.0, c)) * 180.0 / 3.14159265358979323846;
 }
 
 } // namespace mcv

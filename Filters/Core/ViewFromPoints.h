@@ -1,6 +1,9 @@
 // PCA of interest-point positions -> best and worst view directions.
 #pragma once
 
+#include "ImageGrid.h"
+#include "TopResponses.h"
+
 #include <array>
 #include <string>
 #include <vector>
@@ -26,5 +29,12 @@ struct ViewDirections
 // View-up is v2, the axis of middle variance: the widest spread (v1) then runs
 // horizontally across the usually wider-than-tall viewport.
 ViewDirections computeViewDirections(const std::vector<Vec3>& points);
+
+// World positions of interest points (spacing and origin respected).
+std::vector<Vec3> worldPositions(const InterestPoints& points, const ImageGrid& grid);
+
+// Angle in degrees between the axes through a and b: a and -a are the same axis, since
+// PCA directions are defined up to sign. 0 when either vector is zero.
+double axisAngleDegrees(const Vec3& a, const Vec3& b);
 
 } // namespace mcv

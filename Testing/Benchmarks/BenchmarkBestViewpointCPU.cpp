@@ -72,18 +72,6 @@ double median(std::vector<double> v)
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Angle in degrees between the lines through a and b: v3 and -v3 are the same axis for
-// the PCA, so the comparison is between axes (0..90 degrees).
-double axisAngleDeg(const mcv::Vec3& a, const mcv::Vec3& b)
-{
-  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  if (!(na > 0) || !(nb > 0))
-    return NAN;
-  const double c = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (na * nb);
-  return std::acos(std::min(1.0, c)) * 180.0 / M_PI;
-}
-
 std::string fmtVec(const mcv::Vec3& v)
 {
   char buf[96];
@@ -256,7 +244,7 @@ Row benchmarkVolume(const std::string& name, const mcv::ImageGrid& grid,
     std::printf("   area max    (median of %d): %.2f ms; best %s\n", cfg.runs, row.areaMs,
       fmtVec(area.view.best).c_str());
     if (harris.view.valid)
-      row.angleArea = axisAngleDeg(harris.view.best, area.view.best);
+      row.angleArea = mcv::axisAngleDegrees(harris.view.best, area.view.best);
   }
   else
     std::printf("   area max: no direction (%s)\n", area.ok() ? area.view.message.c_str()
@@ -286,7 +274,7 @@ Row benchmarkVolume(const std::string& name, const mcv::ImageGrid& grid,
       cfg.entropyRuns, row.entropySamples, cfg.imageSize, cfg.imageSize, row.entropyMs,
       row.entropyMs / row.entropySamples, fmtVec(entropy.view.best).c_str());
     if (harris.view.valid)
-      row.angleEntropy = axisAngleDeg(harris.view.best, entropy.view.best);
+      row.angleEntropy = mcv::axisAngleDegrees(harris.view.best, entropy.view.best);
   }
   else
     std::printf("   entropy: no direction (%s)\n", entropy.ok() ? entropy.view.message.c_str()

@@ -13,14 +13,6 @@ namespace
 
 using mcv::Vec3;
 
-double axisAngleDegrees(const Vec3& a, const Vec3& b)
-{
-  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  return std::acos(std::min(1.0, std::abs(dot) / (na * nb))) * 180.0 / M_PI;
-}
-
 Vec3 normalized(Vec3 v)
 {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -77,7 +69,7 @@ TEST(BestViewpoint, BlobsOnTiltedPlaneGiveThePlaneNormal)
   ASSERT_TRUE(r.ok()) << r.error;
   ASSERT_TRUE(r.view.valid) << r.view.message;
   EXPECT_EQ(r.points.size(), 2048u);
-  EXPECT_LT(axisAngleDegrees(r.view.best, normal), 2.0);
+  EXPECT_LT(mcv::axisAngleDegrees(r.view.best, normal), 2.0);
   EXPECT_LT(r.view.eigenvalues[2], 0.05);
 }
 
@@ -94,7 +86,7 @@ TEST(BestViewpoint, RodGivesWorstDirectionAlongTheRod)
   const std::vector<float> I = blobVolume(g, centres, 1.5);
   const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
   ASSERT_TRUE(r.ok() && r.view.valid);
-  EXPECT_LT(axisAngleDegrees(r.view.worst, axis), 2.0);
+  EXPECT_LT(mcv::axisAngleDegrees(r.view.worst, axis), 2.0);
   EXPECT_GT(r.view.eigenvalues[0], 0.9);
 }
 
@@ -130,8 +122,8 @@ TEST(BestViewpoint, AnisotropicSpacingIsRespected)
   const std::vector<float> I = blobVolume(g, centresOnPlane(centre, normal, 20, 30, 2), 2.0);
   const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
   ASSERT_TRUE(r.ok() && r.view.valid);
-  EXPECT_LT(axisAngleDegrees(r.view.best, normal), 2.0);
-  EXPECT_GT(axisAngleDegrees(r.view.best, normalized({ 2, 0, -1 })), 10.0);
+  EXPECT_LT(mcv::axisAngleDegrees(r.view.best, normal), 2.0);
+  EXPECT_GT(mcv::axisAngleDegrees(r.view.best, normalized({ 2, 0, -1 })), 10.0);
   EXPECT_NEAR(r.view.center[1], centre[1], 3.0);
 }
 
@@ -177,7 +169,7 @@ TEST(BestViewpoint, SingleSliceGivesItsNormal)
     ASSERT_TRUE(r.view.valid) << r.view.message;
     Vec3 normal = { 0, 0, 0 };
     normal[axis] = 1;
-    EXPECT_LT(axisAngleDegrees(r.view.best, normal), 1e-6);
+    EXPECT_LT(mcv::axisAngleDegrees(r.view.best, normal), 1e-6);
     EXPECT_FALSE(r.warnings.empty()); // says it is a single slice
   }
 }

@@ -28,12 +28,6 @@ double angleDeg(const Vec3& a, const Vec3& b)
   const double c = dot(a, b) / (norm(a) * norm(b));
   return std::acos(std::max(-1.0, std::min(1.0, c))) * 180.0 / M_PI;
 }
-// Angle between the lines through a and b (a and -a are the same axis).
-double axisAngleDeg(const Vec3& a, const Vec3& b)
-{
-  const double t = angleDeg(a, b);
-  return std::min(t, 180.0 - t);
-}
 bool allFinite(const mcv::ViewDirections& v)
 {
   for (int a = 0; a < 3; ++a)
@@ -265,8 +259,8 @@ TEST(ViewpointEntropy, FlatSlabIsSeenFaceOn)
   const auto v = mcv::viewpointEntropyView(
     vol.values.data(), grid, opt, [&](double p) { seen.push_back(p); });
   ASSERT_TRUE(v.valid) << v.message;
-  EXPECT_LT(axisAngleDeg(v.best, { 0, 0, 1 }), 15.0);
-  EXPECT_GT(axisAngleDeg(v.worst, { 0, 0, 1 }), 70.0);
+  EXPECT_LT(mcv::axisAngleDegrees(v.best, { 0, 0, 1 }), 15.0);
+  EXPECT_GT(mcv::axisAngleDegrees(v.worst, { 0, 0, 1 }), 70.0);
   expectFrame(v);
   EXPECT_EQ(v.eigenvalues, (Vec3{ 0, 0, 0 }));
   // Progress: one call per sample, increasing, ending at 1.
@@ -286,7 +280,7 @@ TEST(ViewpointEntropy, AnisotropicSpacingIsRespected)
   opt.imageSize = 32;
   const auto v = mcv::viewpointEntropyView(vol.values.data(), grid, opt);
   ASSERT_TRUE(v.valid) << v.message;
-  EXPECT_LT(axisAngleDeg(v.best, { 0, 0, 1 }), 20.0);
+  EXPECT_LT(mcv::axisAngleDegrees(v.best, { 0, 0, 1 }), 20.0);
   const auto a = mcv::areaMaximizingView(vol.values.data(), grid);
   ASSERT_TRUE(a.valid);
   EXPECT_LT(angleDeg(a.best, { 0, 0, 1 }), 10.0);
@@ -382,8 +376,8 @@ TEST(BaselinesThroughEntryPoint, TiltedDiscAllMethodsFindTheNormal)
   const auto entropy = mcv::computeBestViewpoint(disc.values.data(), disc.grid, opt);
   ASSERT_TRUE(entropy.ok()) << entropy.error;
   ASSERT_TRUE(entropy.view.valid) << entropy.view.message;
-  EXPECT_LT(axisAngleDeg(entropy.view.best, normal), 12.0);
-  EXPECT_GT(axisAngleDeg(entropy.view.worst, normal), 70.0);
+  EXPECT_LT(mcv::axisAngleDegrees(entropy.view.best, normal), 12.0);
+  EXPECT_GT(mcv::axisAngleDegrees(entropy.view.worst, normal), 70.0);
   EXPECT_DOUBLE_EQ(last, 1.0);
 
   opt.method = mcv::ViewMethod::HarrisPCA;
@@ -391,8 +385,8 @@ TEST(BaselinesThroughEntryPoint, TiltedDiscAllMethodsFindTheNormal)
   const auto harris = mcv::computeBestViewpoint(disc.values.data(), disc.grid, opt);
   ASSERT_TRUE(harris.ok()) << harris.error;
   ASSERT_TRUE(harris.view.valid) << harris.view.message;
-  EXPECT_LT(axisAngleDeg(harris.view.best, normal), 5.0);
-  EXPECT_LT(axisAngleDeg(harris.view.best, entropy.view.best), 15.0);
+  EXPECT_LT(mcv::axisAngleDegrees(harris.view.best, normal), 5.0);
+  EXPECT_LT(mcv::axisAngleDegrees(harris.view.best, entropy.view.best), 15.0);
 
   // Area maximising only sees the disc's axis-aligned bounding box: (hd, dw, wh)/K of it.
   opt.method = mcv::ViewMethod::AreaMaximizing;

@@ -11,14 +11,6 @@ namespace
 
 using mcv::Vec3;
 
-double angleDegrees(const Vec3& a, const Vec3& b) // between axes (sign ignored)
-{
-  const double dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  return std::acos(std::min(1.0, std::abs(dot) / (na * nb))) * 180.0 / M_PI;
-}
-
 TEST(ViewFromPoints, PointsOnTiltedPlaneGiveItsNormal)
 {
   const Vec3 normal = { 1 / std::sqrt(14.0), 2 / std::sqrt(14.0), 3 / std::sqrt(14.0) };
@@ -36,7 +28,7 @@ TEST(ViewFromPoints, PointsOnTiltedPlaneGiveItsNormal)
   }
   const mcv::ViewDirections view = mcv::computeViewDirections(points);
   ASSERT_TRUE(view.valid);
-  EXPECT_LT(angleDegrees(view.best, normal), 1e-6);
+  EXPECT_LT(mcv::axisAngleDegrees(view.best, normal), 1e-6);
   EXPECT_NEAR(view.eigenvalues[2], 0.0, 1e-12);
   EXPECT_NEAR(view.eigenvalues[0] + view.eigenvalues[1] + view.eigenvalues[2], 1.0, 1e-12);
   EXPECT_NEAR(view.center[0], 5.0, 1.0);
@@ -55,7 +47,7 @@ TEST(ViewFromPoints, RodGivesWorstAlongRod)
   }
   const mcv::ViewDirections view = mcv::computeViewDirections(points);
   ASSERT_TRUE(view.valid);
-  EXPECT_LT(angleDegrees(view.worst, axis), 1.0);
+  EXPECT_LT(mcv::axisAngleDegrees(view.worst, axis), 1.0);
   EXPECT_GT(view.eigenvalues[0], 0.95);
 }
 

@@ -23,6 +23,7 @@
 #include "TopResponses.h"
 #include "ViewFromPoints.h"
 
+#include "PointComparison.h"
 #include "TestVolumes.h"
 
 #include <cuda_runtime.h>
@@ -105,39 +106,9 @@ std::vector<int> parseList(const char* s)
   return out;
 }
 
-double overlap(const mcv::InterestPoints& a, const mcv::InterestPoints& b)
-{
-  const std::size_t n = std::max(a.size(), b.size());
-  if (n == 0)
-  {
-    return 1.0;
-  }
-  std::unordered_set<std::int64_t> set(a.indices.begin(), a.indices.end());
-  std::size_t common = 0;
-  for (std::int64_t i : b.indices)
-  {
-    common += set.count(i);
-  }
-  return static_cast<double>(common) / static_cast<double>(n);
-}
-
 mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
 {
-  std::vector<mcv::Vec3> pts;
-  pts.reserve(p.size());
-  for (std::int64_t i : p.indices)
-  {
-    pts.push_back(g.worldPosition(i));
-  }
-  return mcv::computeViewDirections(pts).best;
-}
-
-double angleDegrees(const mcv::Vec3& a, const mcv::Vec3& b)
-{
-  const double d = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  return std::acos(std::min(1.0, d / std::max(na * nb, 1e-300))) * 180.0 / 3.14159265358979323846;
+  return mcv::computeViewDirections(mcv::worldPositions(p, g)).best;
 }
 
 // The PyTorch pipeline of notes/gpu.md (torch.gradient, conv3d, topk, SVD; H200, volume
@@ -377,7 +348,7 @@ int main(int argc, char** argv)
       row.floatDevice = median(fd);
       std::printf("  GPU float: harris %.3f ms, device total %.3f ms, H2D (pageable) %.3f ms; "
                   "overlap with uint8 %.4f\n",
-        row.floatHarris, row.floatDevice, row.floatH2D, overlap(fp, gpu));
+        row.floatHarris, row.floatDevice, row.floatH2D, mcv::testing::indexOverlap(fp, gpu));
     }
 
     // CPU path, same volume (float values = bytes / 255).
@@ -395,8 +366,8 @@ int main(int argc, char** argv)
         times.push_back(msSince(c0));
       }
       row.cpu = median(times);
-      row.overlap = overlap(gpu, cpu);
-      row.angle = angleDegrees(bestView(gpu, vol.grid), bestView(cpu, vol.grid));
+      row.overlap = mcv::testing::indexOverlap(gpu, cpu);
+      row.angle = mcv::axisAngleDegrees(bestView(gpu, vol.grid), bestView(cpu, vol.grid));
       std::printf("  CPU: %.2f ms (median of %d); CPU/GPU-device %.0fx; top-N overlap %.4f; "
                   "best-view angle %.4f deg\n",
         row.cpu, cpuRuns, row.cpu / row.device, row.overlap, row.angle);

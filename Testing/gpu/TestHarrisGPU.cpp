@@ -9,6 +9,7 @@
 #include "TopResponses.h"
 #include "ViewFromPoints.h"
 
+#include "PointComparison.h"
 #include "TestVolumes.h"
 
 #include <gtest/gtest.h>
@@ -118,22 +119,6 @@ void expectResponsesAgree(const ResponseAgreement& a, const std::string& what)
   EXPECT_FALSE(a.signMismatchLarge);
 }
 
-double overlap(const InterestPoints& a, const InterestPoints& b)
-{
-  const std::size_t n = std::max(a.size(), b.size());
-  if (n == 0)
-  {
-    return 1.0;
-  }
-  std::unordered_set<std::int64_t> set(a.indices.begin(), a.indices.end());
-  std::size_t common = 0;
-  for (std::int64_t i : b.indices)
-  {
-    common += set.count(i);
-  }
-  return static_cast<double>(common) / static_cast<double>(n);
-}
-
 void expectOrdered(const InterestPoints& p)
 {
   for (std::size_t i = 1; i < p.size(); ++i)
@@ -148,25 +133,6 @@ void expectOrdered(const InterestPoints& p)
   }
 }
 
-std::vector<mcv::Vec3> positions(const InterestPoints& p, const ImageGrid& g)
-{
-  std::vector<mcv::Vec3> out;
-  out.reserve(p.size());
-  for (std::int64_t i : p.indices)
-  {
-    out.push_back(g.worldPosition(i));
-  }
-  return out;
-}
-
-double angleDegrees(const mcv::Vec3& a, const mcv::Vec3& b)
-{
-  const double d = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-  const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-  const double nb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-  return std::acos(std::min(1.0, d / (na * nb))) * 180.0 / 3.14159265358979323846;
-}
-
 // GPU top-N vs CPU top-N of the same volume: overlap and view directions.
 void expectTopNAgree(const InterestPoints& gpu, const InterestPoints& cpu, const ImageGrid& grid,
   const std::string& what, bool checkView = true)
@@ -176,29 +142,29 @@ void expectTopNAgree(const InterestPoints& gpu, const InterestPoints& cpu, const
   // Fewer candidates than N: a voxel with R near 0 may fall on either side of 0.
   const double sizeSlack = std::max(1.0, 0.01 * static_cast<double>(cpu.size()));
   EXPECT_LE(std::fabs(static_cast<double>(gpu.size()) - static_cast<double>(cpu.size())), sizeSlack);
-  const double o = overlap(gpu, cpu);
+  const double o = mcv::testing::indexOverlap(gpu, cpu);
   std::printf("[ top-N     ] %-34s %zu points, overlap %.4f\n", what.c_str(), cpu.size(), o);
   EXPECT_GE(o, cpu.size() >= 200 ? 0.99 : 0.95) << "top-N overlap";
   if (!checkView || cpu.size() < 16)
   {
     return;
   }
-  const mcv::ViewDirections vg = mcv::computeViewDirections(positions(gpu, grid));
-  const mcv::ViewDirections vc = mcv::computeViewDirections(positions(cpu, grid));
+  const mcv::ViewDirections vg = mcv::computeViewDirections(mcv::worldPositions(gpu, grid));
+  const mcv::ViewDirections vc = mcv::computeViewDirections(mcv::worldPositions(cpu, grid));
   ASSERT_TRUE(vc.valid) << vc.message;
   ASSERT_TRUE(vg.valid) << vg.message;
   // The best view is well defined only when the two smallest variances differ.
   const double gap = (vc.eigenvalues[1] - vc.eigenvalues[2]) / std::max(vc.eigenvalues[0], 1e-12);
   std::printf("[ view      ] %-34s best-view angle %.4f deg (eigen gap %.3f)\n", what.c_str(),
-    angleDegrees(vg.best, vc.best), gap);
+    mcv::axisAngleDegrees(vg.best, vc.best), gap);
   if (gap > 0.02)
   {
-    EXPECT_LE(angleDegrees(vg.best, vc.best), 0.5) << "best view direction";
+    EXPECT_LE(mcv::axisAngleDegrees(vg.best, vc.best), 0.5) << "best view direction";
   }
   const double gap01 = (vc.eigenvalues[0] - vc.eigenvalues[1]) / std::max(vc.eigenvalues[0], 1e-12);
   if (gap01 > 0.02)
   {
-    EXPECT_LE(angleDegrees(vg.worst, vc.worst), 0.5) << "worst view direction";
+    EXPECT_LE(mcv::axisAngleDegrees(vg.worst, vc.worst), 0.5) << "worst view direction";
   }
 }
 
@@ -634,7 +600,7 @@ void realVolumeCase(const mt::Volume& raw)
   const InterestPoints cpu = mcv::selectTopResponsesCPU(rc.data(), rc.size(), kN);
   expectTopNAgree(gpu, cpu, v.grid, v.name + " top-N");
   std::printf("[ %s ] %dx%dx%d top-%d overlap %.4f\n", v.name.c_str(), v.grid.dims[0],
-    v.grid.dims[1], v.grid.dims[2], kN, overlap(gpu, cpu));
+    v.grid.dims[1], v.grid.dims[2], kN, mcv::testing::indexOverlap(gpu, cpu));
 }
 
 TEST(HarrisGPUReal, Colin27)
