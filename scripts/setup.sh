@@ -31,6 +31,9 @@ packages=(
   # ... and the core, its tests, benchmarks and the data fetch.
   xvfb xauth libgtest-dev googletest libbenchmark-dev ninja-build cmake g++ make
   python3-numpy
+  # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), and
+  # scikit-learn as the reference the comparison script measures against.
+  libnanoflann-dev libspectra-dev python3-sklearn
 )
 # Never libvtk9-dev: it pulls python3-vtk9, which conflicts with python3-paraview.
 
