@@ -1,0 +1,72 @@
+// Dimensionality reduction of per-voxel feature vectors to a small (2D/3D) domain the
+// user paints transfer functions in (dissertation chapter 5).
+//
+// Scale: the embedding is fitted on a reference sample of M voxels; every other voxel is
+// placed by its 3 nearest reference vectors in feature space with barycentric weights
+// w = argmin |x - sum w_i x_i|^2, sum w_i = 1, and y = sum w_i y_i (section 5.4.2).
+#pragma once
+
+#include "Device.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mcv
+{
+
+enum class ReductionMethod
+{
+  PCA = 0,
+  Isomap = 1, // landmark Isomap: kNN graph, shortest paths from L landmarks, landmark MDS
+  LLE = 2     // locally linear embedding: sparse (I-W)^T(I-W), smallest eigenvectors
+};
+
+// n rows (voxels) x d columns (features), row-major, float32: the layout of a VTK
+// multi-component array, so the filter passes its pointer without a copy.
+struct FeatureMatrix
+{
+  const float* data = nullptr;
+  std::size_t rows = 0;
+  int cols = 0;
+  const float* row(std::size_t i) const { return data + i * static_cast<std::size_t>(cols); }
+};
+
+struct ReductionOptions
+{
+  ReductionMethod method = ReductionMethod::PCA;
+  int outputDimension = 3;              // 2 or 3
+  int numberOfNeighbors = 50;           // K of the Isomap / LLE neighbourhood graph
+  int numberOfLandmarks = 500;          // L of landmark Isomap
+  std::size_t referenceSampleSize = 10000; // M; >= rows fits on every voxel
+  std::uint64_t randomSeed = 0;         // same seed, same result
+  Device device = Device::Auto;         // the out-of-sample step (touches every voxel)
+  int trustworthinessNeighbors = 10;    // k of the trustworthiness measure
+  std::size_t trustworthinessSample = 2000; // points it is measured on (from the reference)
+  // Optional progress: stage name and overall fraction in [0,1].
+  std::function<void(const char* stage, double fraction)> progress;
+};
+
+struct ReductionResult
+{
+  std::string error;                 // non-empty: nothing else is meaningful
+  std::vector<std::string> warnings; // one line each
+  std::vector<float> coordinates;    // rows x outputDimension, row-major
+  int outputDimension = 0;
+  std::vector<double> eigenvalues;   // spectrum, descending (PCA: covariance; Isomap: MDS;
+                                     // LLE: the smallest non-trivial eigenvalues, ascending)
+  double varianceRetained = 0.0;     // top-d eigenvalues / sum of positive ones (PCA, Isomap)
+  double trustworthiness = 0.0;      // on a sample of the reference points, in [0,1]
+  std::vector<int> usedColumns;      // features kept (zero-variance ones are dropped)
+  std::vector<std::int64_t> referenceIndices; // rows the embedding was fitted on
+  Device deviceUsed = Device::CPU;
+  double fitMs = 0, placeMs = 0, totalMs = 0;
+  bool ok() const { return error.empty(); }
+};
+
+// The capability's one entry point.
+ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOptions& options);
+
+} // namespace mcv
