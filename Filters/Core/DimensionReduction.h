@@ -58,7 +58,9 @@ struct ReductionResult
   std::vector<double> eigenvalues;   // spectrum, descending (PCA: covariance; Isomap: MDS;
                                      // LLE: the smallest non-trivial eigenvalues, ascending)
   double varianceRetained = 0.0;     // top-d eigenvalues / sum of positive ones (PCA, Isomap)
-  double trustworthiness = 0.0;      // on a sample of the reference points, in [0,1]
+  double trustworthiness = 0.0;      // on a sample of the reference points, in [0,1];
+                                     // NaN when not computed (trustworthinessSample 0,
+                                     // or a sample of no more than 2k points)
   std::vector<int> usedColumns;      // features kept (zero-variance ones are dropped)
   std::vector<std::int64_t> referenceIndices; // rows the embedding was fitted on
   Device deviceUsed = Device::CPU;

@@ -1,0 +1,33 @@
+// What every embedding method (PCA, Isomap, LLE) returns for the reference sample, and
+// the matrix type they read. Internal to the dimension-reduction code.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mcv
+{
+
+// n x D feature vectors (or n x d coordinates), row-major float: one row per point.
+using RowMatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// A method reports the fraction of its own work done, in [0,1].
+using StageProgress = std::function<void(const char* stage, double fraction)>;
+
+struct Embedding
+{
+  std::string error;                 // non-empty: nothing else is meaningful
+  std::vector<std::string> warnings; // one line each
+  RowMatrixF coordinates;            // n x d, one row per reference point
+  std::vector<double> eigenvalues;   // the method's spectrum (see ReductionResult)
+  double varianceRetained = 0.0;     // top-d / sum of positive eigenvalues (PCA, Isomap)
+};
+
+// Makes each column's largest-magnitude entry positive: eigenvectors come with an
+// arbitrary sign, and the same data should give the same picture.
+void fixColumnSigns(Eigen::MatrixXd& columns);
+
+} // namespace mcv

@@ -1,0 +1,49 @@
+// Exact k-nearest neighbours in feature space (Euclidean), through nanoflann's kd-tree.
+// The one place the reduction code talks to nanoflann, so the other files see plain arrays.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace mcv
+{
+
+// A kd-tree over n points of `dim` floats, row-major. The points are not copied: `data`
+// must outlive the index.
+class KnnIndex
+{
+public:
+  KnnIndex(const float* data, std::size_t n, int dim);
+  ~KnnIndex();
+  KnnIndex(const KnnIndex&) = delete;
+  KnnIndex& operator=(const KnnIndex&) = delete;
+
+  std::size_t size() const { return n_; }
+  int dimension() const { return dim_; }
+
+  // The k nearest points of `query` (dim floats), nearest first: indices and squared
+  // distances. Returns how many were found (min(k, n)). Thread-safe (read-only).
+  std::size_t query(const float* query, std::size_t k, std::uint32_t* indices, float* squaredDistances) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  std::size_t n_ = 0;
+  int dim_ = 0;
+};
+
+// The kNN graph of n points: for every point its k nearest OTHER points (self excluded),
+// nearest first. neighbors[i*k + j], distances (Euclidean, not squared) likewise.
+// k must be < n. OpenMP over points.
+struct KnnGraph
+{
+  std::size_t n = 0;
+  int k = 0;
+  std::vector<std::uint32_t> neighbors;
+  std::vector<float> distances;
+};
+KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k);
+
+} // namespace mcv

@@ -1,0 +1,436 @@
+#include "IsomapEmbedding.h"
+
+#include "FeatureKnn.h"
+#include "ReferenceSample.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <queue>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace mcv
+{
+
+namespace
+{
+
+// Symmetric weighted graph in compressed rows.
+struct Graph
+{
+  std::vector<std::size_t> start; // n + 1
+  std::vector<std::uint32_t> to;
+  std::vector<float> weight;
+};
+
+struct Edge
+{
+  std::uint32_t a, b;
+  float w;
+};
+
+Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<Edge>& extra)
+{
+  const int K = knn.k;
+  std::vector<std::size_t> degree(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < K; ++j)
+    {
+      ++degree[i];
+      ++degree[knn.neighbors[i * K + j]];
+    }
+  }
+  for (const Edge& e : extra)
+  {
+    ++degree[e.a];
+    ++degree[e.b];
+  }
+  Graph g;
+  g.start.assign(n + 1, 0);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    g.start[i + 1] = g.start[i] + degree[i];
+  }
+  g.to.resize(g.start[n]);
+  g.weight.resize(g.start[n]);
+  std::vector<std::size_t> fill(g.start.begin(), g.start.end() - 1);
+  auto add = [&](std::uint32_t a, std::uint32_t b, float w) {
+    g.to[fill[a]] = b;
+    g.weight[fill[a]++] = w;
+    g.to[fill[b]] = a;
+    g.weight[fill[b]++] = w;
+  };
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < K; ++j)
+    {
+      add(static_cast<std::uint32_t>(i), knn.neighbors[i * K + j], knn.distances[i * K + j]);
+    }
+  }
+  for (const Edge& e : extra)
+  {
+    add(e.a, e.b, e.w);
+  }
+  // Mutual neighbours appear twice; Dijkstra does not mind, so they are left in.
+  return g;
+}
+
+struct UnionFind
+{
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n)
+    : parent(n)
+  {
+    std::iota(parent.begin(), parent.end(), 0u);
+  }
+  std::uint32_t find(std::uint32_t x)
+  {
+    while (parent[x] != x)
+    {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  bool unite(std::uint32_t a, std::uint32_t b)
+  {
+    a = find(a);
+    b = find(b);
+    if (a == b)
+    {
+      return false;
+    }
+    parent[std::max(a, b)] = std::min(a, b); // deterministic roots
+    return true;
+  }
+};
+
+// Joins the components of the kNN graph: Boruvka rounds in which every component but the
+// largest finds its closest point pair to any other component (kd-tree queries with a
+// doubling k). Returns the edges added and the number of components there were.
+std::vector<Edge> joinComponents(const RowMatrixF& X, const KnnGraph& knn, std::size_t* componentsFound)
+{
+  const std::size_t n = static_cast<std::size_t>(X.rows());
+  const int D = static_cast<int>(X.cols());
+  UnionFind uf(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < knn.k; ++j)
+    {
+      uf.unite(static_cast<std::uint32_t>(i), knn.neighbors[i * knn.k + j]);
+    }
+  }
+  auto countComponents = [&]() {
+    std::size_t c = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      c += uf.find(static_cast<std::uint32_t>(i)) == i;
+    }
+    return c;
+  };
+  *componentsFound = countComponents();
+  std::vector<Edge> added;
+  if (*componentsFound <= 1)
+  {
+    return added;
+  }
+  const KnnIndex index(X.data(), n, D);
+  while (countComponents() > 1)
+  {
+    std::vector<std::uint32_t> root(n);
+    std::vector<std::size_t> size(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      root[i] = uf.find(static_cast<std::uint32_t>(i));
+      ++size[root[i]];
+    }
+    const std::uint32_t largest =
+      static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
+    // Per point: its nearest point outside its component (squared distance).
+    std::vector<std::uint32_t> partner(n, 0);
+    std::vector<float> partnerD2(n, std::numeric_limits<float>::infinity());
+    const long long count = static_cast<long long>(n);
+#pragma omp parallel
+    {
+      std::vector<std::uint32_t> idx;
+      std::vector<float> d2;
+#pragma omp for schedule(dynamic, 64)
+      for (long long ii = 0; ii < count; ++ii)
+      {
+        const std::size_t i = static_cast<std::size_t>(ii);
+        if (root[i] == largest)
+        {
+          continue;
+        }
+        for (std::size_t k = std::min(n, static_cast<std::size_t>(2 * knn.k + 2));; k = std::min(n, 2 * k))
+        {
+          idx.resize(k);
+          d2.resize(k);
+          const std::size_t found = index.query(X.row(static_cast<Eigen::Index>(i)).data(), k, idx.data(), d2.data());
+          bool done = false;
+          for (std::size_t j = 0; j < found; ++j)
+          {
+            if (root[idx[j]] != root[i])
+            {
+              partner[i] = idx[j];
+              partnerD2[i] = d2[j];
+              done = true;
+              break;
+            }
+          }
+          if (done || k == n)
+          {
+            break;
+          }
+        }
+      }
+    }
+    // Per component: its closest pair (ties to the lowest index, so deterministic).
+    std::vector<std::size_t> best(n, n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (root[i] == largest || !std::isfinite(partnerD2[i]))
+      {
+        continue;
+      }
+      std::size_t& b = best[root[i]];
+      if (b == n || partnerD2[i] < partnerD2[b])
+      {
+        b = i;
+      }
+    }
+    for (std::size_t r = 0; r < n; ++r)
+    {
+      const std::size_t i = best[r];
+      if (i == n)
+      {
+        continue;
+      }
+      if (uf.unite(static_cast<std::uint32_t>(i), partner[i]))
+      {
+        added.push_back(Edge{ static_cast<std::uint32_t>(i), partner[i], std::sqrt(std::max(0.f, partnerD2[i])) });
+      }
+    }
+  }
+  return added;
+}
+
+// MaxMin landmarks in feature space: each next landmark is the point farthest from the
+// ones chosen so far; the first is drawn with the seed.
+std::vector<std::uint32_t> maxMinLandmarks(const RowMatrixF& X, int L, std::uint64_t seed)
+{
+  const Eigen::Index n = X.rows();
+  std::vector<std::uint32_t> landmarks;
+  std::uint64_t state = seed ^ 0x1505ull;
+  landmarks.push_back(static_cast<std::uint32_t>(uniformIndex(state, static_cast<std::uint64_t>(n))));
+  std::vector<float> nearest(static_cast<std::size_t>(n), std::numeric_limits<float>::infinity());
+  while (static_cast<int>(landmarks.size()) < L)
+  {
+    const auto last = X.row(landmarks.back());
+#pragma omp parallel for schedule(static)
+    for (Eigen::Index i = 0; i < n; ++i)
+    {
+      const float d2 = (X.row(i) - last).squaredNorm();
+      nearest[static_cast<std::size_t>(i)] = std::min(nearest[static_cast<std::size_t>(i)], d2);
+    }
+    const std::size_t far = static_cast<std::size_t>(std::max_element(nearest.begin(), nearest.end()) - nearest.begin());
+    if (!(nearest[far] > 0.f))
+    {
+      break; // fewer distinct points than landmarks asked for
+    }
+    landmarks.push_back(static_cast<std::uint32_t>(far));
+  }
+  return landmarks;
+}
+
+// Single-source shortest paths, binary heap with lazy deletion. (Boost.Graph would do it
+// too, but would be a large dependency for forty lines, and its graph types would need a
+// copy of the CSR arrays per thread.)
+void dijkstra(const Graph& g, std::uint32_t source, double* dist,
+  std::vector<std::pair<double, std::uint32_t>>& heapStorage)
+{
+  const std::size_t n = g.start.size() - 1;
+  std::fill(dist, dist + n, std::numeric_limits<double>::infinity());
+  heapStorage.clear();
+  std::priority_queue<std::pair<double, std::uint32_t>, std::vector<std::pair<double, std::uint32_t>>,
+    std::greater<std::pair<double, std::uint32_t>>>
+    heap(std::greater<std::pair<double, std::uint32_t>>(), std::move(heapStorage));
+  dist[source] = 0;
+  heap.emplace(0.0, source);
+  while (!heap.empty())
+  {
+    const auto [du, u] = heap.top();
+    heap.pop();
+    if (du > dist[u])
+    {
+      continue;
+    }
+    for (std::size_t e = g.start[u]; e < g.start[u + 1]; ++e)
+    {
+      const std::uint32_t v = g.to[e];
+      const double dv = du + static_cast<double>(g.weight[e]);
+      if (dv < dist[v])
+      {
+        dist[v] = dv;
+        heap.emplace(dv, v);
+      }
+    }
+  }
+}
+
+} // namespace
+
+Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
+{
+  Embedding e;
+  const std::size_t n = static_cast<std::size_t>(X.rows());
+  const int d = options.outputDimension;
+  const int K = options.numberOfNeighbors;
+  auto report = [&](const char* stage, double f) {
+    if (options.progress)
+    {
+      options.progress(stage, f);
+    }
+  };
+  if (K < 1 || static_cast<std::size_t>(K) >= n)
+  {
+    e.error = "Isomap: the number of neighbours (" + std::to_string(K) +
+      ") must be at least 1 and less than the number of reference points (" + std::to_string(n) + ").";
+    return e;
+  }
+  if (n < static_cast<std::size_t>(d) + 1)
+  {
+    e.error = "Isomap: at least " + std::to_string(d + 1) + " distinct reference points are needed.";
+    return e;
+  }
+
+  report("Isomap: neighbour graph", 0.0);
+  const KnnGraph knn = buildKnnGraph(X.data(), n, static_cast<int>(X.cols()), K);
+  report("Isomap: neighbour graph", 0.15);
+  std::size_t components = 1;
+  const std::vector<Edge> joins = joinComponents(X, knn, &components);
+  if (components > 1)
+  {
+    e.warnings.push_back("Isomap: the " + std::to_string(K) + "-neighbour graph has " + std::to_string(components) +
+      " connected components; they were joined by their closest pairs of points (" + std::to_string(joins.size()) +
+      " edges added). A larger NumberOfNeighbors avoids this.");
+  }
+  const Graph graph = buildGraph(n, knn, joins);
+  report("Isomap: landmarks", 0.2);
+
+  int L = std::max(d + 1, std::min<int>(options.numberOfLandmarks, static_cast<int>(n)));
+  if (L != options.numberOfLandmarks)
+  {
+    e.warnings.push_back("Isomap: " + std::to_string(options.numberOfLandmarks) + " landmarks asked for, " +
+      std::to_string(L) + " used (at least d+1, at most the reference points).");
+  }
+  const std::vector<std::uint32_t> landmarks = maxMinLandmarks(X, L, options.seed);
+  L = static_cast<int>(landmarks.size());
+  if (L < d + 1)
+  {
+    e.error = "Isomap: fewer than " + std::to_string(d + 1) + " distinct reference points.";
+    return e;
+  }
+
+  // Geodesic distances from every landmark: L x n, row-major.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> geo(L, static_cast<Eigen::Index>(n));
+  std::atomic<int> doneCount{ 0 };
+#pragma omp parallel
+  {
+    std::vector<std::pair<double, std::uint32_t>> heap;
+#pragma omp for schedule(dynamic, 1)
+    for (int l = 0; l < L; ++l)
+    {
+      dijkstra(graph, landmarks[static_cast<std::size_t>(l)], geo.row(l).data(), heap);
+      const int done = ++doneCount;
+#ifdef _OPENMP
+      if (omp_get_thread_num() == 0)
+#endif
+      {
+        report("Isomap: shortest paths", 0.2 + 0.7 * done / L);
+      }
+    }
+  }
+  if (!geo.allFinite())
+  {
+    e.error = "Isomap: internal error, unreachable points after joining the graph's components.";
+    return e;
+  }
+
+  // Landmark MDS.
+  report("Isomap: landmark MDS", 0.9);
+  Eigen::MatrixXd delta(L, L);
+  for (int a = 0; a < L; ++a)
+  {
+    for (int b = 0; b < L; ++b)
+    {
+      const double g1 = geo(a, landmarks[static_cast<std::size_t>(b)]);
+      const double g2 = geo(b, landmarks[static_cast<std::size_t>(a)]);
+      const double g = 0.5 * (g1 + g2);
+      delta(a, b) = g * g;
+    }
+  }
+  const Eigen::VectorXd deltaMean = delta.rowwise().mean(); // column means (delta is symmetric)
+  Eigen::MatrixXd B = delta;
+  B.rowwise() -= delta.colwise().mean();
+  B.colwise() -= B.rowwise().mean();
+  B *= -0.5;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(B);
+  if (eig.info() != Eigen::Success)
+  {
+    e.error = "Isomap: the landmark MDS eigen-decomposition failed.";
+    return e;
+  }
+  const Eigen::VectorXd values = eig.eigenvalues().reverse();
+  const Eigen::MatrixXd vectors = eig.eigenvectors().rowwise().reverse();
+  double positive = 0, top = 0;
+  for (int k = 0; k < L; ++k)
+  {
+    e.eigenvalues.push_back(values[k]);
+    if (values[k] > 0)
+    {
+      positive += values[k];
+      top += k < d ? values[k] : 0.0;
+    }
+  }
+  e.varianceRetained = positive > 0 ? top / positive : 0.0;
+
+  // L# (d x L): rows v_k / sqrt(lambda_k); a non-positive lambda gives a zero coordinate.
+  Eigen::MatrixXd pinv = Eigen::MatrixXd::Zero(d, L);
+  for (int k = 0; k < d; ++k)
+  {
+    if (values[k] > 1e-12 * std::max(1.0, values[0]))
+    {
+      pinv.row(k) = vectors.col(k).transpose() / std::sqrt(values[k]);
+    }
+    else
+    {
+      e.warnings.push_back("Isomap: MDS eigenvalue " + std::to_string(k + 1) +
+        " is not positive; that coordinate is 0 (the data has too few dimensions).");
+    }
+  }
+  // y_i = -1/2 L# (delta_i - delta_mean), all points at once.
+  Eigen::MatrixXd sq = geo.array().square().matrix();
+  sq.colwise() -= deltaMean;
+  Eigen::MatrixXd Y = (-0.5 * (pinv * sq)).transpose(); // n x d
+
+  // Centre and rotate to principal axes.
+  Y.rowwise() -= Y.colwise().mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> axesEig(Y.transpose() * Y);
+  const Eigen::MatrixXd axes = axesEig.eigenvectors().rowwise().reverse();
+  Y = Y * axes;
+  fixColumnSigns(Y); // each axis points to the embedding's own largest coordinate
+  e.coordinates = Y.cast<float>();
+  report("Isomap: done", 1.0);
+  return e;
+}
+
+} // namespace mcv

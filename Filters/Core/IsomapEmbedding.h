@@ -1,0 +1,33 @@
+// Landmark Isomap (Tenenbaum et al. 2000; de Silva & Tenenbaum 2003, "Global versus local
+// methods in nonlinear dimensionality reduction"):
+//  1. kNN graph (K neighbours, Euclidean edge lengths, made symmetric);
+//  2. a disconnected graph is joined: each component is linked to its nearest other one by
+//     the closest pair of points (Boruvka rounds) and a warning says how many there were;
+//  3. L landmarks by MaxMin (farthest point) in feature space, the first one seeded;
+//  4. Dijkstra from every landmark (OpenMP over landmarks): the L x n geodesic distances;
+//  5. landmark MDS: classical MDS of the L x L squared geodesics, then every point placed by
+//     distance-based triangulation y = -1/2 L# (delta_i - delta_mean); finally the result is
+//     centred and rotated to its principal axes (de Silva & Tenenbaum's last step).
+// Eigenvalues: those of the landmark MDS Gram matrix, descending.
+#pragma once
+
+#include "Embedding.h"
+
+#include <cstdint>
+
+namespace mcv
+{
+
+struct IsomapOptions
+{
+  int outputDimension = 3;
+  int numberOfNeighbors = 50;
+  int numberOfLandmarks = 500; // clamped to [d+1, n]
+  std::uint64_t seed = 0;
+  StageProgress progress;
+};
+
+// X: n x D reference feature vectors (distinct rows).
+Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options);
+
+} // namespace mcv

@@ -1,0 +1,458 @@
+// Dimension reduction (PCA, landmark Isomap, LLE, out-of-sample placement) against known
+// answers on synthetic data, where the answer is the point: a direct SVD, a swiss roll, an
+// S-curve (scikit-learn's generators, re-implemented).
+#include "DimensionReduction.h"
+#include "OutOfSample.h"
+#include "Trustworthiness.h"
+
+#include <Eigen/SVD>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+namespace
+{
+
+struct Manifold
+{
+  std::vector<float> x; // n x 3
+  std::vector<double> t; // the manifold parameter
+  std::size_t n = 0;
+  mcv::FeatureMatrix matrix() const { return { x.data(), n, 3 }; }
+};
+
+// scikit-learn's make_swiss_roll: t = 1.5 pi (1 + 2u), (t cos t, 21 v, t sin t).
+Manifold swissRoll(std::size_t n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Manifold m;
+  m.n = n;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double t = 1.5 * M_PI * (1.0 + 2.0 * u(rng));
+    const double h = 21.0 * u(rng);
+    m.t.push_back(t);
+    m.x.insert(m.x.end(), { static_cast<float>(t * std::cos(t)), static_cast<float>(h), static_cast<float>(t * std::sin(t)) });
+  }
+  return m;
+}
+
+// scikit-learn's make_s_curve: t = 3 pi (u - 1/2), (sin t, 2 v, sign(t)(cos t - 1)).
+Manifold sCurve(std::size_t n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Manifold m;
+  m.n = n;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double t = 3.0 * M_PI * (u(rng) - 0.5);
+    const double h = 2.0 * u(rng);
+    m.t.push_back(t);
+    m.x.insert(m.x.end(), { static_cast<float>(std::sin(t)), static_cast<float>(h),
+                            static_cast<float>((t < 0 ? -1.0 : 1.0) * (std::cos(t) - 1.0)) });
+  }
+  return m;
+}
+
+double correlation(const std::vector<float>& coords, int d, int column, const std::vector<double>& t)
+{
+  const std::size_t n = t.size();
+  double ma = 0, mb = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    ma += coords[i * d + column];
+    mb += t[i];
+  }
+  ma /= n;
+  mb /= n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const double a = coords[i * d + column] - ma, b = t[i] - mb;
+    sab += a * b;
+    saa += a * a;
+    sbb += b * b;
+  }
+  return sab / std::sqrt(saa * sbb);
+}
+
+bool hasWarning(const mcv::ReductionResult& r, const std::string& part)
+{
+  for (const auto& w : r.warnings)
+  {
+    if (w.find(part) != std::string::npos)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+mcv::ReductionOptions cpu(mcv::ReductionMethod method, int d = 2)
+{
+  mcv::ReductionOptions o;
+  o.method = method;
+  o.outputDimension = d;
+  o.device = mcv::Device::CPU;
+  return o;
+}
+
+} // namespace
+
+TEST(DimensionReduction, PCAEqualsDirectSVD)
+{
+  const std::size_t n = 400;
+  const int D = 6;
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::MatrixXd mix = Eigen::MatrixXd::Zero(D, D);
+  for (int i = 0; i < D; ++i)
+  {
+    for (int j = 0; j < D; ++j)
+    {
+      mix(i, j) = g(rng) * (j + 1);
+    }
+  }
+  Eigen::MatrixXd X(n, D);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < D; ++j)
+    {
+      X(i, j) = g(rng);
+    }
+  }
+  X = (X * mix).eval();
+  X.rowwise() += Eigen::RowVectorXd::LinSpaced(D, 5.0, 10.0);
+  std::vector<float> data(n * D);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < D; ++j)
+    {
+      data[i * D + j] = static_cast<float>(X(i, j));
+      X(i, j) = data[i * D + j]; // compare on the float data
+    }
+  }
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::PCA, 3);
+  o.referenceSampleSize = n; // fit on every row
+  const auto r = mcv::reduceDimension({ data.data(), n, D }, o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.coordinates.size(), n * 3);
+
+  const Eigen::MatrixXd C = X.rowwise() - X.colwise().mean();
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeThinU);
+  const Eigen::MatrixXd scores = svd.matrixU() * svd.singularValues().asDiagonal();
+  for (int k = 0; k < D; ++k)
+  {
+    const double expected = svd.singularValues()[k] * svd.singularValues()[k] / (n - 1);
+    EXPECT_NEAR(r.eigenvalues[k], expected, 1e-6 * svd.singularValues()[0] * svd.singularValues()[0] / (n - 1));
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    double sign = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      const double ours = r.coordinates[i * 3 + k];
+      if (sign == 0 && std::abs(scores(i, k)) > 1e-3)
+      {
+        sign = ours * scores(i, k) > 0 ? 1 : -1;
+      }
+      worst = std::max(worst, std::abs(ours - sign * scores(i, k)));
+    }
+    EXPECT_LT(worst, 1e-3 * svd.singularValues()[0] / std::sqrt(double(n))) << "component " << k;
+  }
+  double top = 0, all = 0;
+  for (int k = 0; k < D; ++k)
+  {
+    all += r.eigenvalues[k];
+    top += k < 3 ? r.eigenvalues[k] : 0;
+  }
+  EXPECT_NEAR(r.varianceRetained, top / all, 1e-9);
+}
+
+TEST(DimensionReduction, IsomapUnrollsSwissRoll)
+{
+  const Manifold m = swissRoll(1500, 7);
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
+  o.numberOfNeighbors = 10;
+  o.numberOfLandmarks = 150;
+  o.referenceSampleSize = m.n;
+  const auto r = mcv::reduceDimension(m.matrix(), o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  for (float v : r.coordinates)
+  {
+    ASSERT_TRUE(std::isfinite(v));
+  }
+  const double c = correlation(r.coordinates, 2, 0, m.t);
+  EXPECT_GE(std::abs(c), 0.95) << "corr(first coordinate, roll parameter)";
+  EXPECT_GT(r.varianceRetained, 0.9);
+  EXPECT_GT(r.trustworthiness, 0.95);
+}
+
+TEST(DimensionReduction, IsomapJoinsDisconnectedGraph)
+{
+  // Two swiss rolls far apart: the kNN graph has (at least) two components.
+  Manifold a = swissRoll(400, 1);
+  const Manifold b = swissRoll(400, 2);
+  for (std::size_t i = 0; i < b.n; ++i)
+  {
+    a.x.insert(a.x.end(), { b.x[3 * i] + 500.f, b.x[3 * i + 1], b.x[3 * i + 2] });
+  }
+  a.n += b.n;
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
+  o.numberOfNeighbors = 8;
+  o.numberOfLandmarks = 100;
+  o.referenceSampleSize = a.n;
+  const auto r = mcv::reduceDimension(a.matrix(), o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(hasWarning(r, "connected components")) << "a warning names the components";
+  for (float v : r.coordinates)
+  {
+    ASSERT_TRUE(std::isfinite(v));
+  }
+}
+
+TEST(DimensionReduction, LLEOnSCurveIsTrustworthy)
+{
+  const Manifold m = sCurve(1500, 11);
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::LLE, 2);
+  o.numberOfNeighbors = 12;
+  o.referenceSampleSize = m.n;
+  o.trustworthinessSample = m.n;
+  const auto r = mcv::reduceDimension(m.matrix(), o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_GE(r.trustworthiness, 0.95);
+  ASSERT_EQ(r.eigenvalues.size(), 2u);
+  EXPECT_LE(r.eigenvalues[0], r.eigenvalues[1]);
+  for (float v : r.coordinates)
+  {
+    ASSERT_TRUE(std::isfinite(v));
+  }
+}
+
+TEST(DimensionReduction, OutOfSamplePlacesReferencePointsOnThemselves)
+{
+  const Manifold m = swissRoll(300, 5);
+  mcv::RowMatrixF refX(static_cast<Eigen::Index>(m.n), 3);
+  mcv::RowMatrixF refY(static_cast<Eigen::Index>(m.n), 3);
+  std::mt19937 rng(9);
+  std::normal_distribution<float> g;
+  for (std::size_t i = 0; i < m.n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      refX(i, c) = m.x[3 * i + c];
+      refY(i, c) = g(rng);
+    }
+  }
+  std::vector<float> out(m.n * 3);
+  mcv::placeOutOfSample(refX, refY, refX.data(), m.n, 3, {}, out.data());
+  for (std::size_t i = 0; i < m.n; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      ASSERT_EQ(out[3 * i + c], refY(i, c)) << "reference point " << i;
+    }
+  }
+}
+
+TEST(DimensionReduction, OutOfSampleUsesBarycentricWeights)
+{
+  // Three reference points far from a fourth: a point in their plane is their affine
+  // combination, and lands on the same combination of their embeddings.
+  mcv::RowMatrixF refX(4, 4);
+  refX << 0, 0, 0, 0, //
+    1, 0, 0, 0,       //
+    0, 1, 0, 0,       //
+    50, 50, 50, 50;
+  mcv::RowMatrixF refY(4, 2);
+  refY << 0, 0, 10, 0, 0, 10, 99, 99;
+  const float w1 = 0.3f, w2 = 0.25f; // w0 = 0.45
+  // Features with a constant column in front: columns {1..4} are used.
+  std::vector<float> x = { 7.f, w1, w2, 0.f, 0.f };
+  float y[2];
+  mcv::placeOutOfSample(refX, refY, x.data(), 1, 5, { 1, 2, 3, 4 }, y);
+  EXPECT_NEAR(y[0], 10 * w1, 0.01);
+  EXPECT_NEAR(y[1], 10 * w2, 0.01);
+}
+
+TEST(DimensionReduction, SameSeedSameResult)
+{
+  const Manifold m = swissRoll(1200, 3);
+  for (auto method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap, mcv::ReductionMethod::LLE })
+  {
+    mcv::ReductionOptions o = cpu(method, 2);
+    o.numberOfNeighbors = 10;
+    o.numberOfLandmarks = 60;
+    o.referenceSampleSize = 500; // a real sample: the seed matters
+    o.randomSeed = 42;
+    const auto a = mcv::reduceDimension(m.matrix(), o);
+    const auto b = mcv::reduceDimension(m.matrix(), o);
+    ASSERT_TRUE(a.ok()) << a.error;
+    EXPECT_EQ(a.referenceIndices, b.referenceIndices);
+    EXPECT_EQ(a.coordinates, b.coordinates);
+    EXPECT_EQ(a.trustworthiness, b.trustworthiness);
+    EXPECT_EQ(a.referenceIndices.size(), 500u);
+    o.randomSeed = 43;
+    const auto c = mcv::reduceDimension(m.matrix(), o);
+    ASSERT_TRUE(c.ok()) << c.error;
+    EXPECT_NE(a.referenceIndices, c.referenceIndices);
+  }
+}
+
+TEST(DimensionReduction, ReferenceSampleKeepsRareBrightVoxels)
+{
+  // 100000 dim voxels and 200 bright ones (0.2 %): a uniform sample of 1000 would hold
+  // about 2 of them; the norm-stratified one about 17 (the top 0.8 % by norm get 1/16 of
+  // the sample, and the bright voxels are a quarter of that stratum).
+  std::mt19937 rng(1);
+  std::normal_distribution<float> g;
+  const std::size_t n = 100200;
+  std::vector<float> data(n * 2);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const float s = i < 200 ? 20.f : 1.f;
+    data[2 * i] = s + 0.1f * g(rng);
+    data[2 * i + 1] = s + 0.1f * g(rng);
+  }
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::PCA, 2);
+  o.referenceSampleSize = 1000;
+  const auto r = mcv::reduceDimension({ data.data(), n, 2 }, o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  std::size_t bright = 0;
+  for (auto i : r.referenceIndices)
+  {
+    bright += i < 200;
+  }
+  EXPECT_GE(bright, 10u);
+}
+
+TEST(DimensionReduction, DuplicateVoxelsAreFittedOnce)
+{
+  // Half the voxels share one feature vector (a background): they are fitted once and
+  // all land on that one point.
+  Manifold m = swissRoll(600, 4);
+  for (int i = 0; i < 600; ++i)
+  {
+    m.x.insert(m.x.end(), { 0.f, 0.f, 0.f });
+  }
+  m.n = 1200;
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
+  o.numberOfNeighbors = 10;
+  o.numberOfLandmarks = 50;
+  o.referenceSampleSize = 2000;
+  const auto r = mcv::reduceDimension(m.matrix(), o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.referenceIndices.size(), 601u);
+  for (std::size_t i = 601; i < 1200; ++i)
+  {
+    EXPECT_EQ(r.coordinates[2 * i], r.coordinates[2 * 600]);
+    EXPECT_EQ(r.coordinates[2 * i + 1], r.coordinates[2 * 600 + 1]);
+  }
+}
+
+TEST(DimensionReduction, BadInputsGiveClearErrors)
+{
+  const Manifold m = swissRoll(300, 8);
+  auto run = [](const mcv::FeatureMatrix& f, const mcv::ReductionOptions& o) { return mcv::reduceDimension(f, o); };
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
+  o.numberOfNeighbors = 10;
+  o.numberOfLandmarks = 50;
+
+  // No rows.
+  auto r = run({ nullptr, 0, 3 }, o);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("no rows"), std::string::npos) << r.error;
+  // One feature: nothing to reduce.
+  r = run({ m.x.data(), 100, 1 }, o);
+  EXPECT_NE(r.error.find("nothing to reduce"), std::string::npos) << r.error;
+  // Output dimension not 2 or 3.
+  for (int d : { 0, 1, 4 })
+  {
+    mcv::ReductionOptions od = o;
+    od.outputDimension = d;
+    r = run(m.matrix(), od);
+    EXPECT_NE(r.error.find("OutputDimension"), std::string::npos) << r.error;
+  }
+  // K >= M.
+  mcv::ReductionOptions ok = o;
+  ok.referenceSampleSize = 10;
+  r = run(m.matrix(), ok);
+  EXPECT_NE(r.error.find("NumberOfNeighbors"), std::string::npos) << r.error;
+  ok.method = mcv::ReductionMethod::LLE;
+  r = run(m.matrix(), ok);
+  EXPECT_NE(r.error.find("NumberOfNeighbors"), std::string::npos) << r.error;
+  // M > rows: all rows, with a warning.
+  mcv::ReductionOptions om = o;
+  om.referenceSampleSize = 100000;
+  r = run(m.matrix(), om);
+  EXPECT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(hasWarning(r, "exceeds the number of voxels"));
+  EXPECT_EQ(r.referenceIndices.size(), m.n);
+  // A constant feature: dropped with a warning, the rest reduced.
+  std::vector<float> withConstant;
+  for (std::size_t i = 0; i < m.n; ++i)
+  {
+    withConstant.insert(withConstant.end(), { m.x[3 * i], 4.5f, m.x[3 * i + 1], m.x[3 * i + 2] });
+  }
+  r = run({ withConstant.data(), m.n, 4 }, om);
+  EXPECT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(hasWarning(r, "Constant feature component(s) 1"));
+  EXPECT_EQ(r.usedColumns, (std::vector<int>{ 0, 2, 3 }));
+  // Only constant features: nothing to reduce.
+  std::vector<float> flat(600, 1.f);
+  r = run({ flat.data(), 300, 2 }, o);
+  EXPECT_NE(r.error.find("nothing to reduce"), std::string::npos) << r.error;
+  // NaN and Inf.
+  for (float bad : { std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity() })
+  {
+    std::vector<float> x = m.x;
+    x[3 * 17 + 2] = bad;
+    r = run({ x.data(), m.n, 3 }, o);
+    EXPECT_NE(r.error.find("non-finite"), std::string::npos) << r.error;
+    EXPECT_NE(r.error.find("voxel 17"), std::string::npos) << r.error;
+    EXPECT_TRUE(r.coordinates.empty());
+  }
+}
+
+TEST(DimensionReduction, TrustworthinessKnownValues)
+{
+  // The identity embedding is perfectly trustworthy; a random one is not.
+  const Manifold m = swissRoll(300, 6);
+  EXPECT_DOUBLE_EQ(mcv::trustworthiness(m.x.data(), 3, m.x.data(), 3, m.n, 10), 1.0);
+  std::vector<float> noise(m.n * 2);
+  std::mt19937 rng(2);
+  std::normal_distribution<float> g;
+  for (float& v : noise)
+  {
+    v = g(rng);
+  }
+  const double t = mcv::trustworthiness(m.x.data(), 3, noise.data(), 2, m.n, 10);
+  EXPECT_LT(t, 0.7);
+  EXPECT_GT(t, 0.3);
+  EXPECT_TRUE(std::isnan(mcv::trustworthiness(m.x.data(), 3, m.x.data(), 3, 10, 10)));
+}
+
+TEST(DimensionReduction, ProgressCoversEveryStage)
+{
+  const Manifold m = swissRoll(500, 2);
+  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 3);
+  o.numberOfNeighbors = 10;
+  o.numberOfLandmarks = 40;
+  std::vector<double> fractions;
+  o.progress = [&](const char*, double f) { fractions.push_back(f); };
+  const auto r = mcv::reduceDimension(m.matrix(), o);
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_GE(fractions.size(), 5u);
+  EXPECT_EQ(fractions.back(), 1.0);
+  for (std::size_t i = 1; i < fractions.size(); ++i)
+  {
+    EXPECT_GE(fractions[i], fractions[i - 1]);
+  }
+  EXPECT_EQ(r.outputDimension, 3);
+  EXPECT_GE(r.totalMs, r.fitMs);
+}
