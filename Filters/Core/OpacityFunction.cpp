@@ -1,4 +1,5 @@
 #include "OpacityFunction.h"
+#include "TypedChannel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,39 +49,6 @@ double OpacityFunction::evaluate(double value) const
 
 namespace
 {
-
-
-template <typename Visit>
-void withTypedData(const ChannelView& c, Visit&& visit)
-{
-  switch (c.type)
-  {
-    case ScalarType::Int8:
-      visit(static_cast<const std::int8_t*>(c.data));
-      break;
-    case ScalarType::UInt8:
-      visit(static_cast<const std::uint8_t*>(c.data));
-      break;
-    case ScalarType::Int16:
-      visit(static_cast<const std::int16_t*>(c.data));
-      break;
-    case ScalarType::UInt16:
-      visit(static_cast<const std::uint16_t*>(c.data));
-      break;
-    case ScalarType::Int32:
-      visit(static_cast<const std::int32_t*>(c.data));
-      break;
-    case ScalarType::UInt32:
-      visit(static_cast<const std::uint32_t*>(c.data));
-      break;
-    case ScalarType::Float32:
-      visit(static_cast<const float*>(c.data));
-      break;
-    case ScalarType::Float64:
-      visit(static_cast<const double*>(c.data));
-      break;
-  }
-}
 
 template <typename T>
 constexpr bool hasSmallRange = std::is_integral<T>::value && sizeof(T) <= 2;

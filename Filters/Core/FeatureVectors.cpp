@@ -1,0 +1,683 @@
+#include "FeatureVectors.h"
+#include "TypedChannel.h"
+
+#ifdef MCV_HAS_CUDA
+#include "../../cuda/FeaturesCuda.h"
+#endif
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace mcv
+{
+
+FeatureSelection FeatureSelection::forPreset(FeaturePreset preset, const FeatureSelection& custom)
+{
+  FeatureSelection s;
+  switch (preset)
+  {
+    case FeaturePreset::SixD:
+      s.intensity = true;
+      s.gradient = false;
+      s.gradientMagnitude = true;
+      s.laplacian = s.localMean = s.localVariance = false;
+      return s;
+    case FeaturePreset::TwentyFourD:
+      s.intensity = s.gradient = s.gradientMagnitude = true;
+      s.laplacian = s.localMean = s.localVariance = true;
+      return s;
+    case FeaturePreset::Custom:
+      return custom;
+  }
+  return s;
+}
+
+int featureCount(std::size_t channels, const FeatureOptions& options)
+{
+  return static_cast<int>(channels) *
+    FeatureSelection::forPreset(options.preset, options.custom).perChannel();
+}
+
+std::vector<std::string> featureNames(
+  const std::vector<std::string>& channelNames, const FeatureSelection& selection)
+{
+  std::vector<std::string> names;
+  for (const std::string& c : channelNames)
+  {
+    if (selection.intensity)
+      names.push_back(c + ".intensity");
+    if (selection.gradient)
+    {
+      names.push_back(c + ".gradX");
+      names.push_back(c + ".gradY");
+      names.push_back(c + ".gradZ");
+    }
+    if (selection.gradientMagnitude)
+      names.push_back(c + ".gradMag");
+    if (selection.laplacian)
+      names.push_back(c + ".laplacian");
+    if (selection.localMean)
+      names.push_back(c + ".mean");
+    if (selection.localVariance)
+      names.push_back(c + ".variance");
+  }
+  return names;
+}
+
+namespace detail
+{
+
+void ColumnStats::reset(int cols)
+{
+  const std::size_t c = static_cast<std::size_t>(cols);
+  count.assign(c, 0.0);
+  sum.assign(c, 0.0);
+  min.assign(c, std::numeric_limits<double>::infinity());
+  max.assign(c, -std::numeric_limits<double>::infinity());
+  sqdev.assign(c, 0.0);
+}
+
+std::size_t channelToFloat(
+  const ChannelView& channel, std::size_t n, float* values, unsigned char* mask)
+{
+  std::size_t bad = 0;
+  withTypedData(channel, [&](auto data) {
+    const std::int64_t count = static_cast<std::int64_t>(n);
+    const int stride = channel.numComponents, offset = channel.component;
+    std::size_t localBad = 0;
+#pragma omp parallel for reduction(+ : localBad) schedule(static)
+    for (std::int64_t v = 0; v < count; ++v)
+    {
+      const float x = static_cast<float>(data[v * stride + offset]);
+      values[v] = x;
+      if (!std::isfinite(x))
+      {
+        ++localBad;
+        if (mask)
+        {
+          mask[v] = 1;
+        }
+      }
+    }
+    bad = localBad;
+  });
+  return bad;
+}
+
+namespace
+{
+
+inline int clampIndex(int i, int n)
+{
+  return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
+template <bool Guard>
+void channelFeaturesImpl(const float* f, const ImageGrid& grid, const FeatureSelection& sel,
+  const FeatureOutput& out, int firstColumn)
+{
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  const std::size_t nxy = static_cast<std::size_t>(nx) * ny;
+  const std::size_t F = static_cast<std::size_t>(out.cols);
+  const float sx = static_cast<float>(0.5 / grid.spacing[0]);
+  const float sy = static_cast<float>(0.5 / grid.spacing[1]);
+  const float sz = static_cast<float>(0.5 / grid.spacing[2]);
+  const int perChannel = sel.perChannel();
+  const bool needNeighbourhood = sel.localMean || sel.localVariance;
+  const bool needGradient = sel.gradient || sel.gradientMagnitude;
+
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < nz; ++k)
+  {
+    for (int j = 0; j < ny; ++j)
+    {
+      const float* rows[3][3]; // [dz + 1][dy + 1]
+      for (int dz = -1; dz <= 1; ++dz)
+      {
+        const std::size_t kk = static_cast<std::size_t>(clampIndex(k + dz, nz));
+        for (int dy = -1; dy <= 1; ++dy)
+        {
+          const std::size_t jj = static_cast<std::size_t>(clampIndex(j + dy, ny));
+          rows[dz + 1][dy + 1] = f + kk * nxy + jj * static_cast<std::size_t>(nx);
+        }
+      }
+      float* dst = out.data +
+        (static_cast<std::size_t>(k) * nxy + static_cast<std::size_t>(j) * nx) * F + firstColumn;
+      for (int i = 0; i < nx; ++i)
+      {
+        float* o = dst + static_cast<std::size_t>(i) * F;
+        const float c = rows[1][1][i];
+        if (Guard && !std::isfinite(c))
+        {
+          std::fill(o, o + perChannel, 0.0f);
+          continue;
+        }
+        // A non-finite neighbour counts as the centre value (like a replicated border).
+        auto at = [c](const float* r, int ii) {
+          const float v = r[ii];
+          return (!Guard || std::isfinite(v)) ? v : c;
+        };
+        const int im = i > 0 ? i - 1 : 0, ip = i + 1 < nx ? i + 1 : nx - 1;
+        const float xm = at(rows[1][1], im), xp = at(rows[1][1], ip);
+        const float ym = at(rows[1][0], i), yp = at(rows[1][2], i);
+        const float zm = at(rows[0][1], i), zp = at(rows[2][1], i);
+        int col = 0;
+        if (sel.intensity)
+        {
+          o[col++] = c;
+        }
+        if (needGradient)
+        {
+          const float gx = (xp - xm) * sx, gy = (yp - ym) * sy, gz = (zp - zm) * sz;
+          if (sel.gradient)
+          {
+            o[col++] = gx;
+            o[col++] = gy;
+            o[col++] = gz;
+          }
+          if (sel.gradientMagnitude)
+          {
+            o[col++] = std::sqrt(gx * gx + gy * gy + gz * gz);
+          }
+        }
+        if (sel.laplacian)
+        {
+          o[col++] = ((xm + xp) + (ym + yp) + (zm + zp)) / 6.0f - c;
+        }
+        if (needNeighbourhood)
+        {
+          const int is[3] = { im, i, ip };
+          float v[27];
+          float s = 0.0f;
+          int t = 0;
+          for (int a = 0; a < 3; ++a)
+          {
+            for (int b = 0; b < 3; ++b)
+            {
+              for (int d = 0; d < 3; ++d, ++t)
+              {
+                v[t] = at(rows[a][b], is[d]);
+                s += v[t];
+              }
+            }
+          }
+          const float mean = s / 27.0f;
+          if (sel.localMean)
+          {
+            o[col++] = mean;
+          }
+          if (sel.localVariance)
+          {
+            float s2 = 0.0f;
+            for (t = 0; t < 27; ++t)
+            {
+              const float dv = v[t] - mean;
+              s2 += dv * dv;
+            }
+            o[col++] = s2 / 27.0f;
+          }
+        }
+      }
+    }
+  }
+}
+
+} // namespace
+
+void channelFeaturesCPU(const float* values, bool hasNonFinite, const ImageGrid& grid,
+  const FeatureSelection& selection, const FeatureOutput& out, int firstColumn)
+{
+  if (hasNonFinite)
+  {
+    channelFeaturesImpl<true>(values, grid, selection, out, firstColumn);
+  }
+  else
+  {
+    channelFeaturesImpl<false>(values, grid, selection, out, firstColumn);
+  }
+}
+
+void columnStatsCPU(
+  const FeatureOutput& out, const unsigned char* mask, bool deviation, ColumnStats& stats)
+{
+  const int F = out.cols;
+  const std::int64_t n = static_cast<std::int64_t>(out.rows);
+  stats.reset(F);
+#pragma omp parallel
+  {
+    ColumnStats local;
+    local.reset(F);
+#pragma omp for schedule(static)
+    for (std::int64_t r = 0; r < n; ++r)
+    {
+      if (mask && mask[r])
+      {
+        continue;
+      }
+      const float* row = out.data + static_cast<std::size_t>(r) * F;
+      for (int c = 0; c < F; ++c)
+      {
+        const double x = row[c];
+        if (std::isfinite(x))
+        {
+          local.count[c] += 1.0;
+          local.sum[c] += x;
+          local.min[c] = std::min(local.min[c], x);
+          local.max[c] = std::max(local.max[c], x);
+        }
+      }
+    }
+#pragma omp critical(mcvFeatureStats)
+    for (int c = 0; c < F; ++c)
+    {
+      stats.count[c] += local.count[c];
+      stats.sum[c] += local.sum[c];
+      stats.min[c] = std::min(stats.min[c], local.min[c]);
+      stats.max[c] = std::max(stats.max[c], local.max[c]);
+    }
+  }
+  if (!deviation)
+  {
+    return;
+  }
+  std::vector<double> mean(static_cast<std::size_t>(F), 0.0);
+  for (int c = 0; c < F; ++c)
+  {
+    mean[c] = stats.count[c] > 0 ? stats.sum[c] / stats.count[c] : 0.0;
+  }
+#pragma omp parallel
+  {
+    std::vector<double> local(static_cast<std::size_t>(F), 0.0);
+#pragma omp for schedule(static)
+    for (std::int64_t r = 0; r < n; ++r)
+    {
+      if (mask && mask[r])
+      {
+        continue;
+      }
+      const float* row = out.data + static_cast<std::size_t>(r) * F;
+      for (int c = 0; c < F; ++c)
+      {
+        const double x = row[c];
+        if (std::isfinite(x))
+        {
+          const double d = x - mean[c];
+          local[c] += d * d;
+        }
+      }
+    }
+#pragma omp critical(mcvFeatureStats)
+    for (int c = 0; c < F; ++c)
+    {
+      stats.sqdev[c] += local[c];
+    }
+  }
+}
+
+void applyNormalizationCPU(const FeatureOutput& out, const unsigned char* mask,
+  const std::vector<double>& offset, const std::vector<double>& scale)
+{
+  const int F = out.cols;
+  const std::int64_t n = static_cast<std::int64_t>(out.rows);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t r = 0; r < n; ++r)
+  {
+    float* row = out.data + static_cast<std::size_t>(r) * F;
+    if (mask && mask[r])
+    {
+      std::fill(row, row + F, 0.0f);
+      continue;
+    }
+    for (int c = 0; c < F; ++c)
+    {
+      const float y = static_cast<float>((static_cast<double>(row[c]) - offset[c]) * scale[c]);
+      row[c] = (scale[c] != 0.0 && std::isfinite(y)) ? y : 0.0f;
+    }
+  }
+}
+
+} // namespace detail
+
+namespace
+{
+
+using Clock = std::chrono::steady_clock;
+
+void report(const FeatureOptions& options, double fraction)
+{
+  if (options.progress)
+  {
+    options.progress(std::min(1.0, std::max(0.0, fraction)));
+  }
+}
+
+const char* normalizationName(FeatureNormalization n)
+{
+  switch (n)
+  {
+    case FeatureNormalization::ZScore:
+      return "ZScore";
+    case FeatureNormalization::MinMax:
+      return "MinMax";
+    case FeatureNormalization::None:
+      return "None";
+  }
+  return "?";
+}
+
+// Offsets and scales from the statistics; constant columns get scale 0.
+void normalizationFromStats(FeatureNormalization norm, const detail::ColumnStats& stats,
+  FeatureResult& result)
+{
+  const std::size_t F = stats.count.size();
+  result.columnOffset.assign(F, 0.0);
+  result.columnScale.assign(F, 1.0);
+  result.constantColumns.clear();
+  if (norm == FeatureNormalization::None)
+  {
+    return;
+  }
+  for (std::size_t c = 0; c < F; ++c)
+  {
+    const bool constant = !(stats.count[c] > 0) || !(stats.max[c] > stats.min[c]);
+    double offset = 0.0, scale = 0.0;
+    if (!constant)
+    {
+      if (norm == FeatureNormalization::ZScore)
+      {
+        const double sd = std::sqrt(stats.sqdev[c] / stats.count[c]);
+        offset = stats.sum[c] / stats.count[c];
+        scale = sd > 0.0 && std::isfinite(1.0 / sd) ? 1.0 / sd : 0.0;
+      }
+      else
+      {
+        const double range = stats.max[c] - stats.min[c];
+        offset = stats.min[c];
+        scale = std::isfinite(1.0 / range) ? 1.0 / range : 0.0;
+      }
+    }
+    if (scale == 0.0)
+    {
+      result.constantColumns.push_back(static_cast<int>(c));
+    }
+    result.columnOffset[c] = offset;
+    result.columnScale[c] = scale;
+  }
+}
+
+// The steps of the computation on one device; the GPU one throws nothing and reports
+// failure through `error`, after which the CPU one redoes everything.
+struct CpuBackend
+{
+  const FeatureOutput& out;
+  bool addChannel(const float* values, bool hasNonFinite, const ImageGrid& grid,
+    const FeatureSelection& sel, int firstColumn, std::string*)
+  {
+    detail::channelFeaturesCPU(values, hasNonFinite, grid, sel, out, firstColumn);
+    return true;
+  }
+  bool setMask(const unsigned char*, std::string*) { return true; }
+  bool columnStats(
+    const unsigned char* mask, bool deviation, detail::ColumnStats& stats, std::string*)
+  {
+    detail::columnStatsCPU(out, mask, deviation, stats);
+    return true;
+  }
+  bool apply(const unsigned char* mask, const std::vector<double>& offset,
+    const std::vector<double>& scale, std::string*)
+  {
+    detail::applyNormalizationCPU(out, mask, offset, scale);
+    return true;
+  }
+  bool finish(std::string*) { return true; }
+};
+
+#ifdef MCV_HAS_CUDA
+struct GpuBackend
+{
+  const FeatureOutput& out;
+  cuda::FeatureMatrixGpu gpu;
+  bool allocate(std::string* error) { return gpu.allocate(out.rows, out.cols, error); }
+  bool addChannel(const float* values, bool hasNonFinite, const ImageGrid& grid,
+    const FeatureSelection& sel, int firstColumn, std::string* error)
+  {
+    return gpu.addChannel(values, hasNonFinite, grid, sel, firstColumn, error);
+  }
+  bool setMask(const unsigned char* mask, std::string* error) { return gpu.setMask(mask, error); }
+  bool columnStats(
+    const unsigned char*, bool deviation, detail::ColumnStats& stats, std::string* error)
+  {
+    return gpu.columnStats(deviation, stats, error);
+  }
+  bool apply(const unsigned char*, const std::vector<double>& offset,
+    const std::vector<double>& scale, std::string* error)
+  {
+    return gpu.applyNormalization(offset, scale, error);
+  }
+  bool finish(std::string* error) { return gpu.download(out.data, error); }
+};
+#endif
+
+// Runs every step on `backend`. Returns false (with `error`) only on a backend failure.
+template <class Backend>
+bool run(Backend& backend, const std::vector<ChannelView>& channels, const ImageGrid& grid,
+  const FeatureOptions& options, const FeatureSelection& sel, const FeatureOutput& out,
+  FeatureResult& result, std::string* error)
+{
+  const std::size_t n = grid.voxelCount();
+  const int perChannel = sel.perChannel();
+  std::vector<float> values(n);
+  std::vector<unsigned char> mask(n, 0);
+  std::vector<std::size_t> badPerChannel(channels.size(), 0);
+  bool anyBad = false;
+  const double channelShare = 0.8;
+  for (std::size_t c = 0; c < channels.size(); ++c)
+  {
+    badPerChannel[c] = detail::channelToFloat(channels[c], n, values.data(), mask.data());
+    anyBad = anyBad || badPerChannel[c] > 0;
+    if (!backend.addChannel(values.data(), badPerChannel[c] > 0, grid, sel,
+          static_cast<int>(c) * perChannel, error))
+    {
+      return false;
+    }
+    report(options, channelShare * static_cast<double>(c + 1) / channels.size());
+  }
+  const unsigned char* maskPtr = anyBad ? mask.data() : nullptr;
+  std::size_t badVoxels = 0;
+  if (anyBad)
+  {
+    const std::int64_t count = static_cast<std::int64_t>(n);
+    std::size_t b = 0;
+#pragma omp parallel for reduction(+ : b)
+    for (std::int64_t v = 0; v < count; ++v)
+    {
+      b += mask[v] ? 1 : 0;
+    }
+    badVoxels = b;
+    if (!backend.setMask(maskPtr, error))
+    {
+      return false;
+    }
+  }
+  result.nonFiniteVoxels = badVoxels;
+
+  // Statistics: always pass 1 (counts tell of overflowing raw features); pass 2 for ZScore.
+  detail::ColumnStats stats;
+  if (!backend.columnStats(
+        maskPtr, options.normalization == FeatureNormalization::ZScore, stats, error))
+  {
+    return false;
+  }
+  report(options, 0.9);
+  normalizationFromStats(options.normalization, stats, result);
+  std::size_t overflow = 0;
+  const double validRows = static_cast<double>(n - badVoxels);
+  for (std::size_t c = 0; c < stats.count.size(); ++c)
+  {
+    overflow += static_cast<std::size_t>(validRows - stats.count[c]);
+  }
+  if (options.normalization != FeatureNormalization::None || anyBad || overflow > 0)
+  {
+    if (!backend.apply(maskPtr, result.columnOffset, result.columnScale, error))
+    {
+      return false;
+    }
+  }
+  if (!backend.finish(error))
+  {
+    return false;
+  }
+
+  // Warnings (only once the device has succeeded, so a fallback does not repeat them).
+  if (anyBad)
+  {
+    std::ostringstream os;
+    os << badVoxels << " voxel(s) hold NaN/Inf in some channel (";
+    bool first = true;
+    for (std::size_t c = 0; c < channels.size(); ++c)
+    {
+      if (badPerChannel[c] > 0)
+      {
+        os << (first ? "" : ", ") << options.channelNames[c] << ": " << badPerChannel[c];
+        first = false;
+      }
+    }
+    os << "): their features are 0 and they are left out of the normalisation; as "
+          "neighbours they count as the centre voxel's value.";
+    result.warnings.push_back(os.str());
+  }
+  if (overflow > 0)
+  {
+    result.warnings.push_back(std::to_string(overflow) +
+      " feature value(s) overflow float32 (input values too large): set to 0.");
+  }
+  if (!result.constantColumns.empty())
+  {
+    std::ostringstream os;
+    os << result.constantColumns.size() << " feature column(s) are constant";
+    if (badVoxels == n)
+    {
+      os << " (no voxel is finite in every channel)";
+    }
+    os << " and are left at 0 under " << normalizationName(options.normalization)
+       << " normalisation: ";
+    for (std::size_t i = 0; i < result.constantColumns.size(); ++i)
+    {
+      os << (i ? ", " : "") << result.names[result.constantColumns[i]];
+    }
+    os << ".";
+    result.warnings.push_back(os.str());
+  }
+  return true;
+}
+
+} // namespace
+
+bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid& grid,
+  const FeatureOptions& optionsIn, const FeatureOutput& out, FeatureResult& result)
+{
+  const auto start = Clock::now();
+  result = FeatureResult();
+  const std::vector<ChannelView>& channels = channelsIn;
+  if (channels.empty())
+  {
+    result.error = "no channel: the features need at least one channel";
+    return false;
+  }
+  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
+  {
+    result.error = "the input volume is empty (no voxels)";
+    return false;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(grid.spacing[a] > 0.0) || !std::isfinite(grid.spacing[a]))
+    {
+      result.error = "the voxel spacing must be positive along every axis";
+      return false;
+    }
+  }
+  for (std::size_t c = 0; c < channels.size(); ++c)
+  {
+    const ChannelView& ch = channels[c];
+    if (!ch.data || ch.numComponents < 1 || ch.component < 0 || ch.component >= ch.numComponents)
+    {
+      result.error = "channel " + std::to_string(c + 1) +
+        " has no data or an invalid component (" + std::to_string(ch.component) + " of " +
+        std::to_string(ch.numComponents) + ")";
+      return false;
+    }
+  }
+  FeatureOptions options = optionsIn;
+  if (options.channelNames.empty())
+  {
+    for (std::size_t c = 0; c < channels.size(); ++c)
+    {
+      options.channelNames.push_back("ch" + std::to_string(c + 1));
+    }
+  }
+  else if (options.channelNames.size() != channels.size())
+  {
+    result.error = "got " + std::to_string(options.channelNames.size()) + " channel names for " +
+      std::to_string(channels.size()) + " channels";
+    return false;
+  }
+  const FeatureSelection sel = FeatureSelection::forPreset(options.preset, options.custom);
+  if (sel.perChannel() == 0)
+  {
+    result.error = "no feature selected (FeatureSet Custom with every feature turned off)";
+    return false;
+  }
+  const int F = featureCount(channels.size(), options);
+  const std::size_t n = grid.voxelCount();
+  if (!out.data || out.rows != n || out.cols != F)
+  {
+    result.error = "the output buffer is " + std::to_string(out.rows) + " x " +
+      std::to_string(out.cols) + ", expected " + std::to_string(n) + " x " + std::to_string(F);
+    return false;
+  }
+  result.names = featureNames(options.channelNames, sel);
+  report(options, 0.0);
+
+  std::string warning;
+  result.deviceUsed = resolveDevice(options.device, &warning);
+  if (!warning.empty())
+  {
+    result.warnings.push_back(warning);
+  }
+  std::string error;
+#ifdef MCV_HAS_CUDA
+  if (result.deviceUsed == Device::GPU)
+  {
+    GpuBackend gpu{ out, {} };
+    const std::vector<std::string> keep = result.warnings;
+    if (gpu.allocate(&error) && run(gpu, channels, grid, options, sel, out, result, &error))
+    {
+      result.totalMs =
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      report(options, 1.0);
+      return true;
+    }
+    result.warnings = keep;
+    result.warnings.push_back("GPU path failed (" + error + "); running on the CPU.");
+    result.deviceUsed = Device::CPU;
+  }
+#else
+  result.deviceUsed = Device::CPU;
+#endif
+  CpuBackend cpu{ out };
+  run(cpu, channels, grid, options, sel, out, result, &error);
+  result.totalMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  report(options, 1.0);
+  return true;
+}
+
+} // namespace mcv
