@@ -24,6 +24,9 @@
 #include "BestViewpoint.h"
 #include "OpacityFunction.h"
 
+// VTK arrays -> core channels, shared with the other filters of the suite.
+#include "../Common/mcvChannelArrays.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -44,45 +47,7 @@ struct vtkBestViewpoint::vtkInternals
 namespace
 {
 
-bool toScalarType(int vtkType, mcv::ScalarType& type)
-{
-  switch (vtkType)
-  {
-    case VTK_CHAR:
-#if VTK_TYPE_CHAR_IS_SIGNED
-      type = mcv::ScalarType::Int8;
-#else
-      type = mcv::ScalarType::UInt8;
-#endif
-      return true;
-    case VTK_SIGNED_CHAR:
-      type = mcv::ScalarType::Int8;
-      return true;
-    case VTK_UNSIGNED_CHAR:
-      type = mcv::ScalarType::UInt8;
-      return true;
-    case VTK_SHORT:
-      type = mcv::ScalarType::Int16;
-      return true;
-    case VTK_UNSIGNED_SHORT:
-      type = mcv::ScalarType::UInt16;
-      return true;
-    case VTK_INT:
-      type = mcv::ScalarType::Int32;
-      return true;
-    case VTK_UNSIGNED_INT:
-      type = mcv::ScalarType::UInt32;
-      return true;
-    case VTK_FLOAT:
-      type = mcv::ScalarType::Float32;
-      return true;
-    case VTK_DOUBLE:
-      type = mcv::ScalarType::Float64;
-      return true;
-    default:
-      return false;
-  }
-}
+using mcv::vtkhelpers::availableArrays;
 
 // vtkPiecewiseFunction (data values -> opacity) as the core's piecewise-linear function.
 // Nodes are used as they are when every segment is linear (midpoint 0.5, sharpness 0, the
@@ -150,17 +115,6 @@ mcv::OpacityFunction toCoreFunction(vtkPiecewiseFunction* pf)
     f.alpha.push_back(0.0);
   }
   return f;
-}
-
-std::string availableArrays(vtkPointData* pd)
-{
-  std::ostringstream os;
-  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-  {
-    const char* name = pd->GetArrayName(i);
-    os << (i ? ", " : "") << "'" << (name ? name : "(unnamed)") << "'";
-  }
-  return pd->GetNumberOfArrays() ? os.str() : std::string("none");
 }
 
 void addFieldVector(vtkFieldData* fd, const char* name, const double v[3])
@@ -386,51 +340,15 @@ int vtkBestViewpoint::RequestData(
   }
 
   // Channels as the core sees them: contiguous (AOS) arrays of a supported type.
-  std::vector<vtkSmartPointer<vtkDataArray>> converted;
-  std::vector<mcv::ChannelView> channels;
-  std::vector<std::string> channelNames;
-  for (vtkDataArray* dataArray : arrays)
+  mcv::vtkhelpers::ChannelArrays channelArrays;
+  const std::string channelError = mcv::vtkhelpers::toChannels(arrays, count, channelArrays);
+  if (!channelError.empty())
   {
-    const char* name = dataArray->GetName() ? dataArray->GetName() : "(unnamed)";
-    if (static_cast<std::size_t>(dataArray->GetNumberOfTuples()) != count)
-    {
-      vtkErrorMacro("Point array '" << name << "' has " << dataArray->GetNumberOfTuples()
-                                    << " tuples for " << count << " voxels.");
-      return 0;
-    }
-    if (dataArray->GetNumberOfComponents() < 1)
-    {
-      vtkErrorMacro("Point array '" << name << "' has no components.");
-      return 0;
-    }
-    mcv::ScalarType type;
-    vtkDataArray* use = dataArray;
-    if (!toScalarType(dataArray->GetDataType(), type) || !dataArray->HasStandardMemoryLayout())
-    {
-      // 64-bit integers, bit arrays, SOA layouts...: a contiguous double copy.
-      vtkNew<vtkDoubleArray> copy;
-      copy->DeepCopy(dataArray);
-      converted.emplace_back(copy.Get());
-      use = copy;
-      type = mcv::ScalarType::Float64;
-    }
-    for (int c = 0; c < use->GetNumberOfComponents(); ++c)
-    {
-      mcv::ChannelView view;
-      view.data = use->GetVoidPointer(0);
-      view.type = type;
-      view.numComponents = use->GetNumberOfComponents();
-      view.component = c;
-      channels.push_back(view);
-      std::ostringstream channelName;
-      channelName << "'" << name << "'";
-      if (use->GetNumberOfComponents() > 1)
-      {
-        channelName << " component " << c;
-      }
-      channelNames.push_back(channelName.str());
-    }
+    vtkErrorMacro(<< channelError);
+    return 0;
   }
+  const std::vector<mcv::ChannelView>& channels = channelArrays.views;
+  const std::vector<std::string>& channelNames = channelArrays.labels;
 
   // ---- Opacity volume: max over channels of the opacity function -----------------
   this->UpdateProgress(0.0);

@@ -1,0 +1,150 @@
+/**
+ * @class   vtkMultichannelFeatures
+ * @brief   per-voxel feature vectors of a multichannel volume (input of DimensionReduction).
+ *
+ * Input: a vtkImageData whose point data holds one or more numeric arrays. Every component
+ * of every selected array is a channel (several scalar arrays or one multi-component
+ * array). Output: the input (shallow copy) plus a float32 point array `Features` with one
+ * component per feature, each named "<channel>.<feature>", e.g. "T1.gradMag". A channel is
+ * named after its array ("<array>_<component name or index>" for multi-component arrays).
+ *
+ * Per channel (see Filters/Core/FeatureVectors.h for the exact formulas):
+ * intensity; gradient vector gradX/gradY/gradZ (central differences in world units, border
+ * replicated); gradient magnitude gradMag; laplacian (6-neighbour Laplacian / 6 in index
+ * units: mean of the 6 face neighbours minus the voxel); mean and variance of the 3x3x3
+ * neighbourhood (border replicated).
+ * FeatureSet: FEATURES_6D = intensity + gradMag per channel (6 for 3 channels),
+ * FEATURES_24D = all 8 per channel (24 for 3 channels), FEATURES_CUSTOM = the toggles.
+ * Normalization (per column, over voxels finite in every channel): ZSCORE (default),
+ * MINMAX (to [0,1]), NONE. Constant columns are left at 0 under ZSCORE/MINMAX (warning);
+ * voxels with NaN/Inf in any channel get a feature row of zeros (warning with the count).
+ *
+ * Channel selection (AddChannel/ClearChannels, the `Channels` property in ParaView): the
+ * named point arrays; none named: every numeric point array except vtkGhostType,
+ * vtkValidPointMask and an existing `Features` array.
+ *
+ * The whole extent is requested on every rank (features use neighbours; the column
+ * statistics of the normalisation are global).
+ */
+
+#ifndef vtkMultichannelFeatures_h
+#define vtkMultichannelFeatures_h
+
+#include "mcvFiltersFeaturesModule.h" // for export macro
+#include "vtkImageAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkImageAlgorithm
+{
+public:
+  static vtkMultichannelFeatures* New();
+  vtkTypeMacro(vtkMultichannelFeatures, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum FeatureSetType
+  {
+    FEATURES_6D = 0,
+    FEATURES_24D = 1,
+    FEATURES_CUSTOM = 2
+  };
+
+  enum NormalizationType
+  {
+    ZSCORE = 0,
+    MINMAX = 1,
+    NONE = 2
+  };
+
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
+
+  ///@{
+  /**
+   * Point arrays used as channels (all components of each). Empty: every numeric point
+   * array (except ghost/mask arrays and an existing `Features` array).
+   */
+  void AddChannel(const char* arrayName);
+  void ClearChannels();
+  int GetNumberOfChannels();
+  const char* GetChannel(int index);
+  ///@}
+
+  ///@{
+  /** FEATURES_6D (default), FEATURES_24D or FEATURES_CUSTOM. */
+  vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_CUSTOM);
+  vtkGetMacro(FeatureSet, int);
+  ///@}
+
+  ///@{
+  /** Features of FEATURES_CUSTOM (defaults: intensity and gradient magnitude). */
+  vtkSetMacro(Intensity, bool);
+  vtkGetMacro(Intensity, bool);
+  vtkSetMacro(Gradient, bool);
+  vtkGetMacro(Gradient, bool);
+  vtkSetMacro(GradientMagnitude, bool);
+  vtkGetMacro(GradientMagnitude, bool);
+  vtkSetMacro(Laplacian, bool);
+  vtkGetMacro(Laplacian, bool);
+  vtkSetMacro(LocalMean, bool);
+  vtkGetMacro(LocalMean, bool);
+  vtkSetMacro(LocalVariance, bool);
+  vtkGetMacro(LocalVariance, bool);
+  ///@}
+
+  ///@{
+  /** ZSCORE (default), MINMAX or NONE. */
+  vtkSetClampMacro(Normalization, int, ZSCORE, NONE);
+  vtkGetMacro(Normalization, int);
+  ///@}
+
+  ///@{
+  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (falls back to the CPU, warning). */
+  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
+  vtkGetMacro(Device, int);
+  ///@}
+
+  ///@{
+  /** Results of the last execution. */
+  vtkGetMacro(NumberOfFeatures, int);
+  vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
+  vtkGetMacro(ComputeTime, double); // milliseconds, core only
+  const char* GetDeviceUsed();
+  ///@}
+
+protected:
+  vtkMultichannelFeatures();
+  ~vtkMultichannelFeatures() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int FeatureSet = FEATURES_6D;
+  bool Intensity = true;
+  bool Gradient = false;
+  bool GradientMagnitude = true;
+  bool Laplacian = false;
+  bool LocalMean = false;
+  bool LocalVariance = false;
+  int Normalization = ZSCORE;
+  int Device = DEVICE_AUTO;
+
+  int NumberOfFeatures = 0;
+  vtkIdType NumberOfNonFiniteVoxels = 0;
+  double ComputeTime = 0.0;
+
+private:
+  vtkMultichannelFeatures(const vtkMultichannelFeatures&) = delete;
+  void operator=(const vtkMultichannelFeatures&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
