@@ -1,0 +1,455 @@
+#include "vtkDimensionReduction.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkFloatArray.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
+#include "vtkTable.h"
+
+// The VTK-free core (Filters/Core).
+#include "DimensionReduction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+vtkStandardNewMacro(vtkDimensionReduction);
+
+struct vtkDimensionReduction::vtkInternals
+{
+  vtkNew<vtkDoubleArray> Spectrum;
+  std::string DeviceUsed = "CPU";
+};
+
+namespace
+{
+
+const char* methodName(int method)
+{
+  switch (method)
+  {
+    case vtkDimensionReduction::PCA:
+      return "PCA";
+    case vtkDimensionReduction::ISOMAP:
+      return "Isomap";
+    case vtkDimensionReduction::LLE:
+      return "LLE";
+    default:
+      return "unknown";
+  }
+}
+
+std::string availableArrays(vtkPointData* pd)
+{
+  std::ostringstream os;
+  int listed = 0;
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+  {
+    vtkAbstractArray* a = pd->GetAbstractArray(i);
+    const char* name = a ? a->GetName() : nullptr;
+    os << (listed++ ? ", " : "") << "'" << (name ? name : "(unnamed)") << "' ("
+       << (a ? a->GetNumberOfComponents() : 0) << " components)";
+  }
+  return listed ? os.str() : std::string("none");
+}
+
+void addFieldValue(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfTuples(1);
+  a->SetValue(0, value);
+  fd->AddArray(a);
+}
+
+void addFieldString(vtkFieldData* fd, const char* name, const std::string& value)
+{
+  vtkNew<vtkStringArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkDimensionReduction::vtkDimensionReduction()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(2);
+  this->Internals->Spectrum->SetName("EigenvalueSpectrum");
+  // Default feature array: `Features` (the output of MultichannelFeatures).
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "Features");
+}
+
+//------------------------------------------------------------------------------
+vtkDimensionReduction::~vtkDimensionReduction() = default;
+
+//------------------------------------------------------------------------------
+vtkDoubleArray* vtkDimensionReduction::GetEigenvalueSpectrum()
+{
+  return this->Internals->Spectrum;
+}
+
+//------------------------------------------------------------------------------
+const char* vtkDimensionReduction::GetDeviceUsed()
+{
+  return this->Internals->DeviceUsed.c_str();
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::FillInputPortInformation(int, vtkInformation* info)
+{
+  // vtkDataSet rather than vtkImageData so that other inputs get this filter's own,
+  // explicit error message (ParaView's XML restricts the input to image data anyway).
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::RequestInformation(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestInformation(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // The spectrum table is not structured: no extent on its port.
+  vtkInformation* tableInfo = outputVector->GetInformationObject(1);
+  tableInfo->Remove(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  tableInfo->Remove(vtkDataObject::ORIGIN());
+  tableInfo->Remove(vtkDataObject::SPACING());
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The embedding is global: every rank asks for the whole volume.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    int wholeExtent[6];
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), wholeExtent, 6);
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkDimensionReduction::ResetResults()
+{
+  this->Internals->Spectrum->Initialize();
+  this->Internals->Spectrum->SetName("EigenvalueSpectrum");
+  this->Internals->DeviceUsed = "CPU";
+  this->VarianceRetained = 0.0;
+  this->Trustworthiness = 0.0;
+  this->NumberOfFeaturesUsed = 0;
+  for (double& t : this->StageTimings)
+  {
+    t = 0.0;
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->ResetResults();
+  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  vtkTable* spectrumTable = vtkTable::GetData(outputVector, 1);
+  if (!output || !spectrumTable)
+  {
+    vtkErrorMacro("Missing output (image data on port 0, table on port 1).");
+    return 0;
+  }
+
+  // ---- Argument checks -----------------------------------------------------------
+  vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  if (!image)
+  {
+    vtkErrorMacro("Input is " << (inputObject ? inputObject->GetClassName() : "missing")
+                              << ", not image data: DimensionReduction needs a vtkImageData "
+                                 "with a point array of feature vectors.");
+    return 0;
+  }
+  if (this->OutputDimension != 2 && this->OutputDimension != 3)
+  {
+    vtkErrorMacro("OutputDimension must be 2 or 3 (got " << this->OutputDimension << ").");
+    return 0;
+  }
+  if (this->NumberOfNeighbors <= 0)
+  {
+    vtkErrorMacro("NumberOfNeighbors must be positive (got " << this->NumberOfNeighbors << ").");
+    return 0;
+  }
+  if (this->NumberOfLandmarks <= 0)
+  {
+    vtkErrorMacro("NumberOfLandmarks must be positive (got " << this->NumberOfLandmarks << ").");
+    return 0;
+  }
+  if (this->ReferenceSampleSize <= 0)
+  {
+    vtkErrorMacro(
+      "ReferenceSampleSize must be positive (got " << this->ReferenceSampleSize << ").");
+    return 0;
+  }
+  int extent[6];
+  image->GetExtent(extent);
+  std::size_t count = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    const int n = extent[2 * a + 1] - extent[2 * a] + 1;
+    if (n <= 0)
+    {
+      count = 0;
+      break;
+    }
+    count *= static_cast<std::size_t>(n);
+  }
+  if (count == 0)
+  {
+    vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
+                                                      << extent[2] << " " << extent[3] << " "
+                                                      << extent[4] << " " << extent[5] << ").");
+    return 0;
+  }
+
+  // ---- The feature array -----------------------------------------------------------
+  vtkPointData* pd = image->GetPointData();
+  if (pd->GetNumberOfArrays() == 0)
+  {
+    vtkErrorMacro("Input has no point arrays: no feature vectors to reduce. Compute them "
+                  "first, e.g. with the MultichannelFeatures filter (array 'Features').");
+    return 0;
+  }
+  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+  const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  if (!requested || !*requested)
+  {
+    vtkErrorMacro("No feature array selected: set the Features property to a point array "
+                  "of feature vectors (point arrays: "
+      << availableArrays(pd) << ").");
+    return 0;
+  }
+  const int association = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION())
+    ? arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION())
+    : vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS &&
+    association != vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS)
+  {
+    vtkErrorMacro("Feature array '" << requested
+                                    << "' must be a point array (one feature vector per "
+                                       "voxel); convert cell data with Cell Data to Point Data.");
+    return 0;
+  }
+  vtkAbstractArray* abstractArray = pd->GetAbstractArray(requested);
+  if (!abstractArray)
+  {
+    vtkErrorMacro("No point array named '"
+      << requested << "' in the input (point arrays: " << availableArrays(pd)
+      << "). Compute feature vectors first, e.g. with the MultichannelFeatures filter.");
+    return 0;
+  }
+  vtkDataArray* features = vtkDataArray::SafeDownCast(abstractArray);
+  if (!features)
+  {
+    vtkErrorMacro("Feature array '" << requested << "' is not numeric ("
+                                    << abstractArray->GetClassName() << ").");
+    return 0;
+  }
+  const int components = features->GetNumberOfComponents();
+  if (components < 2)
+  {
+    vtkErrorMacro("Feature array '"
+      << requested << "' has " << components
+      << " component: nothing to reduce (DimensionReduction needs feature vectors of at least "
+         "2 components, e.g. the 6D or 24D set of MultichannelFeatures).");
+    return 0;
+  }
+  if (static_cast<std::size_t>(features->GetNumberOfTuples()) != count)
+  {
+    vtkErrorMacro("Feature array '" << requested << "' has " << features->GetNumberOfTuples()
+                                    << " tuples for " << count << " voxels.");
+    return 0;
+  }
+
+  // float32 as the core reads it: the array's own memory when it is a contiguous float
+  // array, else one converted copy.
+  vtkSmartPointer<vtkFloatArray> converted;
+  const float* data = nullptr;
+  if (features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout())
+  {
+    data = static_cast<const float*>(features->GetVoidPointer(0));
+  }
+  else
+  {
+    converted = vtkSmartPointer<vtkFloatArray>::New();
+    converted->DeepCopy(features); // converts every numeric type to float32
+    data = converted->GetPointer(0);
+  }
+
+  mcv::FeatureMatrix matrix;
+  matrix.data = data;
+  matrix.rows = count;
+  matrix.cols = components;
+
+  mcv::ReductionOptions options;
+  options.method = static_cast<mcv::ReductionMethod>(this->Method);
+  options.outputDimension = this->OutputDimension;
+  options.numberOfNeighbors = this->NumberOfNeighbors;
+  options.numberOfLandmarks = this->NumberOfLandmarks;
+  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
+  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
+  options.device = static_cast<mcv::Device>(this->Device);
+  const std::thread::id callingThread = std::this_thread::get_id();
+  options.progress = [this, callingThread](const char* stage, double p) {
+    // UpdateProgress fires VTK events: only from the thread that runs the pipeline.
+    if (std::this_thread::get_id() == callingThread)
+    {
+      this->SetProgressText(stage);
+      this->UpdateProgress(std::min(1.0, std::max(0.0, p)));
+    }
+  };
+
+  // ---- The core ----------------------------------------------------------------------
+  this->UpdateProgress(0.0);
+  const mcv::ReductionResult result = mcv::reduceDimension(matrix, options);
+  this->SetProgressText(nullptr);
+  for (const std::string& warning : result.warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+  if (!result.ok())
+  {
+    vtkErrorMacro(<< methodName(this->Method) << " on '" << requested << "': " << result.error);
+    return 0;
+  }
+  const int dim = result.outputDimension;
+  if (dim != this->OutputDimension ||
+    result.coordinates.size() != count * static_cast<std::size_t>(dim))
+  {
+    vtkErrorMacro("The reduction returned " << result.coordinates.size() << " values for "
+                                            << count << " voxels x " << this->OutputDimension
+                                            << " dimensions.");
+    return 0;
+  }
+
+  // ---- Output port 0: the input plus ReducedCoordinates --------------------------------
+  vtkNew<vtkFloatArray> reduced;
+  reduced->SetName("ReducedCoordinates");
+  reduced->SetNumberOfComponents(dim);
+  for (int c = 0; c < dim; ++c)
+  {
+    const std::string name = "dim" + std::to_string(c + 1);
+    reduced->SetComponentName(c, name.c_str());
+  }
+  reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  std::copy(result.coordinates.begin(), result.coordinates.end(), reduced->GetPointer(0));
+
+  this->Internals->DeviceUsed = mcv::deviceName(result.deviceUsed);
+  this->VarianceRetained = result.varianceRetained;
+  this->Trustworthiness = result.trustworthiness;
+  this->NumberOfFeaturesUsed = static_cast<int>(result.usedColumns.size());
+  this->StageTimings[0] = result.fitMs;
+  this->StageTimings[1] = result.placeMs;
+  this->StageTimings[2] = result.totalMs;
+  vtkDoubleArray* spectrum = this->Internals->Spectrum;
+  spectrum->SetNumberOfTuples(static_cast<vtkIdType>(result.eigenvalues.size()));
+  for (std::size_t i = 0; i < result.eigenvalues.size(); ++i)
+  {
+    spectrum->SetValue(static_cast<vtkIdType>(i), result.eigenvalues[i]);
+  }
+
+  output->ShallowCopy(image);
+  output->GetPointData()->AddArray(reduced);
+  vtkFieldData* fd = output->GetFieldData();
+  addFieldValue(fd, "Trustworthiness", this->Trustworthiness);
+  addFieldValue(fd, "VarianceRetained", this->VarianceRetained);
+  vtkNew<vtkDoubleArray> spectrumCopy;
+  spectrumCopy->DeepCopy(spectrum);
+  spectrumCopy->SetName("EigenvalueSpectrum");
+  fd->AddArray(spectrumCopy);
+  addFieldString(fd, "ReductionMethod", methodName(this->Method));
+  addFieldString(fd, "DeviceUsed", this->Internals->DeviceUsed);
+
+  // ---- Output port 1: the spectrum table ---------------------------------------------
+  double positiveSum = 0.0;
+  for (double v : result.eigenvalues)
+  {
+    if (std::isfinite(v) && v > 0)
+    {
+      positiveSum += v;
+    }
+  }
+  const bool fractions = this->Method != LLE && positiveSum > 0;
+  const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
+  vtkNew<vtkIntArray> indexColumn;
+  indexColumn->SetName("index");
+  indexColumn->SetNumberOfTuples(n);
+  vtkNew<vtkDoubleArray> valueColumn;
+  valueColumn->SetName("value");
+  valueColumn->SetNumberOfTuples(n);
+  vtkNew<vtkDoubleArray> fractionColumn;
+  fractionColumn->SetName("fraction");
+  fractionColumn->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double v = result.eigenvalues[static_cast<std::size_t>(i)];
+    indexColumn->SetValue(i, static_cast<int>(i + 1));
+    valueColumn->SetValue(i, v);
+    fractionColumn->SetValue(i, fractions ? std::max(0.0, v) / positiveSum : 0.0);
+  }
+  spectrumTable->AddColumn(indexColumn);
+  spectrumTable->AddColumn(valueColumn);
+  spectrumTable->AddColumn(fractionColumn);
+
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << methodName(this->Method) << "\n";
+  os << indent << "OutputDimension: " << this->OutputDimension << "\n";
+  os << indent << "NumberOfNeighbors: " << this->NumberOfNeighbors << "\n";
+  os << indent << "NumberOfLandmarks: " << this->NumberOfLandmarks << "\n";
+  os << indent << "ReferenceSampleSize: " << this->ReferenceSampleSize << "\n";
+  os << indent << "RandomSeed: " << this->RandomSeed << "\n";
+  os << indent << "Device: " << this->Device << "\n";
+  os << indent << "VarianceRetained: " << this->VarianceRetained << "\n";
+  os << indent << "Trustworthiness: " << this->Trustworthiness << "\n";
+  os << indent << "DeviceUsed: " << this->Internals->DeviceUsed << "\n";
+}

@@ -1,0 +1,161 @@
+/**
+ * @class   vtkDimensionReduction
+ * @brief   reduces per-voxel feature vectors to a 2D/3D domain (PCA, Isomap, LLE).
+ *
+ * Input: a vtkImageData whose point data holds a multi-component array of feature
+ * vectors, one tuple per voxel (the `Features` array of MultichannelFeatures by default;
+ * select another with SetInputArrayToProcess(0, 0, 0, POINTS, name), the `Features`
+ * property in ParaView). A contiguous float32 array is handed to the core without a copy;
+ * any other numeric type is converted to float32 once.
+ *
+ * The work is done by mcv::reduceDimension (Filters/Core, no VTK): the embedding is fitted
+ * on a reference sample of ReferenceSampleSize voxels (a value >= the number of voxels
+ * fits on all of them) and every voxel is placed by its 3 nearest reference vectors in
+ * feature space with barycentric weights.
+ *
+ * Output port 0: the input (shallow copy) plus the point array `ReducedCoordinates`
+ * (float32, OutputDimension components named dim1, dim2[, dim3]) and field-data arrays
+ * `Trustworthiness`, `VarianceRetained`, `EigenvalueSpectrum`, `ReductionMethod`,
+ * `DeviceUsed`.
+ * Output port 1: a vtkTable `Spectrum` with columns `index` (1-based), `value` and
+ * `fraction` (value / sum of the positive values of the spectrum, PCA and Isomap; LLE's
+ * eigenvalues are not variances: its fraction column is 0).
+ *
+ * Errors (vtkErrorMacro, the filter fails, outputs stay empty): input not image data,
+ * empty extent, no feature array selected or present, a non-numeric array, a single
+ * feature component (nothing to reduce), OutputDimension not 2 or 3, a non-positive
+ * NumberOfNeighbors / NumberOfLandmarks / ReferenceSampleSize, and every error of the
+ * core (K >= M, NaN/Inf features, ...). The core's warnings are forwarded as VTK warnings.
+ *
+ * In parallel runs the whole extent is requested on every rank (the embedding is global).
+ */
+
+#ifndef vtkDimensionReduction_h
+#define vtkDimensionReduction_h
+
+#include "mcvFiltersReductionModule.h" // for export macro
+#include "vtkImageAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkDoubleArray;
+
+class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkImageAlgorithm
+{
+public:
+  static vtkDimensionReduction* New();
+  vtkTypeMacro(vtkDimensionReduction, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum MethodType
+  {
+    PCA = 0,
+    ISOMAP = 1,
+    LLE = 2
+  };
+
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
+
+  ///@{
+  /** PCA (default), ISOMAP (landmark Isomap) or LLE. */
+  vtkSetClampMacro(Method, int, PCA, LLE);
+  vtkGetMacro(Method, int);
+  ///@}
+
+  ///@{
+  /**
+   * Dimension of the reduced domain: 2 or 3 (default 3). Any other value is refused at
+   * execution time with an error (not clamped silently).
+   */
+  vtkSetMacro(OutputDimension, int);
+  vtkGetMacro(OutputDimension, int);
+  ///@}
+
+  ///@{
+  /** K of the Isomap / LLE neighbourhood graph (default 50; must be < the sample size). */
+  vtkSetMacro(NumberOfNeighbors, int);
+  vtkGetMacro(NumberOfNeighbors, int);
+  ///@}
+
+  ///@{
+  /** L, the landmarks of landmark Isomap (default 500). */
+  vtkSetMacro(NumberOfLandmarks, int);
+  vtkGetMacro(NumberOfLandmarks, int);
+  ///@}
+
+  ///@{
+  /** M, the reference sample the embedding is fitted on (default 10000; >= voxels: all). */
+  vtkSetMacro(ReferenceSampleSize, vtkIdType);
+  vtkGetMacro(ReferenceSampleSize, vtkIdType);
+  ///@}
+
+  ///@{
+  /** Seed of the reference sample and landmarks: same seed, same result (default 0). */
+  vtkSetMacro(RandomSeed, int);
+  vtkGetMacro(RandomSeed, int);
+  ///@}
+
+  ///@{
+  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (the out-of-sample step). */
+  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
+  vtkGetMacro(Device, int);
+  ///@}
+
+  ///@{
+  /** Results of the last execution (empty / zero before the first or after a failure). */
+  /** Eigenvalue spectrum as returned by the core (PCA, Isomap: descending). */
+  vtkDoubleArray* GetEigenvalueSpectrum();
+  /** Fraction of the spectrum kept by the OutputDimension leading values (PCA, Isomap). */
+  vtkGetMacro(VarianceRetained, double);
+  /**
+   * Trustworthiness (k = 10) of the embedding on a sample of the reference points; NaN
+   * when it could not be measured (a sample of no more than 2k points).
+   */
+  vtkGetMacro(Trustworthiness, double);
+  /** Number of feature components used (zero-variance ones are dropped by the core). */
+  vtkGetMacro(NumberOfFeaturesUsed, int);
+  /** Milliseconds: fit, out-of-sample placement, total (core timings). */
+  vtkGetVector3Macro(StageTimings, double);
+  /** "CPU" or "GPU": where the out-of-sample step ran. */
+  const char* GetDeviceUsed();
+  ///@}
+
+protected:
+  vtkDimensionReduction();
+  ~vtkDimensionReduction() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  void ResetResults();
+
+  int Method = PCA;
+  int OutputDimension = 3;
+  int NumberOfNeighbors = 50;
+  int NumberOfLandmarks = 500;
+  vtkIdType ReferenceSampleSize = 10000;
+  int RandomSeed = 0;
+  int Device = DEVICE_AUTO;
+
+  double VarianceRetained = 0.0;
+  double Trustworthiness = 0.0;
+  int NumberOfFeaturesUsed = 0;
+  double StageTimings[3] = { 0, 0, 0 };
+
+private:
+  vtkDimensionReduction(const vtkDimensionReduction&) = delete;
+  void operator=(const vtkDimensionReduction&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
