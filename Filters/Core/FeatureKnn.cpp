@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
 
 namespace mcv
 {
@@ -29,6 +31,37 @@ struct RowMajorPoints
 // worth it for the 6..24 dimensions of feature vectors.
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Adaptor<float, RowMajorPoints, float>,
   RowMajorPoints, -1, std::uint32_t>;
+
+struct UnionFind
+{
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n)
+    : parent(n)
+  {
+    std::iota(parent.begin(), parent.end(), 0u);
+  }
+  std::uint32_t find(std::uint32_t x)
+  {
+    while (parent[x] != x)
+    {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  bool unite(std::uint32_t a, std::uint32_t b)
+  {
+    a = find(a);
+    b = find(b);
+    if (a == b)
+    {
+      return false;
+    }
+    parent[std::max(a, b)] = std::min(a, b); // deterministic roots
+    return true;
+  }
+};
+
 } // namespace
 
 struct KnnIndex::Impl
@@ -99,6 +132,111 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
     }
   }
   return g;
+}
+
+std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int D, const KnnGraph& knn, std::size_t* componentsFound)
+{
+  UnionFind uf(n);
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    for (int j = 0; j < knn.k; ++j)
+    {
+      uf.unite(static_cast<std::uint32_t>(i), knn.neighbors[i * knn.k + j]);
+    }
+  }
+  auto countComponents = [&]() {
+    std::size_t c = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      c += uf.find(static_cast<std::uint32_t>(i)) == i;
+    }
+    return c;
+  };
+  *componentsFound = countComponents();
+  std::vector<GraphEdge> added;
+  if (*componentsFound <= 1)
+  {
+    return added;
+  }
+  const KnnIndex index(data, n, D);
+  while (countComponents() > 1)
+  {
+    std::vector<std::uint32_t> root(n);
+    std::vector<std::size_t> size(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      root[i] = uf.find(static_cast<std::uint32_t>(i));
+      ++size[root[i]];
+    }
+    const std::uint32_t largest =
+      static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
+    // Per point: its nearest point outside its component (squared distance).
+    std::vector<std::uint32_t> partner(n, 0);
+    std::vector<float> partnerD2(n, std::numeric_limits<float>::infinity());
+    const long long count = static_cast<long long>(n);
+#pragma omp parallel
+    {
+      std::vector<std::uint32_t> idx;
+      std::vector<float> d2;
+#pragma omp for schedule(dynamic, 64)
+      for (long long ii = 0; ii < count; ++ii)
+      {
+        const std::size_t i = static_cast<std::size_t>(ii);
+        if (root[i] == largest)
+        {
+          continue;
+        }
+        for (std::size_t k = std::min(n, static_cast<std::size_t>(2 * knn.k + 2));; k = std::min(n, 2 * k))
+        {
+          idx.resize(k);
+          d2.resize(k);
+          const std::size_t found = index.query(data + i * static_cast<std::size_t>(D), k, idx.data(), d2.data());
+          bool done = false;
+          for (std::size_t j = 0; j < found; ++j)
+          {
+            if (root[idx[j]] != root[i])
+            {
+              partner[i] = idx[j];
+              partnerD2[i] = d2[j];
+              done = true;
+              break;
+            }
+          }
+          if (done || k == n)
+          {
+            break;
+          }
+        }
+      }
+    }
+    // Per component: its closest pair (ties to the lowest index, so deterministic).
+    std::vector<std::size_t> best(n, n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (root[i] == largest || !std::isfinite(partnerD2[i]))
+      {
+        continue;
+      }
+      std::size_t& b = best[root[i]];
+      if (b == n || partnerD2[i] < partnerD2[b])
+      {
+        b = i;
+      }
+    }
+    for (std::size_t r = 0; r < n; ++r)
+    {
+      const std::size_t i = best[r];
+      if (i == n)
+      {
+        continue;
+      }
+      if (uf.unite(static_cast<std::uint32_t>(i), partner[i]))
+      {
+        added.push_back(GraphEdge{ static_cast<std::uint32_t>(i), partner[i], std::sqrt(std::max(0.f, partnerD2[i])) });
+      }
+    }
+  }
+  return added;
 }
 
 } // namespace mcv

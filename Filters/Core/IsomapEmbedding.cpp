@@ -30,13 +30,7 @@ struct Graph
   std::vector<float> weight;
 };
 
-struct Edge
-{
-  std::uint32_t a, b;
-  float w;
-};
-
-Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<Edge>& extra)
+Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<GraphEdge>& extra)
 {
   const int K = knn.k;
   std::vector<std::size_t> degree(n, 0);
@@ -48,7 +42,7 @@ Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<Edge>& ex
       ++degree[knn.neighbors[i * K + j]];
     }
   }
-  for (const Edge& e : extra)
+  for (const GraphEdge& e : extra)
   {
     ++degree[e.a];
     ++degree[e.b];
@@ -75,152 +69,12 @@ Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<Edge>& ex
       add(static_cast<std::uint32_t>(i), knn.neighbors[i * K + j], knn.distances[i * K + j]);
     }
   }
-  for (const Edge& e : extra)
+  for (const GraphEdge& e : extra)
   {
-    add(e.a, e.b, e.w);
+    add(e.a, e.b, e.length);
   }
   // Mutual neighbours appear twice; Dijkstra does not mind, so they are left in.
   return g;
-}
-
-struct UnionFind
-{
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n)
-    : parent(n)
-  {
-    std::iota(parent.begin(), parent.end(), 0u);
-  }
-  std::uint32_t find(std::uint32_t x)
-  {
-    while (parent[x] != x)
-    {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  bool unite(std::uint32_t a, std::uint32_t b)
-  {
-    a = find(a);
-    b = find(b);
-    if (a == b)
-    {
-      return false;
-    }
-    parent[std::max(a, b)] = std::min(a, b); // deterministic roots
-    return true;
-  }
-};
-
-// Joins the components of the kNN graph: Boruvka rounds in which every component but the
-// largest finds its closest point pair to any other component (kd-tree queries with a
-// doubling k). Returns the edges added and the number of components there were.
-std::vector<Edge> joinComponents(const RowMatrixF& X, const KnnGraph& knn, std::size_t* componentsFound)
-{
-  const std::size_t n = static_cast<std::size_t>(X.rows());
-  const int D = static_cast<int>(X.cols());
-  UnionFind uf(n);
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    for (int j = 0; j < knn.k; ++j)
-    {
-      uf.unite(static_cast<std::uint32_t>(i), knn.neighbors[i * knn.k + j]);
-    }
-  }
-  auto countComponents = [&]() {
-    std::size_t c = 0;
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      c += uf.find(static_cast<std::uint32_t>(i)) == i;
-    }
-    return c;
-  };
-  *componentsFound = countComponents();
-  std::vector<Edge> added;
-  if (*componentsFound <= 1)
-  {
-    return added;
-  }
-  const KnnIndex index(X.data(), n, D);
-  while (countComponents() > 1)
-  {
-    std::vector<std::uint32_t> root(n);
-    std::vector<std::size_t> size(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      root[i] = uf.find(static_cast<std::uint32_t>(i));
-      ++size[root[i]];
-    }
-    const std::uint32_t largest =
-      static_cast<std::uint32_t>(std::max_element(size.begin(), size.end()) - size.begin());
-    // Per point: its nearest point outside its component (squared distance).
-    std::vector<std::uint32_t> partner(n, 0);
-    std::vector<float> partnerD2(n, std::numeric_limits<float>::infinity());
-    const long long count = static_cast<long long>(n);
-#pragma omp parallel
-    {
-      std::vector<std::uint32_t> idx;
-      std::vector<float> d2;
-#pragma omp for schedule(dynamic, 64)
-      for (long long ii = 0; ii < count; ++ii)
-      {
-        const std::size_t i = static_cast<std::size_t>(ii);
-        if (root[i] == largest)
-        {
-          continue;
-        }
-        for (std::size_t k = std::min(n, static_cast<std::size_t>(2 * knn.k + 2));; k = std::min(n, 2 * k))
-        {
-          idx.resize(k);
-          d2.resize(k);
-          const std::size_t found = index.query(X.row(static_cast<Eigen::Index>(i)).data(), k, idx.data(), d2.data());
-          bool done = false;
-          for (std::size_t j = 0; j < found; ++j)
-          {
-            if (root[idx[j]] != root[i])
-            {
-              partner[i] = idx[j];
-              partnerD2[i] = d2[j];
-              done = true;
-              break;
-            }
-          }
-          if (done || k == n)
-          {
-            break;
-          }
-        }
-      }
-    }
-    // Per component: its closest pair (ties to the lowest index, so deterministic).
-    std::vector<std::size_t> best(n, n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (root[i] == largest || !std::isfinite(partnerD2[i]))
-      {
-        continue;
-      }
-      std::size_t& b = best[root[i]];
-      if (b == n || partnerD2[i] < partnerD2[b])
-      {
-        b = i;
-      }
-    }
-    for (std::size_t r = 0; r < n; ++r)
-    {
-      const std::size_t i = best[r];
-      if (i == n)
-      {
-        continue;
-      }
-      if (uf.unite(static_cast<std::uint32_t>(i), partner[i]))
-      {
-        added.push_back(Edge{ static_cast<std::uint32_t>(i), partner[i], std::sqrt(std::max(0.f, partnerD2[i])) });
-      }
-    }
-  }
-  return added;
 }
 
 // MaxMin landmarks in feature space: each next landmark is the point farthest from the
@@ -316,7 +170,7 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   const KnnGraph knn = buildKnnGraph(X.data(), n, static_cast<int>(X.cols()), K);
   report("Isomap: neighbour graph", 0.15);
   std::size_t components = 1;
-  const std::vector<Edge> joins = joinComponents(X, knn, &components);
+  const std::vector<GraphEdge> joins = joinKnnComponents(X.data(), n, static_cast<int>(X.cols()), knn, &components);
   if (components > 1)
   {
     e.warnings.push_back("Isomap: the " + std::to_string(K) + "-neighbour graph has " + std::to_string(components) +

@@ -108,50 +108,72 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
   const KnnGraph knn = buildKnnGraph(X.data(), static_cast<std::size_t>(n), static_cast<int>(D), K);
   report("LLE: weights", 0.2);
 
+  // A disconnected graph makes M's null space as large as the number of components
+  // (any per-component constant): join them by their closest pairs, as Isomap does, each
+  // pair's points becoming neighbours of each other.
+  std::size_t components = 1;
+  const std::vector<GraphEdge> joins = joinKnnComponents(X.data(), static_cast<std::size_t>(n), static_cast<int>(D), knn, &components);
+  std::vector<std::vector<std::uint32_t>> extra(static_cast<std::size_t>(n));
+  for (const GraphEdge& j : joins)
+  {
+    extra[j.a].push_back(j.b);
+    extra[j.b].push_back(j.a);
+  }
+  if (components > 1)
+  {
+    e.warnings.push_back("LLE: the " + std::to_string(K) + "-neighbour graph has " + std::to_string(components) +
+      " connected components; they were joined by their closest pairs of points (" + std::to_string(joins.size()) +
+      " links). A larger NumberOfNeighbors avoids this.");
+  }
+
   // Local reconstruction weights, one small K x K system per point.
-  std::vector<double> weights(static_cast<std::size_t>(n) * static_cast<std::size_t>(K));
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> weights(static_cast<std::size_t>(n));
 #pragma omp parallel
   {
-    Eigen::MatrixXd Z(K, D);
-    Eigen::MatrixXd G(K, K);
+    std::vector<std::uint32_t> nb;
+    Eigen::MatrixXd Z, G;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < n; ++i)
     {
-      for (int j = 0; j < K; ++j)
+      nb.assign(knn.neighbors.begin() + i * K, knn.neighbors.begin() + (i + 1) * K);
+      nb.insert(nb.end(), extra[static_cast<std::size_t>(i)].begin(), extra[static_cast<std::size_t>(i)].end());
+      const int k = static_cast<int>(nb.size());
+      Z.resize(k, D);
+      for (int j = 0; j < k; ++j)
       {
-        const auto nb = knn.neighbors[static_cast<std::size_t>(i) * K + j];
-        Z.row(j) = (X.row(nb) - X.row(i)).cast<double>();
+        Z.row(j) = (X.row(nb[static_cast<std::size_t>(j)]) - X.row(i)).cast<double>();
       }
       G.noalias() = Z * Z.transpose();
       const double tr = G.trace();
       const double R = tr > 0 ? options.regularization * tr : options.regularization;
       G.diagonal().array() += R;
-      Eigen::VectorXd w = G.ldlt().solve(Eigen::VectorXd::Ones(K));
+      Eigen::VectorXd w = G.ldlt().solve(Eigen::VectorXd::Ones(k));
       const double s = w.sum();
       if (!(std::isfinite(s)) || s == 0.0)
       {
-        w.setConstant(1.0 / K);
+        w.setConstant(1.0 / k);
       }
       else
       {
         w /= s;
       }
-      for (int j = 0; j < K; ++j)
+      auto& out = weights[static_cast<std::size_t>(i)];
+      for (int j = 0; j < k; ++j)
       {
-        weights[static_cast<std::size_t>(i) * K + j] = w[j];
+        out.emplace_back(nb[static_cast<std::size_t>(j)], w[j]);
       }
     }
   }
 
   // A = I - W.
   std::vector<Eigen::Triplet<double, std::int64_t>> trip;
-  trip.reserve(static_cast<std::size_t>(n) * (K + 1));
+  trip.reserve(static_cast<std::size_t>(n) * (K + 1) + 2 * joins.size());
   for (Eigen::Index i = 0; i < n; ++i)
   {
     trip.emplace_back(i, i, 1.0);
-    for (int j = 0; j < K; ++j)
+    for (const auto& [j, w] : weights[static_cast<std::size_t>(i)])
     {
-      trip.emplace_back(i, knn.neighbors[static_cast<std::size_t>(i) * K + j], -weights[static_cast<std::size_t>(i) * K + j]);
+      trip.emplace_back(i, j, -w);
     }
   }
   SparseD A(n, n);
@@ -185,7 +207,7 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
     if (op.ok())
     {
       eigs.init();
-      eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+      eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-8);
       if (eigs.info() == Spectra::CompInfo::Successful)
       {
         values = eigs.eigenvalues();
@@ -212,7 +234,7 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
     const int ncvL = std::min<int>(static_cast<int>(n), std::max(4 * nev, 40));
     Spectra::SymEigsSolver<ShiftedProduct> eigs(op, nev, ncvL);
     eigs.init();
-    eigs.compute(Spectra::SortRule::LargestAlge, 20000, 1e-10);
+    eigs.compute(Spectra::SortRule::LargestAlge, 3000, 1e-8);
     if (eigs.info() == Spectra::CompInfo::Successful)
     {
       values = (c - eigs.eigenvalues().array()).matrix();

@@ -1,0 +1,154 @@
+// mcvReduceCLI: the dimension-reduction core on a raw float32 matrix, for the comparison
+// with scikit-learn (compare_sklearn.py) and the whole-volume benchmark.
+//
+//   mcvReduceCLI --input features.f32 --rows N --cols D [--method pca|isomap|lle]
+//                [--dim 3] [--neighbors 50] [--landmarks 500] [--reference 10000]
+//                [--seed 0] [--trust-sample 2000] [--output embedding.f32] [--json out.json]
+//
+// The input is N x D float32, row-major (numpy's C order). The output (when asked for) is
+// N x dim float32. A JSON object with times, trustworthiness, warnings and the time of
+// every progress stage is printed on stdout (and written to --json).
+#include "DimensionReduction.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace
+{
+std::string jsonString(const std::string& s)
+{
+  std::string out = "\"";
+  for (char c : s)
+  {
+    if (c == '"' || c == '\\')
+    {
+      out += '\\';
+    }
+    if (c == '\n')
+    {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string jsonNumber(double v)
+{
+  if (!std::isfinite(v))
+  {
+    return "null";
+  }
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+int usage(const char* why)
+{
+  std::cerr << "mcvReduceCLI: " << why << "\n"
+            << "usage: mcvReduceCLI --input F --rows N --cols D [--method pca|isomap|lle] [--dim 3]\n"
+               "       [--neighbors 50] [--landmarks 500] [--reference 10000] [--seed 0]\n"
+               "       [--trust-sample 2000] [--output F] [--json F]\n";
+  return 2;
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+  std::map<std::string, std::string> a;
+  for (int i = 1; i + 1 < argc; i += 2)
+  {
+    if (std::string(argv[i]).rfind("--", 0) != 0)
+    {
+      return usage((std::string("unexpected argument ") + argv[i]).c_str());
+    }
+    a[argv[i] + 2] = argv[i + 1];
+  }
+  if (!a.count("input") || !a.count("rows") || !a.count("cols"))
+  {
+    return usage("--input, --rows and --cols are required");
+  }
+  const std::size_t rows = std::stoull(a["rows"]);
+  const int cols = std::stoi(a["cols"]);
+  std::vector<float> data(rows * static_cast<std::size_t>(cols));
+  {
+    std::ifstream in(a["input"], std::ios::binary);
+    if (!in.read(reinterpret_cast<char*>(data.data()), static_cast<std::streamsize>(data.size() * sizeof(float))))
+    {
+      return usage(("cannot read " + std::to_string(data.size() * sizeof(float)) + " bytes from " + a["input"]).c_str());
+    }
+  }
+  mcv::ReductionOptions o;
+  const std::string method = a.count("method") ? a["method"] : "pca";
+  o.method = method == "isomap" ? mcv::ReductionMethod::Isomap
+    : method == "lle"           ? mcv::ReductionMethod::LLE
+                                : mcv::ReductionMethod::PCA;
+  o.outputDimension = a.count("dim") ? std::stoi(a["dim"]) : 3;
+  o.numberOfNeighbors = a.count("neighbors") ? std::stoi(a["neighbors"]) : 50;
+  o.numberOfLandmarks = a.count("landmarks") ? std::stoi(a["landmarks"]) : 500;
+  o.referenceSampleSize = a.count("reference") ? std::stoull(a["reference"]) : 10000;
+  o.randomSeed = a.count("seed") ? std::stoull(a["seed"]) : 0;
+  o.trustworthinessSample = a.count("trust-sample") ? std::stoull(a["trust-sample"]) : 2000;
+  o.device = mcv::Device::CPU;
+
+  // Time of every stage: from its first progress call to the next stage's.
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  std::vector<std::pair<std::string, double>> stages;
+  o.progress = [&](const char* stage, double) {
+    if (stages.empty() || stages.back().first != stage)
+    {
+      stages.emplace_back(stage, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  };
+  const mcv::ReductionResult r = mcv::reduceDimension({ data.data(), rows, cols }, o);
+  const double wallMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  std::ostringstream j;
+  j << "{\"method\": " << jsonString(method) << ", \"rows\": " << rows << ", \"cols\": " << cols
+    << ", \"ok\": " << (r.ok() ? "true" : "false") << ", \"error\": " << jsonString(r.error)
+    << ", \"fit_ms\": " << jsonNumber(r.fitMs) << ", \"place_ms\": " << jsonNumber(r.placeMs)
+    << ", \"total_ms\": " << jsonNumber(r.totalMs) << ", \"wall_ms\": " << jsonNumber(wallMs)
+    << ", \"trustworthiness\": " << jsonNumber(r.trustworthiness)
+    << ", \"variance_retained\": " << jsonNumber(r.varianceRetained)
+    << ", \"reference_points\": " << r.referenceIndices.size() << ", \"eigenvalues\": [";
+  for (std::size_t i = 0; i < r.eigenvalues.size() && i < 10; ++i)
+  {
+    j << (i ? ", " : "") << jsonNumber(r.eigenvalues[i]);
+  }
+  j << "], \"warnings\": [";
+  for (std::size_t i = 0; i < r.warnings.size(); ++i)
+  {
+    j << (i ? ", " : "") << jsonString(r.warnings[i]);
+  }
+  j << "], \"stages_ms\": [";
+  for (std::size_t i = 0; i < stages.size(); ++i)
+  {
+    const double end = i + 1 < stages.size() ? stages[i + 1].second : wallMs;
+    j << (i ? ", " : "") << "[" << jsonString(stages[i].first) << ", " << jsonNumber(end - stages[i].second) << "]";
+  }
+  j << "]}";
+  std::cout << j.str() << std::endl;
+  if (a.count("json"))
+  {
+    std::ofstream(a["json"]) << j.str() << "\n";
+  }
+  if (r.ok() && a.count("output"))
+  {
+    std::ofstream out(a["output"], std::ios::binary);
+    out.write(reinterpret_cast<const char*>(r.coordinates.data()),
+      static_cast<std::streamsize>(r.coordinates.size() * sizeof(float)));
+  }
+  return r.ok() ? 0 : 1;
+}
