@@ -66,7 +66,8 @@ FeatureRun runFeatures(const std::vector<const std::vector<float>*>& chans, cons
 // Max over columns of max_v |gpu - cpu| / max(|cpu|, 1e-3 max_v |cpu| of the column).
 void compare(const FeatureRun& gpu, const FeatureRun& cpu, std::size_t rows, const char* label)
 {
-  ASSERT_EQ(gpu.r.deviceUsed, mcv::Device::GPU) << label;
+  ASSERT_EQ(gpu.r.deviceUsed, mcv::Device::GPU)
+    << label << ": " << (gpu.r.warnings.empty() ? std::string() : gpu.r.warnings.back());
   ASSERT_EQ(cpu.r.deviceUsed, mcv::Device::CPU) << label;
   ASSERT_EQ(gpu.m.size(), cpu.m.size());
   EXPECT_EQ(gpu.r.names, cpu.r.names);
