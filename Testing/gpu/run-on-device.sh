@@ -6,6 +6,9 @@
 #   Testing/gpu/run-on-device.sh [benchmark arguments, e.g. --sizes 64,256 --sweep]
 #
 # Real volumes: put them in .cache/volumes (scripts/fetch-data.sh) and carry that folder.
+# Header-only libraries the device lacks (nanoflann, Spectra): scripts/prepare-device.sh
+# copies them into .cache/include; carry that folder too.
+# MCV_DEVICE_CMAKE_ARGS: extra configure arguments.
 set -uo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -26,8 +29,12 @@ ls .cache/volumes 2>/dev/null | tr '\n' ' ' | sed 's/^/volumes: /' | tee -a "$su
 
 note "== configure + build"
 start=$(date +%s)
+extra=()
+[ -d .cache/include ] && extra+=(-DCMAKE_INCLUDE_PATH="$repo/.cache/include")
+# shellcheck disable=SC2206
+extra+=(${MCV_DEVICE_CMAKE_ARGS:-})
 if ! { cmake -S . -B "$build" -DMCV_BUILD_PARAVIEW=OFF -DCMAKE_CUDA_ARCHITECTURES=90 \
-         -DCMAKE_BUILD_TYPE=Release &&
+         -DCMAKE_BUILD_TYPE=Release "${extra[@]}" &&
        cmake --build "$build" -j16; } >"$logs/build.log" 2>&1; then
   tail -40 "$logs/build.log"
   note "BUILD FAILED (see build.log)"
