@@ -17,6 +17,7 @@
 #include "vtkTable.h"
 
 // The VTK-free core (Filters/Core).
+#include "../Common/mcvChannelArrays.h"
 #include "DimensionReduction.h"
 
 #include <algorithm>
@@ -51,20 +52,6 @@ const char* methodName(int method)
     default:
       return "unknown";
   }
-}
-
-std::string availableArrays(vtkPointData* pd)
-{
-  std::ostringstream os;
-  int listed = 0;
-  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-  {
-    vtkAbstractArray* a = pd->GetAbstractArray(i);
-    const char* name = a ? a->GetName() : nullptr;
-    os << (listed++ ? ", " : "") << "'" << (name ? name : "(unnamed)") << "' ("
-       << (a ? a->GetNumberOfComponents() : 0) << " components)";
-  }
-  return listed ? os.str() : std::string("none");
 }
 
 void addFieldValue(vtkFieldData* fd, const char* name, double value)
@@ -259,7 +246,7 @@ int vtkDimensionReduction::RequestData(
   {
     vtkErrorMacro("No feature array selected: set the Features property to a point array "
                   "of feature vectors (point arrays: "
-      << availableArrays(pd) << ").");
+      << mcv::vtkhelpers::availableArrays(pd) << ").");
     return 0;
   }
   const int association = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION())
@@ -277,7 +264,7 @@ int vtkDimensionReduction::RequestData(
   if (!abstractArray)
   {
     vtkErrorMacro("No point array named '"
-      << requested << "' in the input (point arrays: " << availableArrays(pd)
+      << requested << "' in the input (point arrays: " << mcv::vtkhelpers::availableArrays(pd)
       << "). Compute feature vectors first, e.g. with the MultichannelFeatures filter.");
     return 0;
   }
