@@ -7,7 +7,9 @@
 // anything else (64-bit integers, SOA arrays...) goes through one contiguous double copy.
 #pragma once
 
+#include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -16,7 +18,9 @@
 
 #include "OpacityFunction.h" // mcv::ChannelView, mcv::ScalarType (Filters/Core)
 
+#include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -76,6 +80,85 @@ inline std::string availableArrays(vtkPointData* pd)
     os << (i ? ", " : "") << "'" << (name ? name : "(unnamed)") << "'";
   }
   return pd->GetNumberOfArrays() ? os.str() : std::string("none");
+}
+
+// The `Channels` property of a filter: point-array names, in order. Add and Clear return
+// whether the list changed, so the filter calls Modified() only then.
+class ChannelSelection
+{
+public:
+  bool Add(const char* name)
+  {
+    if (!name || !*name)
+    {
+      return false;
+    }
+    this->Names.emplace_back(name);
+    return true;
+  }
+  bool Clear()
+  {
+    const bool changed = !this->Names.empty();
+    this->Names.clear();
+    return changed;
+  }
+  int Size() const { return static_cast<int>(this->Names.size()); }
+  const char* Get(int index) const
+  {
+    return index < 0 || index >= this->Size() ? nullptr : this->Names[index].c_str();
+  }
+  const std::vector<std::string>& GetNames() const { return this->Names; }
+
+private:
+  std::vector<std::string> Names;
+};
+
+// ParaView's bookkeeping arrays, never channels.
+inline bool isInternalArray(const char* name)
+{
+  return name && (std::string(name) == "vtkGhostType" || std::string(name) == "vtkValidPointMask");
+}
+
+// The arrays a filter works on: the named point arrays (each must exist and be numeric;
+// duplicates once), or, when no name is given, what `defaults` picks. Returns "" or the
+// error message; `filterLabel` names the filter in it.
+inline std::string selectChannelArrays(vtkDataSet* input, const std::vector<std::string>& names,
+  const std::function<std::vector<vtkDataArray*>(vtkPointData*)>& defaults,
+  const char* filterLabel, std::vector<vtkDataArray*>& arrays)
+{
+  arrays.clear();
+  vtkPointData* pd = input->GetPointData();
+  for (const std::string& name : names)
+  {
+    vtkAbstractArray* abstractArray = pd->GetAbstractArray(name.c_str());
+    if (!abstractArray)
+    {
+      return "No point array named '" + name + "' in the input (point arrays: " +
+        availableArrays(pd) + ").";
+    }
+    vtkDataArray* dataArray = vtkDataArray::SafeDownCast(abstractArray);
+    if (!dataArray)
+    {
+      return "Point array '" + name + "' is not numeric (" + abstractArray->GetClassName() + ").";
+    }
+    if (std::find(arrays.begin(), arrays.end(), dataArray) == arrays.end())
+    {
+      arrays.push_back(dataArray);
+    }
+  }
+  if (names.empty())
+  {
+    arrays = defaults(pd);
+  }
+  if (arrays.empty())
+  {
+    const bool cellArrays = input->GetCellData()->GetNumberOfArrays() > 0;
+    return std::string("Input has no point scalar array: ") + filterLabel +
+      " needs at least one numeric point-data array (point arrays: " + availableArrays(pd) +
+      ")" +
+      (cellArrays ? "; it has cell arrays: convert them with Cell Data to Point Data." : ".");
+  }
+  return std::string();
 }
 
 struct ChannelArrays

@@ -17,6 +17,7 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
+#include "../Common/mcvWholeExtent.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +29,7 @@ vtkStandardNewMacro(vtkMultichannelFeatures);
 
 struct vtkMultichannelFeatures::vtkInternals
 {
-  std::vector<std::string> Channels;
+  mcv::vtkhelpers::ChannelSelection Channels;
   std::string DeviceUsed = "CPU";
 };
 
@@ -36,19 +37,11 @@ namespace
 {
 const char* const kOutputName = "Features";
 
+// Default channels: every numeric point array but ParaView's bookkeeping and our output.
 bool isDefaultChannel(vtkDataArray* a)
 {
-  const char* name = a ? a->GetName() : nullptr;
-  if (!a)
-  {
-    return false;
-  }
-  if (!name)
-  {
-    return true;
-  }
-  const std::string s(name);
-  return s != "vtkGhostType" && s != "vtkValidPointMask" && s != kOutputName;
+  return a && !mcv::vtkhelpers::isInternalArray(a->GetName()) &&
+    !(a->GetName() && std::string(a->GetName()) == kOutputName);
 }
 } // namespace
 
@@ -66,9 +59,8 @@ vtkMultichannelFeatures::~vtkMultichannelFeatures() = default;
 //------------------------------------------------------------------------------
 void vtkMultichannelFeatures::AddChannel(const char* arrayName)
 {
-  if (arrayName && *arrayName)
+  if (this->Internals->Channels.Add(arrayName))
   {
-    this->Internals->Channels.emplace_back(arrayName);
     this->Modified();
   }
 }
@@ -76,9 +68,8 @@ void vtkMultichannelFeatures::AddChannel(const char* arrayName)
 //------------------------------------------------------------------------------
 void vtkMultichannelFeatures::ClearChannels()
 {
-  if (!this->Internals->Channels.empty())
+  if (this->Internals->Channels.Clear())
   {
-    this->Internals->Channels.clear();
     this->Modified();
   }
 }
@@ -86,17 +77,13 @@ void vtkMultichannelFeatures::ClearChannels()
 //------------------------------------------------------------------------------
 int vtkMultichannelFeatures::GetNumberOfChannels()
 {
-  return static_cast<int>(this->Internals->Channels.size());
+  return this->Internals->Channels.Size();
 }
 
 //------------------------------------------------------------------------------
 const char* vtkMultichannelFeatures::GetChannel(int index)
 {
-  if (index < 0 || index >= this->GetNumberOfChannels())
-  {
-    return nullptr;
-  }
-  return this->Internals->Channels[index].c_str();
+  return this->Internals->Channels.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -147,19 +134,7 @@ int vtkMultichannelFeatures::RequestInformation(
 int vtkMultichannelFeatures::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // Neighbourhood features and global column statistics: every rank asks for the whole
-  // volume.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    int wholeExtent[6];
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), wholeExtent, 6);
-  }
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-  return 1;
+  return mcv::vtkhelpers::requestWholeExtent(inputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -212,52 +187,24 @@ int vtkMultichannelFeatures::RequestData(
     grid.spacing[a] = std::abs(spacing[a]);
   }
 
-  vtkPointData* pd = image->GetPointData();
   std::vector<vtkDataArray*> arrays;
-  if (!this->Internals->Channels.empty())
+  const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
+    this->Internals->Channels.GetNames(),
+    [](vtkPointData* pd) {
+      std::vector<vtkDataArray*> picked;
+      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+      {
+        if (isDefaultChannel(pd->GetArray(i)))
+        {
+          picked.push_back(pd->GetArray(i));
+        }
+      }
+      return picked;
+    },
+    "MultichannelFeatures", arrays);
+  if (!selectionError.empty())
   {
-    for (const std::string& name : this->Internals->Channels)
-    {
-      vtkAbstractArray* abstractArray = pd->GetAbstractArray(name.c_str());
-      if (!abstractArray)
-      {
-        vtkErrorMacro("No point array named '"
-          << name << "' in the input (point arrays: "
-          << mcv::vtkhelpers::availableArrays(pd) << ").");
-        return 0;
-      }
-      vtkDataArray* dataArray = vtkDataArray::SafeDownCast(abstractArray);
-      if (!dataArray)
-      {
-        vtkErrorMacro("Point array '" << name << "' is not numeric ("
-                                      << abstractArray->GetClassName() << ").");
-        return 0;
-      }
-      if (std::find(arrays.begin(), arrays.end(), dataArray) == arrays.end())
-      {
-        arrays.push_back(dataArray);
-      }
-    }
-  }
-  else
-  {
-    for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-    {
-      vtkDataArray* dataArray = pd->GetArray(i);
-      if (isDefaultChannel(dataArray))
-      {
-        arrays.push_back(dataArray);
-      }
-    }
-  }
-  if (arrays.empty())
-  {
-    const bool cellArrays = image->GetCellData()->GetNumberOfArrays() > 0;
-    vtkErrorMacro("Input has no point scalar array: MultichannelFeatures needs at least one "
-                  "numeric point-data array (point arrays: "
-      << mcv::vtkhelpers::availableArrays(pd) << ")"
-      << (cellArrays ? "; it has cell arrays: convert them with Cell Data to Point Data."
-                     : "."));
+    vtkErrorMacro(<< selectionError);
     return 0;
   }
   mcv::vtkhelpers::ChannelArrays channels;
@@ -346,7 +293,7 @@ void vtkMultichannelFeatures::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Channels:";
-  for (const std::string& name : this->Internals->Channels)
+  for (const std::string& name : this->Internals->Channels.GetNames())
   {
     os << " " << name;
   }

@@ -18,6 +18,7 @@
 
 // The VTK-free core (Filters/Core).
 #include "../Common/mcvChannelArrays.h"
+#include "../Common/mcvWholeExtent.h"
 #include "DimensionReduction.h"
 
 #include <algorithm>
@@ -136,18 +137,7 @@ int vtkDimensionReduction::RequestInformation(
 int vtkDimensionReduction::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // The embedding is global: every rank asks for the whole volume.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    int wholeExtent[6];
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), wholeExtent, 6);
-  }
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-  return 1;
+  return mcv::vtkhelpers::requestWholeExtent(inputVector);
 }
 
 //------------------------------------------------------------------------------

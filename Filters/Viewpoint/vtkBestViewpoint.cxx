@@ -26,6 +26,7 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
+#include "../Common/mcvWholeExtent.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,14 +41,13 @@ vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
 
 struct vtkBestViewpoint::vtkInternals
 {
-  std::vector<std::string> Channels;
+  mcv::vtkhelpers::ChannelSelection Channels;
   std::string DeviceUsed = "CPU";
 };
 
 namespace
 {
 
-using mcv::vtkhelpers::availableArrays;
 
 // vtkPiecewiseFunction (data values -> opacity) as the core's piecewise-linear function.
 // Nodes are used as they are when every segment is linear (midpoint 0.5, sharpness 0, the
@@ -145,9 +145,8 @@ vtkBestViewpoint::~vtkBestViewpoint()
 //------------------------------------------------------------------------------
 void vtkBestViewpoint::AddChannel(const char* arrayName)
 {
-  if (arrayName && *arrayName)
+  if (this->Internals->Channels.Add(arrayName))
   {
-    this->Internals->Channels.emplace_back(arrayName);
     this->Modified();
   }
 }
@@ -155,9 +154,8 @@ void vtkBestViewpoint::AddChannel(const char* arrayName)
 //------------------------------------------------------------------------------
 void vtkBestViewpoint::ClearChannels()
 {
-  if (!this->Internals->Channels.empty())
+  if (this->Internals->Channels.Clear())
   {
-    this->Internals->Channels.clear();
     this->Modified();
   }
 }
@@ -165,17 +163,13 @@ void vtkBestViewpoint::ClearChannels()
 //------------------------------------------------------------------------------
 int vtkBestViewpoint::GetNumberOfChannels()
 {
-  return static_cast<int>(this->Internals->Channels.size());
+  return this->Internals->Channels.Size();
 }
 
 //------------------------------------------------------------------------------
 const char* vtkBestViewpoint::GetChannel(int index)
 {
-  if (index < 0 || index >= this->GetNumberOfChannels())
-  {
-    return nullptr;
-  }
-  return this->Internals->Channels[index].c_str();
+  return this->Internals->Channels.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -208,18 +202,7 @@ int vtkBestViewpoint::FillInputPortInformation(int, vtkInformation* info)
 int vtkBestViewpoint::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // The view of a volume is global: every rank asks for the whole volume.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    int wholeExtent[6];
-    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), wholeExtent);
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), wholeExtent, 6);
-  }
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
-  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
-  return 1;
+  return mcv::vtkhelpers::requestWholeExtent(inputVector);
 }
 
 //------------------------------------------------------------------------------
@@ -284,58 +267,31 @@ int vtkBestViewpoint::RequestData(
   }
   const std::size_t count = grid.voxelCount();
 
-  vtkPointData* pd = image->GetPointData();
   std::vector<vtkDataArray*> arrays;
-  if (!this->Internals->Channels.empty())
-  {
-    for (const std::string& name : this->Internals->Channels)
-    {
-      vtkAbstractArray* abstractArray = pd->GetAbstractArray(name.c_str());
-      if (!abstractArray)
+  const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
+    this->Internals->Channels.GetNames(),
+    [](vtkPointData* pd) {
+      // No names: the active scalars, else every numeric point array.
+      std::vector<vtkDataArray*> picked;
+      if (vtkDataArray* scalars = pd->GetScalars())
       {
-        vtkErrorMacro("No point array named '" << name
-                                               << "' in the input (point arrays: "
-                                               << availableArrays(pd) << ").");
-        return 0;
+        picked.push_back(scalars);
+        return picked;
       }
-      vtkDataArray* dataArray = vtkDataArray::SafeDownCast(abstractArray);
-      if (!dataArray)
+      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
       {
-        vtkErrorMacro("Point array '" << name << "' is not numeric ("
-                                      << abstractArray->GetClassName() << ").");
-        return 0;
+        vtkDataArray* dataArray = pd->GetArray(i);
+        if (dataArray && !mcv::vtkhelpers::isInternalArray(dataArray->GetName()))
+        {
+          picked.push_back(dataArray);
+        }
       }
-      if (std::find(arrays.begin(), arrays.end(), dataArray) == arrays.end())
-      {
-        arrays.push_back(dataArray);
-      }
-    }
-  }
-  else if (vtkDataArray* scalars = pd->GetScalars())
+      return picked;
+    },
+    "BestViewpoint", arrays);
+  if (!selectionError.empty())
   {
-    arrays.push_back(scalars);
-  }
-  else
-  {
-    for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-    {
-      vtkDataArray* dataArray = pd->GetArray(i);
-      const char* name = dataArray ? dataArray->GetName() : nullptr;
-      if (dataArray && !(name && std::string(name) == "vtkGhostType") &&
-        !(name && std::string(name) == "vtkValidPointMask"))
-      {
-        arrays.push_back(dataArray);
-      }
-    }
-  }
-  if (arrays.empty())
-  {
-    const bool cellArrays = image->GetCellData()->GetNumberOfArrays() > 0;
-    vtkErrorMacro("Input has no point scalar array: BestViewpoint needs at least one "
-                  "numeric point-data array (point arrays: "
-      << availableArrays(pd) << ")"
-      << (cellArrays ? "; it has cell arrays: convert them with Cell Data to Point Data."
-                     : "."));
+    vtkErrorMacro(<< selectionError);
     return 0;
   }
 
@@ -568,7 +524,7 @@ void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Channels:";
-  for (const std::string& name : this->Internals->Channels)
+  for (const std::string& name : this->Internals->Channels.GetNames())
   {
     os << " " << name;
   }

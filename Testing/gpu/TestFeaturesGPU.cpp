@@ -4,10 +4,10 @@
 // multichannel volumes (6D, 24D, Custom; ZScore, MinMax, None; with NaN/Inf voxels) and
 // on the real Colin27 brain (ch2 + aal + brodmann when present). Skips without a GPU.
 #include "cuda/FeaturesCuda.h"
-#include "cuda/HarrisCuda.h" // deviceUsable
 
 #include "FeatureVectors.h"
 
+#include "RequireGpu.h"
 #include "TestVolumes.h"
 
 #include <gtest/gtest.h>
@@ -27,16 +27,6 @@ using mcv::FeatureNormalization;
 using mcv::FeatureOptions;
 using mcv::FeaturePreset;
 using mcv::ImageGrid;
-
-#define MCV_REQUIRE_GPU()                                                                         \
-  do                                                                                              \
-  {                                                                                               \
-    std::string why_;                                                                             \
-    if (!mcv::cuda::deviceUsable(&why_))                                                          \
-    {                                                                                             \
-      GTEST_SKIP() << "no usable GPU: " << why_;                                                  \
-    }                                                                                             \
-  } while (0)
 
 struct FeatureRun
 {

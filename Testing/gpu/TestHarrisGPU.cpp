@@ -10,6 +10,7 @@
 #include "ViewFromPoints.h"
 
 #include "PointComparison.h"
+#include "RequireGpu.h"
 #include "TestVolumes.h"
 
 #include <gtest/gtest.h>
@@ -33,16 +34,6 @@ namespace mt = mcv::testing;
 using mcv::HarrisParameters;
 using mcv::ImageGrid;
 using mcv::InterestPoints;
-
-#define MCV_REQUIRE_GPU()                                                                         \
-  do                                                                                              \
-  {                                                                                               \
-    std::string why_;                                                                             \
-    if (!mcv::cuda::deviceUsable(&why_))                                                          \
-    {                                                                                             \
-      GTEST_SKIP() << "no usable GPU: " << why_;                                                  \
-    }                                                                                             \
-  } while (0)
 
 constexpr int kN = 2048;
 
