@@ -1,0 +1,195 @@
+// k-means by hand: the clustering is a few dozen lines on a few thousand 2D/3D points, and
+// the C++ libraries that have it (mlpack, OpenCV) would be heavy new dependencies for that.
+#include "WidgetSeeding.h"
+
+#include "ReferenceSample.h" // uniformIndex: a portable seeded RNG
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace mcv
+{
+
+void distinctColor(int index, int count, double rgb[3])
+{
+  const double h = count > 0 ? 6.0 * static_cast<double>(index) / static_cast<double>(count) : 0.0;
+  const double s = 0.85, v = 1.0;
+  const int sector = static_cast<int>(std::floor(h)) % 6;
+  const double f = h - std::floor(h);
+  const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
+  const double table[6][3] = { { v, t, p }, { q, v, p }, { p, v, t }, { p, q, v }, { t, p, v }, { v, p, q } };
+  std::copy(table[sector], table[sector] + 3, rgb);
+}
+
+namespace
+{
+
+using Points = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+double uniform01(std::uint64_t& state)
+{
+  return static_cast<double>(uniformIndex(state, std::uint64_t(1) << 53)) / 9007199254740992.0;
+}
+
+// k-means++: each new centre drawn with probability proportional to the squared distance
+// to the nearest centre so far.
+Points kmeansPlusPlus(const Points& X, int k, std::uint64_t seed)
+{
+  std::uint64_t state = seed * 0x9E3779B97F4A7C15ull + 1;
+  const Eigen::Index n = X.rows();
+  Points centres(k, X.cols());
+  centres.row(0) = X.row(static_cast<Eigen::Index>(uniformIndex(state, static_cast<std::uint64_t>(n))));
+  Eigen::VectorXd nearest = (X.rowwise() - centres.row(0)).rowwise().squaredNorm();
+  for (int c = 1; c < k; ++c)
+  {
+    const double total = nearest.sum();
+    Eigen::Index pick = 0;
+    if (total > 0)
+    {
+      double target = uniform01(state) * total;
+      for (pick = 0; pick < n - 1; ++pick)
+      {
+        target -= nearest[pick];
+        if (target < 0)
+        {
+          break;
+        }
+      }
+    }
+    centres.row(c) = X.row(pick);
+    nearest = nearest.cwiseMin((X.rowwise() - centres.row(c)).rowwise().squaredNorm());
+  }
+  return centres;
+}
+
+} // namespace
+
+WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeedingOptions& options)
+{
+  WidgetSeeding out;
+  const int dims = points.components;
+  if (dims != 2 && dims != 3)
+  {
+    out.error = "Widget seeding needs 2- or 3-component coordinates, not " + std::to_string(dims) + ".";
+    return out;
+  }
+  if (options.count < 1)
+  {
+    out.error = "Widget seeding needs a widget count >= 1.";
+    return out;
+  }
+  // Finite points, and the number of distinct ones (k cannot exceed it).
+  std::vector<Eigen::Index> finite;
+  for (std::size_t i = 0; i < points.count; ++i)
+  {
+    const float* p = points.data + i * dims;
+    if (std::all_of(p, p + dims, [](float v) { return std::isfinite(v); }))
+    {
+      finite.push_back(static_cast<Eigen::Index>(i));
+    }
+  }
+  Points X(static_cast<Eigen::Index>(finite.size()), dims);
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+  {
+    for (int c = 0; c < dims; ++c)
+    {
+      X(r, c) = points.data[finite[static_cast<std::size_t>(r)] * dims + c];
+    }
+  }
+  std::vector<std::vector<double>> rows(static_cast<std::size_t>(X.rows()));
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+  {
+    rows[static_cast<std::size_t>(r)].assign(X.row(r).data(), X.row(r).data() + dims);
+  }
+  std::sort(rows.begin(), rows.end());
+  const auto distinct = static_cast<int>(std::unique(rows.begin(), rows.end()) - rows.begin());
+  if (distinct == 0)
+  {
+    out.error = "Widget seeding: no point has finite coordinates.";
+    return out;
+  }
+  const int k = std::min(options.count, distinct);
+
+  Points centres = kmeansPlusPlus(X, k, options.seed);
+  std::vector<int> label(static_cast<std::size_t>(X.rows()), -1);
+  for (out.iterations = 0; out.iterations < std::max(1, options.maxIterations); ++out.iterations)
+  {
+    bool changed = false;
+    for (Eigen::Index r = 0; r < X.rows(); ++r)
+    {
+      Eigen::Index best;
+      (centres.rowwise() - X.row(r)).rowwise().squaredNorm().minCoeff(&best);
+      changed = changed || label[static_cast<std::size_t>(r)] != static_cast<int>(best);
+      label[static_cast<std::size_t>(r)] = static_cast<int>(best);
+    }
+    if (!changed)
+    {
+      break;
+    }
+    Points sums = Points::Zero(k, dims);
+    Eigen::VectorXd counts = Eigen::VectorXd::Zero(k);
+    for (Eigen::Index r = 0; r < X.rows(); ++r)
+    {
+      sums.row(label[static_cast<std::size_t>(r)]) += X.row(r);
+      counts[label[static_cast<std::size_t>(r)]] += 1;
+    }
+    for (int c = 0; c < k; ++c)
+    {
+      if (counts[c] > 0) // an emptied cluster keeps its centre
+      {
+        centres.row(c) = sums.row(c) / counts[c];
+      }
+    }
+  }
+
+  // Spread per cluster, then order by size (ties: by centre, so the order is deterministic).
+  std::vector<double> spread(static_cast<std::size_t>(k), 0.0);
+  std::vector<std::size_t> size(static_cast<std::size_t>(k), 0);
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+  {
+    const int c = label[static_cast<std::size_t>(r)];
+    spread[static_cast<std::size_t>(c)] += (X.row(r) - centres.row(c)).squaredNorm();
+    ++size[static_cast<std::size_t>(c)];
+  }
+  // The domain's own spread: sigma for a cluster of one point (or identical points).
+  const double domainSigma =
+    std::sqrt((X.rowwise() - X.colwise().mean()).rowwise().squaredNorm().mean() / dims);
+  std::vector<int> order(static_cast<std::size_t>(k));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&size](int a, int b) { return size[a] > size[b]; });
+
+  std::vector<int> rank(static_cast<std::size_t>(k));
+  for (int i = 0; i < k; ++i)
+  {
+    const int c = order[static_cast<std::size_t>(i)];
+    rank[static_cast<std::size_t>(c)] = i;
+    GaussianWidget w;
+    for (int d = 0; d < dims; ++d)
+    {
+      w.center[d] = centres(c, d);
+    }
+    const std::size_t m = size[static_cast<std::size_t>(c)];
+    double sigma = m > 0 ? std::sqrt(spread[static_cast<std::size_t>(c)] / (static_cast<double>(m) * dims)) : 0.0;
+    if (!(sigma > 0))
+    {
+      sigma = domainSigma > 0 ? 0.1 * domainSigma : 1.0;
+    }
+    w.sigma = sigma;
+    distinctColor(i, k, w.color);
+    w.opacity = std::min(1.0, std::max(0.0, options.opacity));
+    out.widgets.push_back(w);
+    out.clusterSizes.push_back(m);
+  }
+  out.labels.assign(points.count, -1);
+  for (std::size_t r = 0; r < finite.size(); ++r)
+  {
+    out.labels[static_cast<std::size_t>(finite[r])] = rank[static_cast<std::size_t>(label[r])];
+  }
+  return out;
+}
+
+} // namespace mcv
