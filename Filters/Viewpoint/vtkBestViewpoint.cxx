@@ -22,6 +22,7 @@
 
 // The VTK-free core (Filters/Core).
 #include "BestViewpoint.h"
+#include "GaussianTransferFunction.h"
 #include "OpacityFunction.h"
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
@@ -42,6 +43,7 @@ vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
 struct vtkBestViewpoint::vtkInternals
 {
   mcv::vtkhelpers::ChannelSelection Channels;
+  std::vector<double> GaussianWidgets; // flat, 8 per widget
   std::string DeviceUsed = "CPU";
 };
 
@@ -134,12 +136,58 @@ vtkBestViewpoint::vtkBestViewpoint()
 {
   this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(1);
+  this->SetWidgetCoordinates("ReducedCoordinates");
 }
 
 //------------------------------------------------------------------------------
 vtkBestViewpoint::~vtkBestViewpoint()
 {
   this->SetOpacityFunction(nullptr);
+  this->SetWidgetCoordinates(nullptr);
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::SetNumberOfGaussianWidgetValues(int count)
+{
+  if (count >= 0 && static_cast<std::size_t>(count) != this->Internals->GaussianWidgets.size())
+  {
+    this->Internals->GaussianWidgets.resize(static_cast<std::size_t>(count), 0.0);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::SetGaussianWidgetValue(int index, double value)
+{
+  std::vector<double>& values = this->Internals->GaussianWidgets;
+  if (index < 0)
+  {
+    return;
+  }
+  if (static_cast<std::size_t>(index) >= values.size())
+  {
+    values.resize(static_cast<std::size_t>(index) + 1, 0.0);
+  }
+  if (values[static_cast<std::size_t>(index)] != value)
+  {
+    values[static_cast<std::size_t>(index)] = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::GetNumberOfGaussianWidgetValues()
+{
+  return static_cast<int>(this->Internals->GaussianWidgets.size());
+}
+
+//------------------------------------------------------------------------------
+double vtkBestViewpoint::GetGaussianWidgetValue(int index)
+{
+  const std::vector<double>& values = this->Internals->GaussianWidgets;
+  return index >= 0 && static_cast<std::size_t>(index) < values.size()
+    ? values[static_cast<std::size_t>(index)]
+    : 0.0;
 }
 
 //------------------------------------------------------------------------------
@@ -224,6 +272,151 @@ void vtkBestViewpoint::ResetResults()
 }
 
 //------------------------------------------------------------------------------
+bool vtkBestViewpoint::ComputeChannelOpacity(
+  vtkImageData* image, std::size_t count, std::vector<float>& opacity)
+{
+  std::vector<vtkDataArray*> arrays;
+  const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
+    this->Internals->Channels.GetNames(),
+    [](vtkPointData* pd) {
+      // No names: the active scalars, else every numeric point array.
+      std::vector<vtkDataArray*> picked;
+      if (vtkDataArray* scalars = pd->GetScalars())
+      {
+        picked.push_back(scalars);
+        return picked;
+      }
+      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+      {
+        vtkDataArray* dataArray = pd->GetArray(i);
+        if (dataArray && !mcv::vtkhelpers::isInternalArray(dataArray->GetName()))
+        {
+          picked.push_back(dataArray);
+        }
+      }
+      return picked;
+    },
+    "BestViewpoint", arrays);
+  if (!selectionError.empty())
+  {
+    vtkErrorMacro(<< selectionError);
+    return false;
+  }
+
+  // Channels as the core sees them: contiguous (AOS) arrays of a supported type.
+  mcv::vtkhelpers::ChannelArrays channelArrays;
+  const std::string channelError = mcv::vtkhelpers::toChannels(arrays, count, channelArrays);
+  if (!channelError.empty())
+  {
+    vtkErrorMacro(<< channelError);
+    return false;
+  }
+  const std::vector<mcv::ChannelView>& channels = channelArrays.views;
+  const std::vector<std::string>& channelNames = channelArrays.labels;
+
+  mcv::OpacityFunction userFunction;
+  if (this->OpacityFunction)
+  {
+    userFunction = toCoreFunction(this->OpacityFunction);
+    if (userFunction.empty())
+    {
+      vtkWarningMacro("The opacity function has no nodes: using each channel's own range "
+                      "mapped linearly to 0..1.");
+    }
+  }
+  opacity.assign(count, 0.0f);
+  std::size_t nonFinite = 0;
+  for (std::size_t c = 0; c < channels.size(); ++c)
+  {
+    mcv::OpacityFunction f = userFunction;
+    if (f.empty())
+    {
+      const std::pair<double, double> range = mcv::finiteRange(channels[c], count);
+      if (!(range.first <= range.second))
+      {
+        vtkWarningMacro("Channel " << channelNames[c]
+                                   << " holds no finite value: it adds no opacity.");
+        nonFinite += count;
+        continue;
+      }
+      if (range.first == range.second)
+      {
+        vtkWarningMacro("Channel " << channelNames[c] << " is constant (" << range.first
+                                   << "): it adds no opacity.");
+        nonFinite += mcv::accumulateOpacity(channels[c], count,
+          mcv::OpacityFunction{ { range.first }, { 0.0 } }, opacity.data());
+        continue;
+      }
+      f = mcv::OpacityFunction::ramp(range.first, range.second);
+    }
+    nonFinite += mcv::accumulateOpacity(channels[c], count, f, opacity.data());
+    this->UpdateProgress(0.05 * (c + 1) / channels.size());
+  }
+  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite);
+  if (nonFinite > 0)
+  {
+    vtkWarningMacro(<< nonFinite << " NaN/Inf voxel value(s) in the selected channels: "
+                                    "they were given opacity 0.");
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkBestViewpoint::ComputeWidgetOpacity(
+  vtkImageData* image, std::size_t count, std::vector<float>& opacity)
+{
+  const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
+    this->Internals->GaussianWidgets.data(), this->Internals->GaussianWidgets.size());
+  if (!widgets.ok())
+  {
+    vtkErrorMacro(<< widgets.error);
+    return false;
+  }
+  for (const std::string& warning : widgets.warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+  const char* name = this->WidgetCoordinates ? this->WidgetCoordinates : "";
+  vtkDataArray* coordinates = image->GetPointData()->GetArray(name);
+  if (!coordinates)
+  {
+    vtkErrorMacro("OpacitySource is the Gaussian widgets, but the input has no point array '"
+      << name << "' with the coordinates they are placed in (run DimensionReduction first).");
+    return false;
+  }
+  const int components = coordinates->GetNumberOfComponents();
+  if ((components != 2 && components != 3) ||
+    static_cast<std::size_t>(coordinates->GetNumberOfTuples()) != count)
+  {
+    vtkErrorMacro("The widget coordinates '" << name << "' must have 2 or 3 components and one "
+      "tuple per voxel (it has " << components << " component(s), "
+      << coordinates->GetNumberOfTuples() << " tuples).");
+    return false;
+  }
+  // The core reads contiguous float32; other layouts are converted once.
+  vtkSmartPointer<vtkFloatArray> floats = vtkFloatArray::FastDownCast(coordinates);
+  if (!floats)
+  {
+    floats = vtkSmartPointer<vtkFloatArray>::New();
+    floats->DeepCopy(coordinates);
+  }
+  opacity.assign(count, 0.0f);
+  const mcv::TransferFunctionRun run = mcv::gaussianWidgetOpacity(
+    { floats->GetPointer(0), count, components }, widgets.widgets, opacity.data(),
+    static_cast<mcv::Device>(this->Device));
+  if (!run.ok())
+  {
+    vtkErrorMacro(<< run.error);
+    return false;
+  }
+  for (const std::string& warning : run.warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
 int vtkBestViewpoint::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -267,90 +460,15 @@ int vtkBestViewpoint::RequestData(
   }
   const std::size_t count = grid.voxelCount();
 
-  std::vector<vtkDataArray*> arrays;
-  const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
-    this->Internals->Channels.GetNames(),
-    [](vtkPointData* pd) {
-      // No names: the active scalars, else every numeric point array.
-      std::vector<vtkDataArray*> picked;
-      if (vtkDataArray* scalars = pd->GetScalars())
-      {
-        picked.push_back(scalars);
-        return picked;
-      }
-      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-      {
-        vtkDataArray* dataArray = pd->GetArray(i);
-        if (dataArray && !mcv::vtkhelpers::isInternalArray(dataArray->GetName()))
-        {
-          picked.push_back(dataArray);
-        }
-      }
-      return picked;
-    },
-    "BestViewpoint", arrays);
-  if (!selectionError.empty())
-  {
-    vtkErrorMacro(<< selectionError);
-    return 0;
-  }
-
-  // Channels as the core sees them: contiguous (AOS) arrays of a supported type.
-  mcv::vtkhelpers::ChannelArrays channelArrays;
-  const std::string channelError = mcv::vtkhelpers::toChannels(arrays, count, channelArrays);
-  if (!channelError.empty())
-  {
-    vtkErrorMacro(<< channelError);
-    return 0;
-  }
-  const std::vector<mcv::ChannelView>& channels = channelArrays.views;
-  const std::vector<std::string>& channelNames = channelArrays.labels;
-
-  // ---- Opacity volume: max over channels of the opacity function -----------------
+  // ---- Opacity volume ------------------------------------------------------------
   this->UpdateProgress(0.0);
-  mcv::OpacityFunction userFunction;
-  if (this->OpacityFunction)
+  std::vector<float> opacity;
+  const bool opacityOk = this->OpacitySource == OPACITY_GAUSSIAN_WIDGETS
+    ? this->ComputeWidgetOpacity(image, count, opacity)
+    : this->ComputeChannelOpacity(image, count, opacity);
+  if (!opacityOk)
   {
-    userFunction = toCoreFunction(this->OpacityFunction);
-    if (userFunction.empty())
-    {
-      vtkWarningMacro("The opacity function has no nodes: using each channel's own range "
-                      "mapped linearly to 0..1.");
-    }
-  }
-  std::vector<float> opacity(count, 0.0f);
-  std::size_t nonFinite = 0;
-  for (std::size_t c = 0; c < channels.size(); ++c)
-  {
-    mcv::OpacityFunction f = userFunction;
-    if (f.empty())
-    {
-      const std::pair<double, double> range = mcv::finiteRange(channels[c], count);
-      if (!(range.first <= range.second))
-      {
-        vtkWarningMacro("Channel " << channelNames[c]
-                                   << " holds no finite value: it adds no opacity.");
-        nonFinite += count;
-        continue;
-      }
-      if (range.first == range.second)
-      {
-        vtkWarningMacro("Channel " << channelNames[c] << " is constant (" << range.first
-                                   << "): it adds no opacity.");
-        nonFinite += mcv::accumulateOpacity(channels[c], count,
-          mcv::OpacityFunction{ { range.first }, { 0.0 } }, opacity.data());
-        continue;
-      }
-      f = mcv::OpacityFunction::ramp(range.first, range.second);
-    }
-    nonFinite += mcv::accumulateOpacity(channels[c], count, f, opacity.data());
-    this->UpdateProgress(0.05 * (c + 1) / channels.size());
-  }
-  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite);
-  if (nonFinite > 0)
-  {
-    vtkWarningMacro(<< nonFinite << " NaN/Inf voxel value(s) in the selected channels: "
-                                    "they were given opacity 0.");
+    return 0;
   }
 
   // ---- Geometry --------------------------------------------------------------------

@@ -37,6 +37,9 @@
 #include "vtkPolyDataAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
+#include <vector> // for std::vector
+
+class vtkImageData;
 
 class vtkPiecewiseFunction;
 
@@ -52,6 +55,12 @@ public:
     HARRIS_PCA = 0,
     AREA_MAXIMIZING = 1,
     VIEWPOINT_ENTROPY = 2
+  };
+
+  enum OpacitySourceType
+  {
+    OPACITY_CHANNELS = 0,        // channels through OpacityFunction (or their ranges)
+    OPACITY_GAUSSIAN_WIDGETS = 1 // the Gaussian TF representation's widget opacity
   };
 
   enum DeviceType
@@ -79,6 +88,35 @@ public:
    */
   void SetOpacityFunction(vtkPiecewiseFunction* function);
   vtkGetObjectMacro(OpacityFunction, vtkPiecewiseFunction);
+  ///@}
+
+  ///@{
+  /**
+   * Where the opacity volume comes from: OPACITY_CHANNELS (default; Channels through
+   * OpacityFunction) or OPACITY_GAUSSIAN_WIDGETS: the opacity
+   * 1 - prod_i (1 - a_i exp(-|x - mu_i|^2 / (2 sigma_i^2))) of the Gaussian widgets at each
+   * voxel's coordinates (the point array WidgetCoordinates, 2 or 3 components), the same
+   * opacity the "Gaussian TF Volume" representation renders.
+   */
+  vtkSetClampMacro(OpacitySource, int, OPACITY_CHANNELS, OPACITY_GAUSSIAN_WIDGETS);
+  vtkGetMacro(OpacitySource, int);
+  ///@}
+
+  ///@{
+  /**
+   * The Gaussian widgets for OPACITY_GAUSSIAN_WIDGETS: a flat list of 8 values per widget
+   * (cx, cy, cz, sigma, r, g, b, opacity), the representation's GaussianWidgets property.
+   */
+  void SetNumberOfGaussianWidgetValues(int count);
+  void SetGaussianWidgetValue(int index, double value);
+  int GetNumberOfGaussianWidgetValues();
+  double GetGaussianWidgetValue(int index);
+  ///@}
+
+  ///@{
+  /** Point array with the widgets' coordinates (default "ReducedCoordinates"). */
+  vtkSetStringMacro(WidgetCoordinates);
+  vtkGetStringMacro(WidgetCoordinates);
   ///@}
 
   ///@{
@@ -163,6 +201,10 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   void ResetResults();
+  // The opacity volume (count floats) from the channels or from the widgets; false after
+  // an error was reported.
+  bool ComputeChannelOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);
+  bool ComputeWidgetOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);
 
   vtkPiecewiseFunction* OpacityFunction = nullptr;
   int NumberOfInterestPoints = 2048;
@@ -173,6 +215,8 @@ protected:
   int EntropySamples = 400;
   int EntropyImageSize = 128;
   int Device = DEVICE_AUTO;
+  int OpacitySource = OPACITY_CHANNELS;
+  char* WidgetCoordinates = nullptr;
 
   double BestViewDirection[3] = { 0, 0, 0 };
   double WorstViewDirection[3] = { 0, 0, 0 };

@@ -34,6 +34,13 @@ __all__ = [
     "image_entropy",
     "image_statistics",
     "reduce_multichannel",
+    "reduced_domain_filter",
+    "auto_widgets",
+    "show_dual_domain",
+    "follow_best_viewpoint",
+    "stop_following",
+    "turn_camera",
+    "GAUSSIAN_TF_REPRESENTATION",
 ]
 
 _FILTER_XML_NAME = "BestViewpoint"
@@ -85,11 +92,12 @@ def _same_proxy(a, b):
                       and a.GetGlobalID() == b.GetGlobalID())
 
 
-def _find_filter(source):
-    """The BestViewpoint filter already applied to `source`, or None."""
+def _find_filter(source, xml_name=_FILTER_XML_NAME):
+    """The filter of type `xml_name` (default BestViewpoint) already applied to `source`,
+    or None."""
     simple = _simple()
     for proxy in simple.GetSources().values():
-        if proxy.SMProxy.GetXMLName() != _FILTER_XML_NAME:
+        if proxy.SMProxy.GetXMLName() != xml_name:
             continue
         inputs = proxy.Input
         if not isinstance(inputs, (list, tuple)):
@@ -117,13 +125,50 @@ def _volume_display(source, view):
     return rep
 
 
+GAUSSIAN_TF_REPRESENTATION = "Gaussian TF Volume"
+
+
+def _gaussian_tf_display(source, view):
+    """The source's representation in `view` when it is visible as a Gaussian TF Volume."""
+    if view is None or source is None:
+        return None
+    from paraview import servermanager
+
+    rep = servermanager.GetRepresentation(source, view)
+    try:
+        if rep is None or not rep.Visibility or \
+                rep.Representation != GAUSSIAN_TF_REPRESENTATION:
+            return None
+    except AttributeError:
+        return None
+    return rep
+
+
+def _widget_values(display):
+    return [float(v) for v in display.GetProperty("GaussianWidgets")]
+
+
+def _coordinates_name(display):
+    """Name of the coordinate array a Gaussian TF display maps through its widgets."""
+    for prop in ("CoordinatesArray", "Coordinates", "CoordinateArray"):
+        if display.GetProperty(prop) is not None:
+            value = display.GetPropertyValue(prop)
+            if isinstance(value, (list, tuple)):
+                value = value[-1] if value else ""
+            if value:
+                return str(value)
+    return "ReducedCoordinates"
+
+
 def best_viewpoint_filter(source, view=None, **filter_properties):
     """Creates (or reuses) the BestViewpoint filter on `source`, sets its properties,
     updates it and its information properties, and returns it.
 
     When `source` is shown as a Volume in `view` and neither OpacityFunction nor
     Channels is given, the filter follows that display: its Scalar Opacity Function and
-    its colouring array. The active source is left as it was.
+    its colouring array. When it is shown as a "Gaussian TF Volume", the filter takes
+    the opacity of that display's Gaussian widgets (OpacitySource = Representation).
+    The active source is left as it was.
     """
     if source is None:
         raise ValueError("best_viewpoint_filter: no source given")
@@ -144,6 +189,12 @@ def best_viewpoint_filter(source, view=None, **filter_properties):
             simple.SetActiveSource(active)
 
     rep = _volume_display(source, view)
+    gaussian = _gaussian_tf_display(source, view)
+    if gaussian is not None and "OpacitySource" not in filter_properties:
+        # The best view of what the multichannel transfer function shows.
+        filter_properties["OpacitySource"] = "Representation"
+        filter_properties.setdefault("GaussianWidgets", _widget_values(gaussian))
+        filter_properties.setdefault("WidgetCoordinates", _coordinates_name(gaussian))
     if rep is not None:
         if "OpacityFunction" not in filter_properties:
             filter_properties["OpacityFunction"] = rep.ScalarOpacityFunction
@@ -395,3 +446,252 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
     for name, value in props.items():
         setattr(reduction, name, value)
     return feats, reduction
+
+
+# ---- The multichannel transfer function: reduced domain, widgets, following views ------
+
+def _is_representation(proxy):
+    proxy = getattr(proxy, "SMProxy", proxy)
+    return proxy is not None and proxy.GetXMLGroup() == "representations"
+
+
+def _source_and_display(target, view=None):
+    """(source, Gaussian TF display or None) for a source or a representation proxy."""
+    if target is None:
+        raise ValueError("no source or display given")
+    if _is_representation(target):
+        return target.Input, target
+    if view is None:
+        view = _simple().GetActiveView()
+    return target, _gaussian_tf_display(target, view)
+
+
+def reduced_domain_filter(source, **props):
+    """Creates (or reuses) the ReducedDomain filter on `source` (a volume with
+    ReducedCoordinates), sets `props` (SampleSize, RandomSeed, GaussianWidgets,
+    SeedWidgetCount, Coordinates, ...) and returns it, not shown and not updated. The
+    active source is left as it was."""
+    simple = _simple()
+    if not hasattr(simple, "ReducedDomain"):
+        raise RuntimeError("ReducedDomain is not available: load the MultichannelExplorer "
+                           "plugin first")
+    domain = _find_filter(source, "ReducedDomain")
+    if domain is None:
+        active = simple.GetActiveSource()
+        domain = simple.ReducedDomain(Input=source)
+        if active is not None:
+            simple.SetActiveSource(active)
+    for name, value in props.items():
+        setattr(domain, name, value)
+    return domain
+
+
+def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20000):
+    """Seeds `count` Gaussian widgets at the k-means cluster centres of the reduced domain
+    (largest cluster first, distinct hues, sigma = each cluster's spread, peak `opacity`).
+
+    `target` is a volume with ReducedCoordinates or its "Gaussian TF Volume" display; when
+    a display is given (or the volume is shown as one in `view`), its GaussianWidgets are
+    set. Returns the flat widget list (8 numbers per widget: cx, cy, cz, sigma, r, g, b,
+    opacity)::
+
+        display = mce.show_gaussian_tf(reduction, view)
+        mce.auto_widgets(display, 3)
+    """
+    if int(count) < 1:
+        raise ValueError("auto_widgets needs count >= 1, not %r" % (count,))
+    source, display = _source_and_display(target, view)
+    props = dict(SeedWidgetCount=int(count), SeedWidgetOpacity=float(opacity),
+                 RandomSeed=int(seed), SampleSize=int(sample_size))
+    if display is not None:
+        props["Coordinates"] = ["POINTS", _coordinates_name(display)]
+    domain = reduced_domain_filter(source, **props)
+    domain.UpdatePipeline()
+    domain.UpdatePropertyInformation()
+    widgets = [float(v) for v in domain.GetProperty("SeededWidgets")]
+    domain.SeedWidgetCount = 0  # one suggestion; later updates only recolour
+    if not widgets:
+        raise RuntimeError("auto_widgets: no widgets could be seeded (see the messages of "
+                           "ReducedDomain)")
+    if display is not None:
+        display.GaussianWidgets = widgets
+    return widgets
+
+
+class _Follower(object):
+    """Calls `callback` whenever a proxy property changes; stop() ends it."""
+
+    def __init__(self, proxy, prop_name, callback):
+        self.property = proxy.GetProperty(prop_name)
+        if self.property is None:
+            raise ValueError("%s has no property %s" % (proxy.GetXMLName(), prop_name))
+        self.property = getattr(self.property, "SMProperty", self.property)
+        self.callback = callback
+        self.tag = self.property.AddObserver("ModifiedEvent", self._fire)
+        self.busy = False
+
+    def _fire(self, *unused):
+        if self.busy:  # a change made by the callback itself
+            return
+        self.busy = True
+        try:
+            self.callback()
+        finally:
+            self.busy = False
+
+    def stop(self):
+        if self.tag is not None:
+            self.property.RemoveObserver(self.tag)
+            self.tag = None
+
+
+def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
+                     widget_opacity=0.35):
+    """Shows the reduced domain beside the volume: splits the volume view's layout cell
+    and puts a render view with the domain's point cloud (a sample of `sample_size`
+    voxels at their reduced coordinates, coloured by the widgets over grey) and the
+    widgets as translucent spheres (diameter 2 sigma, the widget's colour).
+
+    `target`: a "Gaussian TF Volume" display, or the volume shown as one in
+    `volume_view`. While the returned object lives, every change of the display's
+    GaussianWidgets recolours the domain (call .stop() to end that). Returns a
+    ViewpointResult-like dict: filter, domain_view, volume_view, domain_display,
+    widget_display, stop."""
+    simple = _simple()
+    if volume_view is None:
+        volume_view = simple.GetActiveViewOrCreate("RenderView")
+    source, display = _source_and_display(target, volume_view)
+    props = dict(SampleSize=int(sample_size))
+    if display is not None:
+        props["GaussianWidgets"] = _widget_values(display)
+        props["Coordinates"] = ["POINTS", _coordinates_name(display)]
+    domain = reduced_domain_filter(source, **props)
+
+    domain_view = simple.CreateView("RenderView")
+    layout = simple.GetLayout(volume_view)
+    if layout is not None:
+        cell = layout.GetViewLocation(volume_view)
+        first = layout.SplitHorizontal(cell, 0.5)
+        layout.AssignView(first + 1, domain_view)
+    points = simple.Show(simple.OutputPort(domain, 0), domain_view)
+    points.SetRepresentationType("Points")
+    simple.ColorBy(points, ("POINTS", "DisplayColor"))
+    points.MapScalars = 0  # the colours themselves, not a colour map
+    points.PointSize = point_size
+    glyph = simple.Glyph(Input=simple.OutputPort(domain, 1), GlyphType="Sphere")
+    glyph.ScaleArray = ["POINTS", "Diameter"]
+    glyph.ScaleFactor = 1.0
+    glyph.GlyphMode = "All Points"
+    spheres = simple.Show(glyph, domain_view)
+    simple.ColorBy(spheres, ("POINTS", "Color"))
+    spheres.MapScalars = 0
+    spheres.Opacity = widget_opacity
+    simple.ResetCamera(domain_view)
+    simple.Render(domain_view)
+
+    follower = None
+    if display is not None:
+        def recolour():
+            domain.GaussianWidgets = _widget_values(display)
+            simple.Render(domain_view)
+        follower = _Follower(display, "GaussianWidgets", recolour)
+    _followers.append(follower)
+    return ViewpointResult(filter=domain, glyph=glyph, domain_view=domain_view,
+                           volume_view=volume_view, domain_display=points,
+                           widget_display=spheres,
+                           stop=(follower.stop if follower else (lambda: None)))
+
+
+_followers = []  # keeps observers' Python callbacks alive
+
+
+def _normalized(v):
+    n = math.sqrt(sum(x * x for x in v))
+    return [x / n for x in v] if n > 0 else list(v)
+
+
+def _slerp(a, b, t):
+    """Unit vector a fraction t of the way from unit vector a to b along the great circle."""
+    dot = max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))
+    angle = math.acos(dot)
+    if angle < 1e-6:
+        return list(b)
+    if math.pi - angle < 1e-6:  # opposite: turn through any perpendicular
+        perp = _normalized([a[1], -a[0], 0.0] if abs(a[2]) < 0.9 else [0.0, a[2], -a[1]])
+        return _normalized([math.cos(t * math.pi) * x + math.sin(t * math.pi) * y
+                            for x, y in zip(a, perp)])
+    s = math.sin(angle)
+    return [(math.sin((1 - t) * angle) * x + math.sin(t * angle) * y) / s
+            for x, y in zip(a, b)]
+
+
+def turn_camera(view, center, direction, view_up, frames=10):
+    """Turns the camera of `view` to look along `direction` at `center` in `frames`
+    rendered steps (great-circle interpolation of the direction and the view-up), then
+    fits the data in the view. frames <= 1: at once."""
+    position = [float(p) for p in view.CameraPosition]
+    focal = [float(p) for p in view.CameraFocalPoint]
+    start = _normalized([f - p for f, p in zip(focal, position)])
+    start_up = _normalized([float(u) for u in view.CameraViewUp])
+    goal, goal_up = _normalized(direction), _normalized(view_up)
+    for i in range(1, max(1, int(frames))):
+        t = float(i) / frames
+        d = _slerp(start, goal, t)
+        up = _slerp(start_up, goal_up, t)
+        # Keep view-up perpendicular to the direction.
+        dot = sum(x * y for x, y in zip(up, d))
+        up = _normalized([u - dot * x for u, x in zip(up, d)])
+        set_camera_direction(view, center, d, up, fill=False)
+    set_camera_direction(view, center, goal, goal_up)
+
+
+def follow_best_viewpoint(display, view=None, frames=10, which="best", **filter_properties):
+    """Keeps the camera of `view` on the best view of what a "Gaussian TF Volume"
+    `display` shows: now, and after every change of its GaussianWidgets the best
+    viewpoint is recomputed from the widgets' opacity and the camera turns there in
+    `frames` rendered steps. Returns an object with .stop() (also stop_following())."""
+    simple = _simple()
+    if view is None:
+        view = simple.GetActiveView()
+    if not _is_representation(display):
+        source = display
+        display = _gaussian_tf_display(source, view)
+        if display is None:
+            raise ValueError("follow_best_viewpoint needs a display of type %r in the view"
+                             % GAUSSIAN_TF_REPRESENTATION)
+    source = display.Input
+    state = {"result": None}
+
+    def update():
+        props = dict(filter_properties)
+        props.update(OpacitySource="Representation", GaussianWidgets=_widget_values(display),
+                     WidgetCoordinates=_coordinates_name(display))
+        bvp = best_viewpoint_filter(source, view, **props)
+        direction = _vec(bvp, "BestViewDirection" if which == "best" else "WorstViewDirection")
+        if not bvp.GetPropertyValue("ViewValid") or sum(d * d for d in direction) < 0.5:
+            _warn("follow_best_viewpoint: no %s view for these widgets; the camera stays"
+                  % which)
+            return
+        # Of +v and -v, the one nearer the current camera: the smallest turn.
+        position = [float(p) for p in view.CameraPosition]
+        focal = [float(p) for p in view.CameraFocalPoint]
+        current = [f - p for f, p in zip(focal, position)]
+        if sum(c * d for c, d in zip(current, direction)) < 0:
+            direction = [-d for d in direction]
+        turn_camera(view, _vec(bvp, "DataCenter"), direction, _vec(bvp, "ViewUp"), frames)
+        state["result"] = ViewpointResult(direction=direction, filter=bvp, which=which,
+                                          eigenvalues=_vec(bvp, "EigenvalueSpectrum"))
+
+    follower = _Follower(display, "GaussianWidgets", update)
+    _followers.append(follower)
+    update()
+    follower.state = state
+    return follower
+
+
+def stop_following():
+    """Ends every follow_best_viewpoint / show_dual_domain observer."""
+    while _followers:
+        follower = _followers.pop()
+        if follower is not None:
+            follower.stop()

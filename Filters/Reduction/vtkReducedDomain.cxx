@@ -1,0 +1,423 @@
+#include "vtkReducedDomain.h"
+
+#include "vtkCellArray.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+
+// The VTK-free core (Filters/Core).
+#include "GaussianTransferFunction.h"
+#include "ReferenceSample.h" // uniformIndex: the suite's portable seeded RNG
+#include "WidgetSeeding.h"
+
+#include "../Common/mcvWholeExtent.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+vtkStandardNewMacro(vtkReducedDomain);
+
+struct vtkReducedDomain::vtkInternals
+{
+  std::vector<double> GaussianWidgets; // flat, 8 per widget
+  vtkNew<vtkDoubleArray> SeededWidgets;
+};
+
+namespace
+{
+
+// Knuth's selection sampling (Algorithm S): exactly `wanted` of the `eligible` points,
+// uniformly, in one ordered pass and O(wanted) memory (a volume can have 10^8 voxels).
+std::vector<vtkIdType> selectionSample(const std::vector<bool>& isEligible, std::size_t eligible,
+  std::size_t wanted, std::uint64_t seed)
+{
+  std::vector<vtkIdType> picked;
+  picked.reserve(std::min(wanted, eligible));
+  std::uint64_t state = seed * 0x9E3779B97F4A7C15ull + 0x5851F42D4C957F2Dull;
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < isEligible.size() && picked.size() < wanted; ++i)
+  {
+    if (!isEligible[i])
+    {
+      continue;
+    }
+    const std::size_t remaining = eligible - seen++;
+    if (wanted >= eligible || mcv::uniformIndex(state, remaining) < wanted - picked.size())
+    {
+      picked.push_back(static_cast<vtkIdType>(i));
+    }
+  }
+  return picked;
+}
+
+vtkSmartPointer<vtkPolyData> widgetGlyphSource(const std::vector<mcv::GaussianWidget>& widgets)
+{
+  auto poly = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkCellArray> verts;
+  auto makeArray = [](const char* name, int components) {
+    auto a = vtkSmartPointer<vtkFloatArray>::New();
+    a->SetName(name);
+    a->SetNumberOfComponents(components);
+    return a;
+  };
+  auto sigma = makeArray("Sigma", 1), diameter = makeArray("Diameter", 1);
+  auto opacity = makeArray("Opacity", 1), color = makeArray("Color", 3);
+  vtkNew<vtkIntArray> index;
+  index->SetName("WidgetIndex");
+  for (std::size_t i = 0; i < widgets.size(); ++i)
+  {
+    const mcv::GaussianWidget& w = widgets[i];
+    verts->InsertNextCell(1);
+    verts->InsertCellPoint(points->InsertNextPoint(w.center));
+    sigma->InsertNextValue(static_cast<float>(w.sigma));
+    diameter->InsertNextValue(static_cast<float>(2 * w.sigma));
+    opacity->InsertNextValue(static_cast<float>(w.opacity));
+    color->InsertNextTuple(w.color);
+    index->InsertNextValue(static_cast<int>(i));
+  }
+  poly->SetPoints(points);
+  poly->SetVerts(verts);
+  for (vtkDataArray* a : { static_cast<vtkDataArray*>(sigma), static_cast<vtkDataArray*>(diameter),
+         static_cast<vtkDataArray*>(opacity), static_cast<vtkDataArray*>(color),
+         static_cast<vtkDataArray*>(index) })
+  {
+    poly->GetPointData()->AddArray(a);
+  }
+  poly->GetPointData()->SetScalars(color);
+  return poly;
+}
+
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkReducedDomain::vtkReducedDomain()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(2);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "ReducedCoordinates");
+  this->Internals->SeededWidgets->SetName("SeededWidgets");
+}
+
+//------------------------------------------------------------------------------
+vtkReducedDomain::~vtkReducedDomain() = default;
+
+//------------------------------------------------------------------------------
+void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "SampleSize: " << this->SampleSize << "\n";
+  os << indent << "RandomSeed: " << this->RandomSeed << "\n";
+  os << indent << "GaussianWidgets: " << this->Internals->GaussianWidgets.size() / 8 << "\n";
+  os << indent << "SeedWidgetCount: " << this->SeedWidgetCount << "\n";
+  os << indent << "SeedWidgetOpacity: " << this->SeedWidgetOpacity << "\n";
+}
+
+//------------------------------------------------------------------------------
+void vtkReducedDomain::SetNumberOfGaussianWidgetValues(int count)
+{
+  if (count >= 0 && static_cast<std::size_t>(count) != this->Internals->GaussianWidgets.size())
+  {
+    this->Internals->GaussianWidgets.resize(static_cast<std::size_t>(count), 0.0);
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkReducedDomain::SetGaussianWidgetValue(int index, double value)
+{
+  std::vector<double>& values = this->Internals->GaussianWidgets;
+  if (index < 0)
+  {
+    return;
+  }
+  if (static_cast<std::size_t>(index) >= values.size())
+  {
+    values.resize(static_cast<std::size_t>(index) + 1, 0.0);
+  }
+  if (values[static_cast<std::size_t>(index)] != value)
+  {
+    values[static_cast<std::size_t>(index)] = value;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkReducedDomain::GetNumberOfGaussianWidgetValues()
+{
+  return static_cast<int>(this->Internals->GaussianWidgets.size());
+}
+
+//------------------------------------------------------------------------------
+double vtkReducedDomain::GetGaussianWidgetValue(int index)
+{
+  const std::vector<double>& values = this->Internals->GaussianWidgets;
+  return index >= 0 && static_cast<std::size_t>(index) < values.size()
+    ? values[static_cast<std::size_t>(index)]
+    : 0.0;
+}
+
+//------------------------------------------------------------------------------
+vtkDoubleArray* vtkReducedDomain::GetSeededWidgets()
+{
+  return this->Internals->SeededWidgets;
+}
+
+//------------------------------------------------------------------------------
+int vtkReducedDomain::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkReducedDomain::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  return mcv::vtkhelpers::requestWholeExtent(inputVector);
+}
+
+//------------------------------------------------------------------------------
+int vtkReducedDomain::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  this->Internals->SeededWidgets->Reset();
+  vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
+  vtkPolyData* domain = vtkPolyData::GetData(outputVector, 0);
+  vtkPolyData* widgetOutput = vtkPolyData::GetData(outputVector, 1);
+  if (!input || !domain || !widgetOutput)
+  {
+    vtkErrorMacro("ReducedDomain needs a dataset input.");
+    return 0;
+  }
+
+  // ---- Coordinates and widgets -------------------------------------------------------
+  vtkDataArray* coordinates = this->GetInputArrayToProcess(0, inputVector);
+  if (!coordinates)
+  {
+    // ParaView can leave the selection at a placeholder ("0") when the filter is made
+    // before its input has executed: fall back to the documented default.
+    coordinates = input->GetPointData()->GetArray("ReducedCoordinates");
+  }
+  if (!coordinates)
+  {
+    vtkErrorMacro("The input has no coordinates array (default ReducedCoordinates): apply "
+                  "DimensionReduction first, or choose the array in Coordinates.");
+    return 0;
+  }
+  const int dims = coordinates->GetNumberOfComponents();
+  const vtkIdType n = coordinates->GetNumberOfTuples();
+  if (dims != 2 && dims != 3)
+  {
+    vtkErrorMacro("The coordinates array '" << (coordinates->GetName() ? coordinates->GetName() : "")
+      << "' has " << dims << " component(s); the reduced domain needs 2 or 3.");
+    return 0;
+  }
+  const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
+    this->Internals->GaussianWidgets.data(), this->Internals->GaussianWidgets.size());
+  if (!widgets.ok())
+  {
+    vtkErrorMacro(<< widgets.error);
+    return 0;
+  }
+  for (const std::string& warning : widgets.warnings)
+  {
+    if (this->SeedWidgetCount == 0) // seeding runs with no widgets yet: nothing to warn about
+    {
+      vtkWarningMacro(<< warning);
+    }
+  }
+
+  // ---- The sample ------------------------------------------------------------------------
+  std::vector<bool> finite(static_cast<std::size_t>(n));
+  std::size_t finiteCount = 0;
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    bool ok = true;
+    for (int c = 0; c < dims; ++c)
+    {
+      ok = ok && std::isfinite(coordinates->GetComponent(i, c));
+    }
+    finite[static_cast<std::size_t>(i)] = ok;
+    finiteCount += ok ? 1 : 0;
+  }
+  if (finiteCount == 0)
+  {
+    vtkErrorMacro("No point has finite reduced coordinates.");
+    return 0;
+  }
+  this->UpdateProgress(0.2);
+  const std::vector<vtkIdType> sample = selectionSample(finite, finiteCount,
+    static_cast<std::size_t>(this->SampleSize), static_cast<std::uint64_t>(this->RandomSeed));
+  const vtkIdType m = static_cast<vtkIdType>(sample.size());
+
+  std::vector<float> xyz(static_cast<std::size_t>(m) * 3, 0.0f); // z = 0 for 2D
+  std::vector<float> packed(static_cast<std::size_t>(m) * dims);
+  for (vtkIdType s = 0; s < m; ++s)
+  {
+    for (int c = 0; c < dims; ++c)
+    {
+      const float v = static_cast<float>(coordinates->GetComponent(sample[s], c));
+      xyz[3 * s + c] = v;
+      packed[dims * s + c] = v;
+    }
+  }
+
+  // ---- Colour of every sampled point through the widgets ----------------------------
+  vtkNew<vtkUnsignedCharArray> rgba;
+  rgba->SetName("RGBA");
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(m);
+  std::vector<float> rgbaFloat(static_cast<std::size_t>(m) * 4);
+  const mcv::CoordinateView view{ packed.data(), static_cast<std::size_t>(m), dims };
+  const mcv::TransferFunctionRun run =
+    mcv::applyGaussianWidgets(view, widgets.widgets, rgbaFloat.data(), mcv::Device::CPU);
+  if (!run.ok())
+  {
+    vtkErrorMacro(<< run.error);
+    return 0;
+  }
+  vtkNew<vtkFloatArray> opacity;
+  opacity->SetName("WidgetOpacity");
+  opacity->SetNumberOfTuples(m);
+  // DisplayColor: the widget colour over light grey by the opacity, so points no widget
+  // selects stay visible (the domain is where the user looks for the next structure).
+  vtkNew<vtkUnsignedCharArray> displayColor;
+  displayColor->SetName("DisplayColor");
+  displayColor->SetNumberOfComponents(3);
+  displayColor->SetNumberOfTuples(m);
+  const float grey = 0.75f;
+  auto toByte = [](float v) { return static_cast<unsigned char>(std::lround(std::min(1.f, std::max(0.f, v)) * 255.f)); };
+  for (vtkIdType s = 0; s < m; ++s)
+  {
+    const float* c = rgbaFloat.data() + 4 * s;
+    for (int k = 0; k < 4; ++k)
+    {
+      rgba->SetTypedComponent(s, k, toByte(c[k]));
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      displayColor->SetTypedComponent(s, k, toByte(c[3] * c[k] + (1.f - c[3]) * grey));
+    }
+    opacity->SetValue(s, c[3]);
+  }
+  this->UpdateProgress(0.5);
+
+  // ---- Domain output -------------------------------------------------------------------------
+  vtkNew<vtkFloatArray> pointArray;
+  pointArray->SetNumberOfComponents(3);
+  pointArray->SetNumberOfTuples(m);
+  std::copy(xyz.begin(), xyz.end(), pointArray->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(pointArray);
+  vtkNew<vtkCellArray> verts;
+  verts->AllocateExact(m, m);
+  for (vtkIdType s = 0; s < m; ++s)
+  {
+    verts->InsertNextCell(1, &s);
+  }
+  domain->SetPoints(points);
+  domain->SetVerts(verts);
+
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = domain->GetPointData();
+  vtkNew<vtkPointData> channels; // the input's arrays without the coordinates/features
+  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* array = inPD->GetAbstractArray(a);
+    const std::string name = array && array->GetName() ? array->GetName() : "";
+    if (array && array != coordinates && name != "Features" && name != "vtkValidPointMask" &&
+      name != "vtkGhostType")
+    {
+      channels->AddArray(array);
+    }
+  }
+  for (int a = 0; a < channels->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* source = channels->GetAbstractArray(a);
+    vtkSmartPointer<vtkAbstractArray> copy = vtk::TakeSmartPointer(source->NewInstance());
+    copy->SetName(source->GetName());
+    copy->SetNumberOfComponents(source->GetNumberOfComponents());
+    copy->SetNumberOfTuples(m);
+    for (vtkIdType s = 0; s < m; ++s)
+    {
+      copy->SetTuple(s, sample[s], source);
+    }
+    outPD->AddArray(copy);
+  }
+  vtkNew<vtkIdTypeArray> voxelIds;
+  voxelIds->SetName("VoxelId");
+  voxelIds->SetNumberOfTuples(m);
+  std::copy(sample.begin(), sample.end(), voxelIds->GetPointer(0));
+  outPD->AddArray(voxelIds);
+  outPD->AddArray(opacity);
+  outPD->AddArray(rgba);
+  outPD->AddArray(displayColor);
+  outPD->SetScalars(displayColor);
+  this->UpdateProgress(0.7);
+
+  // ---- Seeded widgets (k-means of the distinct sampled coordinates) ---------------------
+  std::vector<mcv::GaussianWidget> shown = widgets.widgets;
+  if (this->SeedWidgetCount > 0)
+  {
+    mcv::WidgetSeedingOptions options;
+    options.count = this->SeedWidgetCount;
+    options.seed = static_cast<std::uint64_t>(this->RandomSeed);
+    options.opacity = this->SeedWidgetOpacity;
+    std::vector<float> distinct = packed;
+    {
+      // Distinct rows: sort row indices lexicographically, keep the first of each run.
+      std::vector<std::size_t> order(static_cast<std::size_t>(m));
+      for (std::size_t i = 0; i < order.size(); ++i)
+      {
+        order[i] = i;
+      }
+      auto row = [&packed, dims](std::size_t i) { return packed.data() + i * dims; };
+      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return std::lexicographical_compare(row(a), row(a) + dims, row(b), row(b) + dims);
+      });
+      distinct.clear();
+      for (std::size_t i = 0; i < order.size(); ++i)
+      {
+        if (i == 0 || !std::equal(row(order[i]), row(order[i]) + dims, row(order[i - 1])))
+        {
+          distinct.insert(distinct.end(), row(order[i]), row(order[i]) + dims);
+        }
+      }
+    }
+    const mcv::WidgetSeeding seeding = mcv::seedGaussianWidgets(
+      { distinct.data(), distinct.size() / static_cast<std::size_t>(dims), dims }, options);
+    if (!seeding.ok())
+    {
+      vtkErrorMacro(<< seeding.error);
+      return 0;
+    }
+    for (double v : mcv::flattenGaussianWidgets(seeding.widgets))
+    {
+      this->Internals->SeededWidgets->InsertNextValue(v);
+    }
+    if (widgets.widgets.empty())
+    {
+      shown = seeding.widgets; // nothing set yet: show the suggestion
+    }
+  }
+
+  // ---- Widgets output -------------------------------------------------------------------------
+  widgetOutput->ShallowCopy(widgetGlyphSource(shown));
+  this->UpdateProgress(1.0);
+  return 1;
+}

@@ -1,0 +1,102 @@
+/**
+ * @class   vtkReducedDomain
+ * @brief   the reduced domain of a volume as a point cloud, beside the volume.
+ *
+ * Input: a vtkImageData (or any dataset) whose point data holds the reduced coordinates
+ * (the input array to process, default `ReducedCoordinates`, 2 or 3 components) of
+ * DimensionReduction. A seeded uniform sample of SampleSize points (all of them when
+ * SampleSize >= the number of points; points with non-finite coordinates are left out)
+ * is output as:
+ *
+ * - port 0 `Domain`: vtkPolyData, one vertex per sampled voxel at its reduced
+ *   coordinates (z = 0 for 2D), with point arrays `RGBA` (uint8, the colour and opacity
+ *   the Gaussian widgets give it: the "Gaussian TF Volume" representation's formula),
+ *   `WidgetOpacity` (float), `VoxelId` (the voxel's point id) and copies of the input's
+ *   other point arrays (the channel intensities; the coordinates and `Features` arrays
+ *   are not copied).
+ * - port 1 `Widgets`: vtkPolyData, one vertex per Gaussian widget at its centre, with
+ *   `Sigma`, `Diameter` (2 sigma, to scale sphere glyphs), `Opacity`, `Color` (RGB float)
+ *   and `WidgetIndex`.
+ *
+ * Automatic widgets: with SeedWidgetCount = n > 0 the filter also clusters the sample's
+ * distinct coordinates with k-means (mcv::seedGaussianWidgets) and reports n widgets in
+ * SeededWidgets (8 values each, the GaussianWidgets layout); the Python helper
+ * auto_widgets() copies them to the representation. Distinct coordinates only: voxels with
+ * the same feature vector (a uniform background) share one point in the domain and would
+ * otherwise pull widgets onto it.
+ */
+
+#ifndef vtkReducedDomain_h
+#define vtkReducedDomain_h
+
+#include "mcvFiltersReductionModule.h" // for export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+
+class vtkDoubleArray;
+
+class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkReducedDomain* New();
+  vtkTypeMacro(vtkReducedDomain, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** Number of sampled voxels (default 20000; >= the number of points: all of them). */
+  vtkSetClampMacro(SampleSize, vtkIdType, 1, VTK_ID_MAX);
+  vtkGetMacro(SampleSize, vtkIdType);
+  ///@}
+
+  ///@{
+  /** Seed of the sample and of the k-means (same seed, same output). */
+  vtkSetMacro(RandomSeed, int);
+  vtkGetMacro(RandomSeed, int);
+  ///@}
+
+  ///@{
+  /** Gaussian widgets: 8 values per widget (cx, cy, cz, sigma, r, g, b, opacity). */
+  void SetNumberOfGaussianWidgetValues(int count);
+  void SetGaussianWidgetValue(int index, double value);
+  int GetNumberOfGaussianWidgetValues();
+  double GetGaussianWidgetValue(int index);
+  ///@}
+
+  ///@{
+  /** Number of widgets to seed by k-means (0, the default: none). */
+  vtkSetClampMacro(SeedWidgetCount, int, 0, 64);
+  vtkGetMacro(SeedWidgetCount, int);
+  ///@}
+
+  ///@{
+  /** Peak opacity of the seeded widgets (default 0.5). */
+  vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
+  vtkGetMacro(SeedWidgetOpacity, double);
+  ///@}
+
+  /** The seeded widgets of the last execution (8 values each; empty when none). */
+  vtkDoubleArray* GetSeededWidgets();
+
+protected:
+  vtkReducedDomain();
+  ~vtkReducedDomain() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  vtkIdType SampleSize = 20000;
+  int RandomSeed = 0;
+  int SeedWidgetCount = 0;
+  double SeedWidgetOpacity = 0.5;
+
+private:
+  vtkReducedDomain(const vtkReducedDomain&) = delete;
+  void operator=(const vtkReducedDomain&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
