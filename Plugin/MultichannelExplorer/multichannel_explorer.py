@@ -41,6 +41,7 @@ __all__ = [
     "stop_following",
     "turn_camera",
     "GAUSSIAN_TF_REPRESENTATION",
+    "show_gaussian_tf",
 ]
 
 _FILTER_XML_NAME = "BestViewpoint"
@@ -695,3 +696,46 @@ def stop_following():
         follower = _followers.pop()
         if follower is not None:
             follower.stop()
+
+
+def _flat_widgets(widgets):
+    """A flat list of floats from a flat list or from 8-value widgets."""
+    flat = []
+    for item in widgets or ():
+        if isinstance(item, (list, tuple)):
+            flat.extend(float(v) for v in item)
+        else:
+            flat.append(float(item))
+    return flat
+
+
+def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordinates",
+                     blend="Composite"):
+    """Shows `source` (image data with a 2- or 3-component point array of reduced
+    coordinates, e.g. the output of DimensionReduction) as a "Gaussian TF Volume" in
+    `view` (default: the active render view) and returns the display.
+
+    ``widgets``: a flat list of 8 numbers per widget (cx, cy, cz, sigma, r, g, b,
+    opacity) or a sequence of such 8-tuples; ``coordinates``: the point array of reduced
+    coordinates; ``blend``: "Composite" or "Maximum Intensity". Edit the widgets later
+    with ``display.GaussianWidgets = [...]`` and ``Render()``: only the colours are
+    recomputed, the volume is not delivered again::
+
+        display = mce.show_gaussian_tf(reduction, view,
+                                       widgets=[(0.2, 0.1, 0, 0.05, 1, 0, 0, 1),
+                                                (0.7, 0.4, 0, 0.05, 0, 1, 0, 1)],
+                                       blend="Maximum Intensity")
+    """
+    simple = _simple()
+    if view is None:
+        view = simple.GetActiveViewOrCreate("RenderView")
+    display = simple.Show(source, view)
+    if GAUSSIAN_TF_REPRESENTATION not in display.GetProperty("Representation").Available:
+        raise RuntimeError('"%s" is not a representation of this source (image data '
+                           "only; is the MultichannelExplorer plugin loaded?)"
+                           % GAUSSIAN_TF_REPRESENTATION)
+    display.SetRepresentationType(GAUSSIAN_TF_REPRESENTATION)
+    display.CoordinateArray = str(coordinates)
+    display.GaussianBlendMode = str(blend)
+    display.GaussianWidgets = _flat_widgets(widgets)
+    return display

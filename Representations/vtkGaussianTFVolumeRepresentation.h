@@ -1,0 +1,133 @@
+/**
+ * @class   vtkGaussianTFVolumeRepresentation
+ * @brief   volume rendering of vtkImageData through Gaussian widgets in a reduced domain.
+ *
+ * The ParaView representation "Gaussian TF Volume" (dissertation chapter 5). Every voxel
+ * has 2D or 3D coordinates in a reduced domain (the point array `ReducedCoordinates` of
+ * DimensionReduction by default, see SetCoordinateArray). A list of Gaussian widgets,
+ * each (centre, sigma, RGB colour, peak opacity), gives every voxel
+ *   alpha_i(x) = a_i * exp(-|x - mu_i|^2 / (2 sigma_i^2))
+ *   opacity(x) = 1 - prod_i (1 - alpha_i(x))
+ *   colour(x)  = sum_i alpha_i(x) c_i / sum_i alpha_i(x)
+ * computed by the VTK-free core (mcv::applyGaussianWidgets) into a uint8 RGBA point array
+ * `GaussianTF_RGBA`, which the GPU ray caster renders as dependent components (RGB is the
+ * colour, A through an identity opacity ramp). Blend modes: composite and maximum
+ * intensity (SetGaussianBlendMode).
+ *
+ * Cheap widget edits: setting widgets, the coordinate array or the device does not mark
+ * the representation modified (no re-execution, no re-delivery of the volume); the RGBA
+ * array of the delivered volume is recomputed in place at the next render. New data (a
+ * new delivered volume or a modified coordinate array) is recomputed too.
+ *
+ * Colours are not stretched: the ray caster maps each component's own data range onto
+ * [0, 1] before using it as a colour (vtkVolumeTexture), so the cached range of every
+ * RGBA component is anchored to the byte range [0, 255] after each computation.
+ *
+ * Errors (vtkErrorMacro, nothing is drawn): the coordinate array is missing, not numeric
+ * or has a number of components other than 2 or 3; a widget list whose length is not a
+ * multiple of 8, a non-finite value or sigma <= 0. Warnings (vtkWarningMacro, still
+ * drawn): colours or opacity outside [0, 1] (clamped), no widgets (a transparent volume),
+ * a GPU request that falls back to the CPU. Each is reported once per change, not per
+ * frame.
+ */
+
+#ifndef vtkGaussianTFVolumeRepresentation_h
+#define vtkGaussianTFVolumeRepresentation_h
+
+#include "mcvRepresentationsGaussianTFModule.h" // for export macro
+#include "vtkImageVolumeRepresentation.h"
+
+#include <memory> // for std::unique_ptr
+
+class MCVREPRESENTATIONSGAUSSIANTF_EXPORT vtkGaussianTFVolumeRepresentation
+  : public vtkImageVolumeRepresentation
+{
+public:
+  static vtkGaussianTFVolumeRepresentation* New();
+  vtkTypeMacro(vtkGaussianTFVolumeRepresentation, vtkImageVolumeRepresentation);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
+
+  ///@{
+  /**
+   * The widgets as a flat list, 8 values per widget: cx, cy, cz, sigma, r, g, b, opacity
+   * (the ParaView property `GaussianWidgets`; set element by element after
+   * SetNumberOfGaussianWidgetValues, as ParaView's repeatable properties do). The list is
+   * checked at the next render.
+   */
+  void SetNumberOfGaussianWidgetValues(int count);
+  void SetGaussianWidgetValue(int index, double value);
+  int GetNumberOfGaussianWidgetValues();
+  double GetGaussianWidgetValue(int index);
+  ///@}
+
+  ///@{
+  /** Name of the point array of reduced coordinates (2 or 3 components). */
+  void SetCoordinateArray(const char* name);
+  const char* GetCoordinateArray();
+  ///@}
+
+  ///@{
+  /** Where the RGBA computation runs: DEVICE_AUTO (default), DEVICE_CPU, DEVICE_GPU. */
+  void SetDevice(int device);
+  vtkGetMacro(Device, int);
+  ///@}
+
+  ///@{
+  /**
+   * Blend mode of this representation, applied at every render in place of the volume
+   * representation's BlendMode (whose ParaView 5.11 choices lack maximum intensity):
+   * vtkVolumeMapper::COMPOSITE_BLEND (default) or MAXIMUM_INTENSITY_BLEND (colour of the
+   * most opaque sample along each ray).
+   */
+  void SetGaussianBlendMode(int mode);
+  vtkGetMacro(GaussianBlendMode, int);
+  ///@}
+
+  /** Where the last computation ran ("CPU" or "GPU"; "" before the first one). */
+  const char* GetDeviceUsed();
+
+  /** True when the last computation succeeded (the volume is drawn). */
+  int GetRGBAValid();
+
+  /** How many times the RGBA array was computed (tests: widget edits recompute once). */
+  vtkGetMacro(NumberOfComputations, int);
+
+  /** How many times the data was (re-)executed and delivered (tests: widget edits do not). */
+  vtkGetMacro(NumberOfDataUpdates, int);
+
+  /** Name of the RGBA point array added to the delivered volume. */
+  static const char* GetRGBAArrayName() { return "GaussianTF_RGBA"; }
+
+protected:
+  vtkGaussianTFVolumeRepresentation();
+  ~vtkGaussianTFVolumeRepresentation() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // Recomputes RGBA when needed, then points the mapper at it as dependent components.
+  void UpdateMapperParameters() override;
+
+private:
+  vtkGaussianTFVolumeRepresentation(const vtkGaussianTFVolumeRepresentation&) = delete;
+  void operator=(const vtkGaussianTFVolumeRepresentation&) = delete;
+
+  void UpdateRGBA();
+
+  int Device = DEVICE_AUTO;
+  int GaussianBlendMode = 0;
+  int NumberOfComputations = 0;
+  int NumberOfDataUpdates = 0;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
