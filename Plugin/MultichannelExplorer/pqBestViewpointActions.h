@@ -1,16 +1,21 @@
-// Toolbar "Multichannel Explorer": the "Best Viewpoint" button.
+// Toolbar "Multichannel Explorer": Best Viewpoint, Follow Best Viewpoint, Seed Widgets.
 #ifndef pqBestViewpointActions_h
 #define pqBestViewpointActions_h
 
 #include <QActionGroup>
 
 /**
- * One action, "Best Viewpoint": runs
- *   multichannel_explorer.apply_best_viewpoint(GetActiveSource(), GetActiveView(),
- *                                              disambiguate=True)
- * in ParaView's Python interpreter, so the GUI and scripts share one implementation
+ * The toolbar's actions run the plugin's Python helpers in ParaView's Python interpreter,
+ * so the GUI and scripts share one implementation
  * (Plugin/MultichannelExplorer/multichannel_explorer.py). Enabled when there is an
  * active source and an active render view.
+ * - "Best Viewpoint": apply_best_viewpoint(GetActiveSource(), GetActiveView(),
+ *   disambiguate=True); for a "Gaussian TF Volume" display the opacity is its widgets'.
+ * - "Follow Best Viewpoint" (a toggle): follow_best_viewpoint on the active source's
+ *   "Gaussian TF Volume" display: the camera turns to the best view after every change
+ *   of its widgets, until the toggle is switched off (stop_following()).
+ * - "Seed Gaussian Widgets": auto_widgets(display, 4): widgets at the k-means clusters
+ *   of the reduced domain.
  */
 class pqBestViewpointActions : public QActionGroup
 {
@@ -23,11 +28,18 @@ public:
 
 private Q_SLOTS:
   void onTriggered();
+  void onFollowToggled(bool follow);
+  void onSeedWidgets();
   void updateEnableState();
 
 private:
   Q_DISABLE_COPY(pqBestViewpointActions)
+  // Runs `code` in ParaView's Python; false (with a message box) when Python is missing.
+  bool runPython(const char* title, const char* code);
+
   QAction* BestViewpointAction;
+  QAction* FollowAction;
+  QAction* SeedWidgetsAction;
 };
 
 #endif
