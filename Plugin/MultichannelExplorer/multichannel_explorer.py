@@ -151,13 +151,12 @@ def _widget_values(display):
 
 def _coordinates_name(display):
     """Name of the coordinate array a Gaussian TF display maps through its widgets."""
-    for prop in ("CoordinatesArray", "Coordinates", "CoordinateArray"):
-        if display.GetProperty(prop) is not None:
-            value = display.GetPropertyValue(prop)
-            if isinstance(value, (list, tuple)):
-                value = value[-1] if value else ""
-            if value:
-                return str(value)
+    prop = display.SMProxy.GetProperty("CoordinateArray")
+    if prop is not None and prop.GetNumberOfElements() > 0:
+        # An array selection (association, name) or a plain name: the name is last.
+        name = prop.GetElement(prop.GetNumberOfElements() - 1)
+        if name:
+            return str(name)
     return "ReducedCoordinates"
 
 
