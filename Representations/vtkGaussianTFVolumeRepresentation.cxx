@@ -356,7 +356,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     rgba->Modified(); // new texture upload; also drops the cached ranges...
     anchorByteRanges(rgba); // ...which are set again to [0, 255] per component
   }
-  if (runWarnings != internals.LastRunWarnings)
+  if (ok && runWarnings != internals.LastRunWarnings)
   {
     for (const std::string& warning : runWarnings)
     {

@@ -1,0 +1,98 @@
+"""Helpers of the "Gaussian TF Volume" pvbatch tests: a black render view with a known
+camera, pixels of a screenshot at the projection of a world point, the representation's
+read-back information and its VTK messages."""
+
+import os
+
+import mcv_testing as T
+
+
+def black_view(size=(400, 400)):
+    from paraview import simple
+
+    view = simple.CreateView("RenderView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 0
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.Background = [0.0, 0.0, 0.0]
+    return view
+
+
+def look_down_z(view, bounds):
+    """Parallel projection along -z onto the xy plane of `bounds`."""
+    from paraview import simple
+
+    simple.Render(view)  # the first render resets the camera: set ours after it
+    c = [(bounds[2 * i] + bounds[2 * i + 1]) / 2.0 for i in range(3)]
+    view.CameraFocalPoint = c
+    view.CameraPosition = [c[0], c[1], c[2] + 4 * (bounds[5] - bounds[4] + 1)]
+    view.CameraViewUp = [0, 1, 0]
+    view.CameraParallelProjection = 1
+    view.CameraParallelScale = 0.6 * max(bounds[1] - bounds[0], bounds[3] - bounds[2])
+    simple.Render(view)
+
+
+def project(view, point):
+    """Display (x, y) pixel of a world point, origin at the bottom left."""
+    ren = view.GetRenderer()
+    ren.SetWorldPoint(point[0], point[1], point[2], 1.0)
+    ren.WorldToDisplay()
+    x, y, _ = ren.GetDisplayPoint()
+    return int(round(x)), int(round(y))
+
+
+class Shot(object):
+    """A screenshot read back with vtkPNGReader (rows bottom-up, like display pixels)."""
+
+    def __init__(self, view, path):
+        from paraview import simple
+        from vtkmodules.vtkIOImage import vtkPNGReader
+
+        size = [int(v) for v in view.ViewSize]
+        simple.SaveScreenshot(path, view, ImageResolution=size)
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        self.path = path
+        self.image = reader.GetOutput()
+        self.scalars = self.image.GetPointData().GetScalars()
+        self.size = self.image.GetDimensions()[:2]
+
+    def rgb(self, xy):
+        x = min(max(xy[0], 0), self.size[0] - 1)
+        y = min(max(xy[1], 0), self.size[1] - 1)
+        return [int(v) for v in self.scalars.GetTuple(self.image.ComputePointId([x, y, 0]))[:3]]
+
+    def max_channel(self):
+        return max(self.scalars.GetRange(c)[1] for c in range(3))
+
+
+def info(display):
+    """What the representation's last render computed (information-only properties)."""
+    display.UpdatePropertyInformation()
+    return {
+        "computations": int(display.GetPropertyValue("GaussianTFComputations")),
+        "data_updates": int(display.GetPropertyValue("GaussianTFDataUpdates")),
+        "valid": int(display.GetPropertyValue("GaussianTFValid")),
+        "device": str(display.GetPropertyValue("GaussianTFDeviceUsed")),
+    }
+
+
+def messages(display):
+    """Errors/warnings of the representation's VTK object (its active subrepresentation,
+    the vtkGaussianTFVolumeRepresentation, in pvbatch's built-in session)."""
+    return T.Messages(display.GetClientSideObject().GetActiveRepresentation())
+
+
+def is_colour(rgb, channel, min_value, max_other_fraction=0.1):
+    """rgb is dominated by `channel` (0 red, 1 green, 2 blue)."""
+    main = rgb[channel]
+    others = [v for i, v in enumerate(rgb) if i != channel]
+    return main >= min_value and all(o <= max_other_fraction * main for o in others)
+
+
+def output_path(name):
+    return os.path.join(T.output_dir(), name)
