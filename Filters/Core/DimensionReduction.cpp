@@ -214,11 +214,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   {
     result.warnings.push_back(deviceWarning);
   }
-  if (device == Device::GPU)
-  {
-    result.warnings.push_back("The GPU out-of-sample step is not available yet; it ran on the CPU.");
-  }
-  result.deviceUsed = Device::CPU;
+  result.deviceUsed = Device::CPU; // the placement below says where it really ran
 
   // --- Reference sample ---------------------------------------------------------------
   report("Drawing the reference sample", 0.03);
@@ -314,14 +310,21 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   if (options.method == ReductionMethod::PCA)
   {
     report("PCA projection", 0.6);
+    if (options.device == Device::GPU)
+    {
+      result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
+    }
     projectPCA(pca, features.data, features.rows, features.cols, gatherColumns, result.coordinates.data());
   }
   else
   {
     OutOfSampleOptions oo;
+    oo.device = device;
     oo.progress = within(0.6, 0.95);
-    placeOutOfSample(refX, embedding.coordinates, features.data, features.rows, features.cols,
-      allColumns ? std::vector<int>{} : used, result.coordinates.data(), oo);
+    const OutOfSampleReport placed = placeOutOfSample(refX, embedding.coordinates, features.data, features.rows,
+      features.cols, allColumns ? std::vector<int>{} : used, result.coordinates.data(), oo);
+    result.deviceUsed = placed.deviceUsed;
+    result.warnings.insert(result.warnings.end(), placed.warnings.begin(), placed.warnings.end());
   }
   result.placeMs = msSince(placeStart);
 

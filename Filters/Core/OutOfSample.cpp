@@ -1,5 +1,9 @@
 #include "OutOfSample.h"
 
+#ifdef MCV_HAS_CUDA
+#include "../../cuda/OutOfSampleCuda.h"
+#endif
+
 #include <Eigen/Cholesky>
 
 #include <algorithm>
@@ -8,79 +12,167 @@
 namespace mcv
 {
 
-void placeOutOfSample(const RowMatrixF& refX, const RowMatrixF& refY, const float* rows, std::size_t n, int dim,
-  const std::vector<int>& columns, float* out, const OutOfSampleOptions& options)
+namespace
+{
+constexpr std::size_t kBlock = 256; // rows per kNN call (the brute force sweeps the references once per block)
+
+// y = sum w_j Y_(j) with the barycentric weights of the k neighbours (see the header).
+void placeRow(const RowMatrixF& refX, const RowMatrixF& refY, const float* q, const std::uint32_t* idx,
+  const double* d2, int k, double regularization, Eigen::MatrixXd& Z, Eigen::MatrixXd& G, Eigen::VectorXd& w,
+  float* y)
 {
   const int D = static_cast<int>(refX.cols());
   const int d = static_cast<int>(refY.cols());
+  if (k == 1 || d2[0] == 0.0)
+  {
+    // An exact match (or a single reference point): its embedding, exactly.
+    for (int c = 0; c < d; ++c)
+    {
+      y[c] = refY(idx[0], c);
+    }
+    return;
+  }
+  for (int j = 0; j < k; ++j)
+  {
+    for (int c = 0; c < D; ++c)
+    {
+      Z(j, c) = static_cast<double>(refX(idx[j], c)) - static_cast<double>(q[c]);
+    }
+  }
+  const auto Zk = Z.topRows(k);
+  auto Gk = G.topLeftCorner(k, k);
+  Gk.noalias() = Zk * Zk.transpose();
+  const double tr = Gk.trace();
+  Gk.diagonal().array() += tr > 0 ? regularization * tr : regularization;
+  w.head(k) = Gk.ldlt().solve(Eigen::VectorXd::Ones(k));
+  double s = w.head(k).sum();
+  if (!std::isfinite(s) || s == 0.0)
+  {
+    w.head(k).setConstant(1.0);
+    s = k;
+  }
+  for (int c = 0; c < d; ++c)
+  {
+    double v = 0;
+    for (int j = 0; j < k; ++j)
+    {
+      v += w[j] * static_cast<double>(refY(idx[j], c));
+    }
+    y[c] = static_cast<float>(v / s);
+  }
+}
+
+#ifdef MCV_HAS_CUDA
+bool placeOnGpu(const RowMatrixF& refX, const RowMatrixF& refY, const float* rows, std::size_t n, int dim,
+  const std::vector<int>& columns, float* out, const OutOfSampleOptions& options, std::uint32_t* neighbors,
+  OutOfSampleReport& report, std::string* error)
+{
+  cuda::PlacementInput in;
+  in.refX = refX.data();
+  in.refY = refY.data();
+  in.M = static_cast<std::size_t>(refX.rows());
+  in.D = static_cast<int>(refX.cols());
+  in.d = static_cast<int>(refY.cols());
+  in.rows = rows;
+  in.n = n;
+  in.dim = dim;
+  in.columns = columns.empty() ? nullptr : columns.data();
+  in.neighbors = options.neighbors;
+  in.regularization = options.regularization;
+  in.distanceMargin = floatDistanceMargin(in.D);
+  std::function<void(double)> progress;
+  if (options.progress)
+  {
+    progress = [&](double f) { options.progress("Out-of-sample placement (GPU)", f); };
+  }
+  cuda::PlacementStats stats;
+  if (!cuda::placeOutOfSample(in, out, neighbors, progress, &stats, error))
+  {
+    return false;
+  }
+  report.deviceUsed = Device::GPU;
+  report.radiusScans = stats.radiusScans;
+  report.uploadMs = stats.uploadMs;
+  report.computeMs = stats.computeMs;
+  report.downloadMs = stats.downloadMs;
+  return true;
+}
+#endif
+} // namespace
+
+OutOfSampleReport placeOutOfSample(const RowMatrixF& refX, const RowMatrixF& refY, const float* rows, std::size_t n,
+  int dim, const std::vector<int>& columns, float* out, const OutOfSampleOptions& options, std::uint32_t* neighbors)
+{
+  OutOfSampleReport report;
+  const int D = static_cast<int>(refX.cols());
   const std::size_t M = static_cast<std::size_t>(refX.rows());
   const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, options.neighbors)), M));
-  const KnnIndex index(refX.data(), M, D);
-  const bool gather = !columns.empty();
+  if (n == 0 || M == 0)
+  {
+    return report;
+  }
 
-  // Chunks so progress can be reported between them from the calling thread.
+  if (options.device == Device::GPU)
+  {
+#ifdef MCV_HAS_CUDA
+    std::string error;
+    if (placeOnGpu(refX, refY, rows, n, dim, columns, out, options, neighbors, report, &error))
+    {
+      return report;
+    }
+    report.warnings.push_back("The GPU out-of-sample placement failed (" + error + "); it ran on the CPU.");
+#else
+    report.warnings.push_back("This build has no CUDA: the out-of-sample placement ran on the CPU.");
+#endif
+  }
+
+  const ExactKnn knn(refX.data(), M, D, options.knn);
+  report.knnUsed = knn.method();
+  const bool gather = !columns.empty();
+  std::size_t scans = 0;
+
+  // Chunks so progress can be reported between them from the calling thread: at least
+  // every 2% of the rows.
   const std::size_t chunk = std::max<std::size_t>(1 << 16, n / 50);
   for (std::size_t begin = 0; begin < n; begin += chunk)
   {
-    const long long end = static_cast<long long>(std::min(n, begin + chunk));
-#pragma omp parallel
+    const std::size_t end = std::min(n, begin + chunk);
+    const long long blocks = static_cast<long long>((end - begin + kBlock - 1) / kBlock);
+#pragma omp parallel reduction(+ : scans)
     {
-      std::vector<float> x(static_cast<std::size_t>(D));
-      std::vector<std::uint32_t> idx(static_cast<std::size_t>(k));
-      std::vector<float> d2(static_cast<std::size_t>(k));
+      std::vector<float> x(kBlock * static_cast<std::size_t>(D));
+      std::vector<std::uint32_t> idx(kBlock * static_cast<std::size_t>(k));
+      std::vector<double> d2(kBlock * static_cast<std::size_t>(k));
       Eigen::MatrixXd Z(k, D);
       Eigen::MatrixXd G(k, k);
       Eigen::VectorXd w(k);
-#pragma omp for schedule(dynamic, 1024)
-      for (long long ii = static_cast<long long>(begin); ii < end; ++ii)
+#pragma omp for schedule(dynamic, 1)
+      for (long long b = 0; b < blocks; ++b)
       {
-        const float* row = rows + static_cast<std::size_t>(ii) * static_cast<std::size_t>(dim);
-        const float* q = row;
-        if (gather)
+        const std::size_t first = begin + static_cast<std::size_t>(b) * kBlock;
+        const std::size_t count = std::min(kBlock, end - first);
+        const float* q = rows + first * static_cast<std::size_t>(dim);
+        if (gather || dim != D)
         {
-          for (int c = 0; c < D; ++c)
+          for (std::size_t r = 0; r < count; ++r)
           {
-            x[static_cast<std::size_t>(c)] = row[columns[static_cast<std::size_t>(c)]];
+            const float* row = rows + (first + r) * static_cast<std::size_t>(dim);
+            for (int c = 0; c < D; ++c)
+            {
+              x[r * D + c] = row[gather ? columns[static_cast<std::size_t>(c)] : c];
+            }
           }
           q = x.data();
         }
-        float* y = out + static_cast<std::size_t>(ii) * static_cast<std::size_t>(d);
-        const int found = static_cast<int>(index.query(q, static_cast<std::size_t>(k), idx.data(), d2.data()));
-        if (found == 1 || d2[0] == 0.f)
+        scans += knn.query(q, count, k, idx.data(), d2.data());
+        for (std::size_t r = 0; r < count; ++r)
         {
-          // An exact match (or a single reference point): its embedding, exactly.
-          for (int c = 0; c < d; ++c)
+          placeRow(refX, refY, q + r * D, idx.data() + r * k, d2.data() + r * k, k, options.regularization, Z, G, w,
+            out + (first + r) * static_cast<std::size_t>(refY.cols()));
+          if (neighbors)
           {
-            y[c] = refY(idx[0], c);
+            std::copy(idx.data() + r * k, idx.data() + (r + 1) * k, neighbors + (first + r) * k);
           }
-          continue;
-        }
-        for (int j = 0; j < found; ++j)
-        {
-          for (int c = 0; c < D; ++c)
-          {
-            Z(j, c) = static_cast<double>(refX(idx[static_cast<std::size_t>(j)], c)) - static_cast<double>(q[c]);
-          }
-        }
-        const auto Zf = Z.topRows(found);
-        G.topLeftCorner(found, found).noalias() = Zf * Zf.transpose();
-        const double tr = G.topLeftCorner(found, found).trace();
-        G.topLeftCorner(found, found).diagonal().array() += tr > 0 ? options.regularization * tr : options.regularization;
-        w.head(found) = G.topLeftCorner(found, found).ldlt().solve(Eigen::VectorXd::Ones(found));
-        double s = w.head(found).sum();
-        if (!std::isfinite(s) || s == 0.0)
-        {
-          w.head(found).setConstant(1.0);
-          s = found;
-        }
-        for (int c = 0; c < d; ++c)
-        {
-          double v = 0;
-          for (int j = 0; j < found; ++j)
-          {
-            v += w[j] * static_cast<double>(refY(idx[static_cast<std::size_t>(j)], c));
-          }
-          y[c] = static_cast<float>(v / s);
         }
       }
     }
@@ -89,6 +181,8 @@ void placeOutOfSample(const RowMatrixF& refX, const RowMatrixF& refY, const floa
       options.progress("Out-of-sample placement", static_cast<double>(end) / static_cast<double>(n));
     }
   }
+  report.radiusScans = scans;
+  return report;
 }
 
 } // namespace mcv
