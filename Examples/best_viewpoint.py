@@ -14,7 +14,6 @@ interest points), worst.png (along v1), best_points.png (best view with the inte
 points over the volume) and best_viewpoint.json; prints the directions and eigenvalues.
 """
 import argparse
-import glob
 import json
 import os
 import sys
@@ -22,46 +21,23 @@ import time
 
 from paraview.simple import *  # noqa: F401,F403
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(HERE)
-
-
-def find_plugin(explicit):
-    """The plugin library: --plugin, $MCV_PLUGIN, PV_PLUGIN_PATH, <repo>/build*/..."""
-    candidates = [explicit, os.environ.get("MCV_PLUGIN")]
-    for d in os.environ.get("PV_PLUGIN_PATH", "").split(os.pathsep):
-        if d:
-            candidates.append(os.path.join(d, "MultichannelExplorer.so"))
-    candidates += sorted(glob.glob(os.path.join(
-        REPO, "build*", "lib", "paraview-*", "plugins", "MultichannelExplorer",
-        "MultichannelExplorer.so")))
-    for c in candidates:
-        if c and os.path.exists(c):
-            return c
-    sys.exit("MultichannelExplorer plugin not found: build the project (see README) or "
-             "pass --plugin PATH")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from example_support import DATA, load_plugin, render_view, require  # noqa: E402
 
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 parser.add_argument("volume", nargs="?",
-                    default=os.path.join(REPO, ".cache", "volumes", "ch2.nii.gz"))
+                    default=os.path.join(DATA, "ch2.nii.gz"))
 parser.add_argument("output", nargs="?", default=os.path.join("output", "best_viewpoint"))
 parser.add_argument("--plugin", default=None)
 parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
 args = parser.parse_args(sys.argv[1:])
 
-if not os.path.exists(args.volume):
-    print("volume not found: %s (run scripts/fetch-data.sh first)" % args.volume)
-    sys.exit(125)  # 125: "skipped" for CTest
+require(args.volume)
 os.makedirs(args.output, exist_ok=True)
 
 # 1. The plugin: the BestViewpoint filter, the readers and the Python module.
-#    (PV_PLUGIN_PATH may already have loaded it.)
-from paraview import simple  # noqa: E402
-
-if not hasattr(simple, "BestViewpoint"):
-    LoadPlugin(find_plugin(args.plugin), remote=False, ns=globals())
-import multichannel_explorer as mce  # noqa: E402  (shipped inside the plugin)
+mce = load_plugin(args.plugin)
 
 # 2. The volume, shown as a volume: the opacity transfer function of this display is the
 #    one the best viewpoint is computed from.
@@ -75,14 +51,7 @@ print("volume   %s: %s, extent %s, array '%s' range %s" % (
     args.volume, volume.GetXMLLabel(), info.GetExtent(), array,
     volume.PointData[array].GetRange()))
 
-view = CreateView("RenderView")
-view.ViewSize = list(args.size)
-view.OrientationAxesVisibility = 1
-view.Background = [0.1, 0.1, 0.12]
-try:
-    view.UseColorPaletteForBackground = 0
-except AttributeError:
-    pass
+view = render_view(args.size)
 display = Show(volume, view)
 display.SetRepresentationType("Volume")
 ColorBy(display, ("POINTS", array))

@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # The main job from a fresh Debian 12 machine: installs what is missing, fetches the real
-# volumes, builds, then runs the best viewpoint on the Colin27 brain (mricron-data) under
-# pvbatch and writes best- and worst-view images and a JSON report into
-# ./output/best_viewpoint. Arguments go to Examples/best_viewpoint.py: [VOLUME] [OUTPUT_DIR].
+# volumes, builds, then runs the whole method on the real 3-channel brain (Colin27 T1 +
+# AAL + Brodmann from mricron-data) under pvbatch: 24D features -> Isomap -> seeded
+# Gaussian widgets -> Gaussian TF volume rendering -> best viewpoint. Writes best/worst
+# views, the reduced domain beside the volume, the eigenvalue spectrum and report.json
+# into ./output/transfer_function. Arguments go to Examples/transfer_function.py
+# (--help lists them, e.g. --features 6D --output DIR).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MCV_BUILD_DIR:-$repo/build}"
@@ -11,7 +14,6 @@ bash "$repo/scripts/build.sh"
 plugin="$(find "$build" -name 'MultichannelExplorer.so' -print -quit)"
 [ -n "$plugin" ] || { echo "run-main: plugin not built" >&2; exit 1; }
 data="${MCV_DATA_DIR:-$repo/.cache/volumes}"
-args=("$@")
-[ "${#args[@]}" -gt 0 ] || args=("$data/ch2.nii.gz" "$repo/output/best_viewpoint")
-exec xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$repo/Examples/best_viewpoint.py" \
-  --plugin "$plugin" "${args[@]}"
+export MCV_DATA_DIR="$data"
+exec xvfb-run -a -s "-screen 0 1280x1024x24" pvbatch "$repo/Examples/transfer_function.py" \
+  --plugin "$plugin" --output "$repo/output/transfer_function" "$@"

@@ -112,7 +112,15 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     out.error = "Widget seeding: no point has finite coordinates.";
     return out;
   }
-  const int k = std::min(options.count, distinct);
+  const int wanted = options.count + (options.skipLargest ? 1 : 0);
+  if (options.skipLargest && distinct < 2)
+  {
+    out.error = "Widget seeding: one distinct point, nothing left once the largest cluster "
+                "(the background) is skipped.";
+    return out;
+  }
+  const int k = std::min(wanted, distinct);
+  const int first = options.skipLargest ? 1 : 0; // clusters (by size) that become widgets
 
   Points centres = kmeansPlusPlus(X, k, options.seed);
   std::vector<int> label(static_cast<std::size_t>(X.rows()), -1);
@@ -162,11 +170,15 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&size](int a, int b) { return size[a] > size[b]; });
 
-  std::vector<int> rank(static_cast<std::size_t>(k));
-  for (int i = 0; i < k; ++i)
+  std::vector<int> rank(static_cast<std::size_t>(k), -2);
+  if (first > 0)
+  {
+    out.skippedSize = size[static_cast<std::size_t>(order[0])];
+  }
+  for (int i = first; i < k; ++i)
   {
     const int c = order[static_cast<std::size_t>(i)];
-    rank[static_cast<std::size_t>(c)] = i;
+    rank[static_cast<std::size_t>(c)] = i - first;
     GaussianWidget w;
     for (int d = 0; d < dims; ++d)
     {
@@ -179,7 +191,7 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
       sigma = domainSigma > 0 ? 0.1 * domainSigma : 1.0;
     }
     w.sigma = sigma;
-    distinctColor(i, k, w.color);
+    distinctColor(i - first, k - first, w.color);
     w.opacity = std::min(1.0, std::max(0.0, options.opacity));
     out.widgets.push_back(w);
     out.clusterSizes.push_back(m);

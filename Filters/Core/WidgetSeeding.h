@@ -4,6 +4,9 @@
 // Centre = the cluster mean; sigma = the cluster's RMS spread per axis,
 // sqrt(mean |x - mu|^2 / dims) (the sigma of an isotropic Gaussian with that spread);
 // colour = evenly spaced hues, largest cluster first; opacity = `opacity`.
+// With `skipLargest`, count + 1 clusters are made and the largest is left out: in a volume
+// the largest class is almost always the background (air around a head, the dark field
+// of a micrograph), which a widget would turn into an opaque box.
 #pragma once
 
 #include "GaussianTransferFunction.h"
@@ -21,6 +24,7 @@ struct WidgetSeedingOptions
   std::uint64_t seed = 0;
   int maxIterations = 100;
   double opacity = 0.8;
+  bool skipLargest = false;
 };
 
 struct WidgetSeeding
@@ -28,7 +32,9 @@ struct WidgetSeeding
   std::string error;
   std::vector<GaussianWidget> widgets;      // largest cluster first
   std::vector<std::size_t> clusterSizes;    // points per widget's cluster
-  std::vector<int> labels;                  // cluster of every finite point (-1: not finite)
+  std::vector<int> labels;                  // widget of every finite point (-1: not finite,
+                                            // -2: in the skipped largest cluster)
+  std::size_t skippedSize = 0;              // points of the skipped cluster
   int iterations = 0;
   bool ok() const { return error.empty(); }
 };

@@ -125,6 +125,7 @@ void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "GaussianWidgets: " << this->Internals->GaussianWidgets.size() / 8 << "\n";
   os << indent << "SeedWidgetCount: " << this->SeedWidgetCount << "\n";
   os << indent << "SeedWidgetOpacity: " << this->SeedWidgetOpacity << "\n";
+  os << indent << "SkipLargestCluster: " << this->SkipLargestCluster << "\n";
 }
 
 //------------------------------------------------------------------------------
@@ -378,6 +379,7 @@ int vtkReducedDomain::RequestData(
     options.count = this->SeedWidgetCount;
     options.seed = static_cast<std::uint64_t>(this->RandomSeed);
     options.opacity = this->SeedWidgetOpacity;
+    options.skipLargest = this->SkipLargestCluster;
     std::vector<float> distinct = packed;
     {
       // Distinct rows: sort row indices lexicographically, keep the first of each run.

@@ -75,6 +75,16 @@ public:
   vtkGetMacro(SeedWidgetOpacity, double);
   ///@}
 
+  ///@{
+  /**
+   * Leave the largest cluster out of the seeded widgets (default on): count + 1 clusters
+   * are made and the largest, almost always the background of a volume, gets no widget.
+   */
+  vtkSetMacro(SkipLargestCluster, bool);
+  vtkGetMacro(SkipLargestCluster, bool);
+  vtkBooleanMacro(SkipLargestCluster, bool);
+  ///@}
+
   /** The seeded widgets of the last execution (8 values each; empty when none). */
   vtkDoubleArray* GetSeededWidgets();
 
@@ -90,6 +100,7 @@ protected:
   int RandomSeed = 0;
   int SeedWidgetCount = 0;
   double SeedWidgetOpacity = 0.5;
+  bool SkipLargestCluster = true;
 
 private:
   vtkReducedDomain(const vtkReducedDomain&) = delete;

@@ -486,9 +486,12 @@ def reduced_domain_filter(source, **props):
     return domain
 
 
-def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20000):
+def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20000,
+                 skip_background=True):
     """Seeds `count` Gaussian widgets at the k-means cluster centres of the reduced domain
     (largest cluster first, distinct hues, sigma = each cluster's spread, peak `opacity`).
+    With `skip_background` (default) count + 1 clusters are made and the largest, almost
+    always the volume's background, gets no widget.
 
     `target` is a volume with ReducedCoordinates or its "Gaussian TF Volume" display; when
     a display is given (or the volume is shown as one in `view`), its GaussianWidgets are
@@ -502,7 +505,8 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
         raise ValueError("auto_widgets needs count >= 1, not %r" % (count,))
     source, display = _source_and_display(target, view)
     props = dict(SeedWidgetCount=int(count), SeedWidgetOpacity=float(opacity),
-                 RandomSeed=int(seed), SampleSize=int(sample_size))
+                 RandomSeed=int(seed), SampleSize=int(sample_size),
+                 SkipLargestCluster=1 if skip_background else 0)
     if display is not None:
         props["Coordinates"] = ["POINTS", _coordinates_name(display)]
     domain = reduced_domain_filter(source, **props)
@@ -569,10 +573,12 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
 
     domain_view = simple.CreateView("RenderView")
     layout = simple.GetLayout(volume_view)
-    if layout is not None:
-        cell = layout.GetViewLocation(volume_view)
-        first = layout.SplitHorizontal(cell, 0.5)
-        layout.AssignView(first + 1, domain_view)
+    if layout is None:  # pvbatch: views are in no layout until given one
+        layout = simple.CreateLayout("Multichannel transfer function")
+        simple.AssignViewToLayout(view=volume_view, layout=layout, hint=0)
+    cell = layout.GetViewLocation(volume_view)
+    first = layout.SplitHorizontal(cell, 0.5)
+    layout.AssignView(first + 1, domain_view)
     points = simple.Show(simple.OutputPort(domain, 0), domain_view)
     points.SetRepresentationType("Points")
     simple.ColorBy(points, ("POINTS", "DisplayColor"))
@@ -596,7 +602,7 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
             simple.Render(domain_view)
         follower = _Follower(display, "GaussianWidgets", recolour)
     _followers.append(follower)
-    return ViewpointResult(filter=domain, glyph=glyph, domain_view=domain_view,
+    return ViewpointResult(filter=domain, glyph=glyph, domain_view=domain_view, layout=layout,
                            volume_view=volume_view, domain_display=points,
                            widget_display=spheres,
                            stop=(follower.stop if follower else (lambda: None)))

@@ -122,3 +122,23 @@ TEST(WidgetSeeding, FewDistinctPointsNonFiniteAndBadInput)
   options.count = 1;
   EXPECT_FALSE(mcv::seedGaussianWidgets({ allNan.data(), 1, 2 }, options).ok());
 }
+
+TEST(WidgetSeeding, SkipLargestLeavesTheBackgroundOut)
+{
+  // A big tight "background" blob and two small structures: the widgets go to the two.
+  const std::vector<float> points = sampleBlobs(
+    { { { 0, 0, 0 }, 0.05, 5000 }, { { 4, 4, 0 }, 0.2, 300 }, { { -4, 3, 1 }, 0.2, 200 } }, 3, 11);
+  mcv::WidgetSeedingOptions options;
+  options.count = 2;
+  options.skipLargest = true;
+  const mcv::WidgetSeeding s = mcv::seedGaussianWidgets({ points.data(), 5500, 3 }, options);
+  ASSERT_TRUE(s.ok()) << s.error;
+  ASSERT_EQ(s.widgets.size(), 2u);
+  EXPECT_EQ(s.skippedSize, 5000u);
+  EXPECT_NEAR(s.widgets[0].center[0], 4.0, 0.1);
+  EXPECT_NEAR(s.widgets[1].center[0], -4.0, 0.1);
+  EXPECT_EQ(s.labels[0], -2);
+  EXPECT_EQ(s.labels[5000], 0);
+  EXPECT_EQ(s.labels[5300], 1);
+  EXPECT_NE(mcv::flattenGaussianWidgets(s.widgets)[4], mcv::flattenGaussianWidgets(s.widgets)[12]);
+}

@@ -158,7 +158,7 @@ C.check(widget_points.GetNumberOfPoints() == 5 and
 blobs = Calculator(Input=coords, ResultArrayName="Blobs", ResultArrayType="Float",
                    Function="(coordsX < 0)*(-10*iHat + 5*jHat) + (coordsX >= 0)*(10*iHat - 5*jHat)"
                             " + 0.02*coords")
-seeded = ReducedDomain(Input=blobs, SampleSize=5000, SeedWidgetCount=2)
+seeded = ReducedDomain(Input=blobs, SampleSize=5000, SeedWidgetCount=2, SkipLargestCluster=0)
 seeded.Coordinates = ["POINTS", "Blobs"]
 seeded.UpdatePipeline()
 seeded.UpdatePropertyInformation()

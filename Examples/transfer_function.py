@@ -1,0 +1,158 @@
+"""The whole method on a multichannel volume: the suite's main job.
+
+    xvfb-run -a pvbatch Examples/transfer_function.py [--output DIR] [options]
+
+Default input: the real 3-channel brain of Debian's mricron-data (Colin27 T1 ch2 + the
+AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh.
+
+ 1. per-voxel feature vectors (MultichannelFeatures, 24D by default);
+ 2. reduced to 3D (DimensionReduction, landmark Isomap fitted on a reference sample,
+    every voxel placed out of sample);
+ 3. Gaussian widgets seeded at the k-means clusters of the reduced domain (auto_widgets);
+ 4. the volume rendered through those widgets ("Gaussian TF Volume" representation);
+ 5. the best viewpoint of what the widgets show (3D Harris + PCA of the widget opacity);
+writes into the output folder best.png, worst.png, dual_domain.png (volume and reduced
+domain side by side), domain.png, spectrum.png (eigenvalue spectrum) and report.json
+(timings per stage, variance retained, trustworthiness, view directions, eigenvalues),
+then prints a summary and the folder.
+"""
+import argparse
+import json
+import os
+import sys
+import time
+
+from paraview import servermanager, simple
+from paraview.simple import *  # noqa: F401,F403
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from example_support import DATA, load_plugin, render_view, require  # noqa: E402
+
+parser = argparse.ArgumentParser(
+    description=__doc__.split("\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
+    epilog=__doc__.split("\n", 2)[2])
+parser.add_argument("--channels", nargs="+", metavar="VOLUME",
+                    default=[os.path.join(DATA, n) for n in
+                             ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")],
+                    help="volumes on one grid, one channel each (default: Colin27 T1, "
+                         "AAL, Brodmann)")
+parser.add_argument("--output", default=os.path.join("output", "transfer_function"))
+parser.add_argument("--features", default="24D", choices=["6D", "24D"])
+parser.add_argument("--method", default="Isomap", choices=["PCA", "Isomap", "LLE"])
+parser.add_argument("--reference-size", type=int, default=10000,
+                    help="voxels the embedding is fitted on (default 10000)")
+parser.add_argument("--neighbors", type=int, default=10, help="K of Isomap/LLE")
+parser.add_argument("--landmarks", type=int, default=500, help="L of landmark Isomap")
+parser.add_argument("--widgets", type=int, default=4, help="number of seeded widgets")
+parser.add_argument("--widget-opacity", type=float, default=0.5)
+parser.add_argument("--blend", default="Composite", choices=["Composite", "Maximum Intensity"])
+parser.add_argument("--device", default="Auto", choices=["Auto", "CPU", "GPU"])
+parser.add_argument("--seed", type=int, default=0)
+parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
+parser.add_argument("--plugin", default=None, help="MultichannelExplorer.so to load")
+args = parser.parse_args(sys.argv[1:])
+
+for path in args.channels:
+    require(path)
+os.makedirs(args.output, exist_ok=True)
+mce = load_plugin(args.plugin)
+stages = {}
+
+
+def timed(name, function):
+    start = time.time()
+    value = function()
+    stages[name] = round(time.time() - start, 3)
+    print("%-22s %7.2f s" % (name, stages[name]))
+    sys.stdout.flush()
+    return value
+
+
+# 1. Channels on one grid, and their feature vectors.
+readers = [OpenDataFile(p) for p in args.channels]
+volume = AppendAttributes(Input=readers) if len(readers) > 1 else readers[0]
+timed("read", volume.UpdatePipeline)
+features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
+                                       Device=args.device)
+timed("features", features.UpdatePipeline)
+
+# 2. The reduced domain.
+reduction = simple.DimensionReduction(
+    Input=features, Method=args.method, OutputDimension=3,
+    ReferenceSampleSize=args.reference_size, NumberOfNeighbors=args.neighbors,
+    NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
+reduction.Features = ["POINTS", "Features"]
+timed("reduction", reduction.UpdatePipeline)
+reduction.UpdatePropertyInformation()
+
+# 3-4. Widgets seeded in the domain; the volume rendered through them.
+view = render_view(args.size)
+display = mce.show_gaussian_tf(reduction, view, blend=args.blend)
+widgets = timed("seed widgets", lambda: mce.auto_widgets(
+    display, args.widgets, opacity=args.widget_opacity, seed=args.seed))
+view.ResetCamera()
+timed("first render", lambda: Render(view))
+
+# 5. The best viewpoint of the widgets' opacity (the display is a Gaussian TF Volume, so
+#    apply_best_viewpoint takes its widgets), and the worst one for comparison.
+best = timed("best viewpoint", lambda: mce.apply_best_viewpoint(reduction, view,
+                                                                disambiguate=True))
+if not best.valid:
+    sys.exit("no best viewpoint for these widgets (their opacity is flat or empty)")
+SaveScreenshot(os.path.join(args.output, "best.png"), view)
+worst = mce.apply_best_viewpoint(reduction, view, which="worst", disambiguate=True)
+SaveScreenshot(os.path.join(args.output, "worst.png"), view)
+mce.apply_best_viewpoint(reduction, view, disambiguate=True)
+
+# The reduced domain beside the volume, and the eigenvalue spectrum.
+dual = timed("dual domain", lambda: mce.show_dual_domain(display, view))
+SaveScreenshot(os.path.join(args.output, "dual_domain.png"), dual.layout,
+               ImageResolution=[2 * args.size[0], args.size[1]])
+SaveScreenshot(os.path.join(args.output, "domain.png"), dual.domain_view)
+chart = CreateView("XYBarChartView")
+chart.ViewSize = list(args.size)
+chart.ChartTitle = "Eigenvalue spectrum (%s)" % args.method
+bars = Show(OutputPort(reduction, 1), chart)
+try:
+    bars.UseIndexForXAxis = 0
+    bars.XArrayName = "Index"
+    bars.SeriesVisibility = ["Value"]
+except AttributeError:
+    pass
+Render(chart)
+SaveScreenshot(os.path.join(args.output, "spectrum.png"), chart)
+
+# Report.
+bvp = best.filter
+report = {
+    "channels": [os.path.abspath(p) for p in args.channels],
+    "voxels": volume.GetDataInformation().GetNumberOfPoints(),
+    "features": args.features,
+    "method": args.method,
+    "reference_sample_size": args.reference_size,
+    "variance_retained": float(reduction.GetPropertyValue("VarianceRetained")),
+    "trustworthiness": float(reduction.GetPropertyValue("Trustworthiness")),
+    "reduction_eigenvalues": [float(v) for v in reduction.GetPropertyValue("EigenvalueSpectrum")],
+    "widgets": [widgets[i:i + 8] for i in range(0, len(widgets), 8)],
+    "best_direction": best.direction,
+    "worst_direction": worst.direction,
+    "view_up": best.view_up,
+    "view_eigenvalues": best.eigenvalues,
+    "device": best.device,
+    "viewpoint_stage_ms": dict(zip(("harris", "select", "pca", "total"),
+                                   [float(x) for x in bvp.GetPropertyValue("StageTimings")])),
+    "stage_seconds": stages,
+    "images": {k: os.path.abspath(os.path.join(args.output, k + ".png"))
+               for k in ("best", "worst", "dual_domain", "domain", "spectrum")},
+}
+with open(os.path.join(args.output, "report.json"), "w") as f:
+    json.dump(report, f, indent=2)
+
+fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
+print("\n%d voxels, %s features, %s: variance retained %.3f, trustworthiness %.3f"
+      % (report["voxels"], args.features, args.method, report["variance_retained"],
+         report["trustworthiness"]))
+print("%d widgets seeded; best view %s, worst %s, view eigenvalues %s"
+      % (len(report["widgets"]), fmt(best.direction), fmt(worst.direction),
+         " ".join("%.3f" % e for e in best.eigenvalues)))
+print("output: %s" % os.path.abspath(args.output))
