@@ -92,12 +92,12 @@ std::vector<double> flattenGaussianWidgets(const std::vector<GaussianWidget>& wi
 namespace
 {
 
-// The voxel loop is compiled for AVX-512, AVX2 and baseline x86-64; the loader picks the
-// best the CPU runs (GCC function multiversioning). All three give the same bits: the file
-// is built without FMA contraction.
+// The voxel loop is compiled for AVX-512F, AVX2 and baseline x86-64; the loader picks the
+// best the CPU runs (GCC function multiversioning). All three do the same float operations
+// (the file is built without FMA contraction).
 // Everything the voxel loop calls is forced inline, so each clone compiles it for its ISA.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define MCV_CPU_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#define MCV_CPU_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
 #define MCV_LOOP_INLINE inline __attribute__((always_inline))
 #else
 #define MCV_CPU_CLONES
