@@ -67,6 +67,12 @@ grep -v "^  \|^$" "$logs/bench.log" | head -20 >/dev/null
 cat "$logs/bench.log" | sed -n '/^== /,$p' | grep -E "^==|GPU uint8|GPU float|H2D|CPU:|sweep" | head -60
 note "mcvBenchmarkGPU exit code $bench_rc"
 
+note "== Gaussian transfer function (256^3 recolouring: baseline loop, CPU path, GPU path)"
+tf_rc=0
+timeout 180 "$build/Testing/Benchmarks/mcvBenchmarkGaussianTF" >"$logs/bench-gaussiantf.log" 2>&1 || tf_rc=$?
+sed -n '/^coords/,$p' "$logs/bench-gaussiantf.log" | tee -a "$summary"
+note "mcvBenchmarkGaussianTF exit code $tf_rc"
+
 if [ "${MCV_NCU:-0}" = 1 ] && command -v ncu >/dev/null 2>&1; then
   note "== ncu (256^3): kernel durations of one warm topN, then the Harris kernel's stall profile"
   timeout 120 ncu --clock-control none --metrics gpu__time_duration.sum --csv \
@@ -85,4 +91,4 @@ echo "================ summary ================"
 cat "$summary"
 echo
 sed -n '/^Best-viewpoint GPU pipeline/,$p' "$logs/bench.log" | tee -a "$summary"
-[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ]
+[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ] && [ "$tf_rc" -eq 0 ]
