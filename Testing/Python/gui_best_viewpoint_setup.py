@@ -1,7 +1,7 @@
 """GUI test, part 1 (run by `paraview --script=` before the XML test script clicks the
 toolbar button): open brainsmall.den, show it as a volume, make it the active source,
 and record what the button's Python call does into $MCV_OUTPUT_DIR/gui_state.json
-(apply_best_viewpoint is wrapped, not replaced). test_gui.sh checks that file."""
+(apply_best_viewpoint is wrapped, not replaced). test_gui.sh checks that file with gui_best_viewpoint_check.py."""
 import json
 import os
 
@@ -11,7 +11,7 @@ import multichannel_explorer as mce
 data = os.environ.get("MCV_DATA_DIR", "")
 out = os.environ.get("MCV_OUTPUT_DIR", ".")
 os.makedirs(out, exist_ok=True)
-state_file = os.path.join(out, "gui_state.json")
+state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_best_viewpoint_state.json")
 
 reader = OpenDataFile(os.path.join(data, "brainsmall.den"))
 view = GetActiveViewOrCreate("RenderView")

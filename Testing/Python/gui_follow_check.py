@@ -1,0 +1,46 @@
+"""GUI test of Follow Best Viewpoint + Seed Gaussian Widgets, part 3 (run by test_gui.sh
+with the state file and paraview's exit status): the toggle started following (camera
+along the widgets' plane normal, z), the seed button set 4 widgets on the display, and
+the follower turned the camera to the new widgets' best view, computed from their
+opacity."""
+import json
+import math
+import sys
+
+path, rc = sys.argv[1], int(sys.argv[2])
+fails = []
+
+
+def check(ok, msg):
+    print(("ok   " if ok else "FAIL ") + msg)
+    if not ok:
+        fails.append(msg)
+
+
+def cosine(a, b):
+    return abs(sum(x * y for x, y in zip(a, b))) / math.sqrt(
+        sum(x * x for x in a) * sum(y * y for y in b))
+
+
+check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+try:
+    events = json.load(open(path))["events"]
+except Exception as e:  # noqa: BLE001
+    events = []
+    check(False, "state file %s readable (%s)" % (path, e))
+follow = [e for e in events if e["event"] == "follow"]
+seed = [e for e in events if e["event"] == "seed"]
+if check(len(follow) == 1 and follow[0]["best"], "the toggle called follow_best_viewpoint"):
+    check(cosine(follow[0]["camera"], [0, 0, 1]) > 0.999,
+          "... the camera looks along the plane normal (cos %.5f)"
+          % cosine(follow[0]["camera"], [0, 0, 1]))
+if check(len(seed) == 1, "the seed button called auto_widgets"):
+    s = seed[0]
+    check(s["widgets"] == 32 and s["display_widgets"] == 32,
+          "... 4 widgets set on the display (%d values)" % s["display_widgets"])
+    check(s["opacity_source"] in ("1", "Representation") and s["filter_widgets"] == s["display_values"],
+          "... the best viewpoint was recomputed from the new widgets' opacity")
+    check(cosine(s["camera"], s["best"]) > 0.99999,
+          "... and the camera turned to it (cos %.6f)" % cosine(s["camera"], s["best"]))
+print("gui_follow: %d failed" % len(fails))
+sys.exit(1 if fails else 0)
