@@ -21,6 +21,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkWeakPointer.h"
 
+#include <cstdint>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -314,6 +315,9 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     mcv::CoordinateView view;
     view.count = static_cast<size_t>(n);
     view.components = components;
+    // The array's modification time tags its values: the GPU path keeps the coordinates
+    // on the device across widget edits and uploads them again only when it changes.
+    view.version = static_cast<std::uint64_t>(coords->GetMTime());
     auto floats = vtkFloatArray::FastDownCast(coords);
     if (floats)
     {
