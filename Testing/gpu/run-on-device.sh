@@ -67,6 +67,13 @@ grep -v "^  \|^$" "$logs/bench.log" | head -20 >/dev/null
 cat "$logs/bench.log" | sed -n '/^== /,$p' | grep -E "^==|GPU uint8|GPU float|H2D|CPU:|sweep" | head -60
 note "mcvBenchmarkGPU exit code $bench_rc"
 
+note "== dimension-reduction chain (real brain: features + Isomap on 10000 + placement of every voxel)"
+red_rc=0
+timeout 300 "$build/Testing/Benchmarks/mcvBenchmarkReduction" >"$logs/bench-reduction.log" 2>&1 || red_rc=$?
+grep -E "^==|WHOLE CHAIN|GPU vs CPU|baseline|kd-tree placement|in-run|warning|failed" "$logs/bench-reduction.log" |
+  tee -a "$summary"
+note "mcvBenchmarkReduction exit code $red_rc"
+
 note "== Gaussian transfer function (256^3 recolouring: baseline loop, CPU path, GPU path)"
 tf_rc=0
 timeout 180 "$build/Testing/Benchmarks/mcvBenchmarkGaussianTF" >"$logs/bench-gaussiantf.log" 2>&1 || tf_rc=$?
@@ -91,4 +98,4 @@ echo "================ summary ================"
 cat "$summary"
 echo
 sed -n '/^Best-viewpoint GPU pipeline/,$p' "$logs/bench.log" | tee -a "$summary"
-[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ] && [ "$tf_rc" -eq 0 ]
+[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ] && [ "$red_rc" -eq 0 ] && [ "$tf_rc" -eq 0 ]
