@@ -1,6 +1,7 @@
 #include "vtkGaussianTFVolumeRepresentation.h"
 
 #include "GaussianTransferFunction.h" // mcv core (Filters/Core)
+#include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
 
 #include "vtkCompositeDataSet.h"
 #include "vtkFloatArray.h"
@@ -82,7 +83,7 @@ std::string pointArrayNames(vtkPointData* pd)
 
 struct vtkGaussianTFVolumeRepresentation::vtkInternals
 {
-  std::vector<double> WidgetValues;
+  mcv::vtkhelpers::WidgetValues WidgetValues; // flat, 8 per widget
   std::string CoordinateArray = "ReducedCoordinates";
   vtkTimeStamp SettingsTime; // widgets, coordinate array or device changed
   vtkTimeStamp ComputeTime;  // last (attempted) computation
@@ -158,34 +159,31 @@ int vtkGaussianTFVolumeRepresentation::RequestData(
 // RGBA computation sees them.
 void vtkGaussianTFVolumeRepresentation::SetNumberOfGaussianWidgetValues(int count)
 {
-  this->Internals->WidgetValues.assign(static_cast<size_t>(count < 0 ? 0 : count), 0.0);
-  this->Internals->SettingsTime.Modified();
+  if (this->Internals->WidgetValues.SetNumber(count))
+  {
+    this->Internals->SettingsTime.Modified();
+  }
 }
 
+//------------------------------------------------------------------------------
 void vtkGaussianTFVolumeRepresentation::SetGaussianWidgetValue(int index, double value)
 {
-  auto& values = this->Internals->WidgetValues;
-  if (index < 0)
+  if (this->Internals->WidgetValues.Set(index, value))
   {
-    return;
+    this->Internals->SettingsTime.Modified();
   }
-  if (static_cast<size_t>(index) >= values.size())
-  {
-    values.resize(static_cast<size_t>(index) + 1, 0.0);
-  }
-  values[index] = value;
-  this->Internals->SettingsTime.Modified();
 }
 
+//------------------------------------------------------------------------------
 int vtkGaussianTFVolumeRepresentation::GetNumberOfGaussianWidgetValues()
 {
-  return static_cast<int>(this->Internals->WidgetValues.size());
+  return this->Internals->WidgetValues.GetNumber();
 }
 
+//------------------------------------------------------------------------------
 double vtkGaussianTFVolumeRepresentation::GetGaussianWidgetValue(int index)
 {
-  const auto& values = this->Internals->WidgetValues;
-  return (index >= 0 && static_cast<size_t>(index) < values.size()) ? values[index] : 0.0;
+  return this->Internals->WidgetValues.Get(index);
 }
 
 void vtkGaussianTFVolumeRepresentation::SetCoordinateArray(const char* name)
@@ -262,7 +260,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
   }
 
   const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    internals.WidgetValues.data(), internals.WidgetValues.size());
+    internals.WidgetValues.Data(), internals.WidgetValues.Size());
   if (!widgets.ok())
   {
     vtkErrorMacro(<< widgets.error
@@ -417,7 +415,7 @@ void vtkGaussianTFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "CoordinateArray: " << this->Internals->CoordinateArray << "\n";
-  os << indent << "GaussianWidgets: " << this->Internals->WidgetValues.size() << " values\n";
+  os << indent << "GaussianWidgets: " << this->Internals->WidgetValues.Size() << " values\n";
   os << indent << "Device: " << this->Device << "\n";
   os << indent << "GaussianBlendMode: " << this->GaussianBlendMode << "\n";
   os << indent << "DeviceUsed: " << this->Internals->DeviceUsed << "\n";

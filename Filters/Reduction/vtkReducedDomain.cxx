@@ -21,6 +21,7 @@
 #include "WidgetSeeding.h"
 
 #include "../Common/mcvWholeExtent.h"
+#include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,7 +32,7 @@ vtkStandardNewMacro(vtkReducedDomain);
 
 struct vtkReducedDomain::vtkInternals
 {
-  std::vector<double> GaussianWidgets; // flat, 8 per widget
+  mcv::vtkhelpers::WidgetValues GaussianWidgets;
   vtkNew<vtkDoubleArray> SeededWidgets;
 };
 
@@ -122,7 +123,7 @@ void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SampleSize: " << this->SampleSize << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
-  os << indent << "GaussianWidgets: " << this->Internals->GaussianWidgets.size() / 8 << "\n";
+  os << indent << "GaussianWidgets: " << this->Internals->GaussianWidgets.Size() / 8 << "\n";
   os << indent << "SeedWidgetCount: " << this->SeedWidgetCount << "\n";
   os << indent << "SeedWidgetOpacity: " << this->SeedWidgetOpacity << "\n";
   os << indent << "SkipLargestCluster: " << this->SkipLargestCluster << "\n";
@@ -131,9 +132,8 @@ void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
 //------------------------------------------------------------------------------
 void vtkReducedDomain::SetNumberOfGaussianWidgetValues(int count)
 {
-  if (count >= 0 && static_cast<std::size_t>(count) != this->Internals->GaussianWidgets.size())
+  if (this->Internals->GaussianWidgets.SetNumber(count))
   {
-    this->Internals->GaussianWidgets.resize(static_cast<std::size_t>(count), 0.0);
     this->Modified();
   }
 }
@@ -141,18 +141,8 @@ void vtkReducedDomain::SetNumberOfGaussianWidgetValues(int count)
 //------------------------------------------------------------------------------
 void vtkReducedDomain::SetGaussianWidgetValue(int index, double value)
 {
-  std::vector<double>& values = this->Internals->GaussianWidgets;
-  if (index < 0)
+  if (this->Internals->GaussianWidgets.Set(index, value))
   {
-    return;
-  }
-  if (static_cast<std::size_t>(index) >= values.size())
-  {
-    values.resize(static_cast<std::size_t>(index) + 1, 0.0);
-  }
-  if (values[static_cast<std::size_t>(index)] != value)
-  {
-    values[static_cast<std::size_t>(index)] = value;
     this->Modified();
   }
 }
@@ -160,16 +150,13 @@ void vtkReducedDomain::SetGaussianWidgetValue(int index, double value)
 //------------------------------------------------------------------------------
 int vtkReducedDomain::GetNumberOfGaussianWidgetValues()
 {
-  return static_cast<int>(this->Internals->GaussianWidgets.size());
+  return this->Internals->GaussianWidgets.GetNumber();
 }
 
 //------------------------------------------------------------------------------
 double vtkReducedDomain::GetGaussianWidgetValue(int index)
 {
-  const std::vector<double>& values = this->Internals->GaussianWidgets;
-  return index >= 0 && static_cast<std::size_t>(index) < values.size()
-    ? values[static_cast<std::size_t>(index)]
-    : 0.0;
+  return this->Internals->GaussianWidgets.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -229,7 +216,7 @@ int vtkReducedDomain::RequestData(
     return 0;
   }
   const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    this->Internals->GaussianWidgets.data(), this->Internals->GaussianWidgets.size());
+    this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
   if (!widgets.ok())
   {
     vtkErrorMacro(<< widgets.error);

@@ -28,6 +28,7 @@
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
 #include "../Common/mcvWholeExtent.h"
+#include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +44,7 @@ vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
 struct vtkBestViewpoint::vtkInternals
 {
   mcv::vtkhelpers::ChannelSelection Channels;
-  std::vector<double> GaussianWidgets; // flat, 8 per widget
+  mcv::vtkhelpers::WidgetValues GaussianWidgets;
   std::string DeviceUsed = "CPU";
 };
 
@@ -149,9 +150,8 @@ vtkBestViewpoint::~vtkBestViewpoint()
 //------------------------------------------------------------------------------
 void vtkBestViewpoint::SetNumberOfGaussianWidgetValues(int count)
 {
-  if (count >= 0 && static_cast<std::size_t>(count) != this->Internals->GaussianWidgets.size())
+  if (this->Internals->GaussianWidgets.SetNumber(count))
   {
-    this->Internals->GaussianWidgets.resize(static_cast<std::size_t>(count), 0.0);
     this->Modified();
   }
 }
@@ -159,18 +159,8 @@ void vtkBestViewpoint::SetNumberOfGaussianWidgetValues(int count)
 //------------------------------------------------------------------------------
 void vtkBestViewpoint::SetGaussianWidgetValue(int index, double value)
 {
-  std::vector<double>& values = this->Internals->GaussianWidgets;
-  if (index < 0)
+  if (this->Internals->GaussianWidgets.Set(index, value))
   {
-    return;
-  }
-  if (static_cast<std::size_t>(index) >= values.size())
-  {
-    values.resize(static_cast<std::size_t>(index) + 1, 0.0);
-  }
-  if (values[static_cast<std::size_t>(index)] != value)
-  {
-    values[static_cast<std::size_t>(index)] = value;
     this->Modified();
   }
 }
@@ -178,16 +168,13 @@ void vtkBestViewpoint::SetGaussianWidgetValue(int index, double value)
 //------------------------------------------------------------------------------
 int vtkBestViewpoint::GetNumberOfGaussianWidgetValues()
 {
-  return static_cast<int>(this->Internals->GaussianWidgets.size());
+  return this->Internals->GaussianWidgets.GetNumber();
 }
 
 //------------------------------------------------------------------------------
 double vtkBestViewpoint::GetGaussianWidgetValue(int index)
 {
-  const std::vector<double>& values = this->Internals->GaussianWidgets;
-  return index >= 0 && static_cast<std::size_t>(index) < values.size()
-    ? values[static_cast<std::size_t>(index)]
-    : 0.0;
+  return this->Internals->GaussianWidgets.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -366,7 +353,7 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
   vtkImageData* image, std::size_t count, std::vector<float>& opacity)
 {
   const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    this->Internals->GaussianWidgets.data(), this->Internals->GaussianWidgets.size());
+    this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
   if (!widgets.ok())
   {
     vtkErrorMacro(<< widgets.error);
