@@ -3,82 +3,12 @@
 #include "FeatureKnn.h"
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
-#include <Spectra/SymEigsShiftSolver.h>
-#include <Spectra/SymEigsSolver.h>
 
 #include <algorithm>
 #include <cmath>
 
 namespace mcv
 {
-
-namespace
-{
-using SparseD = Eigen::SparseMatrix<double, Eigen::ColMajor, std::int64_t>;
-
-// (M - sigma I)^{-1} x through a sparse LDLT (Spectra's own SparseSymShiftSolve uses a
-// sparse LU, twice the work for a symmetric matrix).
-class LDLTShiftInvert
-{
-public:
-  using Scalar = double;
-  explicit LDLTShiftInvert(const SparseD& M)
-    : M_(M)
-  {
-  }
-  Eigen::Index rows() const { return M_.rows(); }
-  Eigen::Index cols() const { return M_.cols(); }
-  void set_shift(double sigma)
-  {
-    SparseD A = M_;
-    for (Eigen::Index i = 0; i < A.rows(); ++i)
-    {
-      A.coeffRef(i, i) -= sigma;
-    }
-    ldlt_.compute(A);
-    ok_ = ldlt_.info() == Eigen::Success;
-  }
-  bool ok() const { return ok_; }
-  void perform_op(const double* x, double* y) const
-  {
-    Eigen::Map<const Eigen::VectorXd> in(x, M_.rows());
-    Eigen::Map<Eigen::VectorXd> out(y, M_.rows());
-    out = ldlt_.solve(in);
-  }
-
-private:
-  const SparseD& M_;
-  Eigen::SimplicialLDLT<SparseD, Eigen::Lower, Eigen::AMDOrdering<std::int64_t>> ldlt_;
-  bool ok_ = false;
-};
-
-// (c I - M) x with M = A^T A, A = I - W applied as two sparse products (never formed).
-class ShiftedProduct
-{
-public:
-  using Scalar = double;
-  ShiftedProduct(const SparseD& A, double c)
-    : A_(A)
-    , c_(c)
-  {
-  }
-  Eigen::Index rows() const { return A_.cols(); }
-  Eigen::Index cols() const { return A_.cols(); }
-  void perform_op(const double* x, double* y) const
-  {
-    Eigen::Map<const Eigen::VectorXd> in(x, A_.cols());
-    Eigen::Map<Eigen::VectorXd> out(y, A_.cols());
-    const Eigen::VectorXd t = A_ * in;
-    out = c_ * in - A_.transpose() * t;
-  }
-
-private:
-  const SparseD& A_;
-  double c_;
-};
-} // namespace
 
 Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
 {
@@ -166,106 +96,30 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
   }
 
   // A = I - W.
-  std::vector<Eigen::Triplet<double, std::int64_t>> trip;
+  std::vector<Eigen::Triplet<double, int>> trip;
   trip.reserve(static_cast<std::size_t>(n) * (K + 1) + 2 * joins.size());
   for (Eigen::Index i = 0; i < n; ++i)
   {
-    trip.emplace_back(i, i, 1.0);
+    trip.emplace_back(static_cast<int>(i), static_cast<int>(i), 1.0);
     for (const auto& [j, w] : weights[static_cast<std::size_t>(i)])
     {
-      trip.emplace_back(i, j, -w);
+      trip.emplace_back(static_cast<int>(i), static_cast<int>(j), -w);
     }
   }
-  SparseD A(n, n);
+  LLESparse A(n, n);
   A.setFromTriplets(trip.begin(), trip.end());
   report("LLE: eigenvectors", 0.3);
 
-  const int nev = d + 1;
-  const int ncv = std::min<int>(static_cast<int>(n), std::max(2 * nev + 1, 20));
-  Eigen::VectorXd values;
-  Eigen::MatrixXd vectors;
-  bool solved = false;
-  std::string why;
-  LLESolver solver = options.solver;
-  SparseD M;
-  if (solver != LLESolver::Lanczos)
+  const LLEBottomEigen bottom = lleBottomEigenvectors(A, d, options.solver);
+  if (!bottom.error.empty())
   {
-    M = SparseD(A.transpose()) * A;
-    // Auto: the LDLT factor of M (a 2-hop neighbourhood pattern) fills in; past a few
-    // hundred non-zeros per row the Lanczos iteration is cheaper.
-    if (solver == LLESolver::Auto && M.nonZeros() > 400 * n)
-    {
-      solver = LLESolver::Lanczos;
-    }
-  }
-  if (solver != LLESolver::Lanczos)
-  {
-    // sigma slightly below 0 keeps M - sigma I positive definite (M is PSD and singular).
-    const double sigma = -1e-9 * std::max(1e-300, M.diagonal().maxCoeff());
-    LDLTShiftInvert op(M);
-    Spectra::SymEigsShiftSolver<LDLTShiftInvert> eigs(op, nev, ncv, sigma);
-    if (op.ok())
-    {
-      eigs.init();
-      eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-8);
-      if (eigs.info() == Spectra::CompInfo::Successful)
-      {
-        values = eigs.eigenvalues();
-        vectors = eigs.eigenvectors();
-        solved = true;
-      }
-      else
-      {
-        why = "shift-invert did not converge";
-      }
-    }
-    else
-    {
-      why = "the sparse factorisation failed";
-    }
-  }
-  if (!solved)
-  {
-    // c >= lambda_max(M) = ||A||_2^2 <= ||A||_1 ||A||_inf.
-    const double norm1 = Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(n) * A.cwiseAbs()).maxCoeff();
-    const double normInf = Eigen::VectorXd(A.cwiseAbs() * Eigen::VectorXd::Ones(n)).maxCoeff();
-    const double c = norm1 * normInf;
-    ShiftedProduct op(A, c);
-    const int ncvL = std::min<int>(static_cast<int>(n), std::max(4 * nev, 40));
-    Spectra::SymEigsSolver<ShiftedProduct> eigs(op, nev, ncvL);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestAlge, 3000, 1e-8);
-    if (eigs.info() == Spectra::CompInfo::Successful)
-    {
-      values = (c - eigs.eigenvalues().array()).matrix();
-      vectors = eigs.eigenvectors();
-      solved = true;
-    }
-    else
-    {
-      why += std::string(why.empty() ? "" : "; ") + "Lanczos did not converge";
-    }
-  }
-  if (!solved)
-  {
-    e.error = "LLE: the eigenvectors of (I-W)^T(I-W) could not be computed (" + why +
+    e.error = "LLE: the eigenvectors of (I-W)^T(I-W) could not be computed (" + bottom.error +
       "). Try more neighbours or a different reference sample.";
     return e;
   }
-  // Ascending by eigenvalue; the first is the constant vector.
-  std::vector<int> order(static_cast<std::size_t>(values.size()));
-  for (int k = 0; k < static_cast<int>(order.size()); ++k)
-  {
-    order[static_cast<std::size_t>(k)] = k;
-  }
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return values[a] < values[b]; });
-  Eigen::MatrixXd Y(n, d);
-  for (int k = 0; k < d; ++k)
-  {
-    const int c = order[static_cast<std::size_t>(k) + 1];
-    Y.col(k) = vectors.col(c) * std::sqrt(static_cast<double>(n));
-    e.eigenvalues.push_back(values[c]);
-  }
+  // Unit mean square coordinates.
+  Eigen::MatrixXd Y = bottom.vectors * std::sqrt(static_cast<double>(n));
+  e.eigenvalues.assign(bottom.values.data(), bottom.values.data() + d);
   fixColumnSigns(Y);
   e.coordinates = Y.cast<float>();
   report("LLE: done", 1.0);
