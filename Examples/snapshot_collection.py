@@ -1,0 +1,515 @@
+"""Snapshots of a collection of volumes, each from its best viewpoint, with an HTML index.
+
+    xvfb-run -a pvbatch Examples/snapshot_collection.py --input DIR --output DIR
+        [--force [NAME ...]] [--retry-failed] [--timeout S] [--size W H] [--plugin PATH]
+
+The "snapshot tool for volume databases" of the dissertation (section 7.6.1): for every
+volume under --input (searched recursively) it renders a thumbnail from the best viewpoint
+(camera along v3 of the 3D Harris interest points, +v3 or -v3 by image entropy) and writes
+  OUTPUT/index.html         thumbnails, file name, dimensions, spacing, scalar type and
+                            range, best direction, eigenvalue spectrum, time, or the error
+  OUTPUT/index.json         the same records, machine-readable
+  OUTPUT/thumbnails/*.png   one per volume
+  OUTPUT/records/*.json     one per volume (what resuming looks at)
+
+Volumes: NIfTI (.nii, .nii.gz) and VolPack (.den) through the plugin's readers; VTK image
+data (.vti), MetaImage (.mhd with its .raw, .mha) and TIFF through ParaView's readers.
+TIFF files of one folder whose names differ only in a trailing number (slice_000.tif,
+slice_001.tif, ...) are one volume (a stack); any other .tif is a volume of its own.
+Other files (.raw, .txt, ...) are ignored.
+
+Rendering: the display's default opacity (ParaView's linear ramp over the scalar range)
+and the Grayscale colour map; the best viewpoint follows that opacity. A volume with
+several components per voxel (a 4D NIfTI such as a diffusion series) is shown and
+analysed through its FIRST component (for diffusion MRI the b=0 image); the record says
+how many components the file had.
+
+Isolation: each volume is rendered by a separate pvbatch process (a fresh session: no
+proxy, view or transfer function leaks from one file into the next), under a time limit
+(--timeout). A file that cannot be read, that crashes its reader or that runs out of time
+gets an error entry; the run goes on.
+
+Resume: a volume whose record and thumbnail exist (and whose file has not changed since)
+is skipped, so an interrupted run can simply be started again. A volume that failed
+before is skipped too when its file has not changed (--retry-failed tries again).
+--force redoes every volume, --force NAME ... only the named ones (names as in the index).
+
+Exit code: 0 when at least one volume has a snapshot, else 1. The last line printed is
+"N of M volumes succeeded".
+"""
+import argparse
+import html
+import json
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from example_support import load_plugin, render_view  # noqa: E402
+
+THIS = os.path.abspath(__file__)
+RECORD_VERSION = 1
+BAR_WIDTH = 20
+# Extension -> format label. .raw/.img are data halves of a header file: not volumes.
+FORMATS = [(".nii.gz", "NIfTI"), (".nii", "NIfTI"), (".den", "VolPack"), (".vti", "VTK image"),
+           (".mhd", "MetaImage"), (".mha", "MetaImage"), (".tiff", "TIFF"), (".tif", "TIFF")]
+
+
+def _format_of(name):
+    low = name.lower()
+    for ext, label in FORMATS:
+        if low.endswith(ext):
+            return ext, label
+    return None, None
+
+
+def _volume_id(name):
+    """A file-system-safe, unique-enough id for thumbnails/records of a volume name."""
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", name.replace(os.sep, "__")).strip("_") or "volume"
+
+
+def discover(input_dir, output_dir):
+    """The volumes under input_dir: [{"name", "id", "format", "files"}], sorted by name,
+    and the number of files ignored. TIFF files named PREFIX<number>.tif in one folder
+    form one stack (name: "PREFIX*.tif")."""
+    volumes, ignored = [], 0
+    out_real = os.path.realpath(output_dir)
+    for root, dirs, files in os.walk(input_dir):
+        # Never index our own output when it lies inside the input folder.
+        dirs[:] = sorted(d for d in dirs
+                         if os.path.realpath(os.path.join(root, d)) != out_real)
+        tiff_groups = {}
+        for f in sorted(files):
+            ext, label = _format_of(f)
+            if ext is None:
+                ignored += 1
+                continue
+            path = os.path.join(root, f)
+            rel = os.path.relpath(path, input_dir)
+            if label == "TIFF":
+                m = re.match(r"^(.*?)(\d+)(\.tiff?)$", f, re.IGNORECASE)
+                key = (m.group(1), m.group(3).lower()) if m else (f, "")
+                tiff_groups.setdefault(key, []).append(path)
+                continue
+            volumes.append({"name": rel, "format": label, "files": [path]})
+        for (prefix, ext), paths in sorted(tiff_groups.items()):
+            if len(paths) == 1:
+                rel = os.path.relpath(paths[0], input_dir)
+                volumes.append({"name": rel, "format": "TIFF", "files": paths})
+            else:
+                # Numeric order (slice_2 before slice_10), not string order.
+                paths.sort(key=lambda p: int(re.search(r"(\d+)\.tiff?$", p, re.I).group(1)))
+                rel = os.path.relpath(os.path.join(root, prefix + "*" + ext), input_dir)
+                volumes.append({"name": rel, "format": "TIFF stack", "files": paths})
+    volumes.sort(key=lambda v: v["name"])
+    seen = {}
+    for v in volumes:
+        vid = _volume_id(v["name"])
+        seen[vid] = seen.get(vid, 0) + 1
+        v["id"] = vid if seen[vid] == 1 else "%s_%d" % (vid, seen[vid])
+    return volumes, ignored
+
+
+def signature(files):
+    """Total size and newest modification time of a volume's files: a changed file is
+    redone on resume."""
+    size, mtime = 0, 0
+    for f in files:
+        st = os.stat(f)
+        size += st.st_size
+        mtime = max(mtime, st.st_mtime_ns)
+    return [size, mtime]
+
+
+def _write_json(path, data):
+    """Write to a temporary name, then rename: an interrupted write leaves no record."""
+    tmp = path + ".part"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=2)
+    os.replace(tmp, path)
+
+
+# ------------------------------------------------------------------------------------
+# Worker: one volume, in its own pvbatch process.
+
+
+class VolumeError(Exception):
+    pass
+
+
+def _open_volume(simple, spec):
+    files = spec["files"]
+    if spec["format"] == "TIFF stack":
+        reader = simple.TIFFSeriesReader(FileNames=files)
+        reader.ReadAsImageStack = 1  # slices of one volume, not time steps
+    else:
+        try:
+            reader = simple.OpenDataFile(files[0])
+        except RuntimeError as exc:  # every reader's CanReadFile said no
+            raise VolumeError("no reader accepts this file (corrupt or not a volume): %s"
+                              % str(exc).strip())
+        if reader is None:
+            raise VolumeError("ParaView has no reader for this file")
+    reader.UpdatePipeline()
+    data = reader.GetClientSideObject().GetOutputDataObject(0)
+    if data is None or not data.IsA("vtkImageData"):
+        raise VolumeError("the reader gave %s, not image data"
+                          % (data.GetClassName() if data is not None else "nothing"))
+    if data.GetNumberOfPoints() < 2:
+        raise VolumeError("the reader produced no voxels (unreadable or corrupt file)")
+    scalars = data.GetPointData().GetScalars()
+    if scalars is None and data.GetPointData().GetNumberOfArrays() > 0:
+        scalars = data.GetPointData().GetArray(0)
+    if scalars is None or scalars.GetName() is None:
+        raise VolumeError("the file holds no voxel values (no point data array)")
+    return reader, data, scalars
+
+
+def run_worker(spec_json):
+    """Renders one volume; writes its thumbnail, then its record (the record last, so a
+    record on disk means the volume is finished). Returns the process exit code."""
+    spec = json.loads(spec_json)
+    start = time.time()
+    record = {
+        "version": RECORD_VERSION, "name": spec["name"], "id": spec["id"],
+        "format": spec["format"], "files": len(spec["files"]),
+        "signature": signature(spec["files"]), "status": "error",
+    }
+    try:
+        from paraview import simple
+
+        mce = load_plugin(spec.get("plugin"))
+        reader, data, scalars = _open_volume(simple, spec)
+        ncomp = scalars.GetNumberOfComponents()
+        array = scalars.GetName()
+        source = reader
+        if ncomp > 1:
+            # A 4D / multi-component volume: its first component (see the docstring).
+            source = simple.ExtractComponent(Input=reader, InputArray=["POINTS", array],
+                                             Component=0, OutputArrayName=array + "_0")
+            source.UpdatePipeline()
+            array = array + "_0"
+            scalars = source.GetClientSideObject().GetOutputDataObject(0) \
+                .GetPointData().GetArray(array)
+        record.update({
+            "dimensions": list(data.GetDimensions()),
+            "spacing": [float(s) for s in data.GetSpacing()],
+            "origin": [float(s) for s in data.GetOrigin()],
+            "scalar_type": scalars.GetDataTypeAsString(),
+            "components": ncomp,
+            "component_used": 0 if ncomp > 1 else None,
+            "array": array,
+            "range": [float(x) for x in scalars.GetRange(0)],
+        })
+        if record["range"][1] <= record["range"][0]:
+            raise VolumeError("constant volume (all voxels %g): nothing to see"
+                              % record["range"][0])
+
+        view = render_view(spec["size"])
+        display = simple.Show(source, view)
+        display.SetRepresentationType("Volume")
+        simple.ColorBy(display, ("POINTS", array))
+        display.RescaleTransferFunctionToDataRange(True, False)
+        simple.GetColorTransferFunction(array).ApplyPreset("Grayscale", True)
+
+        best = mce.apply_best_viewpoint(source, view, which="best", disambiguate=True)
+        if not best.valid:
+            raise VolumeError("no best viewpoint: flat or constant opacity")
+        tmp_png = spec["thumbnail"] + ".part.png"
+        simple.SaveScreenshot(tmp_png, view)
+        os.replace(tmp_png, spec["thumbnail"])
+        stats = mce.image_statistics(spec["thumbnail"])
+        timings = [float(x) for x in best.filter.GetPropertyValue("StageTimings")]
+        record.update({
+            "status": "ok",
+            "best_direction": [float(x) for x in best.direction],
+            "view_up": [float(x) for x in best.view_up],
+            "eigenvalues": [float(x) for x in best.eigenvalues],
+            "device": best.device,
+            "interest_points": best.filter.GetDataInformation().GetNumberOfPoints(),
+            "viewpoint_ms": timings[3] if len(timings) > 3 else None,
+            "thumbnail": os.path.relpath(spec["thumbnail"], spec["output"]),
+            "thumbnail_stddev": stats["stddev"],
+        })
+    except Exception as exc:  # any failure becomes this volume's error entry
+        record["status"] = "error"
+        record["error"] = "%s: %s" % (type(exc).__name__, exc) \
+            if not isinstance(exc, VolumeError) else str(exc)
+    record["seconds"] = round(time.time() - start, 3)
+    record["finished"] = time.strftime("%Y-%m-%d %H:%M:%S")
+    _write_json(spec["record"], record)
+    return 0
+
+
+# ------------------------------------------------------------------------------------
+# Driver: discovery, resume, one worker per volume, progress, index.
+
+_ANSI = re.compile(r"\x1b\[[0-9;]*m")
+
+
+def _error_lines(stderr, limit=3):
+    """The VTK/ParaView error messages of a worker's stderr (ERR| lines), trimmed."""
+    out = []
+    for line in _ANSI.sub("", stderr or "").splitlines():
+        if "ERR|" in line:
+            text = line.split("ERR|", 1)[1].strip()
+            text = re.sub(r"\s*\(0x[0-9a-f]+\)", "", text)
+            if text and text not in out:
+                out.append(text)
+        elif line.startswith("ERROR:") or line.startswith("Traceback"):
+            out.append(line.strip())
+    return out[:limit]
+
+
+def _pvbatch():
+    """The running pvbatch (sys.executable is not it inside pvbatch)."""
+    exe = os.path.realpath("/proc/self/exe") if os.path.exists("/proc/self/exe") else None
+    if exe and os.path.basename(exe).startswith(("pvbatch", "pvpython")):
+        return exe
+    return shutil.which("pvbatch") or sys.exit("pvbatch not found")
+
+
+def process_volume(vol, args, paths):
+    """Runs a worker for one volume under the time limit; returns its record."""
+    record_path = os.path.join(paths["records"], vol["id"] + ".json")
+    spec = {
+        "name": vol["name"], "id": vol["id"], "format": vol["format"],
+        "files": [os.path.abspath(f) for f in vol["files"]],
+        "thumbnail": os.path.join(paths["thumbnails"], vol["id"] + ".png"),
+        "record": record_path, "output": paths["output"], "size": list(args.size),
+        "plugin": args.plugin,
+    }
+    for stale in (record_path, spec["thumbnail"]):
+        if os.path.exists(stale):
+            os.remove(stale)
+    start = time.time()
+    cmd = [_pvbatch(), THIS, "--worker", json.dumps(spec)]
+    # A worker killed by a signal is tried once more: on shared machines the X server of
+    # xvfb-run is sometimes gone for a moment ("bad X server connection"), which is no
+    # fault of the file. A reader that crashes on the file crashes twice.
+    for attempt in (1, 2):
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                universal_newlines=True, start_new_session=True)
+        try:
+            stdout, stderr = proc.communicate(timeout=args.timeout)
+            problem = None if proc.returncode == 0 else (
+                "the worker died (%s)" % ("signal %d" % -proc.returncode
+                                          if proc.returncode < 0
+                                          else "exit code %d" % proc.returncode))
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)  # the worker's own session only
+            stdout, stderr = proc.communicate()
+            problem = "timed out after %g s" % args.timeout
+        if problem is None or problem.startswith("timed out"):
+            break
+    wall = round(time.time() - start, 3)
+    messages = _error_lines(stderr)
+    record = None
+    if problem is None and os.path.exists(record_path):
+        with open(record_path) as f:
+            record = json.load(f)
+    if record is None:
+        record = {"version": RECORD_VERSION, "name": vol["name"], "id": vol["id"],
+                  "format": vol["format"], "files": len(vol["files"]),
+                  "signature": signature(vol["files"]), "status": "error",
+                  "error": problem or "the worker wrote no record",
+                  "finished": time.strftime("%Y-%m-%d %H:%M:%S")}
+        if os.path.exists(spec["thumbnail"]):
+            os.remove(spec["thumbnail"])  # no half-finished volume looks finished
+    if record["status"] != "ok" and messages:
+        record["messages"] = messages
+    record["wall_seconds"] = wall
+    _write_json(record_path, record)
+    return record
+
+
+def load_finished(vol, paths):
+    """The stored record of a volume when it can be reused, else None."""
+    record_path = os.path.join(paths["records"], vol["id"] + ".json")
+    try:
+        with open(record_path) as f:
+            record = json.load(f)
+    except (OSError, ValueError):
+        return None
+    if record.get("version") != RECORD_VERSION or record.get("name") != vol["name"]:
+        return None
+    try:
+        if record.get("signature") != signature(vol["files"]):
+            return None  # the file changed since
+    except OSError:
+        return None
+    if record.get("status") == "ok" and not os.path.exists(
+            os.path.join(paths["output"], record.get("thumbnail", ""))):
+        return None
+    return record
+
+
+def progress(done, total, name, status=""):
+    filled = int(round(BAR_WIDTH * done / float(total))) if total else BAR_WIDTH
+    return "[%s%s] %d/%d %s%s" % ("#" * filled, " " * (BAR_WIDTH - filled), done, total,
+                                  name, ("  " + status) if status else "")
+
+
+def _vec(v, fmt="%+.3f"):
+    return "(" + ", ".join(fmt % x for x in v) + ")" if v else ""
+
+
+def write_index(records, paths, input_dir, started):
+    ok = sum(1 for r in records if r["status"] == "ok")
+    index = {"input": os.path.abspath(input_dir), "generated": time.strftime("%Y-%m-%d %H:%M:%S"),
+             "succeeded": ok, "total": len(records), "volumes": records}
+    _write_json(os.path.join(paths["output"], "index.json"), index)
+
+    e = html.escape
+    cards = []
+    for r in records:
+        rows = [("format", r.get("format", ""))]
+        if "dimensions" in r:
+            rows.append(("dimensions", " &times; ".join(str(d) for d in r["dimensions"])))
+            rows.append(("spacing", e(_vec(r["spacing"], "%.4g"))))
+            comp = ""
+            if r.get("components", 1) > 1:
+                comp = " (component %d of %d)" % (r["component_used"], r["components"])
+            rows.append(("scalars", e("%s, range %.6g .. %.6g%s" % (
+                r["scalar_type"], r["range"][0], r["range"][1], comp))))
+        if r["status"] == "ok":
+            rows.append(("best direction", e(_vec(r["best_direction"]))))
+            eig = r["eigenvalues"]
+            bars = "".join(
+                '<span class="bar" style="width:%dpx" title="&lambda;%d = %.4f"></span>'
+                % (max(1, int(round(120 * x))), i + 1, x) for i, x in enumerate(eig))
+            rows.append(("eigenvalues", "%s<br>%s" % (e(_vec(eig, "%.3f")), bars)))
+            rows.append(("time", e("%.1f s (%s, %d interest points)" % (
+                r.get("wall_seconds", r["seconds"]), r["device"], r["interest_points"]))))
+            image = '<img src="%s" alt="%s">' % (e(r["thumbnail"]), e(r["name"]))
+        else:
+            text = r.get("error", "error")
+            if r.get("messages"):
+                text += "\n" + "\n".join(r["messages"])
+            rows.append(("error", '<pre class="error">%s</pre>' % e(text)))
+            if "wall_seconds" in r:
+                rows.append(("time", "%.1f s" % r["wall_seconds"]))
+            image = '<div class="noimage">no snapshot</div>'
+        table = "".join("<tr><th>%s</th><td>%s</td></tr>" % (k, v) for k, v in rows)
+        cards.append('<div class="card %s">%s<h2>%s</h2><table>%s</table></div>' % (
+            r["status"], image, e(r["name"]), table))
+    page = """<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>Volume snapshots: %(input)s</title>
+<style>
+body{font-family:sans-serif;background:#f4f4f4;margin:1em}
+.card{display:inline-block;vertical-align:top;width:340px;margin:6px;padding:8px;background:#fff;
+ border:1px solid #ccc;border-radius:4px}
+.card.error{border-color:#c33}
+.card img{width:320px;display:block}
+.noimage{width:320px;height:120px;line-height:120px;text-align:center;background:#eee;color:#888}
+h2{font-size:14px;word-break:break-all;margin:6px 0}
+table{font-size:12px;border-collapse:collapse}
+th{text-align:left;padding-right:8px;vertical-align:top;color:#555;font-weight:normal}
+.bar{display:inline-block;height:8px;background:#4a7;margin-right:3px}
+pre.error{color:#b00;white-space:pre-wrap;margin:0;font-size:11px}
+</style></head><body>
+<h1>Volume snapshots</h1>
+<p>%(summary)s &mdash; folder <code>%(input)s</code>, generated %(generated)s.
+Each thumbnail is the best viewpoint (camera along v3 of the 3D Harris interest points);
+the eigenvalues are the normalised PCA spectrum of those points.</p>
+%(cards)s
+</body></html>
+""" % {"input": e(os.path.abspath(input_dir)), "generated": index["generated"],
+       "summary": "%d of %d volumes succeeded" % (ok, len(records)),
+       "cards": "\n".join(cards)}
+    tmp = os.path.join(paths["output"], "index.html.part")
+    with open(tmp, "w") as f:
+        f.write(page)
+    os.replace(tmp, os.path.join(paths["output"], "index.html"))
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--input", required=False, help="folder of volumes (recursive)")
+    parser.add_argument("--output", required=False, help="folder for index and thumbnails")
+    parser.add_argument("--force", nargs="*", default=None, metavar="NAME",
+                        help="redo all volumes, or only the NAMEs given")
+    parser.add_argument("--retry-failed", action="store_true",
+                        help="try again the volumes that failed in an earlier run")
+    parser.add_argument("--timeout", type=float, default=600.0,
+                        help="seconds allowed per volume (default 600)")
+    parser.add_argument("--size", type=int, nargs=2, default=[400, 400], metavar=("W", "H"),
+                        help="thumbnail size in pixels (default 400 400)")
+    parser.add_argument("--plugin", default=None, help="MultichannelExplorer plugin library")
+    parser.add_argument("--worker", default=None, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker is not None:
+        return run_worker(args.worker)
+    if not args.input or not args.output:
+        parser.error("--input and --output are required")
+    if not os.path.isdir(args.input):
+        print("input folder not found: %s" % args.input)
+        return 1
+    if args.plugin is None:
+        # Resolve it once here so every worker loads the same library.
+        from example_support import find_plugin
+        if not os.environ.get("PV_PLUGIN_PATH"):
+            args.plugin = find_plugin()
+
+    paths = {"output": os.path.abspath(args.output)}
+    for sub in ("thumbnails", "records"):
+        paths[sub] = os.path.join(paths["output"], sub)
+        os.makedirs(paths[sub], exist_ok=True)
+
+    started = time.time()
+    volumes, ignored = discover(args.input, args.output)
+    total = len(volumes)
+    print("%d volumes in %s%s" % (total, args.input,
+                                   " (%d other files ignored)" % ignored if ignored else ""))
+    if not total:
+        write_index([], paths, args.input, started)
+        print("0 of 0 volumes succeeded")
+        return 1
+    force_all = args.force is not None and len(args.force) == 0
+    force_names = set(args.force or [])
+    unknown = force_names - {v["name"] for v in volumes}
+    if unknown:
+        print("--force: no such volume: %s" % ", ".join(sorted(unknown)))
+
+    records, processed, skipped = [], 0, 0
+    for i, vol in enumerate(volumes):
+        forced = force_all or vol["name"] in force_names
+        record = None if forced else load_finished(vol, paths)
+        if record is not None and record["status"] != "ok" and args.retry_failed:
+            record = None
+        if record is not None:
+            skipped += 1
+            status = "skipped (%s before)" % ("done" if record["status"] == "ok" else "failed")
+        else:
+            if sys.stdout.isatty():  # a live line on a terminal, not in logs
+                sys.stdout.write(progress(i, total, vol["name"], "...") + "\r")
+                sys.stdout.flush()
+            record = process_volume(vol, args, paths)
+            processed += 1
+            if record["status"] == "ok":
+                status = "ok %.1f s" % record["wall_seconds"]
+            else:
+                status = "FAILED: %s" % record.get("error", "")
+        records.append(record)
+        print(progress(i + 1, total, vol["name"], status))
+        sys.stdout.flush()
+        write_index(records, paths, args.input, started)  # a partial index survives a stop
+
+    ok = sum(1 for r in records if r["status"] == "ok")
+    print("index: %s (and index.json); %d processed, %d skipped, %.1f s" % (
+        os.path.join(paths["output"], "index.html"), processed, skipped,
+        time.time() - started))
+    print("%d of %d volumes succeeded" % (ok, total))
+    return 0 if ok > 0 else 1
+
+
+if __name__ == "__main__":
+    code = main(sys.argv[1:])
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # os._exit: pvbatch's own exit path must not turn the exit code into 0.
+    os._exit(code)

@@ -1,0 +1,223 @@
+"""Examples/snapshot_collection.py on a folder of the real volumes.
+
+The folder holds the fetched volumes as they are (Colin27 ch2.nii.gz, brainsmall.den, the
+4D diffusion volume small_64D.nii), conversions of real volumes written here with
+ParaView/VTK writers (ch2 at half resolution as .vti, the AAL atlas as .mhd/.raw,
+brainsmall as a stack of 2D TIFF slices), one corrupt .nii.gz and one file that is no
+volume. Checks: the index (HTML + JSON), a non-blank thumbnail and a unit best direction
+for every good volume, an error entry for the corrupt one while the others succeed, a
+second run that skips everything and is fast, --force NAME redoing one volume, a lost
+record redone on resume, and --timeout turning a too-slow volume into an error entry.
+"""
+import gzip
+import html
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+
+from paraview import simple  # noqa: E402
+
+mce = T.load_plugin(globals())
+checker = T.Checker("test_snapshot_collection")
+SCRIPT = os.path.join(T.REPO, "Examples", "snapshot_collection.py")
+PVBATCH = os.path.realpath("/proc/self/exe")  # this pvbatch (sys.executable is not it)
+
+ch2 = T.data_file("ch2.nii.gz")
+aal = T.data_file("aal.nii.gz")
+den = T.data_file("brainsmall.den")
+dwi = T.data_file("small_64D.nii")
+
+work = os.path.join(T.output_dir(), "snapshot_collection")
+shutil.rmtree(work, ignore_errors=True)
+inp = os.path.join(work, "input")
+out = os.path.join(work, "index")
+os.makedirs(os.path.join(inp, "brainsmall_tiff"))
+
+# Real volumes as fetched.
+for f in (ch2, den, dwi):
+    shutil.copy(f, inp)
+
+# Conversions written with ParaView's writers (and VTK's TIFF writer for 2D slices).
+ch2_reader = simple.OpenDataFile(ch2)
+ch2_reader.UpdatePipeline()  # ExtractSubset's VOI must see the whole extent
+half = simple.ExtractSubset(Input=ch2_reader, VOI=[0, 180, 0, 216, 0, 180],
+                            SampleRateI=2, SampleRateJ=2, SampleRateK=2)
+half.UpdatePipeline()  # else SaveData writes an empty piece
+# Inline binary: Debian 12's ParaView cannot read back raw appended .vti data (its XML
+# parser stops at the raw bytes: "junk after document element").
+simple.SaveData(os.path.join(inp, "ch2_half.vti"), proxy=half, DataMode="Binary",
+                CompressorType="ZLib")
+simple.SaveData(os.path.join(inp, "aal.mhd"), proxy=simple.OpenDataFile(aal))
+den_reader = simple.OpenDataFile(den)
+den_reader.UpdatePipeline()
+from vtkmodules.vtkImagingCore import vtkExtractVOI  # noqa: E402
+from vtkmodules.vtkIOImage import vtkTIFFWriter  # noqa: E402
+
+# One 2D TIFF per slice (vtkTIFFWriter writes a 3D input as one multi-page file).
+den_image = den_reader.GetClientSideObject().GetOutputDataObject(0)
+ext = den_image.GetExtent()
+for k in range(ext[4], ext[5] + 1):
+    voi = vtkExtractVOI()
+    voi.SetInputData(den_image)
+    voi.SetVOI(ext[0], ext[1], ext[2], ext[3], k, k)
+    tiff = vtkTIFFWriter()
+    tiff.SetInputConnection(voi.GetOutputPort())
+    tiff.SetFileName(os.path.join(inp, "brainsmall_tiff", "slice_%03d.tif" % k))
+    tiff.Write()
+n_slices = len([f for f in os.listdir(os.path.join(inp, "brainsmall_tiff"))
+                if f.endswith(".tif")])
+checker.check(n_slices == 84, "TIFF stack written: %d slices of brainsmall" % n_slices)
+checker.check(os.path.exists(os.path.join(inp, "aal.raw")) or
+              os.path.exists(os.path.join(inp, "aal.zraw")),
+              "MetaImage written as .mhd + raw data file")
+
+# A corrupt volume (gzip of text, named like NIfTI) and a file that is no volume.
+with gzip.open(os.path.join(inp, "corrupt.nii.gz"), "wb") as f:
+    f.write(b"this is not a NIfTI header " * 40)
+with open(os.path.join(inp, "README.txt"), "w") as f:
+    f.write("not a volume\n")
+
+GOOD = {  # name in the index -> (dimensions, components)
+    "ch2.nii.gz": ([181, 217, 181], 1),
+    "ch2_half.vti": ([91, 109, 91], 1),
+    "aal.mhd": ([181, 217, 181], 1),
+    "brainsmall.den": ([128, 128, 84], 1),
+    os.path.join("brainsmall_tiff", "slice_*.tif"): ([128, 128, 84], 1),
+    "small_64D.nii": ([10, 10, 10], 65),
+}
+CORRUPT = "corrupt.nii.gz"
+env = dict(os.environ)
+
+
+def run(*extra):
+    cmd = [PVBATCH, SCRIPT, "--input", inp, "--output", out] + list(extra)
+    if os.environ.get("MCV_PLUGIN"):
+        cmd += ["--plugin", os.environ["MCV_PLUGIN"]]
+    start = time.time()
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          universal_newlines=True, env=env)
+    elapsed = time.time() - start
+    print("---- snapshot_collection %s: exit %d, %.1f s" % (" ".join(extra), proc.returncode,
+                                                          elapsed))
+    print(proc.stdout)
+    sys.stdout.flush()
+    return proc, elapsed
+
+
+def load_index():
+    with open(os.path.join(out, "index.json")) as f:
+        return {r["name"]: r for r in json.load(f)["volumes"]}
+
+
+def mtimes():
+    return {name: os.stat(os.path.join(out, "records", r["id"] + ".json")).st_mtime_ns
+            for name, r in load_index().items()}
+
+
+# 1. First run: every volume processed.
+proc, first_time = run()
+total = len(GOOD) + 1
+checker.check(proc.returncode == 0, "first run exits 0 (rc %d)" % proc.returncode)
+checker.check("%d of %d volumes succeeded" % (len(GOOD), total) in proc.stdout,
+              "summary says %d of %d volumes succeeded" % (len(GOOD), total))
+bars = re.findall(r"^\[([# ]{20})\] (\d+)/(\d+) (\S+)", proc.stdout, re.M)
+checker.check(len(bars) == total and bars[-1][0] == "#" * 20 and bars[-1][1:3] == (
+    str(total), str(total)), "a progress bar line per volume, full at the end (%d lines)"
+    % len(bars))
+checker.check(os.path.exists(os.path.join(out, "index.html")) and
+              os.path.exists(os.path.join(out, "index.json")), "index.html and index.json")
+index = load_index()
+checker.check(sorted(index) == sorted(list(GOOD) + [CORRUPT]),
+              "the index lists exactly the volumes (README.txt and aal.raw ignored): %s"
+              % sorted(index))
+with open(os.path.join(out, "index.html")) as f:
+    page = f.read()
+
+for name, (dims, ncomp) in sorted(GOOD.items()):
+    r = index.get(name)
+    if not checker.check(r is not None and r["status"] == "ok",
+                         "%s: succeeded (%s)" % (name, r and r.get("error"))):
+        continue
+    checker.check(r["dimensions"] == dims and r["components"] == ncomp,
+                  "%s: dimensions %s, %d component(s)" % (name, r["dimensions"],
+                                                          r["components"]))
+    d = r["best_direction"]
+    checker.check(T.all_finite(d) and abs(T.norm(d) - 1.0) < 1e-3,
+                  "%s: unit best direction %s" % (name, d))
+    eig = r["eigenvalues"]
+    checker.check(len(eig) == 3 and abs(sum(eig) - 1.0) < 1e-3 and eig[0] >= eig[1] >= eig[2] >= 0,
+                  "%s: eigenvalue spectrum %s descending, sum 1" % (name, eig))
+    checker.check(r["range"][1] > r["range"][0] and len(r["spacing"]) == 3 and r["scalar_type"],
+                  "%s: %s, range %s, spacing %s" % (name, r["scalar_type"], r["range"],
+                                                    r["spacing"]))
+    T.image_ok(mce, os.path.join(out, r["thumbnail"]), checker, name)
+    checker.check(('src="%s"' % r["thumbnail"]) in page and name in page,
+                  "%s: thumbnail and name in index.html" % name)
+checker.check(index["ch2_half.vti"]["spacing"] == [2.0, 2.0, 2.0],
+              "the half-resolution .vti keeps its world spacing (2 mm)")
+# The same brain read from .den and from the TIFF stack: the TIFF round trip mirrors y
+# (TIFF rows run top-down, VTK's bottom-up), so the best axis must be the mirrored one.
+a = index["brainsmall.den"].get("best_direction")
+b = index[os.path.join("brainsmall_tiff", "slice_*.tif")].get("best_direction")
+if a and b:
+    mirrored = [a[0], -a[1], a[2]]
+    checker.check(T.angle_deg(mirrored, b, unsigned=True) < 5.0,
+                  "brainsmall .den and TIFF stack: same best axis up to the y mirror "
+                  "(%.2f deg apart; %.1f deg unmirrored)"
+                  % (T.angle_deg(mirrored, b, unsigned=True), T.angle_deg(a, b, unsigned=True)))
+
+bad = index.get(CORRUPT, {})
+checker.check(bad.get("status") == "error" and bad.get("error") and "thumbnail" not in bad,
+              "corrupt file: error entry '%s' %s, no thumbnail" % (bad.get("error"),
+                                                                   bad.get("messages")))
+checker.check(html.escape(bad.get("error", "\0")) in page, "corrupt file: its error text in index.html")
+
+# 2. Second run: everything skipped, nothing rewritten, fast.
+before = mtimes()
+proc, second_time = run()
+checker.check(proc.returncode == 0 and "%d processed, %d skipped" % (0, total) in proc.stdout,
+              "second run: 0 processed, %d skipped" % total)
+checker.check(mtimes() == before, "second run rewrote no record")
+checker.check(second_time < 15.0 and second_time < 0.5 * first_time,
+              "second run fast: %.1f s (first %.1f s)" % (second_time, first_time))
+
+# 3. --force NAME redoes that volume only.
+proc, _ = run("--force", "brainsmall.den")
+after = mtimes()
+changed = sorted(n for n in after if after[n] != before[n])
+checker.check(proc.returncode == 0 and changed == ["brainsmall.den"] and
+              "1 processed, %d skipped" % (total - 1) in proc.stdout,
+              "--force brainsmall.den redoes only it (changed: %s)" % changed)
+checker.check(load_index()["brainsmall.den"]["status"] == "ok", "forced volume succeeded again")
+
+# 4. Resume: a volume whose record is missing (a run stopped while it was being
+#    rendered) is redone, the others are skipped.
+os.remove(os.path.join(out, "records", index["ch2_half.vti"]["id"] + ".json"))
+proc, _ = run()
+checker.check(proc.returncode == 0 and "1 processed, %d skipped" % (total - 1) in proc.stdout
+              and load_index()["ch2_half.vti"]["status"] == "ok",
+              "resume: the volume without a record is redone, the rest skipped")
+
+# 5. A volume over the time limit becomes an error entry; no success -> exit code 1.
+slow_in = os.path.join(work, "slow")
+os.makedirs(slow_in)
+shutil.copy(den, slow_in)
+cmd = [PVBATCH, SCRIPT, "--input", slow_in, "--output", os.path.join(work, "slow_index"),
+       "--timeout", "0.5"]
+proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                      universal_newlines=True, env=env)
+print(proc.stdout)
+with open(os.path.join(work, "slow_index", "index.json")) as f:
+    slow = json.load(f)["volumes"][0]
+checker.check(proc.returncode == 1 and "0 of 1 volumes succeeded" in proc.stdout and
+              "timed out" in slow.get("error", ""),
+              "--timeout 0.5: error entry '%s', exit code %d" % (slow.get("error"),
+                                                                 proc.returncode))
+checker.finish()
