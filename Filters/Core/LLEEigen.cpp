@@ -15,16 +15,19 @@ namespace mcv
 
 namespace
 {
-// Small enough to leave M's wanted eigenvalues (>= ~1e-12 ||M|| where they carry an
-// embedding) and their gaps alone, large enough (>> unit roundoff x ||A||) that the pivots of
-// A's exact null vectors are not pure rounding noise. A has a unit diagonal, so the scale is
-// absolute.
-constexpr double kFactorShift = 1e-12;
+// A_eps^T A_eps - M ~ 2 eps ||A||: small against the eigenvalues that carry an embedding
+// on real data (1e-13 .. 1e-8, ||M|| ~ 25), yet ~50x the unit roundoff x ||A||, so the
+// pivots of A's exact null vectors are not pure rounding noise (1e-12 gave 5e-13 for an
+// eigenvalue of 4e-13, 1e-15 was noisier again). A has a unit diagonal: the scale is absolute.
+constexpr double kFactorShift = 1e-14;
 constexpr double kShiftInvertSigma = 1e-12; // relative to max(diag M)
 // Lanczos vectors beyond d + 1 kept for the Rayleigh-Ritz step.
 constexpr int kExtraVectors = 3;
-// Auto accepts a solver's eigenpairs when ||M v - lambda v|| <= this x ||M||.
-constexpr double kResidualTolerance = 1e-8;
+// Auto accepts a solver's eigenpairs when ||M v - lambda v|| <= this x ||M|| (ARPACK's
+// tolerance in scikit-learn's LLE is 1e-6 too). The smallest non-null eigenvalues of real
+// data sit at 1e-14 ||M||, at the rounding floor of any factorisation, so a tighter test
+// would reject FactorA for noise.
+constexpr double kResidualTolerance = 1e-6;
 
 // x minus its mean: the projection onto 1-perp. M 1 = 0 exactly, so projecting the
 // shift-inverted operator removes the constant vector's 1/|shift| eigenvalue, which would
