@@ -29,8 +29,35 @@ void report(const BestViewpointOptions& options, double fraction)
   }
 }
 
+bool isPartialBlock(const GridPiece& piece, const ImageGrid& grid)
+{
+  return piece.wholeDims[0] > 0 && !piece.isWhole(grid);
+}
+
+// Responses of the voxels this process does not own set to 0, which is never a candidate.
+void keepOwnedResponses(const GridPiece& piece, const ImageGrid& grid, float* response)
+{
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < nz; ++k)
+  {
+    float* slice = response + static_cast<std::size_t>(k) * nx * ny;
+    for (int j = 0; j < ny; ++j)
+    {
+      for (int i = 0; i < nx; ++i)
+      {
+        if (!piece.owns(i, j, k))
+        {
+          slice[static_cast<std::size_t>(j) * nx + i] = 0.f;
+        }
+      }
+    }
+  }
+}
+
 // Harris response + top-N on the chosen device; the GPU path falls back to the CPU on
-// any CUDA failure, so a result always comes back.
+// any CUDA failure, so a result always comes back. A partial block (split over processes)
+// selects among its owned voxels only and returns whole-volume indices.
 InterestPoints findInterestPoints(const float* opacity, const ImageGrid& grid,
   const BestViewpointOptions& options, BestViewpointResult& result)
 {
@@ -41,6 +68,8 @@ InterestPoints findInterestPoints(const float* opacity, const ImageGrid& grid,
     result.warnings.push_back(warning);
   }
   const int N = options.numberOfInterestPoints;
+  const bool partial = isPartialBlock(options.piece, grid);
+  std::vector<float> response;
 #ifdef MCV_HAS_CUDA
   // A single slice is tiny and takes the 2D form: the CPU handles it.
   if (result.deviceUsed == Device::GPU && grid.extendedAxes() == 2)
@@ -49,39 +78,105 @@ InterestPoints findInterestPoints(const float* opacity, const ImageGrid& grid,
   }
   if (result.deviceUsed == Device::GPU)
   {
-    InterestPoints points;
     std::string error;
-    cuda::GpuStageTimings gpu;
-    if (cuda::harrisTopN(opacity, grid, options.harris, N, points, &error, &gpu))
+    const auto start = Clock::now();
+    if (!partial)
     {
-      result.timings.harrisMs = gpu.uploadMs + gpu.harrisMs;
-      result.timings.selectMs = gpu.selectMs + gpu.downloadMs;
-      return points;
+      InterestPoints points;
+      cuda::GpuStageTimings gpu;
+      if (cuda::harrisTopN(opacity, grid, options.harris, N, points, &error, &gpu))
+      {
+        result.timings.harrisMs = gpu.uploadMs + gpu.harrisMs;
+        result.timings.selectMs = gpu.selectMs + gpu.downloadMs;
+        return points;
+      }
     }
-    result.warnings.push_back("GPU path failed (" + error + "); running on the CPU.");
-    result.deviceUsed = Device::CPU;
+    else
+    {
+      // The owned voxels are a sub-box: the response comes back and is selected here.
+      response.resize(grid.voxelCount());
+      if (cuda::harrisResponse(opacity, grid, options.harris, response.data(), &error))
+      {
+        result.timings.harrisMs = millisecondsSince(start);
+      }
+      else
+      {
+        response.clear();
+      }
+    }
+    if (!error.empty())
+    {
+      result.warnings.push_back("GPU path failed (" + error + "); running on the CPU.");
+      result.deviceUsed = Device::CPU;
+    }
   }
 #endif
-  auto start = Clock::now();
-  std::vector<float> response(grid.voxelCount());
-  computeHarrisResponseCPU(opacity, grid, options.harris, response.data());
-  result.timings.harrisMs = millisecondsSince(start);
+  if (response.empty())
+  {
+    const auto start = Clock::now();
+    response.resize(grid.voxelCount());
+    computeHarrisResponseCPU(opacity, grid, options.harris, response.data());
+    result.timings.harrisMs = millisecondsSince(start);
+  }
   report(options, 0.7);
 
-  start = Clock::now();
+  const auto start = Clock::now();
+  if (partial)
+  {
+    keepOwnedResponses(options.piece, grid, response.data());
+  }
   InterestPoints points = selectTopResponsesCPU(response.data(), response.size(), N);
+  if (partial)
+  {
+    for (std::int64_t& index : points.indices)
+    {
+      index = options.piece.globalIndex(index, grid);
+    }
+  }
   result.timings.selectMs = millisecondsSince(start);
   return points;
+}
+
+// The whole volume's grid, from a block's grid and where the block lies in it.
+ImageGrid wholeGrid(const ImageGrid& block, const GridPiece& piece)
+{
+  ImageGrid whole = block;
+  if (piece.wholeDims[0] > 0)
+  {
+    whole.dims = piece.wholeDims;
+    for (int a = 0; a < 3; ++a)
+    {
+      whole.origin[a] = block.origin[a] - piece.offset[a] * block.spacing[a];
+    }
+  }
+  return whole;
+}
+
+// Every process's top-N -> the global top-N, the same on every process.
+InterestPoints mergeAcrossProcesses(
+  const InterestPoints& local, const Communicator& comm, int N)
+{
+  InterestPoints all;
+  all.indices = allGatherValues(comm, local.indices);
+  all.scores = allGatherValues(comm, local.scores);
+  return mergeTopResponses(all, N);
 }
 
 void harrisPCA(const float* opacity, const ImageGrid& grid, const BestViewpointOptions& options,
   BestViewpointResult& result)
 {
   result.points = findInterestPoints(opacity, grid, options, result);
+  if (isDistributed(options.communicator))
+  {
+    const auto start = Clock::now();
+    result.points =
+      mergeAcrossProcesses(result.points, *options.communicator, options.numberOfInterestPoints);
+    result.timings.selectMs += millisecondsSince(start);
+  }
   report(options, 0.9);
 
   const auto start = Clock::now();
-  result.pointPositions = worldPositions(result.points, grid);
+  result.pointPositions = worldPositions(result.points, wholeGrid(grid, options.piece));
   const std::size_t found = result.points.size();
   if (found == 0)
   {
@@ -105,6 +200,38 @@ void harrisPCA(const float* opacity, const ImageGrid& grid, const BestViewpointO
   result.timings.pcaMs = millisecondsSince(start);
 }
 
+// The argument checks of computeBestViewpoint; "" when the arguments are usable.
+std::string checkArguments(
+  const float* opacity, const ImageGrid& grid, const BestViewpointOptions& options)
+{
+  if (opacity == nullptr || grid.voxelCount() == 0)
+  {
+    return "the input volume is empty (no voxels)";
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (!(grid.spacing[a] > 0.0))
+    {
+      return "the voxel spacing must be positive along every axis";
+    }
+  }
+  if (wholeGrid(grid, options.piece).extendedAxes() < 2)
+  {
+    return "the input has fewer than two axes with more than one voxel: a line or a "
+           "point has no view direction";
+  }
+  if (options.numberOfInterestPoints <= 0)
+  {
+    return "NumberOfInterestPoints must be positive";
+  }
+  if (isPartialBlock(options.piece, grid) && options.method != ViewMethod::HarrisPCA)
+  {
+    return "only the HarrisPCA method runs on a volume split over processes (the baselines "
+           "need the whole volume on each)";
+  }
+  return checkHarrisParameters(options.harris);
+}
+
 } // namespace
 
 BestViewpointResult computeBestViewpoint(
@@ -112,37 +239,18 @@ BestViewpointResult computeBestViewpoint(
 {
   BestViewpointResult result;
   const auto start = Clock::now();
-  if (opacity == nullptr || grid.voxelCount() == 0)
+  // Split over processes, every process takes the same branch: one with bad arguments
+  // stops all of them (the others would wait in the top-N exchange).
+  result.error = checkArguments(opacity, grid, options);
+  if (!allTrue(options.communicator, result.error.empty()))
   {
-    result.error = "the input volume is empty (no voxels)";
-    return result;
-  }
-  for (int a = 0; a < 3; ++a)
-  {
-    if (!(grid.spacing[a] > 0.0))
+    if (result.error.empty())
     {
-      result.error = "the voxel spacing must be positive along every axis";
-      return result;
+      result.error = "another process of the parallel run reported an error";
     }
-  }
-  if (grid.extendedAxes() < 2)
-  {
-    result.error = "the input has fewer than two axes with more than one voxel: a line or a "
-                   "point has no view direction";
     return result;
   }
-  if (options.numberOfInterestPoints <= 0)
-  {
-    result.error = "NumberOfInterestPoints must be positive";
-    return result;
-  }
-  const std::string badParameters = checkHarrisParameters(options.harris);
-  if (!badParameters.empty())
-  {
-    result.error = badParameters;
-    return result;
-  }
-  if (grid.extendedAxes() == 2)
+  if (wholeGrid(grid, options.piece).extendedAxes() == 2)
   {
     result.warnings.push_back("The input is a single slice: interest points use the 2D Harris "
                               "response and the view direction is the slice normal.");

@@ -1,7 +1,9 @@
 // The best-viewpoint capability's one entry point: opacity volume in, view directions out.
 #pragma once
 
+#include "Communicator.h"
 #include "Device.h"
+#include "GridPiece.h"
 #include "HarrisResponse.h"
 #include "ImageGrid.h"
 #include "TopResponses.h"
@@ -30,6 +32,13 @@ struct BestViewpointOptions
   Device device = Device::Auto;
   EntropyOptions entropy;
   std::function<void(double)> progress; // optional, receives [0,1]
+  // Split over processes (MPI ranks; HarrisPCA only): the grid passed in is this process's
+  // block with ghost layers enough for the gradient and the Gaussian (1 + KernelWidth/2
+  // voxels), `piece` says where it lies and which voxels it owns. Each process selects the
+  // top-N of its owned voxels, the lists are merged into the global top-N, and every
+  // process gets the same points (whole-volume indices) and view. Default: serial.
+  const Communicator* communicator = nullptr;
+  GridPiece piece;
 };
 
 struct StageTimings
@@ -42,7 +51,7 @@ struct BestViewpointResult
   std::string error;                 // non-empty: nothing else is meaningful
   std::vector<std::string> warnings; // one line each
   Device deviceUsed = Device::CPU;
-  InterestPoints points;             // HarrisPCA only
+  InterestPoints points;             // HarrisPCA only; indices of the whole volume
   std::vector<Vec3> pointPositions;  // world positions of `points`
   ViewDirections view;               // view.valid false (with a warning) for flat volumes
   StageTimings timings;

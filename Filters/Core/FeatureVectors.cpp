@@ -466,63 +466,196 @@ struct GpuBackend
 };
 #endif
 
+// True when the grid is one process's block of a larger volume (or holds ghost voxels).
+bool isPartialBlock(const GridPiece& piece, const ImageGrid& grid)
+{
+  return piece.wholeDims[0] > 0 && !piece.isWhole(grid);
+}
+
+// 1 for the voxels of the block this process does not own (ghosts, shared boundary).
+std::vector<unsigned char> notOwnedMask(const GridPiece& piece, const ImageGrid& grid)
+{
+  std::vector<unsigned char> mask(grid.voxelCount());
+  std::size_t v = 0;
+  for (int k = 0; k < grid.dims[2]; ++k)
+    for (int j = 0; j < grid.dims[1]; ++j)
+      for (int i = 0; i < grid.dims[0]; ++i)
+        mask[v++] = piece.owns(i, j, k) ? 0 : 1;
+  return mask;
+}
+
+// Statistics of the whole volume: this block's when serial; when split over processes,
+// every process's owned voxels combined (Chan's pairwise formula for the squared
+// deviations). Kept across a GPU fallback, so that a GPU failure after the exchange redoes
+// only local work: a second exchange would leave the other processes waiting.
+struct VolumeStats
+{
+  bool ready = false;
+  detail::ColumnStats columns;
+  std::vector<double> badPerChannel;
+  double badVoxels = 0, voxels = 0;
+};
+
+VolumeStats combineStats(const detail::ColumnStats& local, const std::vector<double>& badPerChannel,
+  double badVoxels, double voxels, const Communicator* comm)
+{
+  VolumeStats total;
+  total.ready = true;
+  if (!isDistributed(comm))
+  {
+    total.columns = local;
+    total.badPerChannel = badPerChannel;
+    total.badVoxels = badVoxels;
+    total.voxels = voxels;
+    return total;
+  }
+  const std::size_t F = local.count.size(), C = badPerChannel.size();
+  std::vector<double> packed{ voxels, badVoxels };
+  packed.insert(packed.end(), badPerChannel.begin(), badPerChannel.end());
+  for (const std::vector<double>* column :
+    { &local.count, &local.sum, &local.min, &local.max, &local.sqdev })
+  {
+    packed.insert(packed.end(), column->begin(), column->end());
+  }
+  const std::vector<double> all = allGatherValues(*comm, packed);
+  const std::size_t stride = packed.size();
+  total.columns.reset(static_cast<int>(F));
+  total.badPerChannel.assign(C, 0.0);
+  for (std::size_t r = 0; r * stride < all.size(); ++r)
+  {
+    const double* p = all.data() + r * stride;
+    total.voxels += p[0];
+    total.badVoxels += p[1];
+    for (std::size_t c = 0; c < C; ++c)
+    {
+      total.badPerChannel[c] += p[2 + c];
+    }
+    const double* count = p + 2 + C;
+    for (std::size_t c = 0; c < F; ++c)
+    {
+      total.columns.count[c] += count[c];
+      total.columns.sum[c] += count[F + c];
+      total.columns.min[c] = std::min(total.columns.min[c], count[2 * F + c]);
+      total.columns.max[c] = std::max(total.columns.max[c], count[3 * F + c]);
+    }
+  }
+  for (std::size_t r = 0; r * stride < all.size(); ++r)
+  {
+    const double* count = all.data() + r * stride + 2 + C;
+    for (std::size_t c = 0; c < F; ++c)
+    {
+      if (count[c] > 0)
+      {
+        const double d = count[F + c] / count[c] - total.columns.sum[c] / total.columns.count[c];
+        total.columns.sqdev[c] += count[4 * F + c] + count[c] * d * d;
+      }
+    }
+  }
+  return total;
+}
+
 // Runs every step on `backend`. Returns false (with `error`) only on a backend failure.
 template <class Backend>
 bool run(Backend& backend, const std::vector<ChannelView>& channels, const ImageGrid& grid,
   const FeatureOptions& options, const FeatureSelection& sel, const FeatureOutput& out,
-  FeatureResult& result, std::string* error)
+  VolumeStats& volume, FeatureResult& result, std::string* error)
 {
   const std::size_t n = grid.voxelCount();
   const int perChannel = sel.perChannel();
+  // Split over processes: only owned voxels count in the statistics and warnings.
+  const bool partial = isPartialBlock(options.piece, grid);
+  const std::vector<unsigned char> notOwned =
+    partial ? notOwnedMask(options.piece, grid) : std::vector<unsigned char>();
+  auto countOwned = [&](const std::vector<unsigned char>& m) {
+    const std::int64_t count = static_cast<std::int64_t>(n);
+    std::size_t b = 0;
+#pragma omp parallel for reduction(+ : b)
+    for (std::int64_t v = 0; v < count; ++v)
+    {
+      b += (m[v] && !(partial && notOwned[v])) ? 1 : 0;
+    }
+    return b;
+  };
   std::vector<float> values(n);
   std::vector<unsigned char> mask(n, 0);
-  std::vector<std::size_t> badPerChannel(channels.size(), 0);
+  std::vector<unsigned char> channelMask;
+  std::vector<double> badPerChannel(channels.size(), 0.0);
   bool anyBad = false;
   const double channelShare = 0.8;
   for (std::size_t c = 0; c < channels.size(); ++c)
   {
-    badPerChannel[c] = detail::channelToFloat(channels[c], n, values.data(), mask.data());
-    anyBad = anyBad || badPerChannel[c] > 0;
-    if (!backend.addChannel(values.data(), badPerChannel[c] > 0, grid, sel,
-          static_cast<int>(c) * perChannel, error))
+    std::size_t bad = 0;
+    if (partial)
+    {
+      channelMask.assign(n, 0);
+      bad = detail::channelToFloat(channels[c], n, values.data(), channelMask.data());
+      if (bad > 0)
+      {
+        badPerChannel[c] = static_cast<double>(countOwned(channelMask));
+        std::transform(mask.begin(), mask.end(), channelMask.begin(), mask.begin(),
+          [](unsigned char a, unsigned char b) { return static_cast<unsigned char>(a | b); });
+      }
+    }
+    else
+    {
+      bad = detail::channelToFloat(channels[c], n, values.data(), mask.data());
+      badPerChannel[c] = static_cast<double>(bad);
+    }
+    anyBad = anyBad || bad > 0;
+    if (!backend.addChannel(
+          values.data(), bad > 0, grid, sel, static_cast<int>(c) * perChannel, error))
     {
       return false;
     }
     report(options, channelShare * static_cast<double>(c + 1) / channels.size());
   }
   const unsigned char* maskPtr = anyBad ? mask.data() : nullptr;
-  std::size_t badVoxels = 0;
-  if (anyBad)
+  const std::size_t badVoxels = anyBad ? countOwned(mask) : 0;
+
+  // The statistics leave out non-finite voxels and, split over processes, the voxels
+  // another process owns.
+  std::vector<unsigned char> statsMask;
+  if (partial)
   {
-    const std::int64_t count = static_cast<std::int64_t>(n);
-    std::size_t b = 0;
-#pragma omp parallel for reduction(+ : b)
-    for (std::int64_t v = 0; v < count; ++v)
+    statsMask = notOwned;
+    if (anyBad)
     {
-      b += mask[v] ? 1 : 0;
-    }
-    badVoxels = b;
-    if (!backend.setMask(maskPtr, error))
-    {
-      return false;
+      std::transform(statsMask.begin(), statsMask.end(), mask.begin(), statsMask.begin(),
+        [](unsigned char a, unsigned char b) { return static_cast<unsigned char>(a | b); });
     }
   }
-  result.nonFiniteVoxels = badVoxels;
+  const unsigned char* statsMaskPtr = partial ? statsMask.data() : maskPtr;
+  if (statsMaskPtr && !backend.setMask(statsMaskPtr, error))
+  {
+    return false;
+  }
 
   // Statistics: always pass 1 (counts tell of overflowing raw features); pass 2 for ZScore.
   detail::ColumnStats stats;
   if (!backend.columnStats(
-        maskPtr, options.normalization == FeatureNormalization::ZScore, stats, error))
+        statsMaskPtr, options.normalization == FeatureNormalization::ZScore, stats, error))
   {
     return false;
   }
-  report(options, 0.9);
-  normalizationFromStats(options.normalization, stats, result);
-  std::size_t overflow = 0;
-  const double validRows = static_cast<double>(n - badVoxels);
-  for (std::size_t c = 0; c < stats.count.size(); ++c)
+  if (!volume.ready)
   {
-    overflow += static_cast<std::size_t>(validRows - stats.count[c]);
+    const double voxels = static_cast<double>(partial ? options.piece.ownedCount() : n);
+    volume = combineStats(stats, badPerChannel, static_cast<double>(badVoxels), voxels,
+      options.communicator);
+  }
+  report(options, 0.9);
+  normalizationFromStats(options.normalization, volume.columns, result);
+  result.nonFiniteVoxels = static_cast<std::size_t>(volume.badVoxels);
+  std::size_t overflow = 0;
+  const double validRows = volume.voxels - volume.badVoxels;
+  for (std::size_t c = 0; c < volume.columns.count.size(); ++c)
+  {
+    overflow += static_cast<std::size_t>(validRows - volume.columns.count[c]);
+  }
+  // The output is zeroed on non-finite voxels only (ghost and shared voxels get values).
+  if (partial && !backend.setMask(maskPtr, error))
+  {
+    return false;
   }
   if (options.normalization != FeatureNormalization::None || anyBad || overflow > 0)
   {
@@ -537,16 +670,17 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   }
 
   // Warnings (only once the device has succeeded, so a fallback does not repeat them).
-  if (anyBad)
+  if (volume.badVoxels > 0)
   {
     std::ostringstream os;
-    os << badVoxels << " voxel(s) hold NaN/Inf in some channel (";
+    os << result.nonFiniteVoxels << " voxel(s) hold NaN/Inf in some channel (";
     bool first = true;
     for (std::size_t c = 0; c < channels.size(); ++c)
     {
-      if (badPerChannel[c] > 0)
+      if (volume.badPerChannel[c] > 0)
       {
-        os << (first ? "" : ", ") << options.channelNames[c] << ": " << badPerChannel[c];
+        os << (first ? "" : ", ") << options.channelNames[c] << ": "
+           << static_cast<std::size_t>(volume.badPerChannel[c]);
         first = false;
       }
     }
@@ -563,7 +697,7 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   {
     std::ostringstream os;
     os << result.constantColumns.size() << " feature column(s) are constant";
-    if (badVoxels == n)
+    if (volume.badVoxels == volume.voxels)
     {
       os << " (no voxel is finite in every channel)";
     }
@@ -581,28 +715,25 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
 
 } // namespace
 
-bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid& grid,
-  const FeatureOptions& optionsIn, const FeatureOutput& out, FeatureResult& result)
+namespace
 {
-  const auto start = Clock::now();
-  result = FeatureResult();
-  const std::vector<ChannelView>& channels = channelsIn;
+// The argument checks of computeFeatures; "" when the arguments are usable.
+std::string checkArguments(const std::vector<ChannelView>& channels, const ImageGrid& grid,
+  const FeatureOptions& options, const FeatureOutput& out)
+{
   if (channels.empty())
   {
-    result.error = "no channel: the features need at least one channel";
-    return false;
+    return "no channel: the features need at least one channel";
   }
   if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
   {
-    result.error = "the input volume is empty (no voxels)";
-    return false;
+    return "the input volume is empty (no voxels)";
   }
   for (int a = 0; a < 3; ++a)
   {
     if (!(grid.spacing[a] > 0.0) || !std::isfinite(grid.spacing[a]))
     {
-      result.error = "the voxel spacing must be positive along every axis";
-      return false;
+      return "the voxel spacing must be positive along every axis";
     }
   }
   for (std::size_t c = 0; c < channels.size(); ++c)
@@ -610,12 +741,52 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
     const ChannelView& ch = channels[c];
     if (!ch.data || ch.numComponents < 1 || ch.component < 0 || ch.component >= ch.numComponents)
     {
-      result.error = "channel " + std::to_string(c + 1) +
-        " has no data or an invalid component (" + std::to_string(ch.component) + " of " +
-        std::to_string(ch.numComponents) + ")";
-      return false;
+      return "channel " + std::to_string(c + 1) + " has no data or an invalid component (" +
+        std::to_string(ch.component) + " of " + std::to_string(ch.numComponents) + ")";
     }
   }
+  if (!options.channelNames.empty() && options.channelNames.size() != channels.size())
+  {
+    return "got " + std::to_string(options.channelNames.size()) + " channel names for " +
+      std::to_string(channels.size()) + " channels";
+  }
+  const FeatureSelection sel = FeatureSelection::forPreset(options.preset, options.custom);
+  if (sel.perChannel() == 0)
+  {
+    return "no feature selected (FeatureSet Custom with every feature turned off)";
+  }
+  const int F = featureCount(channels.size(), options);
+  const std::size_t n = grid.voxelCount();
+  if (!out.data || out.rows != n || out.cols != F)
+  {
+    return "the output buffer is " + std::to_string(out.rows) + " x " +
+      std::to_string(out.cols) + ", expected " + std::to_string(n) + " x " + std::to_string(F);
+  }
+  if (isPartialBlock(options.piece, grid) && options.piece.ownedCount() == 0)
+  {
+    return "this process owns no voxel of its block";
+  }
+  return "";
+}
+} // namespace
+
+bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid& grid,
+  const FeatureOptions& optionsIn, const FeatureOutput& out, FeatureResult& result)
+{
+  const auto start = Clock::now();
+  result = FeatureResult();
+  // Split over processes, every process takes the same branch: one with bad arguments
+  // stops all of them (the others would wait in the statistics exchange).
+  result.error = checkArguments(channelsIn, grid, optionsIn, out);
+  if (!allTrue(optionsIn.communicator, result.error.empty()))
+  {
+    if (result.error.empty())
+    {
+      result.error = "another process of the parallel run reported an error";
+    }
+    return false;
+  }
+  const std::vector<ChannelView>& channels = channelsIn;
   FeatureOptions options = optionsIn;
   if (options.channelNames.empty())
   {
@@ -624,26 +795,7 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
       options.channelNames.push_back("ch" + std::to_string(c + 1));
     }
   }
-  else if (options.channelNames.size() != channels.size())
-  {
-    result.error = "got " + std::to_string(options.channelNames.size()) + " channel names for " +
-      std::to_string(channels.size()) + " channels";
-    return false;
-  }
   const FeatureSelection sel = FeatureSelection::forPreset(options.preset, options.custom);
-  if (sel.perChannel() == 0)
-  {
-    result.error = "no feature selected (FeatureSet Custom with every feature turned off)";
-    return false;
-  }
-  const int F = featureCount(channels.size(), options);
-  const std::size_t n = grid.voxelCount();
-  if (!out.data || out.rows != n || out.cols != F)
-  {
-    result.error = "the output buffer is " + std::to_string(out.rows) + " x " +
-      std::to_string(out.cols) + ", expected " + std::to_string(n) + " x " + std::to_string(F);
-    return false;
-  }
   result.names = featureNames(options.channelNames, sel);
   report(options, 0.0);
 
@@ -654,12 +806,14 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
     result.warnings.push_back(warning);
   }
   std::string error;
+  VolumeStats volume;
 #ifdef MCV_HAS_CUDA
   if (result.deviceUsed == Device::GPU)
   {
     GpuBackend gpu{ out, {} };
     const std::vector<std::string> keep = result.warnings;
-    if (gpu.allocate(&error) && run(gpu, channels, grid, options, sel, out, result, &error))
+    if (gpu.allocate(&error) &&
+      run(gpu, channels, grid, options, sel, out, volume, result, &error))
     {
       result.totalMs =
         std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -674,7 +828,7 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
   result.deviceUsed = Device::CPU;
 #endif
   CpuBackend cpu{ out };
-  run(cpu, channels, grid, options, sel, out, result, &error);
+  run(cpu, channels, grid, options, sel, out, volume, result, &error);
   result.totalMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   report(options, 1.0);
   return true;

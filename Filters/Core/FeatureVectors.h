@@ -37,7 +37,9 @@
 // Arithmetic is float32 per voxel (same on CPU and GPU), statistics in double.
 #pragma once
 
+#include "Communicator.h"
 #include "Device.h"
+#include "GridPiece.h"
 #include "ImageGrid.h"
 #include "OpacityFunction.h" // ChannelView, ScalarType
 
@@ -90,6 +92,13 @@ struct FeatureOptions
   // One name per channel for the column names; empty: ch1, ch2, ...
   std::vector<std::string> channelNames;
   std::function<void(double)> progress; // optional, receives [0,1] (called on the caller's thread)
+  // Split over processes (MPI ranks): the grid passed in is this process's block with ghost
+  // layers for the 3x3x3 neighbourhoods, `piece` says where it lies and which voxels it
+  // owns, and the normalisation uses the statistics of the owned voxels of all processes,
+  // so every process writes what one process would write for the whole volume. Default
+  // (no communicator, empty piece): the grid is the whole volume.
+  const Communicator* communicator = nullptr;
+  GridPiece piece;
 };
 
 // Where the features go: rows (voxels) x cols (features), row-major float32, owned by the
@@ -107,7 +116,8 @@ struct FeatureResult
   std::vector<std::string> warnings; // one line each
   std::vector<std::string> names;    // one per column
   Device deviceUsed = Device::CPU;
-  std::size_t nonFiniteVoxels = 0;   // voxels with a NaN/Inf value in some channel
+  std::size_t nonFiniteVoxels = 0;   // voxels with a NaN/Inf value in some channel (whole
+                                     // volume when split over processes)
   std::vector<int> constantColumns;  // columns left at 0 (ZScore/MinMax)
   std::vector<double> columnOffset;  // per column: mean (ZScore), min (MinMax), 0 (None)
   std::vector<double> columnScale;   // per column: 1/std, 1/(max-min), 1; 0 when constant

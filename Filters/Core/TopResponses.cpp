@@ -25,14 +25,30 @@ struct RanksBefore
   }
 };
 
+// The `keep` candidates that rank first, in rank order.
+InterestPoints strongest(std::vector<Candidate>& merged, std::size_t keep)
+{
+  InterestPoints result;
+  const std::size_t taken = std::min(keep, merged.size());
+  std::partial_sort(merged.begin(), merged.begin() + static_cast<std::ptrdiff_t>(taken),
+    merged.end(), RanksBefore());
+  result.indices.reserve(taken);
+  result.scores.reserve(taken);
+  for (std::size_t i = 0; i < taken; ++i)
+  {
+    result.scores.push_back(merged[i].first);
+    result.indices.push_back(merged[i].second);
+  }
+  return result;
+}
+
 } // namespace
 
 InterestPoints selectTopResponsesCPU(const float* response, std::size_t count, int N)
 {
-  InterestPoints result;
   if (N <= 0 || count == 0)
   {
-    return result;
+    return InterestPoints();
   }
   const std::size_t keep = static_cast<std::size_t>(N);
   std::vector<std::vector<Candidate>> perThread;
@@ -78,17 +94,17 @@ InterestPoints selectTopResponsesCPU(const float* response, std::size_t count, i
   {
     merged.insert(merged.end(), part.begin(), part.end());
   }
-  const std::size_t taken = std::min(keep, merged.size());
-  std::partial_sort(merged.begin(), merged.begin() + static_cast<std::ptrdiff_t>(taken),
-    merged.end(), RanksBefore());
-  result.indices.reserve(taken);
-  result.scores.reserve(taken);
-  for (std::size_t i = 0; i < taken; ++i)
+  return strongest(merged, keep);
+}
+
+InterestPoints mergeTopResponses(const InterestPoints& lists, int N)
+{
+  std::vector<Candidate> merged(lists.size());
+  for (std::size_t i = 0; i < lists.size(); ++i)
   {
-    result.scores.push_back(merged[i].first);
-    result.indices.push_back(merged[i].second);
+    merged[i] = Candidate(lists.scores[i], lists.indices[i]);
   }
-  return result;
+  return strongest(merged, N > 0 ? static_cast<std::size_t>(N) : 0);
 }
 
 } // namespace mcv

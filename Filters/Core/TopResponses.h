@@ -21,4 +21,9 @@ struct InterestPoints
 // CPU (OpenMP): per-thread bounded heaps, merged. Returns min(N, #candidates) points.
 InterestPoints selectTopResponsesCPU(const float* response, std::size_t count, int N);
 
+// The N strongest of several lists (each the top-N of one piece of a volume, with indices
+// of the whole volume), in the same order: the top-N of the whole volume, because every
+// voxel of the global top-N is in its own piece's top-N.
+InterestPoints mergeTopResponses(const InterestPoints& lists, int N);
+
 } // namespace mcv
