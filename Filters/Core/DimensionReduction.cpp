@@ -1,5 +1,8 @@
 // The dimension-reduction entry point: checks, column selection, reference sample, fit,
-// out-of-sample placement of every row, trustworthiness, timings and progress.
+// out-of-sample placement of every row, trustworthiness, timings and progress. Split over
+// processes, the global steps (column statistics, the sample, the fit) go through the
+// Communicator and give every process the answer one process would give; the placement of
+// each process's rows is local.
 #include "DimensionReduction.h"
 
 #include "IsomapEmbedding.h"
@@ -10,12 +13,15 @@
 #include "Trustworthiness.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <new>
 #include <numeric>
+#include <string>
 
 namespace mcv
 {
@@ -42,81 +48,487 @@ const char* methodName(ReductionMethod m)
   return "unknown";
 }
 
+// ---- Where the rows lie ------------------------------------------------------------------
+
+bool hasGrid(const ReductionOptions& o)
+{
+  const std::array<int, 3>& w = o.piece.wholeDims;
+  return w[0] != 0 || w[1] != 0 || w[2] != 0;
+}
+
+std::string dimsText(const std::array<int, 3>& d)
+{
+  return std::to_string(d[0]) + " x " + std::to_string(d[1]) + " x " + std::to_string(d[2]);
+}
+
+// This process's rows against their description (local): an error when they do not fit.
+std::string checkRows(const FeatureMatrix& f, const ReductionOptions& o)
+{
+  if (f.rows > 0 && f.data == nullptr)
+  {
+    return "The feature array has " + std::to_string(f.rows) + " rows but no data.";
+  }
+  if (!hasGrid(o))
+  {
+    return {};
+  }
+  const GridPiece& p = o.piece;
+  const ImageGrid& b = o.block;
+  if (b.voxelCount() != f.rows)
+  {
+    return "The block of " + dimsText(b.dims) + " voxels does not match the " + std::to_string(f.rows) +
+      " feature rows.";
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (b.dims[a] < 0 || p.offset[a] < 0 || p.offset[a] + b.dims[a] > p.wholeDims[a])
+    {
+      return "The block of " + dimsText(b.dims) + " voxels at offset " + dimsText(p.offset) +
+        " lies outside the whole volume of " + dimsText(p.wholeDims) + " voxels.";
+    }
+    if (p.ownedCount() > 0 && (p.ownedLo[a] < 0 || p.ownedHi[a] >= b.dims[a]))
+    {
+      return "The owned voxels " + dimsText(p.ownedLo) + " to " + dimsText(p.ownedHi) + " lie outside the block of " +
+        dimsText(b.dims) + " voxels.";
+    }
+  }
+  return {};
+}
+
+// Collective: the processes must agree on the number of features and on the volume, or their
+// statistics would not add up. Empty when they do.
+std::string checkAgreement(const FeatureMatrix& f, const ReductionOptions& o, const Communicator* comm)
+{
+  if (!isDistributed(comm))
+  {
+    return {};
+  }
+  const std::vector<double> mine{ static_cast<double>(f.cols), hasGrid(o) ? 1.0 : 0.0,
+    static_cast<double>(o.piece.wholeDims[0]), static_cast<double>(o.piece.wholeDims[1]),
+    static_cast<double>(o.piece.wholeDims[2]) };
+  std::vector<double> lowest = mine, highest = mine;
+  comm->min(lowest);
+  comm->max(highest);
+  if (lowest[0] != highest[0])
+  {
+    return "The processes' feature arrays have different numbers of components (" +
+      std::to_string(static_cast<int>(lowest[0])) + " to " + std::to_string(static_cast<int>(highest[0])) + ").";
+  }
+  if (lowest != highest)
+  {
+    return "The processes describe their rows differently (some as blocks of a volume, some not, or of volumes of "
+           "different sizes).";
+  }
+  return {};
+}
+
+// The rows' layout. Plain rows of several processes follow one another in rank order
+// (collective then).
+RowLayout makeLayout(const FeatureMatrix& f, const ReductionOptions& o, const Communicator* comm)
+{
+  if (hasGrid(o))
+  {
+    return RowLayout::grid(o.piece, o.block);
+  }
+  std::int64_t first = 0;
+  if (isDistributed(comm))
+  {
+    const std::vector<std::uint64_t> rows = allGatherValues(*comm, std::vector<std::uint64_t>{ f.rows });
+    for (int r = 0; r < comm->rank(); ++r)
+    {
+      first += static_cast<std::int64_t>(rows[static_cast<std::size_t>(r)]);
+    }
+  }
+  return RowLayout::plain(f.rows, first);
+}
+
+// ---- Column statistics -----------------------------------------------------------------
+
+// Sums of floats that are exact, hence the same in any order and for any split of the
+// volume (so is the mean, and with it every voxel's centred norm): a float is m 2^(e - 150)
+// with an integer |m| < 2^24 and e its exponent field, so integer sums per exponent lose
+// nothing (up to 2^39 values).
+constexpr int kExponents = 256;
+
+void addExact(std::int64_t* bins, float v)
+{
+  std::uint32_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  const int e = static_cast<int>((bits >> 23) & 0xFFu);
+  const std::int64_t m = static_cast<std::int64_t>((bits & 0x7FFFFFu) | (e != 0 ? 0x800000u : 0u));
+  bins[std::max(e, 1)] += (bits >> 31) != 0 ? -m : m;
+}
+
+double exactValue(const std::int64_t* bins)
+{
+  double s = 0;
+  for (int e = 0; e < kExponents; ++e)
+  {
+    s += std::ldexp(static_cast<double>(bins[e]), e - 150);
+  }
+  return s;
+}
+
+// Adds the bins of all processes exactly: a bin travels as two doubles holding integers
+// below 2^53 (its high part and its low 24 bits), whose sums are exact in any order.
+void sumExact(std::vector<std::int64_t>& bins, const Communicator& comm)
+{
+  const std::int64_t unit = std::int64_t(1) << 24;
+  std::vector<double> parts(2 * bins.size());
+  for (std::size_t i = 0; i < bins.size(); ++i)
+  {
+    const std::int64_t low = bins[i] & (unit - 1);
+    parts[2 * i] = static_cast<double>((bins[i] - low) / unit);
+    parts[2 * i + 1] = static_cast<double>(low);
+  }
+  comm.sum(parts);
+  for (std::size_t i = 0; i < bins.size(); ++i)
+  {
+    bins[i] = static_cast<std::int64_t>(parts[2 * i]) * unit + static_cast<std::int64_t>(parts[2 * i + 1]);
+  }
+}
+
 struct ColumnStats
 {
+  std::vector<std::int64_t> bins; // cols x kExponents: exact sums
   std::vector<double> mean, minimum, maximum;
-  std::size_t nonFinite = 0;
-  std::size_t firstBadRow = 0;
-  int firstBadColumn = 0;
+  double nonFinite = 0;
+  // The first non-finite value in the volume's order, as global voxel x cols + column.
+  double firstBad = std::numeric_limits<double>::infinity();
+
+  explicit ColumnStats(int D)
+    : bins(static_cast<std::size_t>(D) * kExponents, 0)
+    , mean(static_cast<std::size_t>(D), 0.0)
+    , minimum(static_cast<std::size_t>(D), std::numeric_limits<double>::infinity())
+    , maximum(static_cast<std::size_t>(D), -std::numeric_limits<double>::infinity())
+  {
+  }
+  void merge(const ColumnStats& o)
+  {
+    for (std::size_t i = 0; i < bins.size(); ++i)
+    {
+      bins[i] += o.bins[i];
+    }
+    for (std::size_t c = 0; c < minimum.size(); ++c)
+    {
+      minimum[c] = std::min(minimum[c], o.minimum[c]);
+      maximum[c] = std::max(maximum[c], o.maximum[c]);
+    }
+    nonFinite += o.nonFinite;
+    firstBad = std::min(firstBad, o.firstBad);
+  }
 };
 
-// One pass over the matrix in fixed blocks combined in order (deterministic, any threads).
-ColumnStats columnStats(const FeatureMatrix& f)
+// One pass over the owned rows. Every combination is exact or a min/max, so neither the
+// threads nor the split change the result.
+ColumnStats localStats(const FeatureMatrix& f, const RowLayout& rows)
 {
   const int D = f.cols;
-  const std::size_t blockSize = 1 << 15;
-  const std::size_t blocks = (f.rows + blockSize - 1) / blockSize;
-  std::vector<ColumnStats> partial(blocks);
-  const long long nb = static_cast<long long>(blocks);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (long long b = 0; b < nb; ++b)
+  ColumnStats total(D);
+  const long long runs = static_cast<long long>(rows.runCount());
+#pragma omp parallel
   {
-    ColumnStats& s = partial[static_cast<std::size_t>(b)];
-    s.mean.assign(D, 0.0);
-    s.minimum.assign(D, std::numeric_limits<double>::infinity());
-    s.maximum.assign(D, -std::numeric_limits<double>::infinity());
-    const std::size_t begin = static_cast<std::size_t>(b) * blockSize;
-    const std::size_t end = std::min(f.rows, begin + blockSize);
-    for (std::size_t i = begin; i < end; ++i)
+    ColumnStats mine(D);
+#pragma omp for schedule(static) nowait
+    for (long long r = 0; r < runs; ++r)
     {
-      const float* row = f.row(i);
-      for (int c = 0; c < D; ++c)
+      const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
+      for (std::size_t t = 0; t < run.count; ++t)
       {
-        const float v = row[c];
-        if (!std::isfinite(v))
+        const float* row = f.row(run.row + t);
+        for (int c = 0; c < D; ++c)
         {
-          if (s.nonFinite++ == 0)
+          const float v = row[c];
+          if (!std::isfinite(v))
           {
-            s.firstBadRow = i;
-            s.firstBadColumn = c;
+            mine.nonFinite += 1;
+            mine.firstBad = std::min(mine.firstBad,
+              static_cast<double>(run.global + static_cast<std::int64_t>(t)) * D + c);
+            continue;
           }
-          continue;
+          addExact(&mine.bins[static_cast<std::size_t>(c) * kExponents], v);
+          mine.minimum[c] = std::min<double>(mine.minimum[c], v);
+          mine.maximum[c] = std::max<double>(mine.maximum[c], v);
         }
-        s.mean[c] += v;
-        s.minimum[c] = std::min<double>(s.minimum[c], v);
-        s.maximum[c] = std::max<double>(s.maximum[c], v);
       }
     }
-  }
-  ColumnStats total;
-  total.mean.assign(D, 0.0);
-  total.minimum.assign(D, std::numeric_limits<double>::infinity());
-  total.maximum.assign(D, -std::numeric_limits<double>::infinity());
-  for (const ColumnStats& s : partial)
-  {
-    if (s.nonFinite > 0 && total.nonFinite == 0)
-    {
-      total.firstBadRow = s.firstBadRow;
-      total.firstBadColumn = s.firstBadColumn;
-    }
-    total.nonFinite += s.nonFinite;
-    for (int c = 0; c < D; ++c)
-    {
-      total.mean[c] += s.mean[c];
-      total.minimum[c] = std::min(total.minimum[c], s.minimum[c]);
-      total.maximum[c] = std::max(total.maximum[c], s.maximum[c]);
-    }
-  }
-  for (double& m : total.mean)
-  {
-    m /= static_cast<double>(f.rows);
+#pragma omp critical(mcvColumnStats)
+    total.merge(mine);
   }
   return total;
 }
 
+// Collective: the statistics of all processes' owned rows, the same on every process.
+void combineStats(ColumnStats& s, double voxels, const Communicator* comm)
+{
+  if (isDistributed(comm))
+  {
+    std::vector<double> lowest = s.minimum;
+    lowest.push_back(s.firstBad);
+    comm->min(lowest);
+    s.firstBad = lowest.back();
+    lowest.pop_back();
+    s.minimum = lowest;
+    comm->max(s.maximum);
+    std::vector<double> count{ s.nonFinite };
+    comm->sum(count);
+    s.nonFinite = count[0];
+    sumExact(s.bins, *comm);
+  }
+  for (std::size_t c = 0; c < s.mean.size(); ++c)
+  {
+    s.mean[c] = exactValue(&s.bins[c * kExponents]) / voxels;
+  }
+}
+
+// ---- The fit: on process 0, shared with the others ------------------------------------------
+
+struct Fit
+{
+  std::string error;
+  std::vector<std::string> warnings;
+  RowMatrixF coordinates; // M x d: the reference points' embedding
+  std::vector<double> eigenvalues;
+  double varianceRetained = 0.0;
+  double trustworthiness = std::numeric_limits<double>::quiet_NaN();
+  double ms = 0.0;
+  PCAModel pca;
+};
+
+// Trustworthiness on a seeded sample of the reference points (NaN when not measured).
+void measureTrustworthiness(const RowMatrixF& refX, const ReductionOptions& options, Fit& fit)
+{
+  const std::size_t M = static_cast<std::size_t>(refX.rows());
+  const std::size_t nt = std::min(options.trustworthinessSample, M);
+  const int k = options.trustworthinessNeighbors;
+  if (nt == 0)
+  {
+    return; // not asked for
+  }
+  if (k < 1 || 2 * static_cast<std::size_t>(k) >= nt)
+  {
+    fit.warnings.push_back("Trustworthiness not computed: k = " + std::to_string(k) +
+      " needs a sample of more than 2k points (have " + std::to_string(nt) + ").");
+    return;
+  }
+  std::vector<std::int64_t> pick(M);
+  std::iota(pick.begin(), pick.end(), std::int64_t(0));
+  std::uint64_t state = options.randomSeed ^ 0x7457ull;
+  for (std::size_t i = 0; i < nt; ++i)
+  {
+    std::swap(pick[i], pick[i + static_cast<std::size_t>(uniformIndex(state, M - i))]);
+  }
+  pick.resize(nt);
+  std::sort(pick.begin(), pick.end());
+  const Eigen::Index D = refX.cols(), d = fit.coordinates.cols();
+  RowMatrixF tx(static_cast<Eigen::Index>(nt), D);
+  RowMatrixF ty(static_cast<Eigen::Index>(nt), d);
+  for (std::size_t i = 0; i < nt; ++i)
+  {
+    tx.row(static_cast<Eigen::Index>(i)) = refX.row(pick[i]);
+    ty.row(static_cast<Eigen::Index>(i)) = fit.coordinates.row(pick[i]);
+  }
+  fit.trustworthiness =
+    trustworthiness(tx.data(), static_cast<int>(D), ty.data(), static_cast<int>(d), nt, k);
+}
+
+// The embedding of the reference rows and its trustworthiness.
+Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const StageProgress& progress)
+{
+  Fit fit;
+  const auto start = Clock::now();
+  const int d = options.outputDimension;
+  Embedding embedding;
+  switch (options.method)
+  {
+    case ReductionMethod::PCA:
+      progress("PCA", 0.0);
+      embedding = fitPCA(refX.data(), static_cast<std::size_t>(refX.rows()), static_cast<int>(refX.cols()), {}, {}, d,
+        &fit.pca);
+      break;
+    case ReductionMethod::Isomap:
+    {
+      IsomapOptions io;
+      io.outputDimension = d;
+      io.numberOfNeighbors = options.numberOfNeighbors;
+      io.numberOfLandmarks = options.numberOfLandmarks;
+      io.seed = options.randomSeed;
+      io.progress = progress;
+      embedding = fitIsomap(refX, io);
+      break;
+    }
+    case ReductionMethod::LLE:
+    {
+      LLEOptions lo;
+      lo.outputDimension = d;
+      lo.numberOfNeighbors = options.numberOfNeighbors;
+      lo.progress = progress;
+      embedding = fitLLE(refX, lo);
+      break;
+    }
+  }
+  fit.ms = msSince(start);
+  fit.warnings = std::move(embedding.warnings);
+  if (!embedding.error.empty())
+  {
+    fit.error = embedding.error;
+    return fit;
+  }
+  if (!embedding.coordinates.allFinite())
+  {
+    fit.error = std::string(methodName(options.method)) +
+      ": the embedding has non-finite coordinates (degenerate data); try more neighbours or another method.";
+    return fit;
+  }
+  fit.coordinates = std::move(embedding.coordinates);
+  fit.eigenvalues = std::move(embedding.eigenvalues);
+  fit.varianceRetained = embedding.varianceRetained;
+  measureTrustworthiness(refX, options, fit);
+  return fit;
+}
+
+// Plain bytes for sending a Fit from process 0 to the others.
+class ByteWriter
+{
+public:
+  void raw(const void* p, std::size_t n)
+  {
+    const char* c = static_cast<const char*>(p);
+    bytes.insert(bytes.end(), c, c + n);
+  }
+  template <class T>
+  void value(const T& v)
+  {
+    raw(&v, sizeof v);
+  }
+  template <class T>
+  void values(const T* p, std::size_t n)
+  {
+    value<std::uint64_t>(n);
+    raw(p, n * sizeof(T));
+  }
+  void text(const std::string& s) { values(s.data(), s.size()); }
+  std::vector<char> bytes;
+};
+
+class ByteReader
+{
+public:
+  explicit ByteReader(const std::vector<char>& bytes)
+    : bytes_(bytes)
+  {
+  }
+  void raw(void* p, std::size_t n)
+  {
+    if (n > 0)
+    {
+      std::memcpy(p, bytes_.data() + at_, n);
+    }
+    at_ += n;
+  }
+  template <class T>
+  T value()
+  {
+    T v;
+    raw(&v, sizeof v);
+    return v;
+  }
+  template <class T>
+  std::vector<T> values()
+  {
+    std::vector<T> v(value<std::uint64_t>());
+    raw(v.data(), v.size() * sizeof(T));
+    return v;
+  }
+  std::string text()
+  {
+    const std::vector<char> c = values<char>();
+    return std::string(c.begin(), c.end());
+  }
+
+private:
+  const std::vector<char>& bytes_;
+  std::size_t at_ = 0;
+};
+
+std::vector<char> pack(const Fit& fit)
+{
+  ByteWriter w;
+  w.text(fit.error);
+  w.value<std::uint64_t>(fit.warnings.size());
+  for (const std::string& s : fit.warnings)
+  {
+    w.text(s);
+  }
+  w.value<std::int64_t>(fit.coordinates.rows());
+  w.value<std::int64_t>(fit.coordinates.cols());
+  w.raw(fit.coordinates.data(), static_cast<std::size_t>(fit.coordinates.size()) * sizeof(float));
+  w.values(fit.eigenvalues.data(), fit.eigenvalues.size());
+  w.value(fit.varianceRetained);
+  w.value(fit.trustworthiness);
+  w.value(fit.ms);
+  w.values(fit.pca.mean.data(), static_cast<std::size_t>(fit.pca.mean.size()));
+  w.value<std::int64_t>(fit.pca.axes.rows());
+  w.value<std::int64_t>(fit.pca.axes.cols());
+  w.raw(fit.pca.axes.data(), static_cast<std::size_t>(fit.pca.axes.size()) * sizeof(double));
+  return std::move(w.bytes);
+}
+
+Fit unpack(const std::vector<char>& bytes)
+{
+  ByteReader r(bytes);
+  Fit fit;
+  fit.error = r.text();
+  fit.warnings.resize(r.value<std::uint64_t>());
+  for (std::string& s : fit.warnings)
+  {
+    s = r.text();
+  }
+  const std::int64_t rows = r.value<std::int64_t>();
+  fit.coordinates.resize(rows, r.value<std::int64_t>());
+  r.raw(fit.coordinates.data(), static_cast<std::size_t>(fit.coordinates.size()) * sizeof(float));
+  fit.eigenvalues = r.values<double>();
+  fit.varianceRetained = r.value<double>();
+  fit.trustworthiness = r.value<double>();
+  fit.ms = r.value<double>();
+  const std::vector<double> mean = r.values<double>();
+  fit.pca.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), static_cast<Eigen::Index>(mean.size()));
+  const std::int64_t axesRows = r.value<std::int64_t>();
+  fit.pca.axes.resize(axesRows, r.value<std::int64_t>());
+  r.raw(fit.pca.axes.data(), static_cast<std::size_t>(fit.pca.axes.size()) * sizeof(double));
+  return fit;
+}
+
+// Process 0 fits and every process gets its answer, so the embedding, spectrum, warnings and
+// trustworthiness are the same everywhere (the others would only repeat the work).
+Fit fitOnFirst(const RowMatrixF& refX, const ReductionOptions& options, const Communicator* comm,
+  const StageProgress& progress)
+{
+  const bool distributed = isDistributed(comm);
+  Fit fit;
+  if (!distributed || comm->rank() == 0)
+  {
+    const std::string failure = runShared(nullptr, [&] { fit = fitReference(refX, options, progress); });
+    if (!failure.empty())
+    {
+      fit = Fit();
+      fit.error = failure;
+    }
+  }
+  if (!distributed)
+  {
+    return fit;
+  }
+  const std::vector<char> bytes = comm->allGather(comm->rank() == 0 ? pack(fit) : std::vector<char>());
+  return comm->rank() == 0 ? fit : unpack(bytes);
+}
+
+// ---- The whole ------------------------------------------------------------------------------
+
 ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& options)
 {
   const auto start = Clock::now();
+  const Communicator* comm = options.communicator;
   ReductionResult result;
   auto fail = [&](std::string message) {
     result.error = std::move(message);
@@ -134,7 +546,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     return [&, lo, hi](const char* stage, double f) { report(stage, lo + (hi - lo) * f); };
   };
 
-  // --- Checks -------------------------------------------------------------------------
+  // --- Checks (the options are the same on every process, so are these answers) -----------
   const int d = options.outputDimension;
   if (d != 2 && d != 3)
   {
@@ -144,15 +556,6 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     options.method != ReductionMethod::LLE)
   {
     return fail("Unknown reduction method " + std::to_string(static_cast<int>(options.method)) + ".");
-  }
-  if (features.data == nullptr || features.rows == 0)
-  {
-    return fail("The feature array has no rows (no voxels): nothing to reduce.");
-  }
-  if (features.cols < 2)
-  {
-    return fail("The feature array has " + std::to_string(features.cols) +
-      " component(s): nothing to reduce (at least 2 features are needed).");
   }
   const bool graphMethod = options.method != ReductionMethod::PCA;
   if (graphMethod && options.numberOfNeighbors < 1)
@@ -170,14 +573,53 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   result.outputDimension = d;
   report("Checking features", 0.0);
 
+  // --- The rows of every process ----------------------------------------------------------
+  std::string error = sharedError(comm, checkRows(features, options));
+  if (error.empty())
+  {
+    error = checkAgreement(features, options, comm);
+  }
+  if (!error.empty())
+  {
+    return fail(error);
+  }
+  const RowLayout rows = makeLayout(features, options, comm);
+  std::vector<double> voxels{ static_cast<double>(rows.ownedCount()) };
+  if (isDistributed(comm))
+  {
+    comm->sum(voxels);
+  }
+  const std::size_t N = static_cast<std::size_t>(voxels[0]);
+  if (N == 0)
+  {
+    return fail("The feature array has no rows (no voxels): nothing to reduce.");
+  }
+  if (hasGrid(options) && N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount())
+  {
+    return fail("The processes own " + std::to_string(N) + " voxels of a volume of " +
+      dimsText(options.piece.wholeDims) + ": every voxel must be owned by exactly one process.");
+  }
+  if (features.cols < 2)
+  {
+    return fail("The feature array has " + std::to_string(features.cols) +
+      " component(s): nothing to reduce (at least 2 features are needed).");
+  }
+
   // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
   // would leave holes in the output. The message says where the first one is.
-  const ColumnStats stats = columnStats(features);
+  ColumnStats stats(features.cols);
+  error = runShared(comm, [&] { stats = localStats(features, rows); });
+  if (!error.empty())
+  {
+    return fail(error);
+  }
+  combineStats(stats, static_cast<double>(N), comm);
   if (stats.nonFinite > 0)
   {
-    return fail("The features contain " + std::to_string(stats.nonFinite) +
-      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(stats.firstBadRow) + ", component " +
-      std::to_string(stats.firstBadColumn) + "; replace or mask them before reducing.");
+    const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
+    return fail("The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
+      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / features.cols) +
+      ", component " + std::to_string(first % features.cols) + "; replace or mask them before reducing.");
   }
   std::vector<int> used;
   std::vector<double> usedMean;
@@ -216,19 +658,24 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   }
   result.deviceUsed = Device::CPU; // the placement below says where it really ran
 
-  // --- Reference sample ---------------------------------------------------------------
+  // --- Reference sample (the same voxels on every process) ---------------------------------
   report("Drawing the reference sample", 0.03);
-  if (options.referenceSampleSize > features.rows)
+  if (options.referenceSampleSize > N)
   {
     result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
-      ") exceeds the number of voxels (" + std::to_string(features.rows) + "); the embedding is fitted on all of them.");
+      ") exceeds the number of voxels (" + std::to_string(N) + "); the embedding is fitted on all of them.");
   }
   ReferenceSampleOptions so;
   so.size = options.referenceSampleSize;
   so.seed = options.randomSeed;
-  result.referenceIndices = drawReferenceSample(features.data, features.rows, features.cols, used, usedMean, so);
+  ReferenceSample sample = drawReferenceSample(features.data, features.cols, rows, used, usedMean, so, comm);
+  if (!sample.error.empty())
+  {
+    return fail("Drawing the reference sample: " + sample.error);
+  }
+  result.referenceIndices = std::move(sample.indices);
   const std::size_t M = result.referenceIndices.size();
-  const std::size_t wanted = std::min(options.referenceSampleSize, features.rows);
+  const std::size_t wanted = std::min(options.referenceSampleSize, N);
   if (M < wanted)
   {
     result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +
@@ -246,65 +693,22 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
       " are needed for a " + std::to_string(d) + "D embedding.");
   }
   const Eigen::Index D = static_cast<Eigen::Index>(used.size());
-  RowMatrixF refX(static_cast<Eigen::Index>(M), D);
-  for (std::size_t r = 0; r < M; ++r)
-  {
-    const float* row = features.row(static_cast<std::size_t>(result.referenceIndices[r]));
-    for (Eigen::Index c = 0; c < D; ++c)
-    {
-      refX(static_cast<Eigen::Index>(r), c) = row[used[static_cast<std::size_t>(c)]];
-    }
-  }
+  const RowMatrixF refX = Eigen::Map<const RowMatrixF>(sample.vectors.data(), static_cast<Eigen::Index>(M), D);
 
-  // --- Fit ----------------------------------------------------------------------------
-  const auto fitStart = Clock::now();
-  Embedding embedding;
-  PCAModel pca;
-  switch (options.method)
+  // --- Fit (process 0; its answer is shared) ---------------------------------------------------
+  report("Fitting the embedding", 0.05);
+  Fit fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
+  result.fitMs = fit.ms;
+  result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
+  if (!fit.error.empty())
   {
-    case ReductionMethod::PCA:
-      report("PCA", 0.05);
-      embedding = fitPCA(refX.data(), M, static_cast<int>(D), {}, {}, d, &pca);
-      break;
-    case ReductionMethod::Isomap:
-    {
-      IsomapOptions io;
-      io.outputDimension = d;
-      io.numberOfNeighbors = options.numberOfNeighbors;
-      io.numberOfLandmarks = options.numberOfLandmarks;
-      io.seed = options.randomSeed;
-      io.progress = within(0.05, 0.6);
-      embedding = fitIsomap(refX, io);
-      break;
-    }
-    case ReductionMethod::LLE:
-    {
-      LLEOptions lo;
-      lo.outputDimension = d;
-      lo.numberOfNeighbors = options.numberOfNeighbors;
-      lo.progress = within(0.05, 0.6);
-      embedding = fitLLE(refX, lo);
-      break;
-    }
+    return fail(fit.error);
   }
-  result.fitMs = msSince(fitStart);
-  for (auto& w : embedding.warnings)
-  {
-    result.warnings.push_back(w);
-  }
-  if (!embedding.error.empty())
-  {
-    return fail(embedding.error);
-  }
-  if (!embedding.coordinates.allFinite())
-  {
-    return fail(std::string(methodName(options.method)) +
-      ": the embedding has non-finite coordinates (degenerate data); try more neighbours or another method.");
-  }
-  result.eigenvalues = embedding.eigenvalues;
-  result.varianceRetained = embedding.varianceRetained;
+  result.eigenvalues = fit.eigenvalues;
+  result.varianceRetained = fit.varianceRetained;
+  result.trustworthiness = fit.trustworthiness;
 
-  // --- Every voxel ----------------------------------------------------------------------
+  // --- Every row of this process (local) -----------------------------------------------------
   const auto placeStart = Clock::now();
   result.coordinates.resize(features.rows * static_cast<std::size_t>(d));
   if (options.method == ReductionMethod::PCA)
@@ -314,54 +718,19 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     {
       result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
     }
-    projectPCA(pca, features.data, features.rows, features.cols, gatherColumns, result.coordinates.data());
+    projectPCA(fit.pca, features.data, features.rows, features.cols, gatherColumns, result.coordinates.data());
   }
-  else
+  else if (features.rows > 0)
   {
     OutOfSampleOptions oo;
     oo.device = device;
     oo.progress = within(0.6, 0.95);
-    const OutOfSampleReport placed = placeOutOfSample(refX, embedding.coordinates, features.data, features.rows,
-      features.cols, allColumns ? std::vector<int>{} : used, result.coordinates.data(), oo);
+    const OutOfSampleReport placed = placeOutOfSample(refX, fit.coordinates, features.data, features.rows,
+      features.cols, gatherColumns, result.coordinates.data(), oo);
     result.deviceUsed = placed.deviceUsed;
     result.warnings.insert(result.warnings.end(), placed.warnings.begin(), placed.warnings.end());
   }
   result.placeMs = msSince(placeStart);
-
-  // --- Trustworthiness on a sample of the reference points ----------------------------
-  report("Trustworthiness", 0.95);
-  const std::size_t nt = std::min(options.trustworthinessSample, M);
-  const int k = options.trustworthinessNeighbors;
-  result.trustworthiness = std::numeric_limits<double>::quiet_NaN();
-  if (nt == 0)
-  {
-    // not asked for
-  }
-  else if (k < 1 || 2 * static_cast<std::size_t>(k) >= nt)
-  {
-    result.warnings.push_back("Trustworthiness not computed: k = " + std::to_string(k) +
-      " needs a sample of more than 2k points (have " + std::to_string(nt) + ").");
-  }
-  else
-  {
-    std::vector<std::int64_t> pick(M);
-    std::iota(pick.begin(), pick.end(), std::int64_t(0));
-    std::uint64_t state = options.randomSeed ^ 0x7457ull;
-    for (std::size_t i = 0; i < nt; ++i)
-    {
-      std::swap(pick[i], pick[i + static_cast<std::size_t>(uniformIndex(state, M - i))]);
-    }
-    pick.resize(nt);
-    std::sort(pick.begin(), pick.end());
-    RowMatrixF tx(static_cast<Eigen::Index>(nt), D);
-    RowMatrixF ty(static_cast<Eigen::Index>(nt), d);
-    for (std::size_t i = 0; i < nt; ++i)
-    {
-      tx.row(static_cast<Eigen::Index>(i)) = refX.row(pick[i]);
-      ty.row(static_cast<Eigen::Index>(i)) = embedding.coordinates.row(pick[i]);
-    }
-    result.trustworthiness = trustworthiness(tx.data(), static_cast<int>(D), ty.data(), d, nt, k);
-  }
   result.totalMs = msSince(start);
   report("Done", 1.0);
   return result;

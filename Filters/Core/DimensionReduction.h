@@ -6,7 +6,10 @@
 // w = argmin |x - sum w_i x_i|^2, sum w_i = 1, and y = sum w_i y_i (section 5.4.2).
 #pragma once
 
+#include "Communicator.h"
 #include "Device.h"
+#include "GridPiece.h"
+#include "ImageGrid.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -40,13 +43,26 @@ struct ReductionOptions
   int outputDimension = 3;              // 2 or 3
   int numberOfNeighbors = 50;           // K of the Isomap / LLE neighbourhood graph
   int numberOfLandmarks = 500;          // L of landmark Isomap
-  std::size_t referenceSampleSize = 10000; // M; >= rows fits on every voxel
+  std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
   Device device = Device::Auto;         // the out-of-sample step (touches every voxel)
   int trustworthinessNeighbors = 10;    // k of the trustworthiness measure
   std::size_t trustworthinessSample = 2000; // points it is measured on (from the reference)
   // Optional progress: stage name and overall fraction in [0,1].
   std::function<void(const char* stage, double fraction)> progress;
+
+  // Split over processes (Communicator.h): every process calls reduceDimension with its own
+  // rows and the same options, and all get the answer one process would give for the whole
+  // (same reference sample, embedding and coordinates for the same seed). Null, or a
+  // communicator of one process: serial.
+  const Communicator* communicator = nullptr;
+  // Where the rows lie (GridPiece.h): when piece.wholeDims is set, the rows are the voxels
+  // of `block` (rows == block.voxelCount(), x fastest), of which the process owns those the
+  // piece says; statistics and the sample count owned voxels only. Left at the defaults,
+  // the rows are plain rows, every one owned, the processes' rows one after another in rank
+  // order (global index = rows of the lower ranks + row).
+  GridPiece piece;
+  ImageGrid block;
 };
 
 struct ReductionResult
@@ -62,13 +78,16 @@ struct ReductionResult
                                      // NaN when not computed (trustworthinessSample 0,
                                      // or a sample of no more than 2k points)
   std::vector<int> usedColumns;      // features kept (zero-variance ones are dropped)
-  std::vector<std::int64_t> referenceIndices; // rows the embedding was fitted on
+  std::vector<std::int64_t> referenceIndices; // rows the embedding was fitted on: global
+                                              // indices (voxels of the whole volume)
   Device deviceUsed = Device::CPU;
   double fitMs = 0, placeMs = 0, totalMs = 0;
   bool ok() const { return error.empty(); }
 };
 
-// The capability's one entry point.
+// The capability's one entry point. Collective when options.communicator spans several
+// processes: errors, warnings, the spectrum and trustworthiness are the same on all of them;
+// coordinates are each process's own rows.
 ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOptions& options);
 
 } // namespace mcv

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <numeric>
 #include <unordered_map>
 
 namespace mcv
@@ -10,51 +12,73 @@ namespace mcv
 
 namespace
 {
-std::uint64_t splitmix64(std::uint64_t& state)
+constexpr std::uint64_t kAllKeys = std::numeric_limits<std::uint64_t>::max(); // a limit that keeps every key
+constexpr std::uint8_t kNotOwned = 0xFF;    // stratum of a row this process does not own
+constexpr std::size_t kPlainRun = 4096;     // rows per run of a plain layout
+constexpr double kEdgeSubsample = 65536.0;  // voxels the strata edges are measured on
+
+// splitmix64's finalizer: a bijection of 64-bit words with good avalanche.
+std::uint64_t mix64(std::uint64_t z)
 {
-  std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
 }
 
-// Keeps one row per distinct feature vector (over the used columns).
-class DistinctRows
+std::uint64_t splitmix64(std::uint64_t& state)
+{
+  return mix64(state += 0x9E3779B97F4A7C15ull);
+}
+
+// The key limit below which a fraction f of uniform 64-bit keys falls.
+std::uint64_t keyLimit(double f)
+{
+  if (!(f < 1.0))
+  {
+    return kAllKeys;
+  }
+  return static_cast<std::uint64_t>(std::ldexp(std::max(f, 0.0), 64));
+}
+
+float featureValue(float v)
+{
+  return v == 0.f ? 0.f : v; // -0 and +0 are one vector
+}
+
+// Distinct vectors of D floats among the rows of a contiguous buffer.
+class VectorSet
 {
 public:
-  DistinctRows(const float* data, int dim, const std::vector<int>& columns)
-    : data_(data)
-    , dim_(dim)
-    , columns_(columns)
+  VectorSet(const float* base, std::size_t D)
+    : base_(base)
+    , D_(D)
   {
   }
 
   // True (and remembered) when row i's vector was not seen before.
-  bool insert(std::int64_t i)
+  bool insert(std::size_t i)
   {
     const std::uint64_t h = hash(i);
-    auto it = seen_.find(h);
-    if (it == seen_.end())
+    const auto range = seen_.equal_range(h);
+    for (auto it = range.first; it != range.second; ++it)
     {
-      seen_.emplace(h, i);
-      return true;
+      if (equal(i, it->second))
+      {
+        return false;
+      }
     }
-    // Same hash: a duplicate unless the vectors differ (a 64-bit collision: keep the row).
-    return !equal(i, it->second);
+    seen_.emplace(h, i);
+    return true;
   }
 
 private:
-  float value(std::int64_t i, int c) const
-  {
-    const float v = data_[static_cast<std::size_t>(i) * static_cast<std::size_t>(dim_) + static_cast<std::size_t>(c)];
-    return v == 0.f ? 0.f : v; // -0 and +0 are one vector
-  }
-  std::uint64_t hash(std::int64_t i) const
+  const float* at(std::size_t i) const { return base_ + i * D_; }
+  std::uint64_t hash(std::size_t i) const
   {
     std::uint64_t h = 0x84222325CBF29CE4ull;
-    for (int c : columns_)
+    for (std::size_t c = 0; c < D_; ++c)
     {
-      const float v = value(i, c);
+      const float v = featureValue(at(i)[c]);
       std::uint32_t bits;
       std::memcpy(&bits, &v, sizeof bits);
       h = (h ^ bits) * 0x100000001B3ull;
@@ -62,11 +86,11 @@ private:
     }
     return h;
   }
-  bool equal(std::int64_t a, std::int64_t b) const
+  bool equal(std::size_t a, std::size_t b) const
   {
-    for (int c : columns_)
+    for (std::size_t c = 0; c < D_; ++c)
     {
-      if (value(a, c) != value(b, c))
+      if (featureValue(at(a)[c]) != featureValue(at(b)[c]))
       {
         return false;
       }
@@ -74,12 +98,596 @@ private:
     return true;
   }
 
+  const float* base_;
+  std::size_t D_;
+  std::unordered_multimap<std::uint64_t, std::size_t> seen_;
+};
+
+// What a process sends for one candidate voxel, followed by its D used features.
+struct CandidateHeader
+{
+  std::int64_t global;
+  std::uint64_t key;
+  std::int32_t stratum;
+  std::int32_t unused;
+};
+
+// A local voxel found below a list's key limit.
+struct Entry
+{
+  std::uint64_t key;
+  std::int64_t global;
+  std::size_t row;
+};
+
+// One list a process proposes candidates from: its owned voxels (all of them, or those of
+// one stratum) as distinct vectors in key order. Collected lazily: the voxels with
+// key <= limit, so `reps` is exact up to the limit.
+struct LocalList
+{
+  int stratum = -1;        // -1: every voxel
+  std::size_t voxels = 0;  // owned voxels in the list
+  double fraction = 0.0;   // of the key range collected
+  std::uint64_t limit = 0;
+  bool collected = false;
+  std::vector<Entry> reps; // the voxel with the smallest key of each distinct vector
+  bool complete() const { return collected && limit == kAllKeys; }
+};
+
+// A candidate after the merge, on every process.
+struct Candidate
+{
+  std::uint64_t key;
+  std::int64_t global;
+  int stratum;
+  std::size_t vector; // row in the merged vector buffer
+};
+
+// Calls visit(row, global) for every owned row, OpenMP over runs.
+template <class Visit>
+void forOwned(const RowLayout& rows, const Visit& visit)
+{
+  const long long runs = static_cast<long long>(rows.runCount());
+#pragma omp parallel for schedule(static)
+  for (long long r = 0; r < runs; ++r)
+  {
+    const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
+    for (std::size_t t = 0; t < run.count; ++t)
+    {
+      visit(run.row + t, run.global + static_cast<std::int64_t>(t));
+    }
+  }
+}
+
+// Calls visit(row, global, found) for every owned row, OpenMP over runs, and returns what
+// the visits appended to `found`, in no particular order (callers sort by key).
+template <class T, class Visit>
+std::vector<T> collectOwned(const RowLayout& rows, const Visit& visit)
+{
+  std::vector<T> all;
+  const long long runs = static_cast<long long>(rows.runCount());
+#pragma omp parallel
+  {
+    std::vector<T> found;
+#pragma omp for schedule(static) nowait
+    for (long long r = 0; r < runs; ++r)
+    {
+      const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
+      for (std::size_t t = 0; t < run.count; ++t)
+      {
+        visit(run.row + t, run.global + static_cast<std::int64_t>(t), found);
+      }
+    }
+#pragma omp critical(mcvCollectOwned)
+    all.insert(all.end(), found.begin(), found.end());
+  }
+  return all;
+}
+
+// Draws the sample of ReferenceSample.h on one process of `comm` (null: serial).
+class Sampler
+{
+public:
+  Sampler(const float* data, int dim, const RowLayout& rows, const std::vector<int>& columns,
+    const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm)
+    : data_(data)
+    , dim_(dim)
+    , rows_(rows)
+    , columns_(columns)
+    , center_(center)
+    , options_(options)
+    , comm_(isDistributed(comm) ? comm : nullptr)
+    , S_(std::max(1, std::min(options.strata, 254)))
+  {
+    if (columns_.empty())
+    {
+      columns_.resize(static_cast<std::size_t>(dim));
+      std::iota(columns_.begin(), columns_.end(), 0);
+    }
+    D_ = columns_.size();
+    const double fraction = std::min(1.0, std::max(0.0, options.stratifiedFraction));
+    share_ = static_cast<std::size_t>(std::llround(static_cast<double>(options.size) * fraction)) /
+      static_cast<std::size_t>(S_);
+  }
+
+  ReferenceSample draw();
+
+private:
+  float norm(std::size_t row) const;
+  void copyVector(std::size_t row, float* out) const;
+  std::vector<float> edgeSubsample(double total) const;
+  std::vector<float> strataEdges(std::vector<float> norms) const;
+  std::vector<double> assignStrata(const std::vector<float>& edges);
+  std::vector<std::size_t> firstWants(const std::vector<double>& mine, const std::vector<double>& all) const;
+  void fill(const std::vector<std::size_t>& want);
+  void collect(const std::vector<std::size_t>& which);
+  std::vector<Entry> distinctInKeyOrder(std::vector<Entry> found) const;
+  std::vector<char> propose(const std::vector<std::size_t>& want) const;
+  bool decide(const std::vector<char>& all, std::vector<bool>& more, ReferenceSample& out) const;
+
   const float* data_;
   int dim_;
-  const std::vector<int>& columns_;
-  std::unordered_map<std::uint64_t, std::int64_t> seen_;
+  const RowLayout& rows_;
+  std::vector<int> columns_;
+  const std::vector<double>& center_;
+  ReferenceSampleOptions options_;
+  const Communicator* comm_;
+  int S_;
+  std::size_t D_ = 0;
+  std::size_t share_ = 0;             // sample per stratum
+  std::vector<std::uint8_t> stratum_; // per row; kNotOwned for rows of other processes
+  std::vector<LocalList> lists_;      // 0: every voxel; 1 + s: stratum s
 };
+
+float Sampler::norm(std::size_t row) const
+{
+  const float* x = data_ + row * static_cast<std::size_t>(dim_);
+  double s = 0;
+  for (std::size_t k = 0; k < D_; ++k)
+  {
+    const double v = x[columns_[k]] - (center_.empty() ? 0.0 : center_[k]);
+    s += v * v;
+  }
+  return static_cast<float>(std::sqrt(s));
+}
+
+void Sampler::copyVector(std::size_t row, float* out) const
+{
+  const float* x = data_ + row * static_cast<std::size_t>(dim_);
+  for (std::size_t k = 0; k < D_; ++k)
+  {
+    out[k] = x[columns_[k]];
+  }
+}
+
+// The norms of the voxels whose key is below a limit (about kEdgeSubsample voxels of all):
+// chosen by the keys alone, so every split measures the strata edges on the same voxels;
+// small enough to gather on every process.
+std::vector<float> Sampler::edgeSubsample(double total) const
+{
+  const std::uint64_t limit = keyLimit(kEdgeSubsample / total);
+  return collectOwned<float>(rows_, [&](std::size_t row, std::int64_t g, std::vector<float>& found) {
+    if (sampleKey(options_.seed, g) <= limit)
+    {
+      found.push_back(norm(row));
+    }
+  });
+}
+
+// Stratum edges at the quantiles 1/2, 3/4, 7/8, ... of the subsample's norms.
+std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
+{
+  std::sort(norms.begin(), norms.end());
+  std::vector<float> edges;
+  const std::size_t n = norms.size();
+  for (int s = 1; s < S_ && n > 0; ++s)
+  {
+    const double q = 1.0 - std::ldexp(1.0, -s);
+    edges.push_back(norms[std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n)))]);
+  }
+  return edges;
+}
+
+// Every owned row's stratum; returns this process's voxels per list.
+std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
+{
+  stratum_.assign(rows_.size(), kNotOwned);
+  forOwned(rows_, [&](std::size_t row, std::int64_t) {
+    stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(row)) - edges.begin());
+  });
+  std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
+  count[0] = rows_.ownedCount();
+  for (std::uint8_t s : stratum_)
+  {
+    if (s != kNotOwned)
+    {
+      ++count[1 + s];
+    }
+  }
+  lists_.assign(count.size(), LocalList{});
+  std::vector<double> voxels(count.size());
+  for (std::size_t i = 0; i < count.size(); ++i)
+  {
+    lists_[i].stratum = static_cast<int>(i) - 1;
+    lists_[i].voxels = count[i];
+    voxels[i] = static_cast<double>(count[i]);
+  }
+  return voxels;
+}
+
+// First guess of how many candidates this process proposes per list: its part of the list's
+// voxels times the list's quota, with a margin. Duplicates or chance may leave the merged
+// lists short; the next round asks for twice as many.
+std::vector<std::size_t> Sampler::firstWants(const std::vector<double>& mine, const std::vector<double>& all) const
+{
+  std::vector<std::size_t> want(lists_.size(), 0);
+  for (std::size_t i = 0; i < want.size(); ++i)
+  {
+    const std::size_t quota = i == 0 ? options_.size : share_;
+    if (quota > 0)
+    {
+      want[i] = static_cast<std::size_t>(
+                  std::ceil(1.25 * static_cast<double>(quota) * mine[i] / std::max(1.0, all[i]))) + 8;
+    }
+  }
+  return want;
+}
+
+// Collects until every list holds `want` distinct vectors or all of its voxels.
+void Sampler::fill(const std::vector<std::size_t>& want)
+{
+  for (;;)
+  {
+    std::vector<std::size_t> grow;
+    for (std::size_t i = 0; i < lists_.size(); ++i)
+    {
+      LocalList& l = lists_[i];
+      if (want[i] == 0 || l.complete() || (l.collected && l.reps.size() >= want[i]))
+      {
+        continue;
+      }
+      // First a key range expected to hold 1.5 x want voxels; then wider by what the
+      // duplicates took (at least twice as wide, so this ends).
+      const double w = 1.5 * static_cast<double>(want[i]);
+      l.fraction = l.collected
+        ? l.fraction * std::max(2.0, w / static_cast<double>(std::max<std::size_t>(1, l.reps.size())))
+        : w / static_cast<double>(l.voxels); // no voxels: +inf, i.e. all keys
+      l.limit = keyLimit(l.fraction);
+      grow.push_back(i);
+    }
+    if (grow.empty())
+    {
+      return;
+    }
+    collect(grow);
+  }
+}
+
+// One pass over the owned rows collects the voxels below the limits of the lists `which`.
+void Sampler::collect(const std::vector<std::size_t>& which)
+{
+  struct Found
+  {
+    std::size_t list;
+    Entry entry;
+  };
+  const std::vector<Found> found =
+    collectOwned<Found>(rows_, [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
+      const std::uint64_t key = sampleKey(options_.seed, g);
+      for (std::size_t w = 0; w < which.size(); ++w)
+      {
+        const LocalList& l = lists_[which[w]];
+        if (key <= l.limit && (l.stratum < 0 || l.stratum == stratum_[row]))
+        {
+          out.push_back({ w, { key, g, row } });
+        }
+      }
+    });
+  std::vector<std::vector<Entry>> perList(which.size());
+  for (const Found& f : found)
+  {
+    perList[f.list].push_back(f.entry);
+  }
+  for (std::size_t w = 0; w < which.size(); ++w)
+  {
+    lists_[which[w]].reps = distinctInKeyOrder(std::move(perList[w]));
+    lists_[which[w]].collected = true;
+  }
+}
+
+std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found) const
+{
+  std::sort(found.begin(), found.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  std::vector<float> vectors(found.size() * D_);
+  for (std::size_t i = 0; i < found.size(); ++i)
+  {
+    copyVector(found[i].row, vectors.data() + i * D_);
+  }
+  VectorSet distinct(vectors.data(), D_);
+  std::vector<Entry> reps;
+  for (std::size_t i = 0; i < found.size(); ++i)
+  {
+    if (distinct.insert(i))
+    {
+      reps.push_back(found[i]);
+    }
+  }
+  return reps;
+}
+
+// This process's candidates: per list its first `want` distinct vectors, and a bound: every
+// vector of the list it did not propose has a larger key (kAllKeys: none is left). Bytes:
+// the bounds (one per list), the candidate count, the candidates (header, then features).
+std::vector<char> Sampler::propose(const std::vector<std::size_t>& want) const
+{
+  std::vector<std::uint64_t> bounds(lists_.size(), kAllKeys);
+  std::vector<Entry> chosen;
+  for (std::size_t i = 0; i < lists_.size(); ++i)
+  {
+    const LocalList& l = lists_[i];
+    const std::size_t k = std::min(want[i], l.reps.size());
+    if (want[i] > 0 && !(l.complete() && l.reps.size() <= want[i]))
+    {
+      bounds[i] = l.reps[k - 1].key; // fill() left at least `want` of them
+    }
+    chosen.insert(chosen.end(), l.reps.begin(), l.reps.begin() + static_cast<std::ptrdiff_t>(k));
+  }
+  // A voxel may come in the list of all voxels and in its stratum's: send it once.
+  std::sort(chosen.begin(), chosen.end(), [](const Entry& a, const Entry& b) { return a.global < b.global; });
+  chosen.erase(std::unique(chosen.begin(), chosen.end(), [](const Entry& a, const Entry& b) { return a.global == b.global; }),
+    chosen.end());
+
+  const std::uint64_t count = chosen.size();
+  const std::size_t recordBytes = sizeof(CandidateHeader) + D_ * sizeof(float);
+  std::vector<char> bytes(bounds.size() * sizeof(std::uint64_t) + sizeof count + chosen.size() * recordBytes);
+  char* at = bytes.data();
+  std::memcpy(at, bounds.data(), bounds.size() * sizeof(std::uint64_t));
+  at += bounds.size() * sizeof(std::uint64_t);
+  std::memcpy(at, &count, sizeof count);
+  at += sizeof count;
+  std::vector<float> features(D_);
+  for (const Entry& e : chosen)
+  {
+    const CandidateHeader h{ e.global, e.key, stratum_[e.row], 0 };
+    copyVector(e.row, features.data());
+    std::memcpy(at, &h, sizeof h);
+    std::memcpy(at + sizeof h, features.data(), D_ * sizeof(float));
+    at += recordBytes;
+  }
+  return bytes;
+}
+
+// Merges every process's candidates (the same bytes on every process, hence the same
+// answer) and applies the sampling rule on the part of each merged list that is exact: the
+// keys up to the smallest bound of the processes. False, with `more` naming the short lists,
+// when that part cannot decide yet.
+bool Sampler::decide(const std::vector<char>& all, std::vector<bool>& more, ReferenceSample& out) const
+{
+  const std::size_t L = lists_.size();
+  const std::size_t recordBytes = sizeof(CandidateHeader) + D_ * sizeof(float);
+  std::vector<std::uint64_t> bound(L, kAllKeys);
+  std::vector<CandidateHeader> headers;
+  std::vector<const char*> features;
+  for (const char* at = all.data(); at < all.data() + all.size();)
+  {
+    for (std::size_t i = 0; i < L; ++i, at += sizeof(std::uint64_t))
+    {
+      std::uint64_t b;
+      std::memcpy(&b, at, sizeof b);
+      bound[i] = std::min(bound[i], b);
+    }
+    std::uint64_t count;
+    std::memcpy(&count, at, sizeof count);
+    at += sizeof count;
+    for (std::uint64_t c = 0; c < count; ++c, at += recordBytes)
+    {
+      CandidateHeader h;
+      std::memcpy(&h, at, sizeof h);
+      headers.push_back(h);
+      features.push_back(at + sizeof h);
+    }
+  }
+
+  // Key order, then one voxel per distinct vector: the first seen is the lowest-keyed.
+  std::vector<std::size_t> order(headers.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return headers[a].key < headers[b].key; });
+  std::vector<float> vectors(order.size() * D_);
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    std::memcpy(vectors.data() + i * D_, features[order[i]], D_ * sizeof(float));
+  }
+  VectorSet distinct(vectors.data(), D_);
+  std::vector<Candidate> list;
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    if (distinct.insert(i))
+    {
+      const CandidateHeader& h = headers[order[i]];
+      list.push_back({ h.key, h.global, h.stratum, i });
+    }
+  }
+
+  // Per stratum, its `share` lowest-keyed distinct vectors.
+  more.assign(L, false);
+  std::vector<char> taken(list.size(), 0);
+  std::size_t total = 0;
+  for (int s = 0; s < S_; ++s)
+  {
+    std::size_t got = 0;
+    for (std::size_t i = 0; i < list.size() && got < share_ && list[i].key <= bound[1 + s]; ++i)
+    {
+      if (list[i].stratum == s)
+      {
+        taken[i] = 1;
+        ++got;
+      }
+    }
+    more[1 + s] = got < share_ && bound[1 + s] != kAllKeys;
+    total += got;
+  }
+  // The uniform rest walks the lowest-keyed vectors of all: it stays within the exact part
+  // when that holds `size` vectors (at most `total` of them are taken already).
+  const std::size_t exact = static_cast<std::size_t>(
+    std::upper_bound(list.begin(), list.end(), bound[0], [](std::uint64_t b, const Candidate& c) { return b < c.key; }) -
+    list.begin());
+  more[0] = exact < options_.size && bound[0] != kAllKeys;
+  if (std::find(more.begin(), more.end(), true) != more.end())
+  {
+    return false;
+  }
+  for (std::size_t i = 0; i < list.size() && total < options_.size; ++i)
+  {
+    if (!taken[i])
+    {
+      taken[i] = 1;
+      ++total;
+    }
+  }
+
+  std::vector<const Candidate*> chosen;
+  for (std::size_t i = 0; i < list.size(); ++i)
+  {
+    if (taken[i])
+    {
+      chosen.push_back(&list[i]);
+    }
+  }
+  std::sort(chosen.begin(), chosen.end(), [](const Candidate* a, const Candidate* b) { return a->global < b->global; });
+  out.indices.clear();
+  out.vectors.resize(chosen.size() * D_);
+  for (std::size_t i = 0; i < chosen.size(); ++i)
+  {
+    out.indices.push_back(chosen[i]->global);
+    std::memcpy(out.vectors.data() + i * D_, vectors.data() + chosen[i]->vector * D_, D_ * sizeof(float));
+  }
+  return true;
+}
+
+ReferenceSample Sampler::draw()
+{
+  ReferenceSample out;
+  // Voxels of all processes: the edge subsample and the first guesses depend on it.
+  std::vector<double> total{ static_cast<double>(rows_.ownedCount()) };
+  if (comm_)
+  {
+    comm_->sum(total);
+  }
+  if (total[0] < 1)
+  {
+    return out;
+  }
+
+  std::vector<float> subsample;
+  out.error = runShared(comm_, [&] { subsample = edgeSubsample(total[0]); });
+  if (!out.error.empty())
+  {
+    return out;
+  }
+  if (comm_)
+  {
+    subsample = allGatherValues(*comm_, subsample);
+  }
+  const std::vector<float> edges = strataEdges(std::move(subsample));
+
+  std::vector<double> mine;
+  out.error = runShared(comm_, [&] { mine = assignStrata(edges); });
+  if (!out.error.empty())
+  {
+    return out;
+  }
+  std::vector<double> all = mine;
+  if (comm_)
+  {
+    comm_->sum(all);
+  }
+
+  std::vector<std::size_t> want = firstWants(mine, all);
+  for (;;)
+  {
+    std::vector<char> proposal;
+    out.error = runShared(comm_, [&] {
+      fill(want);
+      proposal = propose(want);
+    });
+    if (!out.error.empty())
+    {
+      return out;
+    }
+    std::vector<bool> more;
+    if (decide(comm_ ? comm_->allGather(proposal) : proposal, more, out))
+    {
+      return out;
+    }
+    for (std::size_t i = 0; i < want.size(); ++i)
+    {
+      want[i] *= more[i] ? 2 : 1;
+    }
+  }
+}
 } // namespace
+
+RowLayout RowLayout::plain(std::size_t n, std::int64_t first)
+{
+  RowLayout l;
+  l.rows_ = n;
+  l.first_ = first;
+  return l;
+}
+
+RowLayout RowLayout::grid(const GridPiece& piece, const ImageGrid& block)
+{
+  RowLayout l;
+  l.rows_ = block.voxelCount();
+  l.grid_ = true;
+  l.piece_ = piece;
+  l.block_ = block;
+  return l;
+}
+
+std::size_t RowLayout::ownedCount() const
+{
+  return grid_ ? piece_.ownedCount() : rows_;
+}
+
+std::size_t RowLayout::runCount() const
+{
+  if (!grid_)
+  {
+    return (rows_ + kPlainRun - 1) / kPlainRun;
+  }
+  if (ownedCount() == 0)
+  {
+    return 0;
+  }
+  return static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1) *
+    static_cast<std::size_t>(piece_.ownedHi[2] - piece_.ownedLo[2] + 1);
+}
+
+RowLayout::Run RowLayout::run(std::size_t r) const
+{
+  Run out;
+  if (!grid_)
+  {
+    out.row = r * kPlainRun;
+    out.global = first_ + static_cast<std::int64_t>(out.row);
+    out.count = std::min(kPlainRun, rows_ - out.row);
+    return out;
+  }
+  const std::size_t ny = static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1);
+  const std::size_t j = static_cast<std::size_t>(piece_.ownedLo[1]) + r % ny;
+  const std::size_t k = static_cast<std::size_t>(piece_.ownedLo[2]) + r / ny;
+  const std::size_t nx = static_cast<std::size_t>(block_.dims[0]);
+  out.row = (k * static_cast<std::size_t>(block_.dims[1]) + j) * nx + static_cast<std::size_t>(piece_.ownedLo[0]);
+  out.global = piece_.globalIndex(static_cast<std::int64_t>(out.row), block_);
+  out.count = static_cast<std::size_t>(piece_.ownedHi[0] - piece_.ownedLo[0] + 1);
+  return out;
+}
+
+std::uint64_t sampleKey(std::uint64_t seed, std::int64_t globalIndex)
+{
+  return mix64(static_cast<std::uint64_t>(globalIndex) + mix64(seed + 0x9E3779B97F4A7C15ull));
+}
 
 std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n)
 {
@@ -97,132 +705,44 @@ std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n)
   return x % n;
 }
 
-std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, int dim,
-  const std::vector<int>& columnsIn, const std::vector<double>& center, const ReferenceSampleOptions& options)
+std::string sharedError(const Communicator* comm, const std::string& localError)
 {
-  std::vector<int> columns = columnsIn;
-  if (columns.empty())
+  if (!isDistributed(comm))
   {
-    for (int c = 0; c < dim; ++c)
-    {
-      columns.push_back(c);
-    }
+    return localError;
   }
-  std::vector<std::int64_t> chosen;
-  DistinctRows distinct(data, dim, columns);
-  if (options.size >= n)
+  if (allTrue(comm, localError.empty()))
   {
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (distinct.insert(static_cast<std::int64_t>(i)))
-      {
-        chosen.push_back(static_cast<std::int64_t>(i));
-      }
-    }
-    return chosen;
+    return {};
   }
+  // Some process failed: all learn the first one's message (one string per process).
+  std::vector<char> mine(localError.begin(), localError.end());
+  mine.push_back('\0');
+  const std::vector<char> all = comm->allGather(mine);
+  auto at = all.begin();
+  for (int rank = 0; at != all.end(); ++rank)
+  {
+    const auto end = std::find(at, all.end(), '\0');
+    if (end != at)
+    {
+      return "Process " + std::to_string(rank) + " of " + std::to_string(comm->size()) + ": " + std::string(at, end);
+    }
+    at = end == all.end() ? end : end + 1;
+  }
+  return "A process failed.";
+}
 
-  std::uint64_t rng = options.seed ^ 0x5DEECE66Dull;
-  std::vector<unsigned char> taken(n, 0);
-  chosen.reserve(options.size);
-  auto take = [&](std::int64_t i) {
-    if (taken[static_cast<std::size_t>(i)])
-    {
-      return false;
-    }
-    taken[static_cast<std::size_t>(i)] = 1;
-    if (!distinct.insert(i))
-    {
-      return false;
-    }
-    chosen.push_back(i);
-    return true;
-  };
-  // Lazy Fisher-Yates over a pool: uniform without replacement, cost ~ rows visited.
-  auto drawFrom = [&](std::vector<std::int64_t>& pool, std::size_t quota) {
-    std::size_t got = 0;
-    for (std::size_t p = 0; p < pool.size() && got < quota; ++p)
-    {
-      const std::size_t q = p + static_cast<std::size_t>(uniformIndex(rng, pool.size() - p));
-      std::swap(pool[p], pool[q]);
-      if (take(pool[p]))
-      {
-        ++got;
-      }
-    }
-    return got;
-  };
+ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,
+  const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options,
+  const Communicator* comm)
+{
+  return Sampler(data, dim, rows, columns, center, options, comm).draw();
+}
 
-  // Norm of every (centred) feature vector.
-  std::vector<float> norm(n);
-  const long long count = static_cast<long long>(n);
-#pragma omp parallel for schedule(static)
-  for (long long ii = 0; ii < count; ++ii)
-  {
-    const float* row = data + static_cast<std::size_t>(ii) * static_cast<std::size_t>(dim);
-    double s = 0;
-    for (std::size_t k = 0; k < columns.size(); ++k)
-    {
-      const double v = row[columns[k]] - (center.empty() ? 0.0 : center[k]);
-      s += v * v;
-    }
-    norm[static_cast<std::size_t>(ii)] = static_cast<float>(std::sqrt(s));
-  }
-
-  // Stratum edges at the quantiles 1/2, 3/4, 7/8, ... of the norm.
-  const int S = std::max(1, options.strata);
-  std::vector<float> edges;
-  {
-    std::vector<float> sorted = norm;
-    for (int s = 1; s < S; ++s)
-    {
-      const double q = 1.0 - std::ldexp(1.0, -s);
-      const std::size_t pos = std::min(n - 1, static_cast<std::size_t>(q * static_cast<double>(n)));
-      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(pos), sorted.end());
-      edges.push_back(sorted[pos]);
-    }
-  }
-  std::vector<std::vector<std::int64_t>> strata(static_cast<std::size_t>(S));
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const int s = static_cast<int>(std::upper_bound(edges.begin(), edges.end(), norm[i]) - edges.begin());
-    strata[static_cast<std::size_t>(s)].push_back(static_cast<std::int64_t>(i));
-  }
-  norm.clear();
-  norm.shrink_to_fit();
-
-  const std::size_t stratified =
-    static_cast<std::size_t>(std::llround(static_cast<double>(options.size) * options.stratifiedFraction));
-  const std::size_t share = stratified / static_cast<std::size_t>(S);
-  for (auto& pool : strata)
-  {
-    drawFrom(pool, share);
-  }
-
-  // The uniform part: rejection sampling over all rows (cheap while M << n), capped; the
-  // rest (many duplicates, or M close to n) walks a shuffled list of every row.
-  std::size_t attempts = 0;
-  const std::size_t maxAttempts = 20 * options.size + 1000;
-  while (chosen.size() < options.size && attempts < maxAttempts)
-  {
-    take(static_cast<std::int64_t>(uniformIndex(rng, n)));
-    ++attempts;
-  }
-  if (chosen.size() < options.size)
-  {
-    std::vector<std::int64_t> all;
-    all.reserve(n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      if (!taken[i])
-      {
-        all.push_back(static_cast<std::int64_t>(i));
-      }
-    }
-    drawFrom(all, options.size - chosen.size());
-  }
-  std::sort(chosen.begin(), chosen.end());
-  return chosen;
+std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, int dim,
+  const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options)
+{
+  return drawReferenceSample(data, dim, RowLayout::plain(n), columns, center, options, nullptr).indices;
 }
 
 } // namespace mcv

@@ -1,25 +1,75 @@
-// The reference sample the embedding is fitted on (dissertation section 5.4.2): M rows of
-// the feature matrix, seeded, with distinct feature vectors.
+// The reference sample the embedding is fitted on (dissertation section 5.4.2): M voxels,
+// seeded, with distinct feature vectors; the same voxels whether the volume is reduced by
+// one process or split over several (Communicator.h, GridPiece.h).
 //
 // Scheme (norm-stratified, so rare bright structures are kept):
-//  - every row gets the Euclidean norm of its (used, centred) feature vector;
-//  - half of the sample is drawn uniformly at random from all rows (keeps the density:
-//    what is common in the volume is common in the domain);
-//  - the other half is shared equally among 8 strata of the norm whose upper quantile
-//    edges halve towards the top: [0, .5), [.5, .75), [.75, .875), ... , [.9921875, 1].
-//    The top 0.8 % of voxels by norm (the bright, high-gradient ones a user looks for)
-//    thus get 1/16 of the sample instead of 0.8 % of it.
-//  - exact duplicates (many background voxels share one feature vector) are drawn once:
-//    a duplicate adds nothing to the fit and would break kNN graphs (zero distances).
+//  - every voxel gets a random 64-bit key from (seed, global index) by a counter-based hash,
+//    so no choice depends on the order rows are visited in, nor on the split; and the
+//    Euclidean norm of its (used, centred) feature vector;
+//  - exact duplicates (many background voxels share one feature vector) are drawn once: a
+//    duplicate adds nothing to the fit and would break kNN graphs (zero distances). A
+//    distinct vector stands for all its voxels with the key of its lowest-keyed voxel;
+//  - 8 strata of the norm whose upper quantile edges halve towards the top: [0, .5),
+//    [.5, .75), [.75, .875), ... , [.9921875, 1]; the quantiles are measured on the voxels
+//    whose key is below a threshold (about 65536 of them; all voxels of a smaller volume);
+//  - half of the sample is shared equally among the strata: in each, the distinct vectors
+//    with the smallest keys. The top 0.8 % of voxels by norm (the bright, high-gradient
+//    ones a user looks for) thus get 1/16 of the sample instead of 0.8 % of it;
+//  - the rest is uniform (keeps the density: what is common in the volume is common in the
+//    domain): the distinct vectors with the smallest keys among those not yet taken.
 // When fewer distinct vectors exist than asked for, all of them are returned.
+//
+// Split over processes, no process sees all voxels: each proposes its own candidates in key
+// order, all gather the candidates (O(M) vectors), merge them by key and, while the merged
+// lists cannot decide yet, ask every process for more.
 #pragma once
+
+#include "Communicator.h"
+#include "GridPiece.h"
+#include "ImageGrid.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <exception>
+#include <new>
+#include <string>
 #include <vector>
 
 namespace mcv
 {
+
+// The rows one process holds: their indices in the whole data set (global indices) and
+// which of them it owns (counts). Either plain rows (a matrix with no grid) or the voxels of
+// a block of a volume (x fastest).
+class RowLayout
+{
+public:
+  // n rows, all owned, global index = first + row.
+  static RowLayout plain(std::size_t n, std::int64_t first = 0);
+  // The voxels of `block`, placed in the volume and owned as `piece` says.
+  static RowLayout grid(const GridPiece& piece, const ImageGrid& block);
+
+  std::size_t size() const { return rows_; }
+  std::size_t ownedCount() const;
+
+  // The owned rows come in runs of consecutive rows with consecutive global indices (a line
+  // of the owned box along x, or a chunk of plain rows): the loops go run by run.
+  struct Run
+  {
+    std::size_t row = 0;     // first row
+    std::int64_t global = 0; // its global index
+    std::size_t count = 0;
+  };
+  std::size_t runCount() const;
+  Run run(std::size_t r) const;
+
+private:
+  std::size_t rows_ = 0;
+  bool grid_ = false;
+  std::int64_t first_ = 0;
+  GridPiece piece_;
+  ImageGrid block_;
+};
 
 struct ReferenceSampleOptions
 {
@@ -29,14 +79,58 @@ struct ReferenceSampleOptions
   double stratifiedFraction = 0.5; // of the sample shared equally among the strata
 };
 
-// `data` is n x dim row-major; `columns` the columns used (empty: all), `center` their mean
-// (empty: no centring). Returns sorted row indices of distinct feature vectors.
-// When size >= n every distinct row is returned.
+struct ReferenceSample
+{
+  std::string error;                 // non-empty: nothing else is meaningful
+  std::vector<std::int64_t> indices; // global indices, ascending
+  std::vector<float> vectors;        // indices.size() x columns.size(): the used features
+};
+
+// Collective over `comm` (null: serial). `data` is rows.size() x dim row-major; `columns`
+// the columns used (empty: all), `center` their mean (empty: no centring). Every process
+// gets the same sample, with the feature vectors of its voxels.
+ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,
+  const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options,
+  const Communicator* comm);
+
+// Serial: `data` is n x dim row-major. Returns sorted row indices of distinct feature
+// vectors; when size >= n every distinct row is returned.
 std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, int dim,
   const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options);
+
+// The random key of a voxel: a bijection of the global index for a given seed (keys never
+// tie), uniform over 64 bits.
+std::uint64_t sampleKey(std::uint64_t seed, std::int64_t globalIndex);
 
 // Seeded uniform integer in [0, n): portable (std::uniform_int_distribution is not the same
 // on every standard library, and "same seed, same result" should hold across builds).
 std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n);
+
+// Collective: the error of the first process (in rank order) that has one, on every
+// process; empty when none has. Lets all processes stop together instead of some of them
+// waiting in the next collective for one that gave up.
+std::string sharedError(const Communicator* comm, const std::string& localError);
+
+// Runs `work` (local: no collective inside) and shares its failure as sharedError does:
+// an exception on one process becomes the same error on all of them (null comm: the
+// exception's text, worded as reduceDimension words it).
+template <class Work>
+std::string runShared(const Communicator* comm, Work&& work)
+{
+  std::string error;
+  try
+  {
+    work();
+  }
+  catch (const std::bad_alloc&)
+  {
+    error = "Out of memory in the dimension reduction; lower ReferenceSampleSize or NumberOfLandmarks.";
+  }
+  catch (const std::exception& e)
+  {
+    error = std::string("Dimension reduction failed: ") + e.what();
+  }
+  return sharedError(comm, error);
+}
 
 } // namespace mcv
