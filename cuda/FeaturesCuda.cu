@@ -292,6 +292,7 @@ FeatureMatrixGpu::~FeatureMatrixGpu()
 
 bool FeatureMatrixGpu::allocate(std::size_t rows, int cols, std::string* error)
 {
+  FaultStage stage("features");
   P->release();
   if (cols <= 0 || rows == 0)
   {
@@ -315,6 +316,7 @@ bool FeatureMatrixGpu::allocate(std::size_t rows, int cols, std::string* error)
 bool FeatureMatrixGpu::addChannel(const float* hostValues, bool hasNonFinite,
   const ImageGrid& grid, const FeatureSelection& sel, int firstColumn, std::string* error)
 {
+  FaultStage stage("features");
   if (!P->out || grid.voxelCount() != P->rows ||
     firstColumn + sel.perChannel() > P->cols)
   {
@@ -352,6 +354,7 @@ bool FeatureMatrixGpu::addChannel(const float* hostValues, bool hasNonFinite,
 
 bool FeatureMatrixGpu::setMask(const unsigned char* hostMask, std::string* error)
 {
+  FaultStage stage("features");
   if (!hostMask)
   {
     cudaFree(P->mask);
@@ -368,6 +371,7 @@ bool FeatureMatrixGpu::setMask(const unsigned char* hostMask, std::string* error
 
 bool FeatureMatrixGpu::columnStats(bool deviation, mcv::detail::ColumnStats& stats, std::string* error)
 {
+  FaultStage stage("features");
   const int F = P->cols;
   const std::int64_t elements = static_cast<std::int64_t>(P->rows) * F;
   const std::int64_t threads = static_cast<std::int64_t>(kStatBlocks) * kThreads;
@@ -442,6 +446,7 @@ bool FeatureMatrixGpu::columnStats(bool deviation, mcv::detail::ColumnStats& sta
 bool FeatureMatrixGpu::applyNormalization(
   const std::vector<double>& offset, const std::vector<double>& scale, std::string* error)
 {
+  FaultStage stage("features");
   const int F = P->cols;
   if (offset.size() != static_cast<std::size_t>(F) || scale.size() != static_cast<std::size_t>(F))
   {
@@ -458,6 +463,7 @@ bool FeatureMatrixGpu::applyNormalization(
 
 bool FeatureMatrixGpu::download(float* hostOut, std::string* error)
 {
+  FaultStage stage("features");
   MCV_CUDA_TRY(cudaMemcpy(hostOut, P->out, P->rows * static_cast<std::size_t>(P->cols) * sizeof(float),
     cudaMemcpyDeviceToHost));
   return true;

@@ -154,6 +154,7 @@ void GaussianTFGpu::release()
 
 bool GaussianTFGpu::setCoordinates(const GaussianTFCoordinates& c, std::string* error, bool* uploaded)
 {
+  FaultStage stage("gaussiantf");
   if (uploaded)
   {
     *uploaded = false;
@@ -189,6 +190,7 @@ bool GaussianTFGpu::setCoordinates(const GaussianTFCoordinates& c, std::string* 
 bool GaussianTFGpu::shade(
   const std::vector<PackedGaussianWidget>& widgets, GaussianTFOutput kind, std::string* error)
 {
+  FaultStage stage("gaussiantf");
   const GaussianTFCoordinates& c = P->resident;
   if (c.count > 0 && !c.data)
   {
@@ -233,6 +235,7 @@ bool GaussianTFGpu::shade(
 
 bool GaussianTFGpu::download(void* hostOut, std::string* error)
 {
+  FaultStage stage("gaussiantf");
   if (P->outBytes > 0)
   {
     MCV_CUDA_TRY(cudaMemcpy(hostOut, P->out, P->outBytes, cudaMemcpyDeviceToHost));

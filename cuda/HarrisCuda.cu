@@ -31,6 +31,20 @@ HarrisPipeline& sharedPipeline()
   return *p;
 }
 
+// After a failure at any step: the buffers may be half allocated or hold half a result, and
+// after an out-of-memory the memory is better given back. release() waits for the stream
+// (no copy into the caller's memory is left running) and frees everything; the next call
+// allocates again. The caller gets no partial points.
+void releaseAfterFailure(HarrisPipeline& pipeline, InterestPoints* out)
+{
+  pipeline.release();
+  if (out)
+  {
+    out->indices.clear();
+    out->scores.clear();
+  }
+}
+
 bool setReason(std::string* reason, const std::string& why)
 {
   if (reason)
@@ -44,6 +58,11 @@ bool setReason(std::string* reason, const std::string& why)
 
 bool deviceUsable(std::string* reason)
 {
+  std::string lost;
+  if (contextLost(&lost))
+  {
+    return setReason(reason, lost);
+  }
   int count = 0;
   cudaError_t err = cudaGetDeviceCount(&count);
   if (err != cudaSuccess)
@@ -83,34 +102,47 @@ bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisPar
   int N, InterestPoints& out, std::string* error, GpuStageTimings* timings)
 {
   std::lock_guard<std::mutex> lock(pipelineMutex());
+  FaultStage stage("harris");
   HarrisPipeline& pipeline = sharedPipeline();
+  out = InterestPoints();
   const char* why = gpuUnsupportedReason(grid, params);
   if (*why)
   {
     return detail::fail(error, why);
   }
-  if (!pipeline.uploadVolume(hostOpacity, grid, error))
+  if (pipeline.uploadVolume(hostOpacity, grid, error) &&
+    pipeline.topN(params, N, out, error, timings))
   {
-    return false;
+    return true;
   }
-  return pipeline.topN(params, N, out, error, timings);
+  releaseAfterFailure(pipeline, &out);
+  return false;
 }
 
 bool harrisResponse(const float* hostOpacity, const ImageGrid& grid,
   const HarrisParameters& params, float* hostResponse, std::string* error)
 {
   std::lock_guard<std::mutex> lock(pipelineMutex());
+  FaultStage stage("harris");
   HarrisPipeline& pipeline = sharedPipeline();
   const char* why = gpuUnsupportedReason(grid, params);
   if (*why)
   {
     return detail::fail(error, why);
   }
-  if (!pipeline.uploadVolume(hostOpacity, grid, error))
+  if (pipeline.uploadVolume(hostOpacity, grid, error) &&
+    pipeline.response(params, hostResponse, error))
   {
-    return false;
+    return true;
   }
-  return pipeline.response(params, hostResponse, error);
+  releaseAfterFailure(pipeline, nullptr);
+  return false;
+}
+
+void releaseHarrisCache()
+{
+  std::lock_guard<std::mutex> lock(pipelineMutex());
+  sharedPipeline().release();
 }
 
 } // namespace cuda

@@ -18,6 +18,10 @@ namespace cuda
 // count after an error: see notes/gpu.md).
 bool deviceUsable(std::string* reason = nullptr);
 
+// True once a sticky CUDA error (illegal address, launch failure, ...) has left this
+// process's GPU context unusable; `reason` says which. Every later CUDA call would fail.
+bool contextLost(std::string* reason = nullptr);
+
 struct GpuStageTimings
 {
   double uploadMs = 0, harrisMs = 0, selectMs = 0, downloadMs = 0;
@@ -25,13 +29,17 @@ struct GpuStageTimings
 
 // Host volume in, top-N interest points out (same contract as computeHarrisResponseCPU +
 // selectTopResponsesCPU). Returns false with `error` set on any CUDA failure, so the
-// caller can fall back to the CPU.
+// caller can fall back to the CPU; `out` is then empty.
 bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisParameters& params,
   int N, InterestPoints& out, std::string* error, GpuStageTimings* timings = nullptr);
 
 // The whole response volume back to the host (tests compare it with the CPU path).
 bool harrisResponse(const float* hostOpacity, const ImageGrid& grid,
   const HarrisParameters& params, float* hostResponse, std::string* error);
+
+// Frees the device buffers that harrisTopN/harrisResponse keep between calls (they are
+// allocated again by the next call). A failed call does this itself.
+void releaseHarrisCache();
 
 } // namespace cuda
 } // namespace mcv

@@ -117,6 +117,11 @@ struct HarrisPipeline::Impl
 
   void freeBuffers()
   {
+    if (stream)
+    {
+      (void)cudaStreamSynchronize(stream); // nothing may still use the buffers (errors: moot)
+      (void)cudaGetLastError();
+    }
     selector.release();
     if (input)
     {
@@ -138,10 +143,17 @@ struct HarrisPipeline::Impl
     {
       return true;
     }
-    MCV_CUDA_TRY(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+    // Only what is missing: a failure half-way must not leak what was created.
+    if (!stream)
+    {
+      MCV_CUDA_TRY(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+    }
     for (cudaEvent_t& e : ev)
     {
-      MCV_CUDA_TRY(cudaEventCreate(&e));
+      if (!e)
+      {
+        MCV_CUDA_TRY(cudaEventCreate(&e));
+      }
     }
     ready = true;
     return true;
@@ -243,12 +255,12 @@ struct HarrisPipeline::Impl
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
     a.histMode = histMode;
     const int radius = params.kernelWidth / 2;
-    const cudaError_t err = inputIsUint8
+    const cudaError_t launchError = inputIsUint8
       ? detail::launchHarris(
           static_cast<const std::uint8_t*>(input), a, radius, zChunk, stream, &lastZChunk, variant)
       : detail::launchHarris(
           static_cast<const float*>(input), a, radius, zChunk, stream, &lastZChunk, variant);
-    MCV_CUDA_TRY(err);
+    MCV_CUDA_TRY(launchError); // the name makes it a "launch" injection point
     return true;
   }
 };
@@ -262,17 +274,20 @@ HarrisPipeline::~HarrisPipeline() = default;
 
 bool HarrisPipeline::uploadVolume(const float* host, const ImageGrid& grid, std::string* error)
 {
+  FaultStage stage("harris");
   return impl_->upload(host, grid, error);
 }
 
 bool HarrisPipeline::uploadVolume(const std::uint8_t* host, const ImageGrid& grid, std::string* error)
 {
+  FaultStage stage("harris");
   return impl_->upload(host, grid, error);
 }
 
 bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints& out,
   std::string* error, GpuStageTimings* timings)
 {
+  FaultStage stage("harris");
   Impl& p = *impl_;
   out.indices.clear();
   out.scores.clear();
@@ -302,6 +317,7 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
 
 bool HarrisPipeline::response(const HarrisParameters& params, float* hostResponse, std::string* error)
 {
+  FaultStage stage("harris");
   Impl& p = *impl_;
   if (!hostResponse)
   {
@@ -320,6 +336,7 @@ bool HarrisPipeline::response(const HarrisParameters& params, float* hostRespons
 bool HarrisPipeline::selectFromScores(
   const float* hostScores, std::size_t count, int N, InterestPoints& out, std::string* error)
 {
+  FaultStage stage("harris");
   Impl& p = *impl_;
   out.indices.clear();
   out.scores.clear();
@@ -385,6 +402,7 @@ void HarrisPipeline::setForceSlowSelect(bool force)
 bool HarrisPipeline::timeHarrisKernel(
   const HarrisParameters& params, bool withHistogram, double* ms, std::string* error)
 {
+  FaultStage stage("harris");
   Impl& p = *impl_;
   if (!p.init(error) || !p.selector.reset(1, p.stream, error))
   {

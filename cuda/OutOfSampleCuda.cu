@@ -385,6 +385,7 @@ double msSince(Clock::time_point t)
 bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neighbors,
   const std::function<void(double)>& progress, PlacementStats* stats, std::string* error)
 {
+  FaultStage stage("outofsample");
   if (in.D < 1 || in.D > kMaxPlacementDimension)
   {
     return detail::fail(error, "the GPU placement handles 1.." + std::to_string(kMaxPlacementDimension) +

@@ -641,11 +641,18 @@ bool TopNSelector::grow(T*& buffer, std::size_t& capacity, std::size_t wanted, s
 bool TopNSelector::reset(int N, cudaStream_t stream, std::string* error)
 {
   N = std::max(N, 1);
+  // Each piece on its own: after a failure half-way, the next call allocates what is missing.
   if (!Hist)
   {
     MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&Hist),
       (kLevel1Bins + kLevel2Bins + kLevel3Bins) * sizeof(unsigned long long)));
+  }
+  if (!FastList)
+  {
     MCV_CUDA_TRY(cudaMalloc(reinterpret_cast<void**>(&FastList), kFastListCapacity * sizeof(ListEntry)));
+  }
+  if (SmCount <= 0)
+  {
     int device = 0;
     MCV_CUDA_TRY(cudaGetDevice(&device));
     MCV_CUDA_TRY(cudaDeviceGetAttribute(&SmCount, cudaDevAttrMultiProcessorCount, device));
@@ -703,7 +710,7 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   out.scores.clear();
   LastListSize = 0;
   LastSlow = false;
-  if (!Hist || N > ResultN)
+  if (!Hist || !FastList || !Result || !HostResult || N > ResultN)
   {
     return fail(error, "TopNSelector::select called without reset(N)");
   }

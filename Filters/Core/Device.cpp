@@ -25,7 +25,7 @@ const char* deviceName(Device device)
 
 bool gpuUsable(std::string* reason)
 {
-  // Asking the driver once is enough: a GPU does not come or go while we run.
+  // Asking the driver once is enough: a GPU does not come while we run (it can be lost).
   static std::once_flag once;
   static bool usable = false;
   static std::string why;
@@ -40,6 +40,13 @@ bool gpuUsable(std::string* reason)
   {
     *reason = why;
   }
+#ifdef MCV_HAS_CUDA
+  // A sticky CUDA error (illegal address, ...) loses the GPU for the rest of the process.
+  if (usable && cuda::contextLost(reason))
+  {
+    return false;
+  }
+#endif
   return usable;
 }
 

@@ -16,7 +16,8 @@ enum class Device
 const char* deviceName(Device device);
 
 // True when this build has CUDA and a CUDA GPU can be used now. On false, `reason`
-// (if given) says why: built without CUDA, no driver, no device...
+// (if given) says why: built without CUDA, no driver, no device, or an earlier sticky CUDA
+// error (illegal address, ...) that lost the GPU for the rest of the process...
 bool gpuUsable(std::string* reason = nullptr);
 
 // Resolves Auto/GPU to what will really run. `warning` receives a one-line message when
