@@ -22,7 +22,7 @@ fi
 packages=(
   paraview paraview-dev python3-paraview libeigen3-dev xvfb qtbase5-dev libqt5svg5-dev
   qttools5-dev libqt5x11extras5-dev libutfcpp-dev qtxmlpatterns5-dev-tools libqt5opengl5-dev
-  libhdf5-openmpi-dev libopenmpi-dev libboost-dev libexpat1-dev libavcodec-dev
+  libhdf5-openmpi-dev libopenmpi-dev openmpi-bin libboost-dev libexpat1-dev libavcodec-dev
   libavformat-dev libavutil-dev libswscale-dev libfreetype-dev libgdal-dev libgl2ps-dev
   libglew-dev libjpeg-dev liblz4-dev liblzma-dev libxml2-dev libnetcdf-dev libgl-dev
   libpng-dev libtheora-dev libogg-dev libtiff-dev libx11-dev libxt-dev zlib1g-dev

@@ -17,7 +17,8 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
-#include "../Common/mcvWholeExtent.h"
+#include "../Common/mcvControllerCommunicator.h"
+#include "../Common/mcvPieces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -127,14 +128,24 @@ int vtkMultichannelFeatures::RequestInformation(
   {
     outInfo->Set(vtkDataObject::DIRECTION(), inInfo->Get(vtkDataObject::DIRECTION()), 9);
   }
+  // Piece requests become extents (vtkExtentTranslator), so a split run computes pieces.
+  outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
 //------------------------------------------------------------------------------
 int vtkMultichannelFeatures::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  return mcv::vtkhelpers::requestWholeExtent(inputVector);
+  // Split runs: the extent asked of the output, plus one ghost layer for the gradient,
+  // Laplacian and 3x3x3 statistics.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int requested[6] = { 0, -1, 0, -1, 0, -1 };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
+  }
+  return mcv::vtkhelpers::requestPieceWithGhosts(inputVector, outputVector, 1, requested);
 }
 
 //------------------------------------------------------------------------------
@@ -145,6 +156,15 @@ int vtkMultichannelFeatures::RequestData(
   this->NumberOfNonFiniteVoxels = 0;
   this->ComputeTime = 0.0;
   this->Internals->DeviceUsed = "CPU";
+  // A run split over processes: which voxels this one owns, and the collectives. Every
+  // return before check.AllPassed() votes "failed" there.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const mcv::vtkhelpers::PieceLayout layout =
+    mcv::vtkhelpers::pieceLayout(outInfo, inputVector[0]->GetInformationObject(0));
+  mcv::vtkhelpers::ControllerCommunicator communicator(layout.Controller);
+  const mcv::Communicator* comm = layout.IsSplit() ? &communicator : nullptr;
+  mcv::vtkhelpers::CollectiveCheck check(comm);
+
   vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
   if (!output)
@@ -178,6 +198,14 @@ int vtkMultichannelFeatures::RequestData(
     return 0;
   }
   const std::size_t count = grid.voxelCount();
+  mcv::GridPiece piece;
+  if (!mcv::vtkhelpers::gridPiece(image, layout, piece))
+  {
+    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
+      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
+      << ", which does not hold this process's piece of the volume.");
+    return 0;
+  }
   // Gradients in world units along the image's own axes (an oriented image's direction
   // matrix rotates them; the features are per axis of the grid, like vtkImageGradient).
   double spacing[3];
@@ -227,6 +255,8 @@ int vtkMultichannelFeatures::RequestData(
   options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
   options.device = static_cast<mcv::Device>(this->Device);
   options.channelNames = channels.names;
+  options.communicator = comm;
+  options.piece = piece;
   const std::thread::id callingThread = std::this_thread::get_id();
   options.progress = [this, callingThread](double p) {
     // UpdateProgress fires VTK events: only from the thread that runs the pipeline.
@@ -260,6 +290,11 @@ int vtkMultichannelFeatures::RequestData(
   out.rows = count;
   out.cols = F;
 
+  if (!check.AllPassed())
+  {
+    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
+    return 0;
+  }
   this->UpdateProgress(0.0);
   mcv::FeatureResult result;
   mcv::computeFeatures(channels.views, grid, options, out, result);
@@ -284,6 +319,11 @@ int vtkMultichannelFeatures::RequestData(
   // ---- Output: the input plus Features ------------------------------------------------
   output->ShallowCopy(image);
   output->GetPointData()->AddArray(features);
+  if (layout.IsSplit() && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    // The ghost layers were for this filter only: the output is the extent asked of it.
+    output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -23,8 +23,12 @@
  * named point arrays; none named: every numeric point array except vtkGhostType,
  * vtkValidPointMask and an existing `Features` array.
  *
- * The whole extent is requested on every rank (features use neighbours; the column
- * statistics of the normalisation are global).
+ * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process asks for its piece plus
+ * one ghost layer (the neighbours of the gradient, Laplacian and 3x3x3 statistics),
+ * computes its features, and the normalisation uses the column statistics of the whole
+ * volume (each voxel counted once, combined across processes through
+ * vtkMultiProcessController), so every process writes what one process would. The output
+ * is the extent asked of the filter, without the ghost layers.
  */
 
 #ifndef vtkMultichannelFeatures_h

@@ -18,7 +18,8 @@
 
 // The VTK-free core (Filters/Core).
 #include "../Common/mcvChannelArrays.h"
-#include "../Common/mcvWholeExtent.h"
+#include "../Common/mcvControllerCommunicator.h"
+#include "../Common/mcvPieces.h"
 #include "DimensionReduction.h"
 
 #include <algorithm>
@@ -130,14 +131,24 @@ int vtkDimensionReduction::RequestInformation(
   tableInfo->Remove(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
   tableInfo->Remove(vtkDataObject::ORIGIN());
   tableInfo->Remove(vtkDataObject::SPACING());
+  // Piece requests become extents (vtkExtentTranslator), so a split run computes pieces.
+  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
 }
 
 //------------------------------------------------------------------------------
 int vtkDimensionReduction::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  return mcv::vtkhelpers::requestWholeExtent(inputVector);
+  // Split runs: the extent asked of the image output (and the owned voxels); no ghosts,
+  // every voxel is placed on its own.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int requested[6] = { 0, -1, 0, -1, 0, -1 };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
+  }
+  return mcv::vtkhelpers::requestPieceWithGhosts(inputVector, outputVector, 0, requested);
 }
 
 //------------------------------------------------------------------------------
@@ -160,6 +171,15 @@ int vtkDimensionReduction::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->ResetResults();
+  // A run split over processes: which voxels this one owns, and the collectives. Every
+  // return before check.AllPassed() votes "failed" there.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const mcv::vtkhelpers::PieceLayout layout =
+    mcv::vtkhelpers::pieceLayout(outInfo, inputVector[0]->GetInformationObject(0));
+  mcv::vtkhelpers::ControllerCommunicator communicator(layout.Controller);
+  const mcv::Communicator* comm = layout.IsSplit() ? &communicator : nullptr;
+  mcv::vtkhelpers::CollectiveCheck check(comm);
+
   vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
   vtkTable* spectrumTable = vtkTable::GetData(outputVector, 1);
@@ -217,6 +237,15 @@ int vtkDimensionReduction::RequestData(
     vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
                                                       << extent[2] << " " << extent[3] << " "
                                                       << extent[4] << " " << extent[5] << ").");
+    return 0;
+  }
+
+  mcv::GridPiece piece;
+  if (!mcv::vtkhelpers::gridPiece(image, layout, piece))
+  {
+    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
+      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
+      << ", which does not hold this process's piece of the volume.");
     return 0;
   }
 
@@ -319,7 +348,22 @@ int vtkDimensionReduction::RequestData(
     }
   };
 
+  if (layout.IsSplit())
+  {
+    options.communicator = comm;
+    options.piece = piece;
+    for (int a = 0; a < 3; ++a)
+    {
+      options.block.dims[a] = extent[2 * a + 1] - extent[2 * a] + 1;
+    }
+  }
+
   // ---- The core ----------------------------------------------------------------------
+  if (!check.AllPassed())
+  {
+    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
+    return 0;
+  }
   this->UpdateProgress(0.0);
   const mcv::ReductionResult result = mcv::reduceDimension(matrix, options);
   this->SetProgressText(nullptr);
@@ -379,8 +423,18 @@ int vtkDimensionReduction::RequestData(
   fd->AddArray(spectrumCopy);
   addFieldString(fd, "ReductionMethod", methodName(this->Method));
   addFieldString(fd, "DeviceUsed", this->Internals->DeviceUsed);
+  if (layout.IsSplit() && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+  }
 
-  // ---- Output port 1: the spectrum table ---------------------------------------------
+  // ---- Output port 1: the spectrum table (one process of a split run: no copies) ------
+  if (layout.IsSplit() && layout.Piece != 0)
+  {
+    this->UpdateProgress(1.0);
+    return 1;
+  }
+
   double positiveSum = 0.0;
   for (double v : result.eigenvalues)
   {

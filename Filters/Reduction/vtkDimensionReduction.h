@@ -27,7 +27,11 @@
  * NumberOfNeighbors / NumberOfLandmarks / ReferenceSampleSize, and every error of the
  * core (K >= M, NaN/Inf features, ...). The core's warnings are forwarded as VTK warnings.
  *
- * In parallel runs the whole extent is requested on every rank (the embedding is global).
+ * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process holds a piece; the
+ * column statistics and the reference sample are drawn across all processes and shared
+ * (the same sample, hence the same embedding, as one process for the same seed), the fit
+ * is shared, and each process places its own voxels. Only piece 0 emits the spectrum
+ * table.
  */
 
 #ifndef vtkDimensionReduction_h

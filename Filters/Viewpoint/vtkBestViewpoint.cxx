@@ -27,7 +27,8 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
-#include "../Common/mcvWholeExtent.h"
+#include "../Common/mcvControllerCommunicator.h"
+#include "../Common/mcvPieces.h"
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -46,6 +47,9 @@ struct vtkBestViewpoint::vtkInternals
   mcv::vtkhelpers::ChannelSelection Channels;
   mcv::vtkhelpers::WidgetValues GaussianWidgets;
   std::string DeviceUsed = "CPU";
+  // Set during RequestData of a run split over processes (else null).
+  const mcv::Communicator* Communicator = nullptr;
+  mcv::vtkhelpers::CollectiveCheck* Check = nullptr;
 };
 
 namespace
@@ -235,9 +239,32 @@ int vtkBestViewpoint::FillInputPortInformation(int, vtkInformation* info)
 
 //------------------------------------------------------------------------------
 int vtkBestViewpoint::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  return mcv::vtkhelpers::requestWholeExtent(inputVector);
+  // Only HarrisPCA runs split; its ghost layers cover the gradient and the Gaussian.
+  if (this->Method != HARRIS_PCA)
+  {
+    return mcv::vtkhelpers::requestWholeExtent(inputVector);
+  }
+  return mcv::vtkhelpers::requestPieceWithGhosts(
+    inputVector, outputVector, this->GhostLayers());
+}
+
+//------------------------------------------------------------------------------
+int vtkBestViewpoint::GhostLayers() const
+{
+  return 1 + std::max(0, this->KernelWidth / 2);
+}
+
+//------------------------------------------------------------------------------
+bool vtkBestViewpoint::AllProcessesReady()
+{
+  if (this->Internals->Check && !this->Internals->Check->AllPassed())
+  {
+    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
+    return false;
+  }
+  return true;
 }
 
 //------------------------------------------------------------------------------
@@ -300,6 +327,10 @@ bool vtkBestViewpoint::ComputeChannelOpacity(
   }
   const std::vector<mcv::ChannelView>& channels = channelArrays.views;
   const std::vector<std::string>& channelNames = channelArrays.labels;
+  if (!this->AllProcessesReady())
+  {
+    return false;
+  }
 
   mcv::OpacityFunction userFunction;
   if (this->OpacityFunction)
@@ -311,6 +342,23 @@ bool vtkBestViewpoint::ComputeChannelOpacity(
                       "mapped linearly to 0..1.");
     }
   }
+  // Each channel's finite range (used when there is no opacity function): of the whole
+  // volume, so a split run maps values like one process does.
+  std::vector<double> lows(channels.size()), highs(channels.size());
+  if (userFunction.empty())
+  {
+    for (std::size_t c = 0; c < channels.size(); ++c)
+    {
+      const std::pair<double, double> range = mcv::finiteRange(channels[c], count);
+      lows[c] = range.first;
+      highs[c] = range.second;
+    }
+    if (this->Internals->Communicator)
+    {
+      this->Internals->Communicator->min(lows);
+      this->Internals->Communicator->max(highs);
+    }
+  }
   opacity.assign(count, 0.0f);
   std::size_t nonFinite = 0;
   for (std::size_t c = 0; c < channels.size(); ++c)
@@ -318,7 +366,7 @@ bool vtkBestViewpoint::ComputeChannelOpacity(
     mcv::OpacityFunction f = userFunction;
     if (f.empty())
     {
-      const std::pair<double, double> range = mcv::finiteRange(channels[c], count);
+      const std::pair<double, double> range(lows[c], highs[c]);
       if (!(range.first <= range.second))
       {
         vtkWarningMacro("Channel " << channelNames[c]
@@ -387,6 +435,10 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
     floats = vtkSmartPointer<vtkFloatArray>::New();
     floats->DeepCopy(coordinates);
   }
+  if (!this->AllProcessesReady())
+  {
+    return false;
+  }
   opacity.assign(count, 0.0f);
   const mcv::TransferFunctionRun run = mcv::gaussianWidgetOpacity(
     { floats->GetPointer(0), count, components }, widgets.widgets, opacity.data(),
@@ -408,6 +460,23 @@ int vtkBestViewpoint::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->ResetResults();
+  // A run split over processes: which voxels this one owns, and the collectives. Every
+  // return before AllProcessesReady() votes "failed" there (CollectiveCheck).
+  const mcv::vtkhelpers::PieceLayout layout = this->Method == HARRIS_PCA
+    ? mcv::vtkhelpers::pieceLayout(
+        outputVector->GetInformationObject(0), inputVector[0]->GetInformationObject(0))
+    : mcv::vtkhelpers::PieceLayout();
+  mcv::vtkhelpers::ControllerCommunicator communicator(layout.Controller);
+  const mcv::Communicator* comm = layout.IsSplit() ? &communicator : nullptr;
+  mcv::vtkhelpers::CollectiveCheck check(comm);
+  this->Internals->Communicator = comm;
+  this->Internals->Check = &check;
+  struct Forget
+  {
+    vtkInternals* I;
+    ~Forget() { I->Communicator = nullptr; I->Check = nullptr; }
+  } forget{ this->Internals.get() };
+
   vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   if (!output)
@@ -446,6 +515,14 @@ int vtkBestViewpoint::RequestData(
     return 0;
   }
   const std::size_t count = grid.voxelCount();
+  mcv::GridPiece block;
+  if (!mcv::vtkhelpers::gridPiece(image, layout, block))
+  {
+    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
+      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
+      << ", which does not hold this process's piece of the volume.");
+    return 0;
+  }
 
   // ---- Opacity volume ------------------------------------------------------------
   this->UpdateProgress(0.0);
@@ -497,11 +574,18 @@ int vtkBestViewpoint::RequestData(
       std::copy(in, in + 3, out);
     }
   };
-  double bounds[6];
-  image->GetBounds(bounds);
+  // The centre of the whole volume (a split run holds only a block of it).
   for (int a = 0; a < 3; ++a)
   {
-    this->DataCenter[a] = 0.5 * (bounds[2 * a] + bounds[2 * a + 1]);
+    const double first = grid.origin[a] - block.offset[a] * spacing[a];
+    const double center = first + 0.5 * (block.wholeDims[a] - 1) * spacing[a];
+    this->DataCenter[a] = center;
+  }
+  if (oriented)
+  {
+    const mcv::Vec3 c =
+      toWorldPoint({ this->DataCenter[0], this->DataCenter[1], this->DataCenter[2] });
+    std::copy(c.begin(), c.end(), this->DataCenter);
   }
 
   // ---- The core ----------------------------------------------------------------------
@@ -514,6 +598,8 @@ int vtkBestViewpoint::RequestData(
   options.device = static_cast<mcv::Device>(this->Device);
   options.entropy.samples = this->EntropySamples;
   options.entropy.imageSize = this->EntropyImageSize;
+  options.communicator = comm;
+  options.piece = block;
   const std::thread::id callingThread = std::this_thread::get_id();
   options.progress = [this, callingThread](double p) {
     // UpdateProgress fires VTK events: only from the thread that runs the pipeline.

@@ -26,8 +26,13 @@
  * and field-data copies of the directions. The directions are also available through
  * the getters below (information-only properties in ParaView).
  *
- * In parallel runs the whole extent is requested on every rank (the view of a volume is
- * a global quantity); only piece 0 emits the interest points.
+ * In parallel runs (mpiexec pvbatch --mpi, pvserver) with the HarrisPCA method, each
+ * process asks for its piece plus 1 + KernelWidth/2 ghost layers (enough for the gradient
+ * and the Gaussian), selects the top-N of the voxels it owns, and the lists are merged
+ * into the global top-N (vtkMultiProcessController): the result, the same on every
+ * process, equals the one-process result. Channel ranges (no OpacityFunction) are global.
+ * The baselines (Method) take the whole extent on every process. Only piece 0 emits the
+ * interest points.
  */
 
 #ifndef vtkBestViewpoint_h
@@ -201,6 +206,11 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   void ResetResults();
+  // Ghost layers a split run asks for: the gradient (1) and the Gaussian (KernelWidth/2).
+  int GhostLayers() const;
+  // Split runs: where every process has passed its local checks; false (reported) when
+  // one has not. Serial runs: true.
+  bool AllProcessesReady();
   // The opacity volume (count floats) from the channels or from the widgets; false after
   // an error was reported.
   bool ComputeChannelOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);

@@ -1,0 +1,198 @@
+// How the suite's filters take part in a run split over processes (mpiexec pvbatch --mpi,
+// pvserver): which voxels this process owns, which block (owned voxels, the extent asked
+// of its output, ghost layers) it asks its input for, and where the block lies for the
+// core (mcv::GridPiece). Header-only, like mcvChannelArrays.h; the modules that include it
+// depend on VTK::ParallelCore.
+//
+// A run is split when ParaView asks this process for piece p of P > 1 and P processes run
+// the pipeline (vtkMultiProcessController::GetGlobalController()). Any other request (a
+// serial session, streaming pieces in one process) takes the whole volume, as before.
+// Ownership follows vtkExtentTranslator's block split of the whole extent: each piece
+// without its upper boundary layer (which the next piece shares), unless that layer is the
+// volume's last, so every voxel is owned exactly once.
+#pragma once
+
+#include "Communicator.h"
+#include "GridPiece.h"
+#include "mcvWholeExtent.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkExecutive.h"
+#include "vtkInformationExecutivePortKey.h"
+#include "vtkExtentTranslator.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkMultiProcessController.h"
+#include "vtkNew.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+#include <algorithm>
+
+namespace mcv
+{
+namespace vtkhelpers
+{
+
+struct PieceLayout
+{
+  vtkMultiProcessController* Controller = nullptr; // set only when the run is split
+  int Piece = 0;
+  int NumberOfPieces = 1;
+  int Whole[6] = { 0, -1, 0, -1, 0, -1 };
+  int Owned[6] = { 0, -1, 0, -1, 0, -1 }; // whole-volume indices, inclusive
+  bool IsSplit() const { return this->Controller != nullptr; }
+};
+
+// The layout of this process for the request in outInfo on an input whose information
+// (WHOLE_EXTENT) is inInfo.
+inline PieceLayout pieceLayout(vtkInformation* outInfo, vtkInformation* inInfo)
+{
+  PieceLayout layout;
+  if (!inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    return layout;
+  }
+  inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), layout.Whole);
+  std::copy(layout.Whole, layout.Whole + 6, layout.Owned);
+  const int pieces = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES())
+    : 1;
+  const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+  vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+  if (pieces <= 1 || !controller || controller->GetNumberOfProcesses() != pieces ||
+    controller->GetLocalProcessId() != piece)
+  {
+    return layout;
+  }
+  layout.Controller = controller;
+  layout.Piece = piece;
+  layout.NumberOfPieces = pieces;
+  vtkNew<vtkExtentTranslator> translator;
+  translator->PieceToExtentThreadSafe(piece, pieces, 0, layout.Whole, layout.Owned,
+    vtkExtentTranslator::BLOCK_MODE, 0);
+  for (int a = 0; a < 3; ++a)
+  {
+    if (layout.Owned[2 * a + 1] < layout.Whole[2 * a + 1])
+    {
+      --layout.Owned[2 * a + 1];
+    }
+  }
+  return layout;
+}
+
+// True when the input comes straight from another filter of the suite that can run split.
+inline bool fromSplitFilter(vtkInformation* inInfo)
+{
+  vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(inInfo);
+  vtkAlgorithm* producer = executive ? executive->GetAlgorithm() : nullptr;
+  return producer &&
+    (producer->IsA("vtkMultichannelFeatures") || producer->IsA("vtkDimensionReduction"));
+}
+
+// RequestUpdateExtent of a filter that can run split: asks the input for this process's
+// owned voxels, plus the extent asked of an image output (`requested`, may be null),
+// padded by `ghostLayers` and clipped to the volume; the whole volume when not split.
+// The piece numbers go upstream to the suite's own filters, so that they split the same
+// way. Any other source is asked for piece 0 of 1 with the extent: most of ParaView's
+// image readers (NIfTI, raw, DEN) produce data for piece 0 only and nothing for the
+// others, whereas asked for one piece they read the whole volume, or just the extent
+// when they can (the XML image readers): either way the block is there.
+inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector, int ghostLayers, const int* requested = nullptr)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const PieceLayout layout = pieceLayout(outInfo, inInfo);
+  if (!layout.IsSplit())
+  {
+    return requestWholeExtent(inputVector);
+  }
+  int block[6];
+  for (int a = 0; a < 3; ++a)
+  {
+    int lo = layout.Owned[2 * a], hi = layout.Owned[2 * a + 1];
+    if (requested && requested[2 * a] <= requested[2 * a + 1])
+    {
+      lo = std::min(lo, requested[2 * a]);
+      hi = std::max(hi, requested[2 * a + 1]);
+    }
+    block[2 * a] = std::max(layout.Whole[2 * a], lo - ghostLayers);
+    block[2 * a + 1] = std::min(layout.Whole[2 * a + 1], hi + ghostLayers);
+  }
+  const bool split = fromSplitFilter(inInfo);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), block, 6);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), split ? layout.Piece : 0);
+  inInfo->Set(
+    vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), split ? layout.NumberOfPieces : 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+  return 1;
+}
+
+// Where `image` (the block the input delivered) lies in the whole volume and which of its
+// voxels this process owns. False when the block does not hold every owned voxel (an
+// input that ignored the extent request with a smaller one).
+inline bool gridPiece(vtkImageData* image, const PieceLayout& layout, mcv::GridPiece& piece)
+{
+  int extent[6];
+  image->GetExtent(extent);
+  for (int a = 0; a < 3; ++a)
+  {
+    const int dims = extent[2 * a + 1] - extent[2 * a] + 1;
+    if (!layout.IsSplit())
+    {
+      piece.wholeDims[a] = dims;
+      piece.offset[a] = 0;
+      piece.ownedLo[a] = 0;
+      piece.ownedHi[a] = dims - 1;
+      continue;
+    }
+    if (extent[2 * a] > layout.Owned[2 * a] || extent[2 * a + 1] < layout.Owned[2 * a + 1])
+    {
+      return false;
+    }
+    piece.wholeDims[a] = layout.Whole[2 * a + 1] - layout.Whole[2 * a] + 1;
+    piece.offset[a] = extent[2 * a] - layout.Whole[2 * a];
+    piece.ownedLo[a] = layout.Owned[2 * a] - extent[2 * a];
+    piece.ownedHi[a] = layout.Owned[2 * a + 1] - extent[2 * a];
+  }
+  return true;
+}
+
+// Keeps the processes of a split run together on errors. Every process must make the same
+// collective calls, so one that fails its local checks (an array missing, a bad property)
+// still votes in the check the others make before their first collective step, and all
+// of them stop with an error instead of waiting for it. Serial (no communicator): no-op.
+class CollectiveCheck
+{
+public:
+  explicit CollectiveCheck(const mcv::Communicator* comm)
+    : Comm(comm)
+  {
+  }
+  ~CollectiveCheck()
+  {
+    if (this->Pending)
+    {
+      mcv::allTrue(this->Comm, false);
+    }
+  }
+  CollectiveCheck(const CollectiveCheck&) = delete;
+  CollectiveCheck& operator=(const CollectiveCheck&) = delete;
+
+  // Called once, where every process has passed its local checks: true when all have.
+  bool AllPassed()
+  {
+    this->Pending = false;
+    return mcv::allTrue(this->Comm, true);
+  }
+
+private:
+  const mcv::Communicator* Comm;
+  bool Pending = true;
+};
+
+} // namespace vtkhelpers
+} // namespace mcv

@@ -1,0 +1,157 @@
+"""The suite's filters under ParaView's parallel engine give the one-process answer.
+
+Run twice on the real 3-channel brain (Colin27 ch2 + AAL + Brodmann):
+  pvbatch mpi_parallel_check.py --reference DIR
+      one process: writes the best view direction (full resolution), and the features
+      (24D) and reduced coordinates (Isomap) of the brain subsampled by 3 to DIR;
+  mpiexec -np R pvbatch --mpi mpi_parallel_check.py --compare DIR
+      R processes, each holding a piece (ParaView splits the volume; the filters ask for
+      ghost layers and combine global statistics, top-N lists and the reference sample
+      across processes): checks the view direction within 0.5 degrees, the features and the
+      reduced coordinates of every voxel equal to the reference (float tolerance), and
+      prints the times of each stage.
+Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
+"""
+import argparse
+import array
+import json
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+
+from paraview import servermanager, simple  # noqa: E402
+
+SUBSAMPLE = 3
+REDUCTION = dict(Method="Isomap", OutputDimension=3, NumberOfNeighbors=12,
+                 NumberOfLandmarks=200, ReferenceSampleSize=3000, RandomSeed=7)
+
+
+def processes():
+    pm = servermanager.vtkProcessModule.GetProcessModule()
+    return pm.GetNumberOfLocalPartitions()
+
+
+def brain():
+    t1 = simple.OpenDataFile(T.data_file("ch2.nii.gz"))
+    aal = simple.OpenDataFile(T.data_file("aal.nii.gz"))
+    brodmann = simple.OpenDataFile(T.data_file("brodmann.nii.gz"))
+    return simple.AppendAttributes(Input=[t1, aal, brodmann])
+
+
+def timed(proxy):
+    start = time.time()
+    proxy.UpdatePipeline()
+    return time.time() - start
+
+
+def values_of(vtk_array):
+    """float32 values of a VTK array, tuple-major, as array('f')."""
+    out = array.array("f")
+    out.frombytes(bytes(memoryview(vtk_array)))
+    return out
+
+
+def piece_indices(piece, dims):
+    """Whole-volume linear index of every point of an image piece, in point order."""
+    e = piece.GetExtent()
+    return [i + dims[0] * (j + dims[1] * k)
+            for k in range(e[4], e[5] + 1)
+            for j in range(e[2], e[3] + 1)
+            for i in range(e[0], e[1] + 1)]
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    group = parser.add_mutually_exclusive_group(required=True)
+    group.add_argument("--reference", metavar="DIR")
+    group.add_argument("--compare", metavar="DIR")
+    args = parser.parse_args()
+    mce = T.load_plugin(globals())
+    from paraview.simple import BestViewpoint, DimensionReduction, MultichannelFeatures
+    R = processes()
+    C = T.Checker("mpi_parallel_check (%d process%s)" % (R, "es" if R > 1 else ""))
+    timings = {}
+
+    merged = brain()
+    view = BestViewpoint(Input=merged)
+    timings["read+view"] = timed(view)
+    view.UpdatePropertyInformation()
+    direction = [float(x) for x in view.GetPropertyValue("BestViewDirection")]
+
+    sub = simple.ExtractSubset(Input=merged)
+    sub.SampleRateI = sub.SampleRateJ = sub.SampleRateK = SUBSAMPLE
+    feats = MultichannelFeatures(Input=sub)
+    feats.FeatureSet = "24D"
+    timings["features"] = timed(feats)
+    reduction = DimensionReduction(Input=feats)
+    for key, value in REDUCTION.items():
+        setattr(reduction, key, value)
+    timings["reduction"] = timed(reduction)
+
+    if args.reference:
+        assert R == 1, "the reference run is one process"
+        os.makedirs(args.reference, exist_ok=True)
+        image = reduction.GetClientSideObject().GetOutputDataObject(0)
+        info = {"direction": direction, "origin": list(image.GetOrigin()),
+                "spacing": list(image.GetSpacing()), "dims": list(image.GetDimensions()),
+                "features": image.GetPointData().GetArray("Features").GetNumberOfComponents(),
+                "timings": timings}
+        with open(os.path.join(args.reference, "reference.json"), "w") as f:
+            json.dump(info, f)
+        for name in ("Features", "ReducedCoordinates"):
+            with open(os.path.join(args.reference, name + ".f32"), "wb") as f:
+                values_of(image.GetPointData().GetArray(name)).tofile(f)
+        C.check(image.GetNumberOfPoints() > 100000, "reference of %d voxels written"
+                % image.GetNumberOfPoints())
+        print("timings (1 process): " + ", ".join("%s %.2f s" % kv for kv in timings.items()))
+        C.finish()
+
+    with open(os.path.join(args.compare, "reference.json")) as f:
+        ref = json.load(f)
+    angle = T.angle_deg(direction, ref["direction"], unsigned=True)
+    C.check(angle <= 0.5, "best view direction within 0.5 deg of one process (%.2e deg)"
+            % angle)
+
+    # Every process's piece, brought to the first one, placed by its extent.
+    dims = ref["dims"]
+    total = dims[0] * dims[1] * dims[2]
+    pieces = [servermanager.Fetch(reduction, r) for r in range(R)]
+    covered = set()
+    for piece in pieces:
+        covered.update(piece_indices(piece, dims))
+    C.check(len(covered) == total, "the %d pieces cover the %s volume (%d of %d voxels)"
+            % (R, dims, len(covered), total))
+    for name in ("Features", "ReducedCoordinates"):
+        expected = array.array("f")
+        with open(os.path.join(args.compare, name + ".f32"), "rb") as f:
+            expected.frombytes(f.read())
+        span = max(expected) - min(expected)
+        worst = 0.0
+        for piece in pieces:
+            got_array = piece.GetPointData().GetArray(name)
+            if not C.check(got_array is not None, "%s in every piece" % name):
+                break
+            got = values_of(got_array)
+            width = got_array.GetNumberOfComponents()
+            for row, v in enumerate(piece_indices(piece, dims)):
+                a = got[row * width:(row + 1) * width]
+                b = expected[v * width:(v + 1) * width]
+                worst = max(worst, max(abs(x - y) for x, y in zip(a, b)))
+        C.check(worst <= 1e-4 * span, "%s equal to one process on every voxel "
+                "(worst difference %.2e of a range %.3g)" % (name, worst, span))
+    print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
+    print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
+                                                for kv in ref["timings"].items()))
+    print("%s: %d checks, %d failed" % (C.name, C.count, len(C.failures)))
+    sys.stdout.flush()
+    if C.failures:
+        os._exit(1)
+    # Success: return, so that pvbatch shuts the other processes down itself (exiting here
+    # would make mpiexec abort them).
+
+
+if __name__ == "__main__":
+    main()

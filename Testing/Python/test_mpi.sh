@@ -1,0 +1,23 @@
+#!/bin/sh
+# test_mpi.sh PVBATCH MPIEXEC: the suite's filters under ParaView's parallel engine give the
+# one-process answer on the real 3-channel brain (mpi_parallel_check.py): one reference run
+# in one process, then 2 and 3 MPI processes compared with it. Exit 125 (skipped) when the
+# data is missing.
+set -u
+pvbatch="$1"
+mpiexec="$2"
+here="$(cd "$(dirname "$0")" && pwd)"
+out="${MCV_OUTPUT_DIR:-/tmp}/mpi_reference"
+rm -rf "$out"
+sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_parallel_check.py" --reference "$out"
+rc=$?
+[ $rc -eq 0 ] || exit $rc
+# Open MPI refuses root and more processes than cores unless told (the variables are
+# ignored by other MPIs); one OpenMP thread per process keeps 3 processes on 2 cores sane.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+for ranks in 2 3; do
+  echo "== $ranks processes"
+  OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np $ranks "$pvbatch" --mpi \
+    "$here/mpi_parallel_check.py" --compare "$out" || exit 1
+done
