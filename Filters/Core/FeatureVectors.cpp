@@ -827,6 +827,13 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
 #else
   result.deviceUsed = Device::CPU;
 #endif
+  // Serial: the CPU recomputes the statistics too, so the result is the CPU path's to the
+  // last bit. Split over processes the exchanged statistics are kept (a second exchange
+  // would leave the other processes waiting).
+  if (!isDistributed(options.communicator))
+  {
+    volume = VolumeStats();
+  }
   CpuBackend cpu{ out };
   run(cpu, channels, grid, options, sel, out, volume, result, &error);
   result.totalMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();

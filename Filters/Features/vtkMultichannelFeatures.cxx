@@ -14,6 +14,7 @@
 
 // The VTK-free core (Filters/Core).
 #include "FeatureVectors.h"
+#include "MemoryBudget.h"
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
@@ -271,6 +272,13 @@ int vtkMultichannelFeatures::RequestData(
     vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
                   "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
                   "LocalVariance) is off.");
+    return 0;
+  }
+
+  const std::string memoryError = mcv::checkFeatureMemory(count, F);
+  if (!memoryError.empty())
+  {
+    vtkErrorMacro(<< memoryError);
     return 0;
   }
 

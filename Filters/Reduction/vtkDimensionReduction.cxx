@@ -21,6 +21,7 @@
 #include "../Common/mcvControllerCommunicator.h"
 #include "../Common/mcvPieces.h"
 #include "DimensionReduction.h"
+#include "MemoryBudget.h"
 
 #include <algorithm>
 #include <cmath>
@@ -307,6 +308,15 @@ int vtkDimensionReduction::RequestData(
   {
     vtkErrorMacro("Feature array '" << requested << "' has " << features->GetNumberOfTuples()
                                     << " tuples for " << count << " voxels.");
+    return 0;
+  }
+
+  const bool isFloat = features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout();
+  const std::string memoryError =
+    mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat);
+  if (!memoryError.empty())
+  {
+    vtkErrorMacro(<< memoryError);
     return 0;
   }
 

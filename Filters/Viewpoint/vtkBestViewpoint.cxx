@@ -23,6 +23,7 @@
 // The VTK-free core (Filters/Core).
 #include "BestViewpoint.h"
 #include "GaussianTransferFunction.h"
+#include "MemoryBudget.h"
 #include "OpacityFunction.h"
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
@@ -521,6 +522,13 @@ int vtkBestViewpoint::RequestData(
     vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
       << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
       << ", which does not hold this process's piece of the volume.");
+    return 0;
+  }
+
+  const std::string memoryError = mcv::checkViewpointMemory(count);
+  if (!memoryError.empty())
+  {
+    vtkErrorMacro(<< memoryError);
     return 0;
   }
 

@@ -194,4 +194,20 @@ rng = reader.PointData["Density"].GetRange() if reader.PointData["Density"] else
 C.check(not msgs.errors and tuple(reader.GetDataInformation().GetExtent()) == (0, 3, 0, 3, 0, 3)
         and rng == (0.0, 63.0), "big-endian .den: read (4x4x4, values 0..63)")
 
+# A volume too large for this process's memory (MCV_MEMORY_LIMIT_MB stands in for a small
+# machine): each filter stops with a message saying how much it needs and how much there is.
+big = Wavelet(WholeExtent=[-40, 40, -40, 40, -40, 40])  # 81^3 = 531441 voxels
+big_features = MultichannelFeatures(Input=big)
+big_features.UpdatePipeline()  # fits: the limit is set below, for the filters under test
+os.environ["MCV_MEMORY_LIMIT_MB"] = "1"
+for label, proxy in (("BestViewpoint", BestViewpoint(Input=big)),
+                     ("MultichannelFeatures", MultichannelFeatures(Input=big)),
+                     ("DimensionReduction", DimensionReduction(Input=big_features))):
+    msgs = T.Messages(proxy)
+    proxy.UpdatePipeline()
+    print("%s with 1 MiB: errors %s" % (label, msgs.errors))
+    C.check(msgs.any_error("needs", "MiB", "available", "MPI ranks"),
+            "%s: too large for memory -> how much is needed and how much is available" % label)
+del os.environ["MCV_MEMORY_LIMIT_MB"]
+
 C.finish()
