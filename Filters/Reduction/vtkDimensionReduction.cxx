@@ -262,6 +262,13 @@ int vtkDimensionReduction::RequestData(
   const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
     ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
     : nullptr;
+  // ParaView leaves "0" in the property when the filter was made before its input had
+  // run (pvpython: DimensionReduction(Input=MultichannelFeatures(...))): no choice was made
+  // then, so the default array applies.
+  if ((!requested || !*requested || std::string(requested) == "0") && pd->GetArray("Features"))
+  {
+    requested = "Features";
+  }
   if (!requested || !*requested)
   {
     vtkErrorMacro("No feature array selected: set the Features property to a point array "
