@@ -190,6 +190,16 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     {
       sigma = domainSigma > 0 ? 0.1 * domainSigma : 1.0;
     }
+    if (first > 0)
+    {
+      // Keep the skipped background dark: its centre gets a weight below exp(-8) (the
+      // background fills most of the volume, so even a faint weight there becomes a haze).
+      const double toBackground = (centres.row(c) - centres.row(order[0])).norm();
+      if (toBackground > 0)
+      {
+        sigma = std::min(sigma, 0.25 * toBackground);
+      }
+    }
     w.sigma = sigma;
     distinctColor(i - first, k - first, w.color);
     w.opacity = std::min(1.0, std::max(0.0, options.opacity));

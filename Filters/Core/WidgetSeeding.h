@@ -6,7 +6,9 @@
 // colour = evenly spaced hues, largest cluster first; opacity = `opacity`.
 // With `skipLargest`, count + 1 clusters are made and the largest is left out: in a volume
 // the largest class is almost always the background (air around a head, the dark field
-// of a micrograph), which a widget would turn into an opaque box.
+// of a micrograph), which a widget would turn into an opaque box; each widget's sigma is
+// then at most a quarter of its centre's distance to the skipped cluster's centre, so the
+// background keeps a weight below exp(-8) and stays dark.
 #pragma once
 
 #include "GaussianTransferFunction.h"
