@@ -28,6 +28,8 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <algorithm>
+#include <sstream>
+#include <string>
 
 namespace mcv
 {
@@ -131,10 +133,24 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
   return 1;
 }
 
+// requestPieceWithGhosts for an image-to-image filter: the extent asked of output port 0
+// is kept, plus `ghostLayers`.
+inline int requestOutputExtentWithGhosts(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int ghostLayers)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int requested[6] = { 0, -1, 0, -1, 0, -1 };
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
+  }
+  return requestPieceWithGhosts(inputVector, outputVector, ghostLayers, requested);
+}
+
 // Where `image` (the block the input delivered) lies in the whole volume and which of its
-// voxels this process owns. False when the block does not hold every owned voxel (an
-// input that ignored the extent request with a smaller one).
-inline bool gridPiece(vtkImageData* image, const PieceLayout& layout, mcv::GridPiece& piece)
+// voxels this process owns. "" or, when the block does not hold every owned voxel (an
+// input that ignored the extent request with a smaller one), the error message.
+inline std::string gridPiece(vtkImageData* image, const PieceLayout& layout, mcv::GridPiece& piece)
 {
   int extent[6];
   image->GetExtent(extent);
@@ -151,14 +167,18 @@ inline bool gridPiece(vtkImageData* image, const PieceLayout& layout, mcv::GridP
     }
     if (extent[2 * a] > layout.Owned[2 * a] || extent[2 * a + 1] < layout.Owned[2 * a + 1])
     {
-      return false;
+      std::ostringstream os;
+      os << "The input delivered extent " << extent[0] << " " << extent[1] << " " << extent[2]
+         << " " << extent[3] << " " << extent[4] << " " << extent[5]
+         << ", which does not hold this process's piece of the volume.";
+      return os.str();
     }
     piece.wholeDims[a] = layout.Whole[2 * a + 1] - layout.Whole[2 * a] + 1;
     piece.offset[a] = extent[2 * a] - layout.Whole[2 * a];
     piece.ownedLo[a] = layout.Owned[2 * a] - extent[2 * a];
     piece.ownedHi[a] = layout.Owned[2 * a + 1] - extent[2 * a];
   }
-  return true;
+  return "";
 }
 
 // Keeps the processes of a split run together on errors. Every process must make the same

@@ -140,13 +140,7 @@ int vtkMultichannelFeatures::RequestUpdateExtent(
 {
   // Split runs: the extent asked of the output, plus one ghost layer for the gradient,
   // Laplacian and 3x3x3 statistics.
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int requested[6] = { 0, -1, 0, -1, 0, -1 };
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
-  {
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
-  }
-  return mcv::vtkhelpers::requestPieceWithGhosts(inputVector, outputVector, 1, requested);
+  return mcv::vtkhelpers::requestOutputExtentWithGhosts(inputVector, outputVector, 1);
 }
 
 //------------------------------------------------------------------------------
@@ -200,11 +194,10 @@ int vtkMultichannelFeatures::RequestData(
   }
   const std::size_t count = grid.voxelCount();
   mcv::GridPiece piece;
-  if (!mcv::vtkhelpers::gridPiece(image, layout, piece))
+  const std::string pieceError = mcv::vtkhelpers::gridPiece(image, layout, piece);
+  if (!pieceError.empty())
   {
-    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
-      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
-      << ", which does not hold this process's piece of the volume.");
+    vtkErrorMacro(<< pieceError);
     return 0;
   }
   // Gradients in world units along the image's own axes (an oriented image's direction

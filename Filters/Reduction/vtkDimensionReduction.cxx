@@ -143,13 +143,7 @@ int vtkDimensionReduction::RequestUpdateExtent(
 {
   // Split runs: the extent asked of the image output (and the owned voxels); no ghosts,
   // every voxel is placed on its own.
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int requested[6] = { 0, -1, 0, -1, 0, -1 };
-  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
-  {
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
-  }
-  return mcv::vtkhelpers::requestPieceWithGhosts(inputVector, outputVector, 0, requested);
+  return mcv::vtkhelpers::requestOutputExtentWithGhosts(inputVector, outputVector, 0);
 }
 
 //------------------------------------------------------------------------------
@@ -242,11 +236,10 @@ int vtkDimensionReduction::RequestData(
   }
 
   mcv::GridPiece piece;
-  if (!mcv::vtkhelpers::gridPiece(image, layout, piece))
+  const std::string pieceError = mcv::vtkhelpers::gridPiece(image, layout, piece);
+  if (!pieceError.empty())
   {
-    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
-      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
-      << ", which does not hold this process's piece of the volume.");
+    vtkErrorMacro(<< pieceError);
     return 0;
   }
 

@@ -517,11 +517,10 @@ int vtkBestViewpoint::RequestData(
   }
   const std::size_t count = grid.voxelCount();
   mcv::GridPiece block;
-  if (!mcv::vtkhelpers::gridPiece(image, layout, block))
+  const std::string pieceError = mcv::vtkhelpers::gridPiece(image, layout, block);
+  if (!pieceError.empty())
   {
-    vtkErrorMacro("The input delivered extent " << extent[0] << " " << extent[1] << " "
-      << extent[2] << " " << extent[3] << " " << extent[4] << " " << extent[5]
-      << ", which does not hold this process's piece of the volume.");
+    vtkErrorMacro(<< pieceError);
     return 0;
   }
 
