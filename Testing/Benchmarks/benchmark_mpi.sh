@@ -36,4 +36,11 @@ for r in rows:
           sum(base[s] for s in stages) / total, r["direction"]))
 print("features includes reading the NIfTI volumes, which every process does whole (the "
       "NIfTI reader does not read pieces).")
+print("""Expected on a larger machine (cores per process fixed): the features, the placement of
+every voxel and the Harris response are local to each piece and scale with the processes
+(memory bandwidth permitting); the exchanges are small (column statistics, O(M) reference
+rows, R x N interest points). What does not scale: the embedding fit on M = 10000 reference
+rows (done once, on the first process, then shared), the reading of a whole NIfTI volume on
+every process (a .pvti reads pieces), and, here, 2 cores shared by all processes, so more
+processes only add communication.""")
 PY
