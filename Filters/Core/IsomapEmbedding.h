@@ -3,12 +3,14 @@
 //  1. kNN graph (K neighbours, Euclidean edge lengths, made symmetric);
 //  2. a disconnected graph is joined: each component is linked to its nearest other one by
 //     the closest pair of points (Boruvka rounds) and a warning says how many there were;
-//  3. L landmarks by MaxMin (farthest point) in feature space, the first one seeded;
-//  4. Dijkstra from every landmark (OpenMP over landmarks): the L x n geodesic distances;
+//  3. L landmarks drawn uniformly with the seed (see uniformLandmarks for why not MaxMin);
+//  4. Dijkstra from every landmark (OpenMP over landmarks, 4-ary heap with decrease-key):
+//     the L x n geodesic distances;
 //  5. landmark MDS: classical MDS of the L x L squared geodesics, then every point placed by
 //     distance-based triangulation y = -1/2 L# (delta_i - delta_mean); finally the result is
 //     centred and rotated to its principal axes (de Silva & Tenenbaum's last step).
-// Eigenvalues: those of the landmark MDS Gram matrix, descending.
+// Eigenvalues: those of the landmark MDS Gram matrix, descending (all of them, values only;
+// the top d eigenvectors by Lanczos).
 #pragma once
 
 #include "Embedding.h"

@@ -131,13 +131,13 @@ def distinct_sample(X, n, seed):
     return X[cand[keep]]
 
 
-def run_ours(cli, X, method, k, landmarks, workdir, tag):
+def run_ours(cli, X, method, k, landmarks, workdir, tag, seed=0):
     path = os.path.join(workdir, f"{tag}.f32")
     out = os.path.join(workdir, f"{tag}.emb.f32")
     np.ascontiguousarray(X, dtype=np.float32).tofile(path)
     cmd = [cli, "--input", path, "--rows", str(X.shape[0]), "--cols", str(X.shape[1]), "--method", method,
            "--dim", "3", "--neighbors", str(k), "--landmarks", str(landmarks), "--reference", str(X.shape[0]),
-           "--seed", "0", "--trust-sample", "0", "--output", out]
+           "--seed", str(seed), "--trust-sample", "0", "--output", out]
     t = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.perf_counter() - t
@@ -181,6 +181,7 @@ def main():
     ap.add_argument("--whole-volume", action="store_true",
                     help="also run Isomap fit on 10000 + out-of-sample to every voxel (24D and 6D)")
     ap.add_argument("--no-sklearn", action="store_true")
+    ap.add_argument("--seed", type=int, default=0, help="RandomSeed of ours (landmarks, LLE start vector)")
     args = ap.parse_args()
     os.makedirs(args.workdir, exist_ok=True)
     if not os.access(args.cli, os.X_OK):
@@ -207,7 +208,7 @@ def main():
             sub = np.random.default_rng(1).choice(n, size=min(n, args.trust_sample), replace=False)
             for method in args.methods.split(","):
                 Y, t_ours, info = run_ours(args.cli, X, method, args.neighbors, args.landmarks, args.workdir,
-                                           f"{fs}_{method}_{n}")
+                                           f"{fs}_{method}_{n}", args.seed)
                 tw_ours = trustworthiness(X[sub], Y[sub], n_neighbors=10)
                 if args.no_sklearn:
                     t_sk, tw_sk = float("nan"), float("nan")
