@@ -362,6 +362,8 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
       LLEOptions lo;
       lo.outputDimension = d;
       lo.numberOfNeighbors = options.numberOfNeighbors;
+      lo.numberOfLandmarks = options.numberOfLandmarks;
+      lo.seed = options.randomSeed;
       lo.progress = progress;
       embedding = fitLLE(refX, lo);
       break;
@@ -562,7 +564,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   {
     return fail("NumberOfNeighbors must be at least 1 (got " + std::to_string(options.numberOfNeighbors) + ").");
   }
-  if (options.method == ReductionMethod::Isomap && options.numberOfLandmarks < 1)
+  if (graphMethod && options.numberOfLandmarks < 1)
   {
     return fail("NumberOfLandmarks must be at least 1 (got " + std::to_string(options.numberOfLandmarks) + ").");
   }

@@ -111,24 +111,6 @@ Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<GraphEdge
   return g;
 }
 
-// L landmarks drawn uniformly (seeded partial Fisher-Yates). Uniform, not MaxMin
-// (farthest point): MaxMin spends the landmarks on the outliers of z-scored features and
-// leaves the dense core to be triangulated from far away; on the brain's features it lost
-// 0.012 (6D, N = 5000) and 0.021 (24D, N = 10000) of trustworthiness against exact Isomap
-// over three seeds, where uniform landmarks scatter around it (compare_sklearn.py).
-std::vector<std::uint32_t> uniformLandmarks(std::size_t n, int L, std::uint64_t seed)
-{
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  std::uint64_t state = seed ^ 0x1505ull;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(L); ++i)
-  {
-    std::swap(order[i], order[i + uniformIndex(state, static_cast<std::uint64_t>(n - i))]);
-  }
-  order.resize(static_cast<std::size_t>(L));
-  return order;
-}
-
 // Single-source shortest paths. (Boost.Graph would do it too, but would be a large
 // dependency for twenty lines, and its graph types would need a copy of the CSR arrays.)
 void dijkstra(const Graph& g, std::uint32_t source, double* dist, IndexedMinHeap& heap)

@@ -1,14 +1,71 @@
 #include "LLEEmbedding.h"
 
+#include "BarycentricWeights.h"
 #include "FeatureKnn.h"
-
-#include <Eigen/Cholesky>
+#include "LLELandmarks.h"
+#include "ReferenceSample.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace mcv
 {
+
+namespace
+{
+// Row i: the barycentric weights of point i from its k nearest landmarks (a point that is a
+// landmark, i.e. has one at distance 0, takes weight 1 on it: the rows are distinct).
+LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint32_t>& landmarks, int k,
+  double regularization)
+{
+  const Eigen::Index n = X.rows();
+  const Eigen::Index D = X.cols();
+  const Eigen::Index L = static_cast<Eigen::Index>(landmarks.size());
+  RowMatrixF landmarkX(L, D);
+  for (Eigen::Index l = 0; l < L; ++l)
+  {
+    landmarkX.row(l) = X.row(landmarks[static_cast<std::size_t>(l)]);
+  }
+  const KnnIndex index(landmarkX.data(), static_cast<std::size_t>(L), static_cast<int>(D));
+  std::vector<std::uint32_t> nearest(static_cast<std::size_t>(n) * k);
+  std::vector<double> weight(static_cast<std::size_t>(n) * k, 0.0);
+#pragma omp parallel
+  {
+    std::vector<float> d2(static_cast<std::size_t>(k));
+    Eigen::MatrixXd Zi(k, D), G;
+    Eigen::VectorXd w;
+#pragma omp for schedule(static)
+    for (Eigen::Index i = 0; i < n; ++i)
+    {
+      std::uint32_t* nb = nearest.data() + i * k;
+      index.query(X.row(i).data(), static_cast<std::size_t>(k), nb, d2.data());
+      if (d2[0] == 0.0f)
+      {
+        weight[static_cast<std::size_t>(i * k)] = 1.0;
+        continue;
+      }
+      for (int j = 0; j < k; ++j)
+      {
+        Zi.row(j) = (landmarkX.row(nb[j]) - X.row(i)).cast<double>();
+      }
+      barycentricWeights(Zi, regularization, G, w);
+      std::copy(w.data(), w.data() + k, weight.begin() + i * k);
+    }
+  }
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(nearest.size());
+  for (std::size_t e = 0; e < nearest.size(); ++e)
+  {
+    if (weight[e] != 0.0)
+    {
+      trip.emplace_back(static_cast<int>(e / k), static_cast<int>(nearest[e]), weight[e]);
+    }
+  }
+  LandmarkWeights Z(n, L);
+  Z.setFromTriplets(trip.begin(), trip.end());
+  return Z;
+}
+} // namespace
 
 Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
 {
@@ -62,6 +119,7 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
   {
     std::vector<std::uint32_t> nb;
     Eigen::MatrixXd Z, G;
+    Eigen::VectorXd w;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < n; ++i)
     {
@@ -73,20 +131,7 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
       {
         Z.row(j) = (X.row(nb[static_cast<std::size_t>(j)]) - X.row(i)).cast<double>();
       }
-      G.noalias() = Z * Z.transpose();
-      const double tr = G.trace();
-      const double R = tr > 0 ? options.regularization * tr : options.regularization;
-      G.diagonal().array() += R;
-      Eigen::VectorXd w = G.ldlt().solve(Eigen::VectorXd::Ones(k));
-      const double s = w.sum();
-      if (!(std::isfinite(s)) || s == 0.0)
-      {
-        w.setConstant(1.0 / k);
-      }
-      else
-      {
-        w /= s;
-      }
+      barycentricWeights(Z, options.regularization, G, w);
       auto& out = weights[static_cast<std::size_t>(i)];
       for (int j = 0; j < k; ++j)
       {
@@ -108,9 +153,27 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
   }
   LLESparse A(n, n);
   A.setFromTriplets(trip.begin(), trip.end());
-  report("LLE: eigenvectors", 0.3);
 
-  const LLEBottomEigen bottom = lleBottomEigenvectors(A, d, options.solver);
+  // Landmarks: enough for the Lanczos step (2 nev + 1 vectors), fewer than the points.
+  const int landmarks = std::max(options.numberOfLandmarks, 2 * (d + 4) + 1);
+  LLEBottomEigen bottom;
+  if (options.numberOfLandmarks > 0 && landmarks < n)
+  {
+    report("LLE: landmark weights", 0.3);
+    const LandmarkWeights Z = landmarkWeights(X, uniformLandmarks(static_cast<std::size_t>(n), landmarks, options.seed),
+      std::min(options.landmarkNeighbors, landmarks), options.regularization);
+    report("LLE: eigenvectors", 0.5);
+    bottom = lleLandmarkEigenvectors(A, Z, d);
+    if (!bottom.error.empty())
+    {
+      e.warnings.push_back("LLE: locally linear landmarks failed (" + bottom.error + "); exact LLE was used.");
+    }
+  }
+  if (bottom.vectors.size() == 0)
+  {
+    report("LLE: eigenvectors", 0.5);
+    bottom = lleBottomEigenvectors(A, d, options.solver);
+  }
   if (!bottom.error.empty())
   {
     e.error = "LLE: the eigenvectors of (I-W)^T(I-W) could not be computed (" + bottom.error +

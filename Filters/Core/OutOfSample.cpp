@@ -4,6 +4,8 @@
 #include "../../cuda/OutOfSampleCuda.h"
 #endif
 
+#include "BarycentricWeights.h"
+
 #include <Eigen/Cholesky>
 
 #include <algorithm>
@@ -39,18 +41,7 @@ void placeRow(const RowMatrixF& refX, const RowMatrixF& refY, const float* q, co
       Z(j, c) = static_cast<double>(refX(idx[j], c)) - static_cast<double>(q[c]);
     }
   }
-  const auto Zk = Z.topRows(k);
-  auto Gk = G.topLeftCorner(k, k);
-  Gk.noalias() = Zk * Zk.transpose();
-  const double tr = Gk.trace();
-  Gk.diagonal().array() += tr > 0 ? regularization * tr : regularization;
-  w.head(k) = Gk.ldlt().solve(Eigen::VectorXd::Ones(k));
-  double s = w.head(k).sum();
-  if (!std::isfinite(s) || s == 0.0)
-  {
-    w.head(k).setConstant(1.0);
-    s = k;
-  }
+  barycentricWeights(Z.topRows(k), regularization, G, w);
   for (int c = 0; c < d; ++c)
   {
     double v = 0;
@@ -58,7 +49,7 @@ void placeRow(const RowMatrixF& refX, const RowMatrixF& refY, const float* q, co
     {
       v += w[j] * static_cast<double>(refY(idx[j], c));
     }
-    y[c] = static_cast<float>(v / s);
+    y[c] = static_cast<float>(v);
   }
 }
 

@@ -705,6 +705,19 @@ std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n)
   return x % n;
 }
 
+std::vector<std::uint32_t> uniformLandmarks(std::size_t n, int L, std::uint64_t seed)
+{
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::uint64_t state = seed ^ 0x1505ull;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(L); ++i)
+  {
+    std::swap(order[i], order[i + uniformIndex(state, static_cast<std::uint64_t>(n - i))]);
+  }
+  order.resize(static_cast<std::size_t>(L));
+  return order;
+}
+
 std::string sharedError(const Communicator* comm, const std::string& localError)
 {
   if (!isDistributed(comm))

@@ -219,18 +219,25 @@ TEST(DimensionReduction, IsomapJoinsDisconnectedGraph)
 TEST(DimensionReduction, LLEOnSCurveIsTrustworthy)
 {
   const Manifold m = sCurve(1500, 11);
-  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::LLE, 2);
-  o.numberOfNeighbors = 12;
-  o.referenceSampleSize = m.n;
-  o.trustworthinessSample = m.n;
-  const auto r = mcv::reduceDimension(m.matrix(), o);
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_GE(r.trustworthiness, 0.95);
-  ASSERT_EQ(r.eigenvalues.size(), 2u);
-  EXPECT_LE(r.eigenvalues[0], r.eigenvalues[1]);
-  for (float v : r.coordinates)
+  // 300 landmarks: locally linear landmarks; as many as points: exact LLE.
+  for (int landmarks : { 300, static_cast<int>(m.n) })
   {
-    ASSERT_TRUE(std::isfinite(v));
+    SCOPED_TRACE("landmarks " + std::to_string(landmarks));
+    mcv::ReductionOptions o = cpu(mcv::ReductionMethod::LLE, 2);
+    o.numberOfNeighbors = 12;
+    o.numberOfLandmarks = landmarks;
+    o.referenceSampleSize = m.n;
+    o.trustworthinessSample = m.n;
+    const auto r = mcv::reduceDimension(m.matrix(), o);
+    ASSERT_TRUE(r.ok()) << r.error;
+    EXPECT_TRUE(r.warnings.empty()) << r.warnings.front();
+    EXPECT_GE(r.trustworthiness, 0.95);
+    ASSERT_EQ(r.eigenvalues.size(), 2u);
+    EXPECT_LE(r.eigenvalues[0], r.eigenvalues[1]);
+    for (float v : r.coordinates)
+    {
+      ASSERT_TRUE(std::isfinite(v));
+    }
   }
 }
 

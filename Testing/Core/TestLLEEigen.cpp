@@ -2,64 +2,15 @@
 // find the same bottom eigenvalues and eigenvectors, and exclude the constant vector even
 // when M has more than one null vector.
 #include "LLEEigen.h"
+#include "LLETestMatrices.h"
 
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include <random>
-#include <vector>
-
-namespace
-{
-
-// A = I - W, W with k random neighbours per row and positive weights summing to 1, within
-// blocks of the given sizes (each block is a closed set: a null vector of A per block).
-mcv::LLESparse randomWeights(const std::vector<int>& blocks, int k, unsigned seed)
-{
-  std::mt19937 rng(seed);
-  std::vector<Eigen::Triplet<double, int>> t;
-  int start = 0;
-  for (int size : blocks)
-  {
-    std::uniform_int_distribution<int> pick(start, start + size - 1);
-    std::uniform_real_distribution<double> weight(0.2, 1.0);
-    for (int i = start; i < start + size; ++i)
-    {
-      t.emplace_back(i, i, 1.0);
-      std::vector<int> nb;
-      std::vector<double> w;
-      while (static_cast<int>(nb.size()) < k)
-      {
-        const int j = pick(rng);
-        if (j != i && std::find(nb.begin(), nb.end(), j) == nb.end())
-        {
-          nb.push_back(j);
-          w.push_back(weight(rng));
-        }
-      }
-      double s = 0;
-      for (double v : w)
-      {
-        s += v;
-      }
-      for (int a = 0; a < k; ++a)
-      {
-        t.emplace_back(i, nb[a], -w[a] / s);
-      }
-    }
-    start += size;
-  }
-  mcv::LLESparse A(start, start);
-  A.setFromTriplets(t.begin(), t.end());
-  return A;
-}
-
-} // namespace
-
 TEST(LLEEigen, EverySolverMatchesADenseSolve)
 {
   const int n = 400, d = 3;
-  const mcv::LLESparse A = randomWeights({ n }, 8, 3);
+  const mcv::LLESparse A = mcvtest::randomWeights({ n }, 8, 3);
   const Eigen::MatrixXd M = Eigen::MatrixXd(A).transpose() * Eigen::MatrixXd(A);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> dense(M);
   // Dense: eigenvalue 0 is the constant vector (M 1 = 0); the next d are the answer.
@@ -92,7 +43,7 @@ TEST(LLEEigen, ClosedSetsGiveNonConstantNullVectors)
   // Two closed sets: M's null space is spanned by the two block indicators. LLE's answer
   // for the first coordinate is their centred difference, never the constant vector.
   const int d = 2;
-  const mcv::LLESparse A = randomWeights({ 150, 250 }, 6, 7);
+  const mcv::LLESparse A = mcvtest::randomWeights({ 150, 250 }, 6, 7);
   const int n = static_cast<int>(A.rows());
   for (auto solver : { mcv::LLESolver::Auto, mcv::LLESolver::ShiftInvert })
   {
