@@ -722,6 +722,12 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     }
     projectPCA(fit.pca, features.data, features.rows, features.cols, gatherColumns, result.coordinates.data());
   }
+  else if (!isDistributed(comm) && !hasGrid(options) && M == features.rows)
+  {
+    // Every row is a reference point (M distinct indices of [0, rows) in order): its
+    // embedding is the fit's, which the placement would return after a kNN search per row.
+    std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), result.coordinates.begin());
+  }
   else if (features.rows > 0)
   {
     OutOfSampleOptions oo;

@@ -24,7 +24,8 @@ enum class ReductionMethod
 {
   PCA = 0,
   Isomap = 1, // landmark Isomap: kNN graph, shortest paths from L landmarks, landmark MDS
-  LLE = 2     // locally linear embedding: sparse (I-W)^T(I-W), smallest eigenvectors
+  LLE = 2     // locally linear embedding: sparse (I-W)^T(I-W), smallest eigenvectors (on L
+              // landmarks by default: LLELandmarks.h)
 };
 
 // n rows (voxels) x d columns (features), row-major, float32: the layout of a VTK
@@ -42,7 +43,7 @@ struct ReductionOptions
   ReductionMethod method = ReductionMethod::PCA;
   int outputDimension = 3;              // 2 or 3
   int numberOfNeighbors = 50;           // K of the Isomap / LLE neighbourhood graph
-  int numberOfLandmarks = 500;          // L of landmark Isomap
+  int numberOfLandmarks = 500;          // L of landmark Isomap and LLE (>= M: exact)
   std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
   Device device = Device::Auto;         // the out-of-sample step (touches every voxel)

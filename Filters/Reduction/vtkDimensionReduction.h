@@ -87,7 +87,10 @@ public:
   ///@}
 
   ///@{
-  /** L, the landmarks of landmark Isomap (default 500). */
+  /**
+   * L, the landmarks of landmark Isomap and of locally linear landmarks (LLE), default 500;
+   * L >= the reference sample size: exact Isomap / exact LLE.
+   */
   vtkSetMacro(NumberOfLandmarks, int);
   vtkGetMacro(NumberOfLandmarks, int);
   ///@}
