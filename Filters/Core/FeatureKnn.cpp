@@ -1,10 +1,13 @@
 #include "FeatureKnn.h"
 
+#include "ExactKnn.h"
+
 #include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 
 namespace mcv
@@ -62,6 +65,9 @@ struct UnionFind
   }
 };
 
+// Rows per ExactKnn query: the brute force sweeps the references once per block.
+constexpr std::size_t kGraphBlock = 256;
+
 } // namespace
 
 struct KnnIndex::Impl
@@ -104,30 +110,56 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
   {
     return g;
   }
-  const KnnIndex index(data, n, dim);
-  const long long count = static_cast<long long>(n);
+  // Low dimension: the kd-tree. High dimension, where a kd-tree visits most of its leaves:
+  // ExactKnn's tiled brute force (ties by index). ExactKnn's kd-tree path would re-rank the
+  // tree's answer by the canonical rule, ~20% more time for the same graph here.
+  const bool bruteForce = chooseKnnMethod(dim) == KnnMethod::BruteForce;
+  std::unique_ptr<ExactKnn> tiled(bruteForce ? new ExactKnn(data, n, dim, KnnMethod::BruteForce) : nullptr);
+  std::unique_ptr<KnnIndex> tree(bruteForce ? nullptr : new KnnIndex(data, n, dim));
+  const int k1 = k + 1; // the point itself comes back too
+  const long long blocks = static_cast<long long>((n + kGraphBlock - 1) / kGraphBlock);
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> idx(static_cast<std::size_t>(k) + 1);
-    std::vector<float> d2(static_cast<std::size_t>(k) + 1);
-#pragma omp for schedule(dynamic, 256)
-    for (long long ii = 0; ii < count; ++ii)
+    std::vector<std::uint32_t> idx(kGraphBlock * static_cast<std::size_t>(k1));
+    std::vector<double> d2(idx.size());
+    std::vector<float> f2(static_cast<std::size_t>(k1));
+#pragma omp for schedule(dynamic, 1)
+    for (long long b = 0; b < blocks; ++b)
     {
-      const std::size_t i = static_cast<std::size_t>(ii);
-      const std::size_t found = index.query(data + i * static_cast<std::size_t>(dim), idx.size(), idx.data(), d2.data());
-      // Drop the point itself; if an exact duplicate took its place, drop the last one.
-      std::size_t out = 0;
-      bool selfSeen = false;
-      for (std::size_t j = 0; j < found && out < static_cast<std::size_t>(k); ++j)
+      const std::size_t first = static_cast<std::size_t>(b) * kGraphBlock;
+      const std::size_t count = std::min(kGraphBlock, n - first);
+      if (tiled)
       {
-        if (idx[j] == i && !selfSeen)
+        tiled->query(data + first * static_cast<std::size_t>(dim), count, k1, idx.data(), d2.data());
+      }
+      else
+      {
+        for (std::size_t r = 0; r < count; ++r)
         {
-          selfSeen = true;
-          continue;
+          // k + 1 < n points, so the tree always finds k + 1.
+          tree->query(data + (first + r) * static_cast<std::size_t>(dim), static_cast<std::size_t>(k1),
+            idx.data() + r * k1, f2.data());
+          std::copy(f2.begin(), f2.end(), d2.begin() + static_cast<std::ptrdiff_t>(r * k1));
         }
-        g.neighbors[i * k + out] = idx[j];
-        g.distances[i * k + out] = std::sqrt(std::max(0.f, d2[j]));
-        ++out;
+      }
+      for (std::size_t r = 0; r < count; ++r)
+      {
+        const std::size_t i = first + r;
+        // Drop the point itself; if an exact duplicate took its place, drop the last one.
+        std::size_t out = 0;
+        bool selfSeen = false;
+        for (int j = 0; j < k1 && out < static_cast<std::size_t>(k); ++j)
+        {
+          const std::uint32_t nb = idx[r * k1 + j];
+          if (nb == i && !selfSeen)
+          {
+            selfSeen = true;
+            continue;
+          }
+          g.neighbors[i * k + out] = nb;
+          g.distances[i * k + out] = static_cast<float>(std::sqrt(d2[r * k1 + j]));
+          ++out;
+        }
       }
     }
   }

@@ -35,8 +35,9 @@ private:
 };
 
 // The kNN graph of n points: for every point its k nearest OTHER points (self excluded),
-// nearest first. neighbors[i*k + j], distances (Euclidean, not squared) likewise.
-// k must be < n. OpenMP over points.
+// nearest first (the kd-tree in low dimension; ExactKnn's tiled brute force in high, where
+// a kd-tree visits most of its leaves). neighbors[i*k + j], distances (Euclidean, not
+// squared) likewise. k must be < n. OpenMP over blocks of points.
 struct KnnGraph
 {
   std::size_t n = 0;

@@ -1,6 +1,7 @@
 #include "LLEEmbedding.h"
 
 #include "BarycentricWeights.h"
+#include "ExactKnn.h"
 #include "FeatureKnn.h"
 #include "LLELandmarks.h"
 #include "ReferenceSample.h"
@@ -13,6 +14,9 @@ namespace mcv
 
 namespace
 {
+// Rows per ExactKnn query: the brute force sweeps the landmarks once per block.
+constexpr Eigen::Index kQueryBlock = 256;
+
 // Row i: the barycentric weights of point i from its k nearest landmarks (a point that is a
 // landmark, i.e. has one at distance 0, takes weight 1 on it: the rows are distinct).
 LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint32_t>& landmarks, int k,
@@ -26,30 +30,37 @@ LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint
   {
     landmarkX.row(l) = X.row(landmarks[static_cast<std::size_t>(l)]);
   }
-  const KnnIndex index(landmarkX.data(), static_cast<std::size_t>(L), static_cast<int>(D));
+  // ExactKnn: the tiled brute force in high dimension, where a kd-tree visits most leaves.
+  const ExactKnn index(landmarkX.data(), static_cast<std::size_t>(L), static_cast<int>(D));
   std::vector<std::uint32_t> nearest(static_cast<std::size_t>(n) * k);
   std::vector<double> weight(static_cast<std::size_t>(n) * k, 0.0);
+  const Eigen::Index blocks = (n + kQueryBlock - 1) / kQueryBlock;
 #pragma omp parallel
   {
-    std::vector<float> d2(static_cast<std::size_t>(k));
+    std::vector<double> d2(static_cast<std::size_t>(kQueryBlock) * k);
     Eigen::MatrixXd Zi(k, D), G;
     Eigen::VectorXd w;
-#pragma omp for schedule(static)
-    for (Eigen::Index i = 0; i < n; ++i)
+#pragma omp for schedule(dynamic, 1)
+    for (Eigen::Index b = 0; b < blocks; ++b)
     {
-      std::uint32_t* nb = nearest.data() + i * k;
-      index.query(X.row(i).data(), static_cast<std::size_t>(k), nb, d2.data());
-      if (d2[0] == 0.0f)
+      const Eigen::Index first = b * kQueryBlock;
+      const Eigen::Index count = std::min(kQueryBlock, n - first);
+      index.query(X.row(first).data(), static_cast<std::size_t>(count), k, nearest.data() + first * k, d2.data());
+      for (Eigen::Index i = first; i < first + count; ++i)
       {
-        weight[static_cast<std::size_t>(i * k)] = 1.0;
-        continue;
+        const std::uint32_t* nb = nearest.data() + i * k;
+        if (d2[static_cast<std::size_t>((i - first) * k)] == 0.0)
+        {
+          weight[static_cast<std::size_t>(i * k)] = 1.0;
+          continue;
+        }
+        for (int j = 0; j < k; ++j)
+        {
+          Zi.row(j) = (landmarkX.row(nb[j]) - X.row(i)).cast<double>();
+        }
+        barycentricWeights(Zi, regularization, G, w);
+        std::copy(w.data(), w.data() + k, weight.begin() + i * k);
       }
-      for (int j = 0; j < k; ++j)
-      {
-        Zi.row(j) = (landmarkX.row(nb[j]) - X.row(i)).cast<double>();
-      }
-      barycentricWeights(Zi, regularization, G, w);
-      std::copy(w.data(), w.data() + k, weight.begin() + i * k);
     }
   }
   std::vector<Eigen::Triplet<double, int>> trip;

@@ -2,7 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Spectra/SymEigsShiftSolver.h>
+#include <Spectra/MatOp/DenseSymMatProd.h>
+#include <Spectra/SymGEigsShiftSolver.h>
 
 #include <algorithm>
 #include <stdexcept>
@@ -18,20 +19,21 @@ constexpr double kShiftInvertSigma = 1e-12;
 // Lanczos vectors beyond d + 1 kept for the Rayleigh-Ritz step (as in LLEEigen.cpp).
 constexpr int kExtraVectors = 3;
 
-// x -> L^T (C - sigma B)^{-1} L x on the complement of u = L^T 1 / |L^T 1|: the shift-inverted
-// standard form of the pencil, S = L^{-1} C L^{-T}, never formed (two dense L x L
-// triangular solves would cost more than the whole solve). Projecting u out removes the
-// constant vector's 1/|sigma| eigenvalue, which would otherwise dwarf the wanted ones.
-class ReducedShiftInvert
+// Spectra's generalized shift-invert mode applies T = (C - sigma B)^{-1} B with B-inner
+// products; this operator is the (C - sigma B)^{-1} part, with the constant vector 1 (B 1 =
+// Z^T 1, Z's column sums) projected out B-orthogonally on both sides: Q T Q with
+// Q = I - 1 (B 1)^T / (1^T B 1), still B-self-adjoint. Otherwise the constant's eigenvalue
+// 0 would become 1 / |sigma| and dwarf the wanted ones. Spectra hands it B x, so the
+// projection on the right is x - (B 1) (1^T x) / (1^T B 1).
+class ProjectedShiftInvert
 {
 public:
   using Scalar = double;
-  ReducedShiftInvert(const Eigen::MatrixXd& C, const Eigen::MatrixXd& B, const Eigen::MatrixXd& lowerB,
-    const Eigen::VectorXd& u)
+  ProjectedShiftInvert(const Eigen::MatrixXd& C, const Eigen::MatrixXd& B, const Eigen::VectorXd& columnSums)
     : C_(C)
     , B_(B)
-    , lowerB_(lowerB)
-    , u_(u)
+    , columnSums_(columnSums)
+    , total_(columnSums.sum())
   {
   }
   Eigen::Index rows() const { return C_.rows(); }
@@ -48,17 +50,15 @@ public:
   {
     Eigen::Map<const Eigen::VectorXd> in(x, C_.rows());
     Eigen::Map<Eigen::VectorXd> out(y, C_.rows());
-    const Eigen::VectorXd p = in - u_ * u_.dot(in);
-    const Eigen::VectorXd s = factor_.solve(lowerB_.triangularView<Eigen::Lower>() * p);
-    out.noalias() = lowerB_.triangularView<Eigen::Lower>().transpose() * s;
-    out -= u_ * u_.dot(out);
+    out = factor_.solve(in - columnSums_ * (in.sum() / total_));
+    out.array() -= columnSums_.dot(out) / total_;
   }
 
 private:
   const Eigen::MatrixXd& C_;
   const Eigen::MatrixXd& B_;
-  const Eigen::MatrixXd& lowerB_;
-  const Eigen::VectorXd& u_;
+  const Eigen::VectorXd& columnSums_;
+  const double total_;
   Eigen::LLT<Eigen::MatrixXd> factor_;
 };
 } // namespace
@@ -78,27 +78,20 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
   const Eigen::MatrixXd C = Eigen::MatrixXd(LandmarkWeights(AZ.transpose()) * AZ);
   const Eigen::MatrixXd B = Eigen::MatrixXd(LandmarkWeights(Z.transpose()) * Z);
 
-  // B = L L^T: positive definite because every landmark reconstructs itself.
-  const Eigen::LLT<Eigen::MatrixXd> cholB(B);
-  if (cholB.info() != Eigen::Success)
-  {
-    r.error = "Z^T Z is not positive definite (a landmark is nobody's neighbour)";
-    return r;
-  }
-  const Eigen::MatrixXd lowerB = cholB.matrixL();
-  // The constant: B 1 = Z^T 1 (Z's column sums); in standard form u = L^T 1.
+  // B is positive definite: every landmark reconstructs itself, so Z holds an identity.
   const Eigen::VectorXd columnSums = B * Eigen::VectorXd::Ones(L);
-  Eigen::VectorXd u = lowerB.triangularView<Eigen::Lower>().transpose() * Eigen::VectorXd::Ones(L);
-  u.normalize();
 
   const int nev = static_cast<int>(std::min<Eigen::Index>(d + 1 + kExtraVectors, L - 2));
   const int ncv = static_cast<int>(std::min<Eigen::Index>(L - 1, std::max(2 * nev + 1, 20)));
   const double scale = std::max(1e-300, C.diagonal().maxCoeff() / B.diagonal().maxCoeff());
-  Eigen::MatrixXd X;
+  Eigen::MatrixXd V;
   try
   {
-    ReducedShiftInvert op(C, B, lowerB, u);
-    Spectra::SymEigsShiftSolver<ReducedShiftInvert> eigs(op, nev, ncv, -kShiftInvertSigma * scale);
+    ProjectedShiftInvert op(C, B, columnSums);
+    Spectra::DenseSymMatProd<double> productB(B);
+    Spectra::SymGEigsShiftSolver<ProjectedShiftInvert, Spectra::DenseSymMatProd<double>,
+      Spectra::GEigsMode::ShiftInvert>
+      eigs(op, productB, nev, ncv, -kShiftInvertSigma * scale);
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-10);
     if (eigs.info() != Spectra::CompInfo::Successful)
@@ -106,7 +99,7 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
       r.error = "shift-invert Lanczos on the landmark pencil did not converge";
       return r;
     }
-    X = eigs.eigenvectors();
+    V = eigs.eigenvectors();
   }
   catch (const std::exception& ex) // a failed factorisation or inner eigensolve
   {
@@ -114,9 +107,8 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
     return r;
   }
 
-  // Back to landmark coordinates, centred over the n points (Y = Z V has column means
-  // columnSums^T V / n), then Rayleigh-Ritz with the exact pencil.
-  Eigen::MatrixXd V = lowerB.triangularView<Eigen::Lower>().transpose().solve(X);
+  // Centred over the n points (Y = Z V has column means columnSums^T V / n; the projection
+  // made them ~0 already), then Rayleigh-Ritz with the exact pencil.
   V -= Eigen::VectorXd::Ones(L) * (columnSums.transpose() * V / static_cast<double>(n));
   const Eigen::MatrixXd HC = V.transpose() * C * V;
   const Eigen::MatrixXd HB = V.transpose() * B * V;

@@ -14,9 +14,9 @@
 // (trustworthiness 0.70-0.77 on the brain's 6-D features). Restricted to span(Z) the
 // problem is small and well posed: 0.92-0.96 there, 0.80-0.84 at 24D (compare_sklearn.py).
 //
-// The pencil is solved by shift-invert Lanczos (Spectra) on L^T (C - sigma B)^{-1} L
-// (B = L L^T, dense Cholesky) with the constant projected out, then Rayleigh-Ritz with the
-// exact (C, B) on the Lanczos vectors.
+// The pencil is solved by Spectra's generalized shift-invert Lanczos ((C - sigma B)^{-1} B,
+// B-inner products, one dense Cholesky of C - sigma B) with the constant projected out,
+// then Rayleigh-Ritz with the exact (C, B) on the Lanczos vectors.
 #pragma once
 
 #include "LLEEigen.h"
