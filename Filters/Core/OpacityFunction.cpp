@@ -120,4 +120,47 @@ std::size_t accumulateOpacity(
   return nonFinite;
 }
 
+std::size_t countNonFiniteVoxels(
+  const std::vector<ChannelView>& channels, const ImageGrid& block, const GridPiece& piece)
+{
+  const std::size_t count = block.voxelCount();
+  std::vector<unsigned char> bad;
+  for (const ChannelView& channel : channels)
+  {
+    withTypedData(channel, [&](auto data) {
+      using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+      if constexpr (std::is_floating_point<T>::value)
+      {
+        bad.resize(count, 0);
+        const std::int64_t n = static_cast<std::int64_t>(count);
+        const int stride = channel.numComponents, offset = channel.component;
+#pragma omp parallel for schedule(static)
+        for (std::int64_t v = 0; v < n; ++v)
+        {
+          bad[static_cast<std::size_t>(v)] |= !std::isfinite(data[v * stride + offset]);
+        }
+      }
+    });
+  }
+  if (bad.empty())
+  {
+    return 0;
+  }
+  const std::int64_t dx = block.dims[0], dy = block.dims[1];
+  std::size_t total = 0;
+#pragma omp parallel for reduction(+ : total) schedule(static)
+  for (int k = piece.ownedLo[2]; k <= piece.ownedHi[2]; ++k)
+  {
+    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
+    {
+      const unsigned char* row = bad.data() + (k * dy + j) * dx;
+      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
+      {
+        total += row[i];
+      }
+    }
+  }
+  return total;
+}
+
 } // namespace mcv

@@ -1,6 +1,8 @@
 // Scalars -> opacity: a piecewise-linear function applied to one or more channels.
 #pragma once
 
+#include "GridPiece.h"
+
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -48,5 +50,11 @@ std::pair<double, double> finiteRange(const ChannelView& channel, std::size_t co
 // map to 0; returns how many there were so the caller can warn.
 std::size_t accumulateOpacity(
   const ChannelView& channel, std::size_t count, const OpacityFunction& f, float* opacity);
+
+// The voxels of a block that its process OWNS (piece) and that hold NaN or Inf in at least
+// one of the channels: summed over processes, each voxel of the volume counts once (ghost
+// layers and shared boundaries do not). Integer channels hold no such value.
+std::size_t countNonFiniteVoxels(
+  const std::vector<ChannelView>& channels, const ImageGrid& block, const GridPiece& piece);
 
 } // namespace mcv

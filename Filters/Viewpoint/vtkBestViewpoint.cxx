@@ -287,9 +287,10 @@ void vtkBestViewpoint::ResetResults()
 }
 
 //------------------------------------------------------------------------------
-bool vtkBestViewpoint::ComputeChannelOpacity(
-  vtkImageData* image, std::size_t count, std::vector<float>& opacity)
+bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
+  const mcv::GridPiece& block, std::vector<float>& opacity)
 {
+  const std::size_t count = grid.voxelCount();
   std::vector<vtkDataArray*> arrays;
   const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
     this->Internals->Channels.GetNames(),
@@ -361,7 +362,6 @@ bool vtkBestViewpoint::ComputeChannelOpacity(
     }
   }
   opacity.assign(count, 0.0f);
-  std::size_t nonFinite = 0;
   for (std::size_t c = 0; c < channels.size(); ++c)
   {
     mcv::OpacityFunction f = userFunction;
@@ -372,27 +372,32 @@ bool vtkBestViewpoint::ComputeChannelOpacity(
       {
         vtkWarningMacro("Channel " << channelNames[c]
                                    << " holds no finite value: it adds no opacity.");
-        nonFinite += count;
         continue;
       }
       if (range.first == range.second)
       {
         vtkWarningMacro("Channel " << channelNames[c] << " is constant (" << range.first
                                    << "): it adds no opacity.");
-        nonFinite += mcv::accumulateOpacity(channels[c], count,
-          mcv::OpacityFunction{ { range.first }, { 0.0 } }, opacity.data());
+        mcv::accumulateOpacity(channels[c], count, mcv::OpacityFunction{ { range.first }, { 0.0 } },
+          opacity.data());
         continue;
       }
       f = mcv::OpacityFunction::ramp(range.first, range.second);
     }
-    nonFinite += mcv::accumulateOpacity(channels[c], count, f, opacity.data());
+    mcv::accumulateOpacity(channels[c], count, f, opacity.data());
     this->UpdateProgress(0.05 * (c + 1) / channels.size());
   }
-  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite);
-  if (nonFinite > 0)
+  // Counted on owned voxels and summed, so a split run reports the whole volume's number.
+  std::vector<double> nonFinite{ static_cast<double>(mcv::countNonFiniteVoxels(channels, grid, block)) };
+  if (this->Internals->Communicator)
   {
-    vtkWarningMacro(<< nonFinite << " NaN/Inf voxel value(s) in the selected channels: "
-                                    "they were given opacity 0.");
+    this->Internals->Communicator->sum(nonFinite);
+  }
+  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite[0]);
+  if (this->NumberOfNonFiniteVoxels > 0)
+  {
+    vtkWarningMacro(<< this->NumberOfNonFiniteVoxels
+                    << " voxel(s) hold NaN/Inf in the selected channels: they were given opacity 0.");
   }
   return true;
 }
@@ -536,7 +541,7 @@ int vtkBestViewpoint::RequestData(
   std::vector<float> opacity;
   const bool opacityOk = this->OpacitySource == OPACITY_GAUSSIAN_WIDGETS
     ? this->ComputeWidgetOpacity(image, count, opacity)
-    : this->ComputeChannelOpacity(image, count, opacity);
+    : this->ComputeChannelOpacity(image, grid, block, opacity);
   if (!opacityOk)
   {
     return 0;

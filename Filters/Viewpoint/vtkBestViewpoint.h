@@ -47,6 +47,11 @@
 class vtkImageData;
 
 class vtkPiecewiseFunction;
+namespace mcv
+{
+struct GridPiece;
+struct ImageGrid;
+}
 
 class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkPolyDataAlgorithm
 {
@@ -186,7 +191,10 @@ public:
   vtkGetMacro(ViewValid, int);
   /** Number of interest points found (HarrisPCA). */
   vtkGetMacro(NumberOfPointsFound, int);
-  /** Voxels whose value was NaN or Inf (mapped to opacity 0). */
+  /**
+   * Voxels with a NaN or Inf value in a selected channel (opacity 0), in the whole volume:
+   * a run split over processes counts each voxel once.
+   */
   vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
   /** Milliseconds: Harris, top-N selection, PCA, total (core timings). */
   vtkGetVector4Macro(StageTimings, double);
@@ -213,7 +221,8 @@ protected:
   bool AllProcessesReady();
   // The opacity volume (count floats) from the channels or from the widgets; false after
   // an error was reported.
-  bool ComputeChannelOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);
+  bool ComputeChannelOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& block, std::vector<float>& opacity);
   bool ComputeWidgetOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);
 
   vtkPiecewiseFunction* OpacityFunction = nullptr;

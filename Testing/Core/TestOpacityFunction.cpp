@@ -88,6 +88,37 @@ TEST(OpacityFunction, NonFiniteVoxelsAreTransparentAndCounted)
   EXPECT_FLOAT_EQ(opacity[5], 0.5f);
 }
 
+TEST(OpacityFunction, NonFiniteVoxelsAreCountedOncePerOwnedVoxel)
+{
+  // A 4 x 3 x 2 block split in two along x: owned columns 0-1 by the first process, 2-3 by the
+  // second; each block here is the whole 4 x 3 x 2 (the other's part acts as a ghost layer).
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  mcv::ImageGrid grid;
+  grid.dims = { 4, 3, 2 };
+  auto at = [](int i, int j, int k) { return static_cast<std::size_t>(i + 4 * (j + 3 * k)); };
+  // Two interleaved float components and an integer channel (which never counts).
+  std::vector<double> two(2 * grid.voxelCount(), 1.0);
+  two[2 * at(0, 0, 0)] = nan;     // channel 0 only
+  two[2 * at(1, 2, 1)] = inf;     // both channels: one voxel
+  two[2 * at(1, 2, 1) + 1] = nan;
+  two[2 * at(3, 1, 0) + 1] = -inf; // channel 1, in the second process's part
+  std::vector<std::int16_t> labels(grid.voxelCount(), 7);
+  const std::vector<mcv::ChannelView> channels = { { two.data(), mcv::ScalarType::Float64, 2, 0 },
+    { two.data(), mcv::ScalarType::Float64, 2, 1 }, { labels.data(), mcv::ScalarType::Int16, 1, 0 } };
+
+  mcv::GridPiece whole = mcv::GridPiece::whole(grid);
+  EXPECT_EQ(mcv::countNonFiniteVoxels(channels, grid, whole), 3u);
+  mcv::GridPiece left = whole, right = whole;
+  left.ownedHi[0] = 1;
+  right.ownedLo[0] = 2;
+  const std::size_t first = mcv::countNonFiniteVoxels(channels, grid, left);
+  const std::size_t second = mcv::countNonFiniteVoxels(channels, grid, right);
+  EXPECT_EQ(first, 2u);
+  EXPECT_EQ(second, 1u);
+  EXPECT_EQ(first + second, 3u) << "the split counts every voxel once";
+  EXPECT_EQ(mcv::countNonFiniteVoxels({ channels[2] }, grid, whole), 0u);
+}
+
 TEST(OpacityFunction, SeveralChannelsTakeTheMaximum)
 {
   std::vector<std::uint8_t> a = { 0, 255, 100 };

@@ -21,3 +21,8 @@ for ranks in 2 3; do
   OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np $ranks "$pvbatch" --mpi \
     "$here/mpi_parallel_check.py" --compare "$out" || exit 1
 done
+# Counts over the whole volume (NaN/Inf voxels), one process and split: a synthetic volume.
+sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_nonfinite_check.py" || exit 1
+echo "== 3 processes, NaN/Inf voxels"
+OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np 3 "$pvbatch" --mpi \
+  "$here/mpi_nonfinite_check.py" || exit 1
