@@ -79,13 +79,23 @@ class Checker(object):
             self.failures.append(message)
         return condition
 
-    def finish(self):
+    def summary(self):
         print("%s: %d checks, %d failed" % (self.name, self.count, len(self.failures)))
         for f in self.failures:
             print("  failed: " + f)
         sys.stdout.flush()
+
+    def finish(self):
+        self.summary()
         # os._exit: pvbatch's own exit path must not turn a failure into 0 (or crash).
         os._exit(1 if self.failures else 0)
+
+    def finish_parallel(self):
+        """finish() for pvbatch --mpi: on success it returns, so that pvbatch shuts the
+        other processes down itself (exiting here would make mpiexec abort them)."""
+        self.summary()
+        if self.failures:
+            os._exit(1)
 
 
 class Messages(object):

@@ -69,12 +69,7 @@ def main():
     C.check(found == expected, "NumberOfNonFiniteVoxels = %d, the volume holds %d" % (found, expected))
     C.check(messages.any_warning("NaN/Inf"), "a warning names the NaN/Inf voxels")
     os.remove(path)
-    print("%s: %d checks, %d failed" % (C.name, C.count, len(C.failures)))
-    sys.stdout.flush()
-    if C.failures:
-        os._exit(1)
-    # Success: return, so that pvbatch shuts the other processes down itself (exiting here
-    # would make mpiexec abort them).
+    C.finish_parallel()
 
 
 if __name__ == "__main__":

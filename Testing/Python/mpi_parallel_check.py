@@ -145,12 +145,7 @@ def main():
     print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
     print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
                                                 for kv in ref["timings"].items()))
-    print("%s: %d checks, %d failed" % (C.name, C.count, len(C.failures)))
-    sys.stdout.flush()
-    if C.failures:
-        os._exit(1)
-    # Success: return, so that pvbatch shuts the other processes down itself (exiting here
-    # would make mpiexec abort them).
+    C.finish_parallel()
 
 
 if __name__ == "__main__":

@@ -136,7 +136,8 @@ if (i, j, k) == (21, 2, 4):
 """)
 bvp, msgs, res = run("NaN/Inf voxels", blobs)
 C.check(not msgs.errors, "NaN/Inf voxels: no error")
-C.check(msgs.any_warning("3 NaN/Inf"), "NaN/Inf voxels: warning gives the count (3)")
+C.check(msgs.any_warning("3 voxel(s) hold NaN/Inf"), "NaN/Inf voxels: warning gives the count (3)")
+C.check(int(bvp.GetPropertyValue("NumberOfNonFiniteVoxels")) == 3, "NaN/Inf voxels: NumberOfNonFiniteVoxels = 3")
 C.check(res["ViewValid"] == 1 and B.abs(B.abs(res["BestViewDirection"][2]) - 1) < 1e-3,
         "NaN/Inf voxels: view along the blob plane's normal %s" % res["BestViewDirection"])
 Delete(bvp)
