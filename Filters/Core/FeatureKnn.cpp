@@ -190,7 +190,11 @@ std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int D
   {
     return added;
   }
-  const KnnIndex index(data, n, D);
+  // Low dimension: kd-tree queries with a doubling k. High dimension: one row of float
+  // distances to every point (TiledKnn), where a kd-tree visits most of its leaves anyway.
+  const bool bruteForce = chooseKnnMethod(D) == KnnMethod::BruteForce;
+  std::unique_ptr<TiledKnn> tiled(bruteForce ? new TiledKnn(data, n, D) : nullptr);
+  std::unique_ptr<KnnIndex> index(bruteForce ? nullptr : new KnnIndex(data, n, D));
   while (countComponents() > 1)
   {
     std::vector<std::uint32_t> root(n);
@@ -218,11 +222,25 @@ std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int D
         {
           continue;
         }
+        if (tiled)
+        {
+          d2.resize(n);
+          tiled->distances(data + i * static_cast<std::size_t>(D), d2.data());
+          for (std::size_t j = 0; j < n; ++j)
+          {
+            if (root[j] != root[i] && d2[j] < partnerD2[i])
+            {
+              partner[i] = static_cast<std::uint32_t>(j);
+              partnerD2[i] = d2[j];
+            }
+          }
+          continue;
+        }
         for (std::size_t k = std::min(n, static_cast<std::size_t>(2 * knn.k + 2));; k = std::min(n, 2 * k))
         {
           idx.resize(k);
           d2.resize(k);
-          const std::size_t found = index.query(data + i * static_cast<std::size_t>(D), k, idx.data(), d2.data());
+          const std::size_t found = index->query(data + i * static_cast<std::size_t>(D), k, idx.data(), d2.data());
           bool done = false;
           for (std::size_t j = 0; j < found; ++j)
           {

@@ -56,7 +56,8 @@ struct GraphEdge
 
 // Joins the connected components of a kNN graph (taken as undirected): Boruvka rounds in
 // which every component but the largest finds its closest pair of points to any other
-// component (kd-tree queries with a doubling k). Returns the edges to add (none when the
+// component (kd-tree queries with a doubling k; full rows of distances in high dimension;
+// ties to the lowest index). Returns the edges to add (none when the
 // graph is connected); `components` receives how many components there were.
 std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int dim, const KnnGraph& graph,
   std::size_t* components);

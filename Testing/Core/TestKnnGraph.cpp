@@ -104,4 +104,54 @@ TEST(KnnGraph, ADuplicatePointIsANeighbourButNeverThePointItself)
   }
 }
 
+TEST_P(KnnGraphBackends, SeparateClustersAreJoinedByTheirClosestPair)
+{
+  const int D = GetParam();
+  // 200 points around the origin and 50 around (30, 30, ...): two components of the graph.
+  const std::size_t big = 200, small = 50, n = big + small;
+  std::vector<float> x = randomPoints(n, D, 21 + D);
+  for (std::size_t i = big; i < n; ++i)
+  {
+    for (int c = 0; c < D; ++c)
+    {
+      x[i * D + c] += 30.f;
+    }
+  }
+  const mcv::KnnGraph g = mcv::buildKnnGraph(x.data(), n, D, 5);
+  std::size_t components = 0;
+  const std::vector<mcv::GraphEdge> joins = mcv::joinKnnComponents(x.data(), n, D, g, &components);
+  EXPECT_EQ(components, 2u);
+  ASSERT_EQ(joins.size(), 1u);
+  // The closest pair between the clusters, by a full scan.
+  long double bestD = -1;
+  std::size_t bestA = 0, bestB = 0;
+  for (std::size_t a = big; a < n; ++a)
+  {
+    for (std::size_t b = 0; b < big; ++b)
+    {
+      long double s = 0;
+      for (int c = 0; c < D; ++c)
+      {
+        const long double t = static_cast<long double>(x[a * D + c]) - x[b * D + c];
+        s += t * t;
+      }
+      if (bestD < 0 || s < bestD)
+      {
+        bestD = s;
+        bestA = a;
+        bestB = b;
+      }
+    }
+  }
+  const std::size_t lo = std::min<std::size_t>(joins[0].a, joins[0].b), hi = std::max<std::size_t>(joins[0].a, joins[0].b);
+  EXPECT_EQ(lo, bestB);
+  EXPECT_EQ(hi, bestA);
+  EXPECT_NEAR(joins[0].length, static_cast<double>(std::sqrt(bestD)), 1e-4 * static_cast<double>(std::sqrt(bestD)));
+
+  // A connected graph needs nothing.
+  const mcv::KnnGraph one = mcv::buildKnnGraph(x.data(), big, D, 5);
+  EXPECT_TRUE(mcv::joinKnnComponents(x.data(), big, D, one, &components).empty());
+  EXPECT_EQ(components, 1u);
+}
+
 } // namespace
