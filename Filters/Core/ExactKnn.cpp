@@ -65,9 +65,9 @@ double floatDistanceMargin(int dimension)
 bool resolveCandidates(const float* query, const float* refs, std::size_t M, int D, const std::uint32_t* cIdx,
   const float* cF, int kp, int k, std::uint32_t* idx, double* d2)
 {
-  Pair p[64];
+  Pair p[kMaxKnnCandidates];
   int valid = 0;
-  for (int s = 0; s < kp && s < 64; ++s)
+  for (int s = 0; s < kp && s < kMaxKnnCandidates; ++s)
   {
     if (cIdx[s] == kNone)
     {
@@ -115,7 +115,7 @@ std::size_t ExactKnn::query(const float* queries, std::size_t count, int k, std:
   {
     return 0;
   }
-  const int kp = std::min(k + kKnnCandidateMargin, 64);
+  const int kp = std::min(k + kKnnCandidateMargin, kMaxKnnCandidates);
   std::vector<std::uint32_t> cIdx(count * static_cast<std::size_t>(kp));
   std::vector<float> cF(count * static_cast<std::size_t>(kp));
   if (method_ == KnnMethod::BruteForce)

@@ -38,6 +38,9 @@ KnnMethod chooseKnnMethod(int dimension);
 
 // Extra float candidates kept beyond k.
 constexpr int kKnnCandidateMargin = 5;
+// At most this many float candidates per row: a k above kMaxKnnCandidates - the margin is
+// still answered exactly, but every row then takes the radius scan (a full sort).
+constexpr int kMaxKnnCandidates = 64;
 
 // The canonical squared distance (see above).
 double canonicalSquaredDistance(const float* a, const float* b, int dimension);

@@ -111,12 +111,14 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
     return g;
   }
   // Low dimension: the kd-tree. High dimension, where a kd-tree visits most of its leaves:
-  // ExactKnn's tiled brute force (ties by index). ExactKnn's kd-tree path would re-rank the
-  // tree's answer by the canonical rule, ~20% more time for the same graph here.
-  const bool bruteForce = chooseKnnMethod(dim) == KnnMethod::BruteForce;
+  // ExactKnn's tiled brute force (ties by index), unless k is beyond its candidate lists.
+  // ExactKnn's kd-tree path would re-rank the tree's answer by the canonical rule, ~20%
+  // more time for the same graph here.
+  const int k1 = k + 1; // the point itself comes back too
+  const bool bruteForce =
+    chooseKnnMethod(dim) == KnnMethod::BruteForce && k1 + kKnnCandidateMargin <= kMaxKnnCandidates;
   std::unique_ptr<ExactKnn> tiled(bruteForce ? new ExactKnn(data, n, dim, KnnMethod::BruteForce) : nullptr);
   std::unique_ptr<KnnIndex> tree(bruteForce ? nullptr : new KnnIndex(data, n, dim));
-  const int k1 = k + 1; // the point itself comes back too
   const long long blocks = static_cast<long long>((n + kGraphBlock - 1) / kGraphBlock);
 #pragma omp parallel
   {

@@ -82,6 +82,23 @@ TEST(KnnGraph, BothDimensionsTakeTheExpectedBackend)
   EXPECT_EQ(mcv::chooseKnnMethod(24), mcv::KnnMethod::BruteForce);
 }
 
+TEST(KnnGraph, ManyNeighboursInHighDimension)
+{
+  // k + 1 beyond the brute force's candidate lists: the kd-tree answers instead.
+  const int D = 24, k = mcv::kMaxKnnCandidates;
+  const std::size_t n = 300;
+  const std::vector<float> x = randomPoints(n, D, 3);
+  const mcv::KnnGraph g = mcv::buildKnnGraph(x.data(), n, D, k);
+  for (std::size_t i = 0; i < n; i += 7)
+  {
+    const auto expected = naiveNeighbours(x, n, D, i, k);
+    for (int j = 0; j < k; ++j)
+    {
+      ASSERT_EQ(g.neighbors[i * k + j], expected[j].second) << "point " << i << ", neighbour " << j;
+    }
+  }
+}
+
 TEST(KnnGraph, ADuplicatePointIsANeighbourButNeverThePointItself)
 {
   for (int D : { 6, 24 })
