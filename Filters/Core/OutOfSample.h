@@ -29,6 +29,9 @@ struct OutOfSampleOptions
   int neighbors = 3;
   double regularization = 1e-3;
   KnnMethod knn = KnnMethod::Auto; // the CPU backend
+  // CPU: consecutive rows with equal features are searched once (same answer, bit for
+  // bit); false searches every row (the benchmark's in-run baseline).
+  bool mergeEqualRows = true;
   // GPU: the CUDA kernel; on any CUDA failure (out of memory included) the CPU path runs
   // and the report carries a warning. Auto is resolved by the caller (resolveDevice).
   Device device = Device::CPU;

@@ -56,13 +56,14 @@ std::vector<float> everyNth(const mt::BrainFeatureMatrix& f, std::size_t step, c
 }
 
 double timePlacement(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& refY, const std::vector<float>& rows,
-  mcv::KnnMethod method, std::vector<float>& out, std::size_t* scans = nullptr)
+  mcv::KnnMethod method, std::vector<float>& out, std::size_t* scans = nullptr, bool mergeEqualRows = true)
 {
   const int D = static_cast<int>(refX.cols());
   const std::size_t n = rows.size() / D;
   out.assign(n * refY.cols(), 0.f);
   mcv::OutOfSampleOptions o;
   o.knn = method;
+  o.mergeEqualRows = mergeEqualRows;
   const auto t = Clock::now();
   const auto r = mcv::placeOutOfSample(refX, refY, rows.data(), n, D, {}, out.data(), o);
   if (scans)
@@ -247,6 +248,18 @@ int main(int argc, char** argv)
     std::printf("    in-run: full CPU placement (%s) %.1f s vs extrapolated kd-tree %.1f s: x%.1f\n",
       mcv::knnMethodName(mcv::chooseKnnMethod(D)), r.placeMs / 1000, kdMs * scaleUp / 1000,
       kdMs * scaleUp / r.placeMs);
+    {
+      // Runs of equal rows (the background) searched once, against every row searched.
+      const auto all = everyNth(cpuFeatures, 1, r.usedColumns);
+      std::vector<float> merged, unmerged;
+      const auto method = mcv::chooseKnnMethod(D);
+      const double mergedMs = timePlacement(refX, refY, all, method, merged);
+      const double unmergedMs = timePlacement(refX, refY, all, method, unmerged, nullptr, false);
+      std::printf("    in-run: CPU placement of all %zu rows (%s), equal neighbouring rows searched once %.1f s vs "
+                  "every row searched %.1f s: x%.2f; identical coordinates: %s\n",
+        cpuFeatures.rows, mcv::knnMethodName(method), mergedMs / 1000, unmergedMs / 1000, unmergedMs / mergedMs,
+        merged == unmerged ? "yes" : "NO");
+    }
 
     if (sweep && preset == mcv::FeaturePreset::TwentyFourD)
     {

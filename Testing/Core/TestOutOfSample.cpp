@@ -273,3 +273,42 @@ TEST(OutOfSample, BruteForceAndKdTreeAgreeOnBrainFeatures)
     expectSameAsNaive(refX, refY, rows, false);
   }
 }
+
+TEST(OutOfSample, RunsOfEqualRowsArePlacedLikeSingleRows)
+{
+  // Rows repeated in runs of 1..300 (across the 256-row blocks, some with a column that is
+  // not used), and the same distinct rows placed one by one: equal results, bit for bit.
+  std::mt19937 rng(9);
+  const mcv::RowMatrixF refX = randomMatrix(400, 8, rng);
+  const mcv::RowMatrixF refY = randomMatrix(400, 3, rng);
+  const mcv::RowMatrixF distinct = randomMatrix(40, 9, rng);
+  std::uniform_int_distribution<int> runLength(1, 300);
+  std::vector<float> runs, singles;
+  std::vector<std::size_t> source;
+  for (Eigen::Index i = 0; i < distinct.rows(); ++i)
+  {
+    singles.insert(singles.end(), distinct.row(i).data(), distinct.row(i).data() + 9);
+    const int length = runLength(rng);
+    for (int r = 0; r < length; ++r)
+    {
+      runs.insert(runs.end(), distinct.row(i).data(), distinct.row(i).data() + 9);
+      runs.back() = static_cast<float>(r); // the unused 9th column differs along the run
+      source.push_back(static_cast<std::size_t>(i));
+    }
+  }
+  const std::vector<int> columns = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  for (mcv::KnnMethod method : { mcv::KnnMethod::KdTree, mcv::KnnMethod::BruteForce })
+  {
+    SCOPED_TRACE(mcv::knnMethodName(method));
+    const Placed one = place(refX, refY, singles, 9, columns, method);
+    const Placed all = place(refX, refY, runs, 9, columns, method);
+    std::size_t differ = 0;
+    for (std::size_t r = 0; r < source.size(); ++r)
+    {
+      const std::size_t i = source[r];
+      differ += !std::equal(all.y.begin() + r * 3, all.y.begin() + (r + 1) * 3, one.y.begin() + i * 3) ||
+        !std::equal(all.nb.begin() + r * 3, all.nb.begin() + (r + 1) * 3, one.nb.begin() + i * 3);
+    }
+    EXPECT_EQ(differ, 0u) << "rows of " << source.size() << " whose coordinates or neighbours differ";
+  }
+}
