@@ -21,7 +21,7 @@ double trustworthiness(const float* X, int D, const float* Y, int d, std::size_t
 #pragma omp parallel reduction(+ : penalty)
   {
     std::vector<double> dx(n), dy(n);
-    std::vector<std::uint32_t> order(n), rank(n);
+    std::vector<std::uint32_t> order(n);
 #pragma omp for schedule(dynamic, 16)
     for (long long ii = 0; ii < count; ++ii)
     {
@@ -43,21 +43,23 @@ double trustworthiness(const float* X, int D, const float* Y, int d, std::size_t
         dy[j] = sy;
       }
       dx[i] = dy[i] = std::numeric_limits<double>::infinity(); // self last, as scikit-learn
-      // Ranks in the original space (1 = nearest); ties by index (a stable order).
-      std::iota(order.begin(), order.end(), 0u);
-      std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return dx[a] < dx[b]; });
-      for (std::size_t r = 0; r < n; ++r)
-      {
-        rank[order[r]] = static_cast<std::uint32_t>(r + 1);
-      }
       // The k nearest in the embedding.
       std::iota(order.begin(), order.end(), 0u);
       std::partial_sort(order.begin(), order.begin() + k, order.end(), [&](std::uint32_t a, std::uint32_t b) {
         return dy[a] < dy[b] || (dy[a] == dy[b] && a < b);
       });
+      // Their ranks in the original space (1 = nearest; ties by index, as a stable sort
+      // orders them): 1 + the points before. k counting passes instead of sorting all n.
       for (int j = 0; j < k; ++j)
       {
-        const double r = rank[order[static_cast<std::size_t>(j)]];
+        const std::uint32_t m = order[static_cast<std::size_t>(j)];
+        const double v = dx[m];
+        std::size_t before = 0;
+        for (std::size_t l = 0; l < n; ++l)
+        {
+          before += dx[l] < v || (dx[l] == v && l < m);
+        }
+        const double r = static_cast<double>(before + 1);
         if (r > k)
         {
           penalty += r - k;

@@ -8,8 +8,10 @@
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <random>
 
 namespace
@@ -442,6 +444,75 @@ TEST(DimensionReduction, TrustworthinessKnownValues)
   EXPECT_LT(t, 0.7);
   EXPECT_GT(t, 0.3);
   EXPECT_TRUE(std::isnan(mcv::trustworthiness(m.x.data(), 3, m.x.data(), 3, 10, 10)));
+}
+
+// scikit-learn's definition, the straightforward way: every point's full ranking in the
+// original space (stable sort: ties by index), then the ranks of its k nearest in the
+// embedding.
+double trustworthinessBySorting(const std::vector<float>& X, int D, const std::vector<float>& Y, int d, std::size_t n, int k)
+{
+  double penalty = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    std::vector<double> dx(n), dy(n);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+      for (int c = 0; c < D; ++c)
+      {
+        const double t = static_cast<double>(X[i * D + c]) - X[j * D + c];
+        dx[j] += t * t;
+      }
+      for (int c = 0; c < d; ++c)
+      {
+        const double t = static_cast<double>(Y[i * d + c]) - Y[j * d + c];
+        dy[j] += t * t;
+      }
+    }
+    dx[i] = dy[i] = std::numeric_limits<double>::infinity();
+    std::vector<std::size_t> byX(n), byY(n), rank(n);
+    std::iota(byX.begin(), byX.end(), 0);
+    std::stable_sort(byX.begin(), byX.end(), [&](std::size_t a, std::size_t b) { return dx[a] < dx[b]; });
+    for (std::size_t r = 0; r < n; ++r)
+    {
+      rank[byX[r]] = r + 1;
+    }
+    std::iota(byY.begin(), byY.end(), 0);
+    std::stable_sort(byY.begin(), byY.end(), [&](std::size_t a, std::size_t b) { return dy[a] < dy[b]; });
+    for (int j = 0; j < k; ++j)
+    {
+      penalty += std::max(0.0, static_cast<double>(rank[byY[j]]) - k);
+    }
+  }
+  const double nn = static_cast<double>(n);
+  return 1.0 - penalty * (2.0 / (nn * k * (2.0 * nn - 3.0 * k - 1.0)));
+}
+
+TEST(DimensionReduction, TrustworthinessMatchesTheDefinition)
+{
+  std::mt19937 rng(4);
+  std::normal_distribution<float> g;
+  std::uniform_int_distribution<int> level(0, 3);
+  const std::size_t n = 400;
+  for (bool ties : { false, true })
+  {
+    SCOPED_TRACE(ties ? "quantised: many equal distances" : "random");
+    std::vector<float> X(n * 5), Y(n * 2);
+    for (float& v : X)
+    {
+      v = ties ? static_cast<float>(level(rng)) : g(rng);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      // A noisy projection: neither perfect nor random.
+      Y[i * 2] = X[i * 5] + 0.3f * (ties ? static_cast<float>(level(rng)) : g(rng));
+      Y[i * 2 + 1] = X[i * 5 + 1] + X[i * 5 + 2];
+    }
+    for (int k : { 1, 5, 12 })
+    {
+      const double expected = trustworthinessBySorting(X, 5, Y, 2, n, k);
+      EXPECT_NEAR(mcv::trustworthiness(X.data(), 5, Y.data(), 2, n, k), expected, 1e-12) << "k " << k;
+    }
+  }
 }
 
 TEST(DimensionReduction, ProgressCoversEveryStage)
