@@ -138,7 +138,7 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
       {
         for (std::size_t r = 0; r < count; ++r)
         {
-          // k + 1 < n points, so the tree always finds k + 1.
+          // k < n: the tree always finds k + 1 points.
           tree->query(data + (first + r) * static_cast<std::size_t>(dim), static_cast<std::size_t>(k1),
             idx.data() + r * k1, f2.data());
           std::copy(f2.begin(), f2.end(), d2.begin() + static_cast<std::ptrdiff_t>(r * k1));
