@@ -41,9 +41,10 @@ const char* knnMethodName(KnnMethod method)
   return "unknown";
 }
 
-KnnMethod chooseKnnMethod(int dimension)
+KnnMethod chooseKnnMethod(int dimension, int k)
 {
-  return dimension <= kKdTreeMaxDimension ? KnnMethod::KdTree : KnnMethod::BruteForce;
+  const bool fits = k + kKnnCandidateMargin <= kMaxKnnCandidates;
+  return dimension <= kKdTreeMaxDimension || !fits ? KnnMethod::KdTree : KnnMethod::BruteForce;
 }
 
 double canonicalSquaredDistance(const float* a, const float* b, int dimension)

@@ -33,14 +33,18 @@ enum class KnnMethod
 
 const char* knnMethodName(KnnMethod method);
 
-// The backend Auto picks for a dimension: kd-tree below the crossover, brute force above.
-KnnMethod chooseKnnMethod(int dimension);
-
 // Extra float candidates kept beyond k.
 constexpr int kKnnCandidateMargin = 5;
 // At most this many float candidates per row: a k above kMaxKnnCandidates - the margin is
 // still answered exactly, but every row then takes the radius scan (a full sort).
 constexpr int kMaxKnnCandidates = 64;
+// Rows per query() call that the callers use: the brute force sweeps the references once
+// per block, and a block's candidate lists stay small.
+constexpr std::size_t kKnnQueryBlock = 256;
+
+// The backend Auto picks for a dimension: kd-tree below the crossover, brute force above
+// while k neighbours fit its candidate lists (beyond, every row would take a radius scan).
+KnnMethod chooseKnnMethod(int dimension, int k = 1);
 
 // The canonical squared distance (see above).
 double canonicalSquaredDistance(const float* a, const float* b, int dimension);

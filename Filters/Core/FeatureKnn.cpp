@@ -65,9 +65,6 @@ struct UnionFind
   }
 };
 
-// Rows per ExactKnn query: the brute force sweeps the references once per block.
-constexpr std::size_t kGraphBlock = 256;
-
 } // namespace
 
 struct KnnIndex::Impl
@@ -110,26 +107,25 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
   {
     return g;
   }
-  // Low dimension: the kd-tree. High dimension, where a kd-tree visits most of its leaves:
-  // ExactKnn's tiled brute force (ties by index), unless k is beyond its candidate lists.
-  // ExactKnn's kd-tree path would re-rank the tree's answer by the canonical rule, ~20%
-  // more time for the same graph here.
+  // Low dimension (or many neighbours): the kd-tree. High dimension, where a kd-tree visits
+  // most of its leaves: ExactKnn's tiled brute force (ties by index). ExactKnn's kd-tree
+  // path would re-rank the tree's answer by the canonical rule, ~20% more time for the
+  // same graph here.
   const int k1 = k + 1; // the point itself comes back too
-  const bool bruteForce =
-    chooseKnnMethod(dim) == KnnMethod::BruteForce && k1 + kKnnCandidateMargin <= kMaxKnnCandidates;
+  const bool bruteForce = chooseKnnMethod(dim, k1) == KnnMethod::BruteForce;
   std::unique_ptr<ExactKnn> tiled(bruteForce ? new ExactKnn(data, n, dim, KnnMethod::BruteForce) : nullptr);
   std::unique_ptr<KnnIndex> tree(bruteForce ? nullptr : new KnnIndex(data, n, dim));
-  const long long blocks = static_cast<long long>((n + kGraphBlock - 1) / kGraphBlock);
+  const long long blocks = static_cast<long long>((n + kKnnQueryBlock - 1) / kKnnQueryBlock);
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> idx(kGraphBlock * static_cast<std::size_t>(k1));
+    std::vector<std::uint32_t> idx(kKnnQueryBlock * static_cast<std::size_t>(k1));
     std::vector<double> d2(idx.size());
     std::vector<float> f2(static_cast<std::size_t>(k1));
 #pragma omp for schedule(dynamic, 1)
     for (long long b = 0; b < blocks; ++b)
     {
-      const std::size_t first = static_cast<std::size_t>(b) * kGraphBlock;
-      const std::size_t count = std::min(kGraphBlock, n - first);
+      const std::size_t first = static_cast<std::size_t>(b) * kKnnQueryBlock;
+      const std::size_t count = std::min(kKnnQueryBlock, n - first);
       if (tiled)
       {
         tiled->query(data + first * static_cast<std::size_t>(dim), count, k1, idx.data(), d2.data());

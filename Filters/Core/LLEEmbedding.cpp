@@ -14,9 +14,6 @@ namespace mcv
 
 namespace
 {
-// Rows per ExactKnn query: the brute force sweeps the landmarks once per block.
-constexpr Eigen::Index kQueryBlock = 256;
-
 // Row i: the barycentric weights of point i from its k nearest landmarks (a point that is a
 // landmark, i.e. has one at distance 0, takes weight 1 on it: the rows are distinct).
 LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint32_t>& landmarks, int k,
@@ -34,17 +31,18 @@ LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint
   const ExactKnn index(landmarkX.data(), static_cast<std::size_t>(L), static_cast<int>(D));
   std::vector<std::uint32_t> nearest(static_cast<std::size_t>(n) * k);
   std::vector<double> weight(static_cast<std::size_t>(n) * k, 0.0);
-  const Eigen::Index blocks = (n + kQueryBlock - 1) / kQueryBlock;
+  const Eigen::Index block = static_cast<Eigen::Index>(kKnnQueryBlock);
+  const Eigen::Index blocks = (n + block - 1) / block;
 #pragma omp parallel
   {
-    std::vector<double> d2(static_cast<std::size_t>(kQueryBlock) * k);
+    std::vector<double> d2(kKnnQueryBlock * k);
     Eigen::MatrixXd Zi(k, D), G;
     Eigen::VectorXd w;
 #pragma omp for schedule(dynamic, 1)
     for (Eigen::Index b = 0; b < blocks; ++b)
     {
-      const Eigen::Index first = b * kQueryBlock;
-      const Eigen::Index count = std::min(kQueryBlock, n - first);
+      const Eigen::Index first = b * block;
+      const Eigen::Index count = std::min(block, n - first);
       index.query(X.row(first).data(), static_cast<std::size_t>(count), k, nearest.data() + first * k, d2.data());
       for (Eigen::Index i = first; i < first + count; ++i)
       {

@@ -16,7 +16,6 @@ namespace mcv
 
 namespace
 {
-constexpr std::size_t kBlock = 256; // rows per kNN call (the brute force sweeps the references once per block)
 
 // y = sum w_j Y_(j) with the barycentric weights of the k neighbours (see the header).
 void placeRow(const RowMatrixF& refX, const RowMatrixF& refY, const float* q, const std::uint32_t* idx,
@@ -129,22 +128,22 @@ OutOfSampleReport placeOutOfSample(const RowMatrixF& refX, const RowMatrixF& ref
   for (std::size_t begin = 0; begin < n; begin += chunk)
   {
     const std::size_t end = std::min(n, begin + chunk);
-    const long long blocks = static_cast<long long>((end - begin + kBlock - 1) / kBlock);
+    const long long blocks = static_cast<long long>((end - begin + kKnnQueryBlock - 1) / kKnnQueryBlock);
 #pragma omp parallel reduction(+ : scans)
     {
-      std::vector<float> x(kBlock * static_cast<std::size_t>(D));
-      std::vector<std::size_t> same(kBlock);
-      std::vector<std::uint32_t> idx(kBlock * static_cast<std::size_t>(k));
-      std::vector<double> d2(kBlock * static_cast<std::size_t>(k));
-      std::vector<float> y(kBlock * static_cast<std::size_t>(d));
+      std::vector<float> x(kKnnQueryBlock * static_cast<std::size_t>(D));
+      std::vector<std::size_t> same(kKnnQueryBlock);
+      std::vector<std::uint32_t> idx(kKnnQueryBlock * static_cast<std::size_t>(k));
+      std::vector<double> d2(kKnnQueryBlock * static_cast<std::size_t>(k));
+      std::vector<float> y(kKnnQueryBlock * static_cast<std::size_t>(d));
       Eigen::MatrixXd Z(k, D);
       Eigen::MatrixXd G(k, k);
       Eigen::VectorXd w(k);
 #pragma omp for schedule(dynamic, 1)
       for (long long b = 0; b < blocks; ++b)
       {
-        const std::size_t first = begin + static_cast<std::size_t>(b) * kBlock;
-        const std::size_t count = std::min(kBlock, end - first);
+        const std::size_t first = begin + static_cast<std::size_t>(b) * kKnnQueryBlock;
+        const std::size_t count = std::min(kKnnQueryBlock, end - first);
         // The used features of the block's rows, a run of equal rows kept once: voxels in a
         // row of the volume often share their features (the background around an object:
         // 40% of the brain's voxels), and equal rows have equal neighbours and coordinates.

@@ -362,6 +362,7 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
     }
   }
   opacity.assign(count, 0.0f);
+  std::size_t blockNonFinite = 0; // values in this process's block, ghosts included
   for (std::size_t c = 0; c < channels.size(); ++c)
   {
     mcv::OpacityFunction f = userFunction;
@@ -372,23 +373,27 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
       {
         vtkWarningMacro("Channel " << channelNames[c]
                                    << " holds no finite value: it adds no opacity.");
+        blockNonFinite += count;
         continue;
       }
       if (range.first == range.second)
       {
         vtkWarningMacro("Channel " << channelNames[c] << " is constant (" << range.first
                                    << "): it adds no opacity.");
-        mcv::accumulateOpacity(channels[c], count, mcv::OpacityFunction{ { range.first }, { 0.0 } },
-          opacity.data());
+        blockNonFinite += mcv::accumulateOpacity(channels[c], count,
+          mcv::OpacityFunction{ { range.first }, { 0.0 } }, opacity.data());
         continue;
       }
       f = mcv::OpacityFunction::ramp(range.first, range.second);
     }
-    mcv::accumulateOpacity(channels[c], count, f, opacity.data());
+    blockNonFinite += mcv::accumulateOpacity(channels[c], count, f, opacity.data());
     this->UpdateProgress(0.05 * (c + 1) / channels.size());
   }
-  // Counted on owned voxels and summed, so a split run reports the whole volume's number.
-  std::vector<double> nonFinite{ static_cast<double>(mcv::countNonFiniteVoxels(channels, grid, block)) };
+  // Counted on owned voxels (a second pass only where the block has any) and summed, so a
+  // split run reports the whole volume's number.
+  std::vector<double> nonFinite{ blockNonFinite > 0
+      ? static_cast<double>(mcv::countNonFiniteVoxels(channels, grid, block))
+      : 0.0 };
   if (this->Internals->Communicator)
   {
     this->Internals->Communicator->sum(nonFinite);

@@ -80,6 +80,7 @@ TEST(KnnGraph, BothDimensionsTakeTheExpectedBackend)
 {
   EXPECT_EQ(mcv::chooseKnnMethod(6), mcv::KnnMethod::KdTree);
   EXPECT_EQ(mcv::chooseKnnMethod(24), mcv::KnnMethod::BruteForce);
+  EXPECT_EQ(mcv::chooseKnnMethod(24, mcv::kMaxKnnCandidates), mcv::KnnMethod::KdTree) << "k beyond the candidate lists";
 }
 
 TEST(KnnGraph, ManyNeighboursInHighDimension)
