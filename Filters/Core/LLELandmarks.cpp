@@ -2,11 +2,11 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Spectra/MatOp/DenseSymMatProd.h>
-#include <Spectra/SymGEigsShiftSolver.h>
+#include <Spectra/SymEigsSolver.h>
 
 #include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 namespace mcv
 {
@@ -16,50 +16,131 @@ namespace
 // Relative to the pencil's scale (max diag C / max diag B): far below the wanted
 // eigenvalues, so the shift changes nothing but makes C - sigma B positive definite.
 constexpr double kShiftInvertSigma = 1e-12;
-// Lanczos vectors beyond d + 1 kept for the Rayleigh-Ritz step (as in LLEEigen.cpp).
+// Lanczos vectors beyond d kept for the Rayleigh-Ritz step (as in LLEEigen.cpp).
 constexpr int kExtraVectors = 3;
 
-// Spectra's generalized shift-invert mode applies T = (C - sigma B)^{-1} B with B-inner
-// products; this operator is the (C - sigma B)^{-1} part, with the constant vector 1 (B 1 =
-// Z^T 1, Z's column sums) projected out B-orthogonally on both sides: Q T Q with
-// Q = I - 1 (B 1)^T / (1^T B 1), still B-self-adjoint. Otherwise the constant's eigenvalue
-// 0 would become 1 / |sigma| and dwarf the wanted ones. Spectra hands it B x, so the
-// projection on the right is x - (B 1) (1^T x) / (1^T B 1).
-class ProjectedShiftInvert
+// A Z (n x L) row by row: a row holds about 15-30 of the L columns on the brain's features.
+// Stored as CSR arrays and read through an Eigen map.
+struct SparseRows
+{
+  std::vector<int> start{ 0 };
+  std::vector<int> column;
+  std::vector<double> value;
+  Eigen::Map<const LandmarkWeights> matrix(Eigen::Index cols) const
+  {
+    return { static_cast<Eigen::Index>(start.size()) - 1, cols, static_cast<Eigen::Index>(value.size()), start.data(),
+      column.data(), value.data() };
+  }
+};
+
+SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
+{
+  const Eigen::SparseMatrix<double, Eigen::RowMajor, int> rowsOfA = A;
+  SparseRows out;
+  out.start.reserve(static_cast<std::size_t>(Z.rows()) + 1);
+  Eigen::VectorXd row = Eigen::VectorXd::Zero(Z.cols()); // one row, scattered
+  std::vector<char> used(static_cast<std::size_t>(Z.cols()), 0);
+  std::vector<int> columns;
+  for (Eigen::Index i = 0; i < Z.rows(); ++i)
+  {
+    columns.clear();
+    for (decltype(rowsOfA)::InnerIterator a(rowsOfA, i); a; ++a)
+    {
+      for (LandmarkWeights::InnerIterator z(Z, a.col()); z; ++z)
+      {
+        if (!used[static_cast<std::size_t>(z.col())])
+        {
+          used[static_cast<std::size_t>(z.col())] = 1;
+          columns.push_back(static_cast<int>(z.col()));
+        }
+        row[z.col()] += a.value() * z.value();
+      }
+    }
+    std::sort(columns.begin(), columns.end());
+    for (const int c : columns)
+    {
+      out.column.push_back(c);
+      out.value.push_back(row[c]);
+      row[c] = 0.0;
+      used[static_cast<std::size_t>(c)] = 0;
+    }
+    out.start.push_back(static_cast<int>(out.column.size()));
+  }
+  return out;
+}
+
+// S += s R^T R on the lower triangle, R sparse row-major: the pairs of one row are few, so
+// this costs sum over rows of nnz^2 / 2 (a sparse-times-sparse product, with its symbolic
+// pass and sparse L x L result, is the slow way to the same dense matrix).
+template <typename Rows>
+void addGram(const Rows& R, double s, Eigen::MatrixXd& S)
+{
+  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
+  {
+    for (typename Rows::InnerIterator q(R, i); q; ++q) // columns sorted: p >= q follow q
+    {
+      const double vq = s * q.value();
+      double* column = S.col(q.col()).data();
+      for (typename Rows::InnerIterator p = q; p; ++p)
+      {
+        column[p.col()] += p.value() * vq;
+      }
+    }
+  }
+}
+
+Eigen::VectorXd columnSquares(const Eigen::Map<const LandmarkWeights>& R)
+{
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(R.cols());
+  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
+  {
+    for (Eigen::Map<const LandmarkWeights>::InnerIterator p(R, i); p; ++p)
+    {
+      d[p.col()] += p.value() * p.value();
+    }
+  }
+  return d;
+}
+
+// Shift-invert as a standard symmetric problem. With C - sigma B = F F^T (Cholesky) and
+// x = F^{-T} u, C x = lambda B x becomes T u = mu u, T = F^{-1} B F^{-T}, mu = 1 / (lambda -
+// sigma): the smallest lambda are the largest mu, and Lanczos needs plain dot products
+// (Spectra's generalized mode takes B-inner products: a B product more per step). B x is
+// Z^T (Z x): B itself is never formed. The constant (C 1 = 0) maps to u0 = F^T 1 with
+// mu = 1 / |sigma|, which would dwarf the wanted ones: the operator is P T P with
+// P = I - u0 u0^T / |u0|^2.
+class DeflatedShiftInvert
 {
 public:
   using Scalar = double;
-  ProjectedShiftInvert(const Eigen::MatrixXd& C, const Eigen::MatrixXd& B, const Eigen::VectorXd& columnSums)
-    : C_(C)
-    , B_(B)
-    , columnSums_(columnSums)
-    , total_(columnSums.sum())
+  using Factor = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;
+  DeflatedShiftInvert(const Factor& factor, const LandmarkWeights& Z)
+    : factor_(factor)
+    , Z_(Z)
+    , constant_((factor.matrixU() * Eigen::VectorXd::Ones(Z.cols())).normalized())
+    , work_(Z.cols())
+    , points_(Z.rows())
   {
   }
-  Eigen::Index rows() const { return C_.rows(); }
-  Eigen::Index cols() const { return C_.cols(); }
-  void set_shift(double sigma)
-  {
-    factor_.compute(C_ - sigma * B_);
-    if (factor_.info() != Eigen::Success)
-    {
-      throw std::runtime_error("the Cholesky factorisation of C - sigma B failed");
-    }
-  }
+  Eigen::Index rows() const { return Z_.cols(); }
+  Eigen::Index cols() const { return Z_.cols(); }
   void perform_op(const double* x, double* y) const
   {
-    Eigen::Map<const Eigen::VectorXd> in(x, C_.rows());
-    Eigen::Map<Eigen::VectorXd> out(y, C_.rows());
-    out = factor_.solve(in - columnSums_ * (in.sum() / total_));
-    out.array() -= columnSums_.dot(out) / total_;
+    Eigen::Map<const Eigen::VectorXd> in(x, rows());
+    Eigen::Map<Eigen::VectorXd> out(y, rows());
+    work_ = in - constant_ * constant_.dot(in);
+    factor_.matrixU().solveInPlace(work_); // F^{-T}
+    points_.noalias() = Z_ * work_;
+    out.noalias() = Z_.transpose() * points_;
+    factor_.matrixL().solveInPlace(out); // F^{-1}
+    out -= constant_ * constant_.dot(out);
   }
 
 private:
-  const Eigen::MatrixXd& C_;
-  const Eigen::MatrixXd& B_;
-  const Eigen::VectorXd& columnSums_;
-  const double total_;
-  Eigen::LLT<Eigen::MatrixXd> factor_;
+  const Factor& factor_;
+  const LandmarkWeights& Z_;
+  const Eigen::VectorXd constant_;
+  mutable Eigen::VectorXd work_, points_;
 };
 } // namespace
 
@@ -73,53 +154,60 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
     r.error = "need d >= 1, at least d + 2 landmarks and A of Z's row count";
     return r;
   }
-  // The pencil. A Z has at most (K + 1) x (landmark neighbours) entries per row.
-  const LandmarkWeights AZ = LandmarkWeights(A) * Z;
-  const Eigen::MatrixXd C = Eigen::MatrixXd(LandmarkWeights(AZ.transpose()) * AZ);
-  const Eigen::MatrixXd B = Eigen::MatrixXd(LandmarkWeights(Z.transpose()) * Z);
-
-  // B is positive definite: every landmark reconstructs itself, so Z holds an identity.
-  const Eigen::VectorXd columnSums = B * Eigen::VectorXd::Ones(L);
-
-  const int nev = static_cast<int>(std::min<Eigen::Index>(d + 1 + kExtraVectors, L - 2));
+  // The pencil (C, B) = ((A Z)^T A Z, Z^T Z). Only C - sigma B is formed (and factored in
+  // place): one L x L matrix, as fresh memory costs page faults as well as the time to fill it.
+  const SparseRows AZrows = multiply(A, Z);
+  const Eigen::Map<const LandmarkWeights> AZ = AZrows.matrix(L);
+  const Eigen::Map<const LandmarkWeights> Zmap(n, L, Z.nonZeros(), Z.outerIndexPtr(), Z.innerIndexPtr(), Z.valuePtr());
+  const double scale = std::max(1e-300, columnSquares(AZ).maxCoeff() / columnSquares(Zmap).maxCoeff());
+  const double sigma = -kShiftInvertSigma * scale;
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(L, L);
+  addGram(AZ, 1.0, S);
+  addGram(Zmap, -sigma, S);
+  const DeflatedShiftInvert::Factor factor(S); // S becomes F (lower triangle)
+  if (factor.info() != Eigen::Success)
+  {
+    r.error = "the Cholesky factorisation of C - sigma B failed";
+    return r;
+  }
+  const int nev = static_cast<int>(std::min<Eigen::Index>(d + kExtraVectors, L - 2));
   const int ncv = static_cast<int>(std::min<Eigen::Index>(L - 1, std::max(2 * nev + 1, 20)));
-  const double scale = std::max(1e-300, C.diagonal().maxCoeff() / B.diagonal().maxCoeff());
   Eigen::MatrixXd V;
   try
   {
-    ProjectedShiftInvert op(C, B, columnSums);
-    Spectra::DenseSymMatProd<double> productB(B);
-    Spectra::SymGEigsShiftSolver<ProjectedShiftInvert, Spectra::DenseSymMatProd<double>,
-      Spectra::GEigsMode::ShiftInvert>
-      eigs(op, productB, nev, ncv, -kShiftInvertSigma * scale);
+    DeflatedShiftInvert op(factor, Z);
+    Spectra::SymEigsSolver<DeflatedShiftInvert> eigs(op, nev, ncv);
     eigs.init();
-    eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-10);
+    eigs.compute(Spectra::SortRule::LargestAlge, 300, 1e-10);
     if (eigs.info() != Spectra::CompInfo::Successful)
     {
       r.error = "shift-invert Lanczos on the landmark pencil did not converge";
       return r;
     }
-    V = eigs.eigenvectors();
+    V = factor.matrixU().solve(eigs.eigenvectors()); // x = F^{-T} u
   }
-  catch (const std::exception& ex) // a failed factorisation or inner eigensolve
+  catch (const std::exception& ex) // an inner eigensolve
   {
     r.error = ex.what();
     return r;
   }
 
-  // Centred over the n points (Y = Z V has column means columnSums^T V / n; the projection
-  // made them ~0 already), then Rayleigh-Ritz with the exact pencil.
-  V -= Eigen::VectorXd::Ones(L) * (columnSums.transpose() * V / static_cast<double>(n));
-  const Eigen::MatrixXd HC = V.transpose() * C * V;
-  const Eigen::MatrixXd HB = V.transpose() * B * V;
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ritz(HC, HB);
+  // Centred over the n points (Y = Z V; Z's rows sum to 1, so a constant taken from V is
+  // taken from Y; the deflation made the means ~0 already), then Rayleigh-Ritz with the
+  // exact pencil: V^T C V = (A Z V)^T (A Z V), V^T B V = (Z V)^T (Z V).
+  Eigen::MatrixXd Y = Z * V;
+  const Eigen::RowVectorXd means = Y.colwise().mean();
+  V.rowwise() -= means;
+  Y.rowwise() -= means;
+  const Eigen::MatrixXd AY = AZ * V;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ritz(AY.transpose() * AY, Y.transpose() * Y);
   if (ritz.info() != Eigen::Success)
   {
     r.error = "the Rayleigh-Ritz step on the landmark pencil failed";
     return r;
   }
   r.values = ritz.eigenvalues().head(d); // ascending
-  r.vectors = Z * (V * ritz.eigenvectors().leftCols(d));
+  r.vectors = Y * ritz.eigenvectors().leftCols(d);
   return r;
 }
 
