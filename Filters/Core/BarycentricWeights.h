@@ -5,7 +5,9 @@
 //   w /= sum w.
 // The ridge makes G solvable when k exceeds the dimension or neighbours coincide (it picks
 // the smallest-norm weights, as scikit-learn's LLE does with reg = 1e-3). Where the solve
-// still fails (non-finite or zero sum) the weights are uniform.
+// still fails (non-finite or zero sum) the weights are uniform. G is factored in place
+// (Cholesky: G + r I is positive definite; no allocation per call, which cost as much as the
+// arithmetic for the k = 10 systems of LLE).
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -26,9 +28,14 @@ void barycentricWeights(const Eigen::MatrixBase<DerivedZ>& Z, double regularizat
   G.noalias() = Z * Z.transpose();
   const double tr = G.trace();
   G.diagonal().array() += tr > 0 ? regularization * tr : regularization;
-  w = G.ldlt().solve(Eigen::VectorXd::Ones(k));
+  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(G);
+  w.setOnes(k);
+  if (factor.info() == Eigen::Success)
+  {
+    factor.solveInPlace(w);
+  }
   const double s = w.sum();
-  if (!std::isfinite(s) || s == 0.0)
+  if (factor.info() != Eigen::Success || !std::isfinite(s) || s == 0.0)
   {
     w.setConstant(1.0 / static_cast<double>(k));
   }

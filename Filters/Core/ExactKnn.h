@@ -19,6 +19,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 
 namespace mcv
@@ -26,7 +27,7 @@ namespace mcv
 
 enum class KnnMethod
 {
-  Auto = 0,      // by dimension (chooseKnnMethod)
+  Auto = 0,      // by dimension and reference count (chooseKnnMethod)
   KdTree = 1,    // nanoflann
   BruteForce = 2 // TiledKnn
 };
@@ -42,9 +43,10 @@ constexpr int kMaxKnnCandidates = 64;
 // per block, and a block's candidate lists stay small.
 constexpr std::size_t kKnnQueryBlock = 256;
 
-// The backend Auto picks for a dimension: kd-tree below the crossover, brute force above
-// while k neighbours fit its candidate lists (beyond, every row would take a radius scan).
-KnnMethod chooseKnnMethod(int dimension, int k = 1);
+// The backend Auto picks for a dimension and a number of references: kd-tree below the
+// dimension crossover unless the references are few, brute force otherwise, while k
+// neighbours fit its candidate lists (beyond, every row would take a radius scan).
+KnnMethod chooseKnnMethod(int dimension, int k = 1, std::size_t references = std::numeric_limits<std::size_t>::max());
 
 // The canonical squared distance (see above).
 double canonicalSquaredDistance(const float* a, const float* b, int dimension);

@@ -122,42 +122,45 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
       " links). A larger NumberOfNeighbors avoids this.");
   }
 
-  // Local reconstruction weights, one small K x K system per point.
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> weights(static_cast<std::size_t>(n));
+  // Local reconstruction weights, one small K x K system per point; row i's neighbours
+  // (the K nearest, then any join links) and weights at rowStart[i] .. rowStart[i + 1].
+  std::vector<std::size_t> rowStart(static_cast<std::size_t>(n) + 1, 0);
+  for (Eigen::Index i = 0; i < n; ++i)
+  {
+    rowStart[i + 1] = rowStart[i] + K + extra[static_cast<std::size_t>(i)].size();
+  }
+  std::vector<std::uint32_t> neighbor(rowStart.back());
+  std::vector<double> weight(rowStart.back());
 #pragma omp parallel
   {
-    std::vector<std::uint32_t> nb;
     Eigen::MatrixXd Z, G;
     Eigen::VectorXd w;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < n; ++i)
     {
-      nb.assign(knn.neighbors.begin() + i * K, knn.neighbors.begin() + (i + 1) * K);
-      nb.insert(nb.end(), extra[static_cast<std::size_t>(i)].begin(), extra[static_cast<std::size_t>(i)].end());
-      const int k = static_cast<int>(nb.size());
+      std::uint32_t* nb = neighbor.data() + rowStart[i];
+      std::copy(knn.neighbors.begin() + i * K, knn.neighbors.begin() + (i + 1) * K, nb);
+      std::copy(extra[static_cast<std::size_t>(i)].begin(), extra[static_cast<std::size_t>(i)].end(), nb + K);
+      const int k = static_cast<int>(rowStart[i + 1] - rowStart[i]);
       Z.resize(k, D);
       for (int j = 0; j < k; ++j)
       {
-        Z.row(j) = (X.row(nb[static_cast<std::size_t>(j)]) - X.row(i)).cast<double>();
+        Z.row(j) = (X.row(nb[j]) - X.row(i)).cast<double>();
       }
       barycentricWeights(Z, options.regularization, G, w);
-      auto& out = weights[static_cast<std::size_t>(i)];
-      for (int j = 0; j < k; ++j)
-      {
-        out.emplace_back(nb[static_cast<std::size_t>(j)], w[j]);
-      }
+      std::copy(w.data(), w.data() + k, weight.begin() + static_cast<std::ptrdiff_t>(rowStart[i]));
     }
   }
 
   // A = I - W.
   std::vector<Eigen::Triplet<double, int>> trip;
-  trip.reserve(static_cast<std::size_t>(n) * (K + 1) + 2 * joins.size());
+  trip.reserve(static_cast<std::size_t>(n) + rowStart.back());
   for (Eigen::Index i = 0; i < n; ++i)
   {
     trip.emplace_back(static_cast<int>(i), static_cast<int>(i), 1.0);
-    for (const auto& [j, w] : weights[static_cast<std::size_t>(i)])
+    for (std::size_t e = rowStart[i]; e < rowStart[i + 1]; ++e)
     {
-      trip.emplace_back(static_cast<int>(i), static_cast<int>(j), -w);
+      trip.emplace_back(static_cast<int>(i), static_cast<int>(neighbor[e]), -weight[e]);
     }
   }
   LLESparse A(n, n);

@@ -81,6 +81,8 @@ TEST(KnnGraph, BothDimensionsTakeTheExpectedBackend)
   EXPECT_EQ(mcv::chooseKnnMethod(6), mcv::KnnMethod::KdTree);
   EXPECT_EQ(mcv::chooseKnnMethod(24), mcv::KnnMethod::BruteForce);
   EXPECT_EQ(mcv::chooseKnnMethod(24, mcv::kMaxKnnCandidates), mcv::KnnMethod::KdTree) << "k beyond the candidate lists";
+  EXPECT_EQ(mcv::chooseKnnMethod(6, 10, 500), mcv::KnnMethod::BruteForce) << "few references (LLE's landmarks)";
+  EXPECT_EQ(mcv::chooseKnnMethod(6, 10, 10000), mcv::KnnMethod::KdTree);
 }
 
 TEST(KnnGraph, ManyNeighboursInHighDimension)
