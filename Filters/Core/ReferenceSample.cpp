@@ -222,6 +222,7 @@ private:
   void fill(const std::vector<std::size_t>& want);
   void collect(const std::vector<std::size_t>& which);
   std::vector<Entry> distinctInKeyOrder(std::vector<Entry> found) const;
+  ReferenceSample everyDistinctVector() const;
   std::vector<char> propose(const std::vector<std::size_t>& want) const;
   bool decide(const std::vector<char>& all, std::vector<bool>& more, ReferenceSample& out) const;
 
@@ -415,6 +416,24 @@ std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found) const
   return reps;
 }
 
+// Every distinct vector, each by its lowest-keyed voxel (as the stratified draw takes it when
+// it is asked for more than there are), in index order. On one process only.
+ReferenceSample Sampler::everyDistinctVector() const
+{
+  std::vector<Entry> reps = distinctInKeyOrder(collectOwned<Entry>(rows_,
+    [&](std::size_t row, std::int64_t g, std::vector<Entry>& out) { out.push_back({ sampleKey(options_.seed, g), g, row }); }));
+  std::sort(reps.begin(), reps.end(), [](const Entry& a, const Entry& b) { return a.global < b.global; });
+  ReferenceSample out;
+  out.indices.resize(reps.size());
+  out.vectors.resize(reps.size() * D_);
+  for (std::size_t i = 0; i < reps.size(); ++i)
+  {
+    out.indices[i] = reps[i].global;
+    copyVector(reps[i].row, out.vectors.data() + i * D_);
+  }
+  return out;
+}
+
 // This process's candidates: per list its first `want` distinct vectors, and a bound: every
 // vector of the list it did not propose has a larger key (kAllKeys: none is left). Bytes:
 // the bounds (one per list), the candidate count, the candidates (header, then features).
@@ -575,6 +594,13 @@ ReferenceSample Sampler::draw()
   }
   if (total[0] < 1)
   {
+    return out;
+  }
+
+  if (!comm_ && static_cast<double>(options_.size) >= total[0])
+  {
+    // One process asked for every voxel: the strata would only order the same set.
+    out.error = runShared(comm_, [&] { out = everyDistinctVector(); });
     return out;
   }
 

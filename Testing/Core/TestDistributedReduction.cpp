@@ -326,7 +326,8 @@ TEST(DistributedReduction, PlainRowsFollowOneAnotherInRankOrder)
 TEST(DistributedReduction, SampleIsTheSameForAnySplit)
 {
   // Small samples (the merge must ask for more candidates where duplicates crowd the lowest
-  // keys), the usual size, and one above the number of voxels (every distinct vector).
+  // keys), the usual size, and all voxels or more (every distinct vector: one process takes
+  // a shortcut there, the split ones the stratified draw).
   const Volume v = syntheticVolume();
   std::set<std::vector<float>> distinct;
   for (std::size_t i = 0; i < v.voxels(); ++i)
@@ -335,7 +336,7 @@ TEST(DistributedReduction, SampleIsTheSameForAnySplit)
   }
   ASSERT_LT(distinct.size(), v.voxels() * 9 / 10) << "the volume should share feature vectors";
   const std::vector<double> center(kFeatures, 0.3);
-  for (std::size_t size : { std::size_t(20), std::size_t(300), std::size_t(3000), v.voxels() + 1 })
+  for (std::size_t size : { std::size_t(20), std::size_t(300), std::size_t(3000), v.voxels(), v.voxels() + 1 })
   {
     mcv::ReferenceSampleOptions so;
     so.size = size;
