@@ -4,6 +4,8 @@
 #include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsSolver.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <stdexcept>
 #include <vector>
@@ -31,20 +33,30 @@ struct SparseRows
     return { static_cast<Eigen::Index>(start.size()) - 1, cols, static_cast<Eigen::Index>(value.size()), start.data(),
       column.data(), value.data() };
   }
+  void append(const SparseRows& more)
+  {
+    const int offset = start.back();
+    for (std::size_t i = 1; i < more.start.size(); ++i)
+    {
+      start.push_back(offset + more.start[i]);
+    }
+    column.insert(column.end(), more.column.begin(), more.column.end());
+    value.insert(value.end(), more.value.begin(), more.value.end());
+  }
 };
 
-SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
+// Rows [first, last) of A Z, A given by rows.
+SparseRows multiplyRows(const Eigen::SparseMatrix<double, Eigen::RowMajor, int>& A, const LandmarkWeights& Z,
+  Eigen::Index first, Eigen::Index last)
 {
-  const Eigen::SparseMatrix<double, Eigen::RowMajor, int> rowsOfA = A;
   SparseRows out;
-  out.start.reserve(static_cast<std::size_t>(Z.rows()) + 1);
   Eigen::VectorXd row = Eigen::VectorXd::Zero(Z.cols()); // one row, scattered
   std::vector<char> used(static_cast<std::size_t>(Z.cols()), 0);
   std::vector<int> columns;
-  for (Eigen::Index i = 0; i < Z.rows(); ++i)
+  for (Eigen::Index i = first; i < last; ++i)
   {
     columns.clear();
-    for (decltype(rowsOfA)::InnerIterator a(rowsOfA, i); a; ++a)
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator a(A, i); a; ++a)
     {
       for (LandmarkWeights::InnerIterator z(Z, a.col()); z; ++z)
       {
@@ -69,21 +81,61 @@ SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
   return out;
 }
 
-// S += s R^T R on the lower triangle, R sparse row-major: the pairs of one row are few, so
-// this costs sum over rows of nnz^2 / 2 (a sparse-times-sparse product, with its symbolic
-// pass and sparse L x L result, is the slow way to the same dense matrix).
-template <typename Rows>
-void addGram(const Rows& R, double s, Eigen::MatrixXd& S)
+// A Z, a block of rows per thread (each row's sum in the same order for any thread count).
+SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
 {
-  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
+  const Eigen::SparseMatrix<double, Eigen::RowMajor, int> rowsOfA = A;
+  std::vector<SparseRows> blocks;
+#pragma omp parallel
   {
-    for (typename Rows::InnerIterator q(R, i); q; ++q) // columns sorted: p >= q follow q
+#pragma omp single
+    blocks.resize(static_cast<std::size_t>(omp_get_num_threads()));
+    const Eigen::Index t = omp_get_thread_num();
+    const Eigen::Index T = static_cast<Eigen::Index>(blocks.size());
+    blocks[static_cast<std::size_t>(t)] = multiplyRows(rowsOfA, Z, Z.rows() * t / T, Z.rows() * (t + 1) / T);
+  }
+  SparseRows out = std::move(blocks.front());
+  for (std::size_t b = 1; b < blocks.size(); ++b)
+  {
+    out.append(blocks[b]);
+  }
+  return out;
+}
+
+// The lower triangle of s1 R1^T R1 + s2 R2^T R2, R sparse row-major, into S (L x L, not
+// initialised). The pairs of one row are few, so this costs sum over rows of nnz^2 / 2 (a
+// sparse-times-sparse product, with its symbolic pass and sparse L x L result, is the slow
+// way to the same dense matrix). Threads own interleaved columns: each entry sums its rows
+// in the same order for any thread count, and each thread first touches (page faults) its
+// own columns.
+template <typename Rows>
+void lowerGram(const Rows& R1, double s1, const Rows& R2, double s2, Eigen::MatrixXd& S)
+{
+#pragma omp parallel
+  {
+    const Eigen::Index t = omp_get_thread_num();
+    const Eigen::Index T = omp_get_num_threads();
+    for (Eigen::Index q = t; q < S.cols(); q += T)
     {
-      const double vq = s * q.value();
-      double* column = S.col(q.col()).data();
-      for (typename Rows::InnerIterator p = q; p; ++p)
+      S.col(q).setZero();
+    }
+    for (const auto& [R, s] : { std::pair<const Rows&, double>(R1, s1), std::pair<const Rows&, double>(R2, s2) })
+    {
+      for (Eigen::Index i = 0; i < R.outerSize(); ++i)
       {
-        column[p.col()] += p.value() * vq;
+        for (typename Rows::InnerIterator q(R, i); q; ++q) // columns sorted: p >= q follow q
+        {
+          if (q.col() % T != t)
+          {
+            continue;
+          }
+          const double vq = s * q.value();
+          double* column = S.col(q.col()).data();
+          for (typename Rows::InnerIterator p = q; p; ++p)
+          {
+            column[p.col()] += p.value() * vq;
+          }
+        }
       }
     }
   }
@@ -161,9 +213,8 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
   const Eigen::Map<const LandmarkWeights> Zmap(n, L, Z.nonZeros(), Z.outerIndexPtr(), Z.innerIndexPtr(), Z.valuePtr());
   const double scale = std::max(1e-300, columnSquares(AZ).maxCoeff() / columnSquares(Zmap).maxCoeff());
   const double sigma = -kShiftInvertSigma * scale;
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(L, L);
-  addGram(AZ, 1.0, S);
-  addGram(Zmap, -sigma, S);
+  Eigen::MatrixXd S(L, L);
+  lowerGram(AZ, 1.0, Zmap, -sigma, S);
   const DeflatedShiftInvert::Factor factor(S); // S becomes F (lower triangle)
   if (factor.info() != Eigen::Success)
   {
