@@ -14,9 +14,10 @@
 // (trustworthiness 0.70-0.77 on the brain's 6-D features). Restricted to span(Z) the
 // problem is small and well posed: 0.92-0.96 there, 0.80-0.84 at 24D (compare_sklearn.py).
 //
-// The pencil is solved by Spectra's generalized shift-invert Lanczos ((C - sigma B)^{-1} B,
-// B-inner products, one dense Cholesky of C - sigma B) with the constant projected out,
-// then Rayleigh-Ritz with the exact (C, B) on the Lanczos vectors.
+// The pencil is solved by shift-invert: one dense Cholesky C - sigma B = F F^T (summed row by
+// row from the sparse A Z and Z, factored in place), then Spectra's symmetric Lanczos on
+// F^{-1} B F^{-T} with the constant deflated, then Rayleigh-Ritz with the exact (C, B) on the
+// Lanczos vectors (LLELandmarks.cpp says why each step takes that form).
 #pragma once
 
 #include "LLEEigen.h"

@@ -16,28 +16,31 @@ sklearn.manifold.trustworthiness for both, on the same subset of the N points.
   /usr/bin/python3 Testing/Benchmarks/compare_sklearn.py --cli build-dr/Testing/Benchmarks/mcvReduceCLI
   ... --whole-volume      # also: Isomap fit on 10000 + out-of-sample to every voxel (CPU)
 
-Last run (commit 963fefd, 2-core dev machine, defaults: K = 10, L = 500, seed 0; runs under
-2 s are repeated, fastest of up to 5, on both sides; our LLE is locally linear landmarks,
-see Filters/Core/LLELandmarks.h; exact LLE is NumberOfLandmarks >= N; the kNN graph is a
-kd-tree at 6D and the tiled brute force at 24D, Filters/Core/FeatureKnn.h):
+Last run (commit e008ec8, 2-core dev machine, defaults: K = 10, L = 500, seed 0; runs under
+2 s are repeated, fastest of up to 5, on both sides, each side in one warm process: ours
+through mcvReduceCLI --repeat, scikit-learn's in this one; our LLE is locally linear
+landmarks, see Filters/Core/LLELandmarks.h; exact LLE is NumberOfLandmarks >= N; the kNN
+graph is a kd-tree at 6D and the tiled brute force at 24D, Filters/Core/FeatureKnn.h). This
+machine ran slower than on earlier days (scikit-learn's Isomap at N = 10000: 71-79 s, was
+43-48 s at 963fefd), the ratios are what compare:
    set  method      N |   ours s sklearn s speed-up |  T ours T sklearn      dT
   -----------------------------------------------------------------------------
-    6D  isomap   2000 |    0.069     1.201    17.5x |  0.9896    0.9912 -0.0016
-    6D     lle   2000 |    0.022     0.072     3.3x |  0.9454    0.7017 +0.2436
-    6D  isomap   5000 |    0.154    10.040    65.0x |  0.9720    0.9718 +0.0001
-    6D     lle   5000 |    0.033     0.221     6.7x |  0.9343    0.7739 +0.1604
-    6D  isomap  10000 |    0.307    43.382   141.2x |  0.9825    0.9799 +0.0027
-    6D     lle  10000 |    0.060     0.577     9.5x |  0.9365    0.7549 +0.1816
-   24D  isomap   2000 |    0.075     1.461    19.4x |  0.8740    0.8707 +0.0033
-   24D     lle   2000 |    0.028     0.212     7.5x |  0.8344    0.7366 +0.0978
-   24D  isomap   5000 |    0.169    10.973    64.8x |  0.8528    0.8596 -0.0069
-   24D     lle   5000 |    0.053     1.688    32.1x |  0.8022    0.6492 +0.1530
-   24D  isomap  10000 |    0.383    48.134   125.7x |  0.8476    0.8567 -0.0090
-   24D     lle  10000 |    0.116     8.346    72.1x |  0.8234    0.6867 +0.1367
-6D LLE at N = 10000 sits at the aim: 9.5x here, 10.2x at 9adaa6f, 10.4x at 9dcbcab (ours
-56-62 ms against scikit-learn's 0.58-0.63 s).
-(Before 34cc60e the 24D graph came from the kd-tree: LLE 5.7x / 15.3x / 25.8x, Isomap
-24D 10000 81.8x.)
+    6D  isomap   2000 |    0.123     2.095    17.0x |  0.9896    0.9912 -0.0016
+    6D     lle   2000 |    0.021     0.120     5.7x |  0.9454    0.7017 +0.2436
+    6D  isomap   5000 |    0.276    14.998    54.4x |  0.9720    0.9718 +0.0001
+    6D     lle   5000 |    0.044     0.387     8.9x |  0.9343    0.7739 +0.1604
+    6D  isomap  10000 |    0.570    70.737   124.0x |  0.9825    0.9799 +0.0027
+    6D     lle  10000 |    0.091     1.109    12.1x |  0.9365    0.7549 +0.1816
+   24D  isomap   2000 |    0.145     3.222    22.1x |  0.8740    0.8707 +0.0033
+   24D     lle   2000 |    0.027     0.410    15.0x |  0.8344    0.7366 +0.0978
+   24D  isomap   5000 |    0.342    18.783    54.9x |  0.8528    0.8596 -0.0069
+   24D     lle   5000 |    0.067     3.510    52.3x |  0.8022    0.6492 +0.1530
+   24D  isomap  10000 |    0.570    79.376   139.4x |  0.8476    0.8567 -0.0090
+   24D     lle  10000 |    0.177    19.954   112.5x |  0.8234    0.6867 +0.1367
+(At 963fefd, before the landmark pencil was formed row by row and solved as a standard
+problem: LLE 3.3x / 6.7x / 9.5x at 6D and 7.5x / 32.1x / 72.1x at 24D; the same
+trustworthiness to 4 decimals. Before 34cc60e the 24D graph came from the kd-tree: LLE
+5.7x / 15.3x / 25.8x, Isomap 24D 10000 81.8x.)
 Isomap: the landmark draw moves our trustworthiness around exact Isomap's: with --seed 1
 and 2 the dT were -0.0005 +0.0007 -0.0068 -0.0104 -0.0010 +0.0017 and -0.0041 -0.0039
 +0.0020 -0.0077 -0.0061 +0.0004 (rows in the order above; commit b16f796), 17 of 18
@@ -48,13 +51,14 @@ with --seed 2 0.9458 0.9086 0.9466 0.7903 0.8252 0.7548, every one above scikit-
 (dT +0.025 .. +0.24). Exact LLE (ours or scikit-learn's) scores 0.65-0.77 here because the
 K = 10 graphs have closed sets of neighbours: M's near-null space is larger than d + 1 and
 the answer is an arbitrary basis of it; restricted to the landmarks' span the problem is
-well posed. Speed: 32-72x at 24D N >= 5000, 9.5-10.4x at 6D N = 10000; 3.3-7.5x at N <= 5000 (6D)
-and 24D N = 2000, where scikit-learn's sparse LU is cheap (70-225 ms) and our fixed
-costs dominate: the L = 500 pencil alone is ~11 ms on one core (forming it 3.4 ms, one
-dense Cholesky 3.1 ms, 21 shift-invert products 4 ms, Rayleigh-Ritz 0.8 ms). Fewer
-landmarks would close the gap on the brain (trustworthiness flat from L = 64 to 500) but
-not on a clean manifold (S-curve, n = 1500: 0.915 at L = 93, >= 0.95 from L = 300), so
-L is left to the user. The exact path (a sparse LU of I - W) stays 4-6x.
+well posed. Speed: 12-112x from 6D N = 10000 and 24D N = 2000 up; 5.7x at 6D N = 2000 and
+8.9x at 6D N = 5000, where scikit-learn's sparse LU is cheap (0.12 / 0.39 s) and our fixed
+costs dominate: at 6D N = 2000 (2 cores) the L = 500 pencil takes ~9 ms of ~21 (one
+500 x 500 Cholesky ~4.5 ms of it, serial), the kNN graph ~3 ms, the landmark weights ~3 ms,
+the LLE weights ~2 ms. Fewer landmarks would close the gap on the brain (trustworthiness
+flat from L = 64 to 500) but not on a clean manifold (S-curve, n = 1500: 0.915 at L = 93,
+>= 0.95 from L = 300), so L is left to the user. The exact path (a sparse LU of I - W)
+stays 4-6x.
 """
 import argparse
 import gzip
