@@ -74,6 +74,7 @@ bool placeOnGpu(const RowMatrixF& refX, const RowMatrixF& refY, const float* row
   if (options.progress)
   {
     progress = [&](double f) { options.progress("Out-of-sample placement (GPU)", f); };
+    progress(0.0); // the stage starts now, not when its first chunk is done
   }
   cuda::PlacementStats stats;
   if (!cuda::placeOutOfSample(in, out, neighbors, progress, &stats, error))
@@ -123,7 +124,11 @@ OutOfSampleReport placeOutOfSample(const RowMatrixF& refX, const RowMatrixF& ref
   std::size_t scans = 0;
 
   // Chunks so progress can be reported between them from the calling thread: at least
-  // every 2% of the rows.
+  // every 2% of the rows (and at the start, so the stage is named while its first chunk runs).
+  if (options.progress)
+  {
+    options.progress("Out-of-sample placement", 0.0);
+  }
   const std::size_t chunk = std::max<std::size_t>(1 << 16, n / 50);
   for (std::size_t begin = 0; begin < n; begin += chunk)
   {
