@@ -7,6 +7,7 @@
 
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -512,6 +513,35 @@ TEST(DimensionReduction, TrustworthinessMatchesTheDefinition)
       const double expected = trustworthinessBySorting(X, 5, Y, 2, n, k);
       EXPECT_NEAR(mcv::trustworthiness(X.data(), 5, Y.data(), 2, n, k), expected, 1e-12) << "k " << k;
     }
+  }
+}
+
+TEST(DimensionReduction, SameCoordinatesForAnyThreadCount)
+{
+  // Every parallel step sums in an order that does not depend on the threads (per row, or
+  // per entry as in the landmark pencil's Gram), so the threads change nothing, bit for bit.
+  const Manifold m = sCurve(1200, 5);
+  const int threads = omp_get_max_threads();
+  for (const auto method : { mcv::ReductionMethod::LLE, mcv::ReductionMethod::Isomap })
+  {
+    SCOPED_TRACE(method == mcv::ReductionMethod::LLE ? "LLE" : "Isomap");
+    mcv::ReductionOptions o = cpu(method, 2);
+    o.numberOfNeighbors = 12;
+    o.numberOfLandmarks = 150;
+    o.referenceSampleSize = 900; // the other rows are placed out of sample
+    std::vector<std::vector<float>> coordinates;
+    std::vector<std::vector<double>> eigenvalues;
+    for (int t : { 1, 3 })
+    {
+      omp_set_num_threads(t);
+      const auto r = mcv::reduceDimension(m.matrix(), o);
+      ASSERT_TRUE(r.ok()) << r.error;
+      coordinates.push_back(r.coordinates);
+      eigenvalues.push_back(r.eigenvalues);
+    }
+    omp_set_num_threads(threads);
+    EXPECT_EQ(coordinates[0], coordinates[1]);
+    EXPECT_EQ(eigenvalues[0], eigenvalues[1]);
   }
 }
 
