@@ -712,7 +712,12 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
 
   // --- Every row of this process (local) -----------------------------------------------------
   const auto placeStart = Clock::now();
-  result.coordinates.resize(features.rows * static_cast<std::size_t>(d));
+  float* coordinates = options.coordinatesOutput;
+  if (!coordinates)
+  {
+    result.coordinates.resize(features.rows * static_cast<std::size_t>(d));
+    coordinates = result.coordinates.data();
+  }
   if (options.method == ReductionMethod::PCA)
   {
     report("PCA projection", 0.6);
@@ -720,13 +725,13 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     {
       result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
     }
-    projectPCA(fit.pca, features.data, features.rows, features.cols, gatherColumns, result.coordinates.data());
+    projectPCA(fit.pca, features.data, features.rows, features.cols, gatherColumns, coordinates);
   }
   else if (!isDistributed(comm) && !hasGrid(options) && M == features.rows)
   {
     // Every row is a reference point (M distinct indices of [0, rows) in order): its
     // embedding is the fit's, which the placement would return after a kNN search per row.
-    std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), result.coordinates.begin());
+    std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates);
   }
   else if (features.rows > 0)
   {
@@ -734,7 +739,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     oo.device = device;
     oo.progress = within(0.6, 0.95);
     const OutOfSampleReport placed = placeOutOfSample(refX, fit.coordinates, features.data, features.rows,
-      features.cols, gatherColumns, result.coordinates.data(), oo);
+      features.cols, gatherColumns, coordinates, oo);
     result.deviceUsed = placed.deviceUsed;
     result.warnings.insert(result.warnings.end(), placed.warnings.begin(), placed.warnings.end());
   }

@@ -374,6 +374,18 @@ int vtkDimensionReduction::RequestData(
     vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
     return 0;
   }
+  // The output array, written by the core in place (no second coordinates buffer).
+  vtkNew<vtkFloatArray> reduced;
+  reduced->SetName("ReducedCoordinates");
+  reduced->SetNumberOfComponents(this->OutputDimension);
+  for (int c = 0; c < this->OutputDimension; ++c)
+  {
+    const std::string name = "dim" + std::to_string(c + 1);
+    reduced->SetComponentName(c, name.c_str());
+  }
+  reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  options.coordinatesOutput = reduced->GetPointer(0);
+
   this->UpdateProgress(0.0);
   const mcv::ReductionResult result = mcv::reduceDimension(matrix, options);
   this->SetProgressText(nullptr);
@@ -386,27 +398,14 @@ int vtkDimensionReduction::RequestData(
     vtkErrorMacro(<< methodName(this->Method) << " on '" << requested << "': " << result.error);
     return 0;
   }
-  const int dim = result.outputDimension;
-  if (dim != this->OutputDimension ||
-    result.coordinates.size() != count * static_cast<std::size_t>(dim))
+  if (result.outputDimension != this->OutputDimension)
   {
-    vtkErrorMacro("The reduction returned " << result.coordinates.size() << " values for "
-                                            << count << " voxels x " << this->OutputDimension
-                                            << " dimensions.");
+    vtkErrorMacro("The reduction returned " << result.outputDimension << " dimensions, not "
+                                            << this->OutputDimension << ".");
     return 0;
   }
 
-  // ---- Output port 0: the input plus ReducedCoordinates --------------------------------
-  vtkNew<vtkFloatArray> reduced;
-  reduced->SetName("ReducedCoordinates");
-  reduced->SetNumberOfComponents(dim);
-  for (int c = 0; c < dim; ++c)
-  {
-    const std::string name = "dim" + std::to_string(c + 1);
-    reduced->SetComponentName(c, name.c_str());
-  }
-  reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  std::copy(result.coordinates.begin(), result.coordinates.end(), reduced->GetPointer(0));
+  // ---- Output port 0: the input plus ReducedCoordinates (filled above) -----------------
 
   this->Internals->DeviceUsed = mcv::deviceName(result.deviceUsed);
   this->VarianceRetained = result.varianceRetained;

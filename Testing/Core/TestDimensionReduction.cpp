@@ -545,6 +545,30 @@ TEST(DimensionReduction, SameCoordinatesForAnyThreadCount)
   }
 }
 
+TEST(DimensionReduction, CallerBufferReceivesTheCoordinates)
+{
+  // PCA's projection, the out-of-sample placement (500 of 800 rows fitted) and the fit's own
+  // coordinates (all rows fitted) each write into it.
+  const Manifold m = swissRoll(800, 3);
+  for (const auto& [method, fitted] : { std::pair(mcv::ReductionMethod::PCA, std::size_t(500)),
+         std::pair(mcv::ReductionMethod::Isomap, std::size_t(500)), std::pair(mcv::ReductionMethod::Isomap, m.n) })
+  {
+    SCOPED_TRACE(std::to_string(static_cast<int>(method)) + ", fitted on " + std::to_string(fitted));
+    mcv::ReductionOptions o = cpu(method, 3);
+    o.numberOfNeighbors = 10;
+    o.numberOfLandmarks = 60;
+    o.referenceSampleSize = fitted;
+    const auto inVector = mcv::reduceDimension(m.matrix(), o);
+    ASSERT_TRUE(inVector.ok()) << inVector.error;
+    std::vector<float> buffer(m.n * 3, std::numeric_limits<float>::quiet_NaN());
+    o.coordinatesOutput = buffer.data();
+    const auto inBuffer = mcv::reduceDimension(m.matrix(), o);
+    ASSERT_TRUE(inBuffer.ok()) << inBuffer.error;
+    EXPECT_TRUE(inBuffer.coordinates.empty());
+    EXPECT_EQ(buffer, inVector.coordinates);
+  }
+}
+
 TEST(DimensionReduction, ProgressCoversEveryStage)
 {
   const Manifold m = swissRoll(500, 2);
