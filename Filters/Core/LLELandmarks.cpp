@@ -102,14 +102,36 @@ SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
   return out;
 }
 
-// The lower triangle of s1 R1^T R1 + s2 R2^T R2, R sparse row-major, into S (L x L, not
-// initialised). The pairs of one row are few, so this costs sum over rows of nnz^2 / 2 (a
-// sparse-times-sparse product, with its symbolic pass and sparse L x L result, is the slow
-// way to the same dense matrix). Threads own interleaved columns: each entry sums its rows
-// in the same order for any thread count, and each thread first touches (page faults) its
-// own columns.
+// Adds s R^T R to the lower triangle of S, in the columns q with q % T == t (R sparse
+// row-major, columns sorted in each row). The pairs of one row are few, so this costs sum
+// over rows of nnz^2 / 2 (a sparse-times-sparse product, with its symbolic pass and sparse
+// L x L result, is the slow way to the same dense matrix).
 template <typename Rows>
-void lowerGram(const Rows& R1, double s1, const Rows& R2, double s2, Eigen::MatrixXd& S)
+void addLowerGram(const Rows& R, double s, Eigen::Index t, Eigen::Index T, Eigen::MatrixXd& S)
+{
+  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
+  {
+    for (typename Rows::InnerIterator q(R, i); q; ++q) // p >= q follow q
+    {
+      if (q.col() % T != t)
+      {
+        continue;
+      }
+      const double vq = s * q.value();
+      double* column = S.col(q.col()).data();
+      for (typename Rows::InnerIterator p = q; p; ++p)
+      {
+        column[p.col()] += p.value() * vq;
+      }
+    }
+  }
+}
+
+// S (L x L, not initialised) = the lower triangle of s1 R1^T R1 + s2 R2^T R2. Threads own
+// interleaved columns: each entry sums its rows in the same order for any thread count,
+// and each thread first touches (page faults) its own columns.
+template <typename Rows1, typename Rows2>
+void lowerGram(const Rows1& R1, double s1, const Rows2& R2, double s2, Eigen::MatrixXd& S)
 {
 #pragma omp parallel
   {
@@ -119,39 +141,9 @@ void lowerGram(const Rows& R1, double s1, const Rows& R2, double s2, Eigen::Matr
     {
       S.col(q).setZero();
     }
-    for (const auto& [R, s] : { std::pair<const Rows&, double>(R1, s1), std::pair<const Rows&, double>(R2, s2) })
-    {
-      for (Eigen::Index i = 0; i < R.outerSize(); ++i)
-      {
-        for (typename Rows::InnerIterator q(R, i); q; ++q) // columns sorted: p >= q follow q
-        {
-          if (q.col() % T != t)
-          {
-            continue;
-          }
-          const double vq = s * q.value();
-          double* column = S.col(q.col()).data();
-          for (typename Rows::InnerIterator p = q; p; ++p)
-          {
-            column[p.col()] += p.value() * vq;
-          }
-        }
-      }
-    }
+    addLowerGram(R1, s1, t, T, S);
+    addLowerGram(R2, s2, t, T, S);
   }
-}
-
-Eigen::VectorXd columnSquares(const Eigen::Map<const LandmarkWeights>& R)
-{
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(R.cols());
-  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
-  {
-    for (Eigen::Map<const LandmarkWeights>::InnerIterator p(R, i); p; ++p)
-    {
-      d[p.col()] += p.value() * p.value();
-    }
-  }
-  return d;
 }
 
 // Shift-invert as a standard symmetric problem. With C - sigma B = F F^T (Cholesky) and
@@ -210,11 +202,13 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
   // place): one L x L matrix, as fresh memory costs page faults as well as the time to fill it.
   const SparseRows AZrows = multiply(A, Z);
   const Eigen::Map<const LandmarkWeights> AZ = AZrows.matrix(L);
-  const Eigen::Map<const LandmarkWeights> Zmap(n, L, Z.nonZeros(), Z.outerIndexPtr(), Z.innerIndexPtr(), Z.valuePtr());
-  const double scale = std::max(1e-300, columnSquares(AZ).maxCoeff() / columnSquares(Zmap).maxCoeff());
+  // max diag C / max diag B: the column sums of squares of A Z and Z.
+  const Eigen::RowVectorXd ones = Eigen::RowVectorXd::Ones(n);
+  const double scale =
+    std::max(1e-300, (ones * AZ.cwiseAbs2()).maxCoeff() / (ones * Z.cwiseAbs2()).maxCoeff());
   const double sigma = -kShiftInvertSigma * scale;
   Eigen::MatrixXd S(L, L);
-  lowerGram(AZ, 1.0, Zmap, -sigma, S);
+  lowerGram(AZ, 1.0, Z, -sigma, S);
   const DeflatedShiftInvert::Factor factor(S); // S becomes F (lower triangle)
   if (factor.info() != Eigen::Success)
   {
