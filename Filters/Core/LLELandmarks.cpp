@@ -1,6 +1,7 @@
 #include "LLELandmarks.h"
 
-#include <Eigen/Cholesky>
+#include "DenseCholesky.h"
+
 #include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsSolver.h>
 
@@ -157,11 +158,11 @@ class DeflatedShiftInvert
 {
 public:
   using Scalar = double;
-  using Factor = Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>;
-  DeflatedShiftInvert(const Factor& factor, const LandmarkWeights& Z)
-    : factor_(factor)
+  // F: the Cholesky factor in the lower triangle (DenseCholesky.h).
+  DeflatedShiftInvert(const Eigen::MatrixXd& F, const LandmarkWeights& Z)
+    : F_(F.triangularView<Eigen::Lower>())
     , Z_(Z)
-    , constant_((factor.matrixU() * Eigen::VectorXd::Ones(Z.cols())).normalized())
+    , constant_((F_.transpose() * Eigen::VectorXd::Ones(Z.cols())).normalized())
     , work_(Z.cols())
     , points_(Z.rows())
   {
@@ -173,15 +174,15 @@ public:
     Eigen::Map<const Eigen::VectorXd> in(x, rows());
     Eigen::Map<Eigen::VectorXd> out(y, rows());
     work_ = in - constant_ * constant_.dot(in);
-    factor_.matrixU().solveInPlace(work_); // F^{-T}
+    F_.transpose().solveInPlace(work_); // F^{-T}
     points_.noalias() = Z_ * work_;
     out.noalias() = Z_.transpose() * points_;
-    factor_.matrixL().solveInPlace(out); // F^{-1}
+    F_.solveInPlace(out); // F^{-1}
     out -= constant_ * constant_.dot(out);
   }
 
 private:
-  const Factor& factor_;
+  const Eigen::TriangularView<const Eigen::MatrixXd, Eigen::Lower> F_;
   const LandmarkWeights& Z_;
   const Eigen::VectorXd constant_;
   mutable Eigen::VectorXd work_, points_;
@@ -209,8 +210,7 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
   const double sigma = -kShiftInvertSigma * scale;
   Eigen::MatrixXd S(L, L);
   lowerGram(AZ, 1.0, Z, -sigma, S);
-  const DeflatedShiftInvert::Factor factor(S); // S becomes F (lower triangle)
-  if (factor.info() != Eigen::Success)
+  if (!choleskyInPlace(S)) // S becomes F (lower triangle)
   {
     r.error = "the Cholesky factorisation of C - sigma B failed";
     return r;
@@ -220,7 +220,7 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
   Eigen::MatrixXd V;
   try
   {
-    DeflatedShiftInvert op(factor, Z);
+    DeflatedShiftInvert op(S, Z);
     Spectra::SymEigsSolver<DeflatedShiftInvert> eigs(op, nev, ncv);
     eigs.init();
     eigs.compute(Spectra::SortRule::LargestAlge, 300, 1e-10);
@@ -229,7 +229,7 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights
       r.error = "shift-invert Lanczos on the landmark pencil did not converge";
       return r;
     }
-    V = factor.matrixU().solve(eigs.eigenvectors()); // x = F^{-T} u
+    V = S.triangularView<Eigen::Lower>().transpose().solve(eigs.eigenvectors()); // x = F^{-T} u
   }
   catch (const std::exception& ex) // an inner eigensolve
   {
