@@ -46,8 +46,8 @@ struct SparseRows
   }
 };
 
-// Rows [first, last) of A Z, A given by rows.
-SparseRows multiplyRows(const Eigen::SparseMatrix<double, Eigen::RowMajor, int>& A, const LandmarkWeights& Z,
+// Rows [first, last) of A Z.
+SparseRows multiplyRows(const LLESparseRows& A, const LandmarkWeights& Z,
   Eigen::Index first, Eigen::Index last)
 {
   SparseRows out;
@@ -57,7 +57,7 @@ SparseRows multiplyRows(const Eigen::SparseMatrix<double, Eigen::RowMajor, int>&
   for (Eigen::Index i = first; i < last; ++i)
   {
     columns.clear();
-    for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator a(A, i); a; ++a)
+    for (LLESparseRows::InnerIterator a(A, i); a; ++a)
     {
       for (LandmarkWeights::InnerIterator z(Z, a.col()); z; ++z)
       {
@@ -83,9 +83,8 @@ SparseRows multiplyRows(const Eigen::SparseMatrix<double, Eigen::RowMajor, int>&
 }
 
 // A Z, a block of rows per thread (each row's sum in the same order for any thread count).
-SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
+SparseRows multiply(const LLESparseRows& A, const LandmarkWeights& Z)
 {
-  const Eigen::SparseMatrix<double, Eigen::RowMajor, int> rowsOfA = A;
   std::vector<SparseRows> blocks;
 #pragma omp parallel
   {
@@ -93,7 +92,7 @@ SparseRows multiply(const LLESparse& A, const LandmarkWeights& Z)
     blocks.resize(static_cast<std::size_t>(omp_get_num_threads()));
     const Eigen::Index t = omp_get_thread_num();
     const Eigen::Index T = static_cast<Eigen::Index>(blocks.size());
-    blocks[static_cast<std::size_t>(t)] = multiplyRows(rowsOfA, Z, Z.rows() * t / T, Z.rows() * (t + 1) / T);
+    blocks[static_cast<std::size_t>(t)] = multiplyRows(A, Z, Z.rows() * t / T, Z.rows() * (t + 1) / T);
   }
   SparseRows out = std::move(blocks.front());
   for (std::size_t b = 1; b < blocks.size(); ++b)
@@ -189,7 +188,7 @@ private:
 };
 } // namespace
 
-LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights& Z, int d)
+LLEBottomEigen lleLandmarkEigenvectors(const LLESparseRows& A, const LandmarkWeights& Z, int d)
 {
   LLEBottomEigen r;
   const Eigen::Index n = Z.rows();

@@ -28,11 +28,12 @@
 namespace mcv
 {
 
-using LandmarkWeights = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using LLESparseRows = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+using LandmarkWeights = LLESparseRows;
 
 // A: n x n, I - W. Z: n x L barycentric weights (rows sum to 1), every landmark used by at
 // least one row (each reconstructs itself). d >= 1, L >= d + 2. The result's vectors are
 // n x d: Y = Z U with Y^T Y = I and 1^T Y = 0; values are the pencil's eigenvalues.
-LLEBottomEigen lleLandmarkEigenvectors(const LLESparse& A, const LandmarkWeights& Z, int d);
+LLEBottomEigen lleLandmarkEigenvectors(const LLESparseRows& A, const LandmarkWeights& Z, int d);
 
 } // namespace mcv
