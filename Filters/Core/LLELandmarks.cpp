@@ -102,47 +102,76 @@ SparseRows multiply(const LLESparseRows& A, const LandmarkWeights& Z)
   return out;
 }
 
-// Adds s R^T R to the lower triangle of S, in the columns q with q % T == t (R sparse
-// row-major, columns sorted in each row). The pairs of one row are few, so this costs sum
-// over rows of nnz^2 / 2 (a sparse-times-sparse product, with its symbolic pass and sparse
-// L x L result, is the slow way to the same dense matrix).
-template <typename Rows>
-void addLowerGram(const Rows& R, double s, Eigen::Index t, Eigen::Index T, Eigen::MatrixXd& S)
+// The entries of a sparse row-major R grouped by column: for column q, at start[q] ..
+// start[q + 1], the positions e of its entries in R's arrays (rows ascending) and the end of
+// each one's row.
+struct EntriesByColumn
 {
-  for (Eigen::Index i = 0; i < R.outerSize(); ++i)
+  std::vector<int> start, entry, rowEnd;
+  template <typename Rows>
+  explicit EntriesByColumn(const Rows& R)
+    : start(static_cast<std::size_t>(R.cols()) + 1, 0)
+    , entry(static_cast<std::size_t>(R.nonZeros()))
+    , rowEnd(entry.size())
   {
-    for (typename Rows::InnerIterator q(R, i); q; ++q) // p >= q follow q
+    const int* inner = R.innerIndexPtr();
+    const int* outer = R.outerIndexPtr();
+    for (int e = 0; e < outer[R.rows()]; ++e)
     {
-      if (q.col() % T != t)
+      ++start[static_cast<std::size_t>(inner[e]) + 1];
+    }
+    for (std::size_t q = 0; q + 1 < start.size(); ++q)
+    {
+      start[q + 1] += start[q];
+    }
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (Eigen::Index i = 0; i < R.rows(); ++i)
+    {
+      for (int e = outer[i]; e < outer[i + 1]; ++e)
       {
-        continue;
+        const int slot = next[static_cast<std::size_t>(inner[e])]++;
+        entry[static_cast<std::size_t>(slot)] = e;
+        rowEnd[static_cast<std::size_t>(slot)] = outer[i + 1];
       }
-      const double vq = s * q.value();
-      double* column = S.col(q.col()).data();
-      for (typename Rows::InnerIterator p = q; p; ++p)
-      {
-        column[p.col()] += p.value() * vq;
-      }
+    }
+  }
+};
+
+// Adds s R^T R to the lower part of column q of S: for every row i holding column q, its
+// entries p >= q (R's rows sorted by column). Rows in ascending order, so each entry is
+// summed in the same order whichever thread owns the column. The pairs of one row are few:
+// the cost is the sum over rows of nnz^2 / 2, and the writes stay in one column (in L1),
+// where a row-by-row pass scattered them over the whole matrix, missing L2 on most adds
+// (a sparse-times-sparse product, with its symbolic pass and sparse result, is slower still).
+template <typename Rows>
+void addLowerGramColumn(const Rows& R, const EntriesByColumn& byColumn, double s, Eigen::Index q, double* column)
+{
+  const int* inner = R.innerIndexPtr();
+  const double* value = R.valuePtr();
+  for (int slot = byColumn.start[static_cast<std::size_t>(q)]; slot < byColumn.start[static_cast<std::size_t>(q) + 1];
+       ++slot)
+  {
+    const int e = byColumn.entry[static_cast<std::size_t>(slot)];
+    const double vq = s * value[e];
+    for (int p = e; p < byColumn.rowEnd[static_cast<std::size_t>(slot)]; ++p)
+    {
+      column[inner[p]] += value[p] * vq;
     }
   }
 }
 
-// S (L x L, not initialised) = the lower triangle of s1 R1^T R1 + s2 R2^T R2. Threads own
-// interleaved columns: each entry sums its rows in the same order for any thread count,
-// and each thread first touches (page faults) its own columns.
+// S (L x L, not initialised) = the lower triangle of s1 R1^T R1 + s2 R2^T R2, a column per
+// task (the thread that owns a column also first touches, i.e. page faults, it).
 template <typename Rows1, typename Rows2>
 void lowerGram(const Rows1& R1, double s1, const Rows2& R2, double s2, Eigen::MatrixXd& S)
 {
-#pragma omp parallel
+  const EntriesByColumn columns1(R1), columns2(R2);
+#pragma omp parallel for schedule(dynamic, 8)
+  for (Eigen::Index q = 0; q < S.cols(); ++q)
   {
-    const Eigen::Index t = omp_get_thread_num();
-    const Eigen::Index T = omp_get_num_threads();
-    for (Eigen::Index q = t; q < S.cols(); q += T)
-    {
-      S.col(q).setZero();
-    }
-    addLowerGram(R1, s1, t, T, S);
-    addLowerGram(R2, s2, t, T, S);
+    S.col(q).setZero();
+    addLowerGramColumn(R1, columns1, s1, q, S.col(q).data());
+    addLowerGramColumn(R2, columns2, s2, q, S.col(q).data());
   }
 }
 
