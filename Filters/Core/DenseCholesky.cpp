@@ -7,6 +7,7 @@ namespace mcv
 {
 // DenseCholeskyAvx2.cpp: column-major, leading dimension ld.
 bool choleskyInPlaceAvx2Fma(double* a, Eigen::Index n, Eigen::Index ld);
+void solveWithFactorAvx2Fma(const double* f, Eigen::Index n, Eigen::Index ld, double* x, bool transposed);
 }
 #endif
 
@@ -37,6 +38,25 @@ bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel)
 #endif
   const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(A);
   return factor.info() == Eigen::Success;
+}
+
+void solveWithFactor(const Eigen::MatrixXd& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed, CholeskyKernel kernel)
+{
+#ifdef MCV_AVX2_CHOLESKY
+  if (kernel != CholeskyKernel::Baseline && avx2CholeskyAvailable())
+  {
+    solveWithFactorAvx2Fma(F.data(), F.rows(), F.outerStride(), x.data(), transposed);
+    return;
+  }
+#endif
+  if (transposed)
+  {
+    F.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+  }
+  else
+  {
+    F.triangularView<Eigen::Lower>().solveInPlace(x);
+  }
 }
 
 } // namespace mcv

@@ -1,5 +1,6 @@
 // An in-place dense Cholesky factorisation A = L L^T (L lower, written over A's lower
-// triangle; the strict upper triangle is neither read nor written), Eigen's blocked LLT.
+// triangle; the strict upper triangle is neither read nor written), Eigen's blocked LLT, and
+// the triangular solves with its factor.
 //
 // Why a separate unit: the core is built for baseline x86-64 (SSE2), and there a 500 x 500
 // factorisation, the serial step of locally linear landmarks, takes ~3.6 ms; Eigen compiled
@@ -28,5 +29,9 @@ bool avx2CholeskyAvailable();
 // A: n x n column-major, symmetric, its lower triangle used. Returns false (A's lower
 // triangle then undefined) when A is not numerically positive definite.
 bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel = CholeskyKernel::Auto);
+
+// x := L^{-1} x, or L^{-T} x when `transposed`; L: the lower triangle of F (n x n), x: n.
+void solveWithFactor(const Eigen::MatrixXd& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed,
+  CholeskyKernel kernel = CholeskyKernel::Auto);
 
 } // namespace mcv

@@ -19,4 +19,21 @@ bool choleskyInPlaceAvx2Fma(double* a, mcvEigenAvx2Fma::Index n, mcvEigenAvx2Fma
   return factor.info() == mcvEigenAvx2Fma::Success;
 }
 
+void solveWithFactorAvx2Fma(const double* f, mcvEigenAvx2Fma::Index n, mcvEigenAvx2Fma::Index ld, double* x,
+  bool transposed)
+{
+  using Matrix = mcvEigenAvx2Fma::MatrixXd;
+  const mcvEigenAvx2Fma::Map<const Matrix, 0, mcvEigenAvx2Fma::OuterStride<>> F(
+    f, n, n, mcvEigenAvx2Fma::OuterStride<>(ld));
+  mcvEigenAvx2Fma::Map<mcvEigenAvx2Fma::VectorXd> v(x, n);
+  if (transposed)
+  {
+    F.triangularView<mcvEigenAvx2Fma::Lower>().transpose().solveInPlace(v);
+  }
+  else
+  {
+    F.triangularView<mcvEigenAvx2Fma::Lower>().solveInPlace(v);
+  }
+}
+
 } // namespace mcv

@@ -175,6 +175,25 @@ void lowerGram(const Rows1& R1, double s1, const Rows2& R2, double s2, Eigen::Ma
   }
 }
 
+// y_i = R_i . x for every row i of the sparse row-major R: an OpenMP work-sharing loop for
+// the enclosing parallel region (its end is a barrier).
+void rowDots(const LandmarkWeights& R, const double* x, double* y)
+{
+  const int* outer = R.outerIndexPtr();
+  const int* inner = R.innerIndexPtr();
+  const double* value = R.valuePtr();
+#pragma omp for schedule(static)
+  for (Eigen::Index i = 0; i < R.rows(); ++i)
+  {
+    double sum = 0.0;
+    for (int e = outer[i]; e < outer[i + 1]; ++e)
+    {
+      sum += value[e] * x[inner[e]];
+    }
+    y[i] = sum;
+  }
+}
+
 // Shift-invert as a standard symmetric problem. With C - sigma B = F F^T (Cholesky) and
 // x = F^{-T} u, C x = lambda B x becomes T u = mu u, T = F^{-1} B F^{-T}, mu = 1 / (lambda -
 // sigma): the smallest lambda are the largest mu, and Lanczos needs plain dot products
@@ -188,9 +207,10 @@ public:
   using Scalar = double;
   // F: the Cholesky factor in the lower triangle (DenseCholesky.h).
   DeflatedShiftInvert(const Eigen::MatrixXd& F, const LandmarkWeights& Z)
-    : F_(F.triangularView<Eigen::Lower>())
+    : F_(F)
     , Z_(Z)
-    , constant_((F_.transpose() * Eigen::VectorXd::Ones(Z.cols())).normalized())
+    , Zt_(Z.transpose())
+    , constant_((F.triangularView<Eigen::Lower>().transpose() * Eigen::VectorXd::Ones(Z.cols())).normalized())
     , work_(Z.cols())
     , points_(Z.rows())
   {
@@ -202,16 +222,22 @@ public:
     Eigen::Map<const Eigen::VectorXd> in(x, rows());
     Eigen::Map<Eigen::VectorXd> out(y, rows());
     work_ = in - constant_ * constant_.dot(in);
-    F_.transpose().solveInPlace(work_); // F^{-T}
-    points_.noalias() = Z_ * work_;
-    out.noalias() = Z_.transpose() * points_;
-    F_.solveInPlace(out); // F^{-1}
+    solveWithFactor(F_, work_, true); // F^{-T}
+    // B work = Z^T (Z work), both products as row-by-row dot products (Zt_: Z^T by rows)
+    // split over the threads, so each entry is summed in the same order for any count.
+#pragma omp parallel
+    {
+      rowDots(Z_, work_.data(), points_.data());
+      rowDots(Zt_, points_.data(), out.data());
+    }
+    solveWithFactor(F_, out, false); // F^{-1}
     out -= constant_ * constant_.dot(out);
   }
 
 private:
-  const Eigen::TriangularView<const Eigen::MatrixXd, Eigen::Lower> F_;
+  const Eigen::MatrixXd& F_;
   const LandmarkWeights& Z_;
+  const LandmarkWeights Zt_;
   const Eigen::VectorXd constant_;
   mutable Eigen::VectorXd work_, points_;
 };

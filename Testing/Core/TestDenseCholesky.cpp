@@ -90,3 +90,24 @@ TEST(DenseCholesky, Avx2KernelRunsWhereTheCpuHasIt)
   EXPECT_FALSE(mcv::avx2CholeskyAvailable());
 #endif
 }
+
+TEST(DenseCholesky, SolvesWithTheFactorLikeEigen)
+{
+  for (const Eigen::Index n : { 1, 9, 130, 500 })
+  {
+    Eigen::MatrixXd F = randomSpd(n, 11 + static_cast<unsigned>(n));
+    ASSERT_TRUE(mcv::choleskyInPlace(F, mcv::CholeskyKernel::Baseline));
+    const Eigen::MatrixXd L = F.triangularView<Eigen::Lower>();
+    const Eigen::VectorXd b = Eigen::VectorXd::Random(n);
+    for (const mcv::CholeskyKernel kernel : kernels())
+    {
+      for (const bool transposed : { false, true })
+      {
+        Eigen::VectorXd x = b;
+        mcv::solveWithFactor(F, x, transposed, kernel);
+        const Eigen::VectorXd residual = transposed ? Eigen::VectorXd(L.transpose() * x - b) : Eigen::VectorXd(L * x - b);
+        EXPECT_LE(residual.norm(), 1e-12 * L.norm() * x.norm()) << "n = " << n << " transposed " << transposed;
+      }
+    }
+  }
+}
