@@ -40,7 +40,8 @@ bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel)
   return factor.info() == Eigen::Success;
 }
 
-void solveWithFactor(const Eigen::MatrixXd& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed, CholeskyKernel kernel)
+void solveWithFactor(
+  const Eigen::Ref<const Eigen::MatrixXd>& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed, CholeskyKernel kernel)
 {
 #ifdef MCV_AVX2_CHOLESKY
   if (kernel != CholeskyKernel::Baseline && avx2CholeskyAvailable())

@@ -31,7 +31,7 @@ bool avx2CholeskyAvailable();
 bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel = CholeskyKernel::Auto);
 
 // x := L^{-1} x, or L^{-T} x when `transposed`; L: the lower triangle of F (n x n), x: n.
-void solveWithFactor(const Eigen::MatrixXd& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed,
+void solveWithFactor(const Eigen::Ref<const Eigen::MatrixXd>& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed,
   CholeskyKernel kernel = CholeskyKernel::Auto);
 
 } // namespace mcv

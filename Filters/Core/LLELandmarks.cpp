@@ -1,6 +1,7 @@
 #include "LLELandmarks.h"
 
 #include "DenseCholesky.h"
+#include "HugePageBuffer.h"
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsSolver.h>
@@ -163,7 +164,7 @@ void addLowerGramColumn(const Rows& R, const EntriesByColumn& byColumn, double s
 // S (L x L, not initialised) = the lower triangle of s1 R1^T R1 + s2 R2^T R2, a column per
 // task (the thread that owns a column also first touches, i.e. page faults, it).
 template <typename Rows1, typename Rows2>
-void lowerGram(const Rows1& R1, double s1, const Rows2& R2, double s2, Eigen::MatrixXd& S)
+void lowerGram(const Rows1& R1, double s1, const Rows2& R2, double s2, Eigen::Ref<Eigen::MatrixXd> S)
 {
   const EntriesByColumn columns1(R1), columns2(R2);
 #pragma omp parallel for schedule(dynamic, 8)
@@ -206,7 +207,7 @@ class DeflatedShiftInvert
 public:
   using Scalar = double;
   // F: the Cholesky factor in the lower triangle (DenseCholesky.h).
-  DeflatedShiftInvert(const Eigen::MatrixXd& F, const LandmarkWeights& Z)
+  DeflatedShiftInvert(const Eigen::Ref<const Eigen::MatrixXd>& F, const LandmarkWeights& Z)
     : F_(F)
     , Z_(Z)
     , Zt_(Z.transpose())
@@ -235,7 +236,7 @@ public:
   }
 
 private:
-  const Eigen::MatrixXd& F_;
+  const Eigen::Ref<const Eigen::MatrixXd> F_;
   const LandmarkWeights& Z_;
   const LandmarkWeights Zt_;
   const Eigen::VectorXd constant_;
@@ -262,7 +263,8 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparseRows& A, const LandmarkWei
   const double scale =
     std::max(1e-300, (ones * AZ.cwiseAbs2()).maxCoeff() / (ones * Z.cwiseAbs2()).maxCoeff());
   const double sigma = -kShiftInvertSigma * scale;
-  Eigen::MatrixXd S(L, L);
+  HugePageBuffer storage(static_cast<std::size_t>(L * L));
+  Eigen::Map<Eigen::MatrixXd> S(storage.data(), L, L);
   lowerGram(AZ, 1.0, Z, -sigma, S);
   if (!choleskyInPlace(S)) // S becomes F (lower triangle)
   {
