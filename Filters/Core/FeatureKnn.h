@@ -27,8 +27,9 @@ public:
   // distances. Returns how many were found (min(k, n)). Thread-safe (read-only).
   std::size_t query(const float* query, std::size_t k, std::uint32_t* indices, float* squaredDistances) const;
 
+  struct Impl; // the tree, its dimension fixed at compile time where it is small (FeatureKnn.cpp)
+
 private:
-  struct Impl;
   std::unique_ptr<Impl> impl_;
   std::size_t n_ = 0;
   int dim_ = 0;
