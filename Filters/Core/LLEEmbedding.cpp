@@ -66,8 +66,10 @@ LLESparseRows sparseFromRows(Eigen::Index rows, Eigen::Index cols, const std::ve
   return S;
 }
 
-// Row i: the barycentric weights of point i from its k nearest landmarks (a point that is a
-// landmark, i.e. has one at distance 0, takes weight 1 on it: the rows are distinct).
+// Row i: the barycentric weights of point i from its k nearest landmarks. A landmark takes
+// weight 1 on itself without a search (each landmark then reconstructs itself, as the
+// pencil needs, and a quarter of the queries go at N = 2000, L = 500); so does a point
+// with a landmark at distance 0.
 LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint32_t>& landmarks, int k,
   double regularization)
 {
@@ -75,56 +77,82 @@ LandmarkWeights landmarkWeights(const RowMatrixF& X, const std::vector<std::uint
   const Eigen::Index D = X.cols();
   const Eigen::Index L = static_cast<Eigen::Index>(landmarks.size());
   RowMatrixF landmarkX(L, D);
+  std::vector<int> landmarkOf(static_cast<std::size_t>(n), -1);
   for (Eigen::Index l = 0; l < L; ++l)
   {
     landmarkX.row(l) = X.row(landmarks[static_cast<std::size_t>(l)]);
+    landmarkOf[landmarks[static_cast<std::size_t>(l)]] = static_cast<int>(l);
   }
+  // Row i's entries at start[i] .. start[i + 1]: one for a landmark, k for any other point.
+  std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1, 0);
+  std::vector<std::uint32_t> others; // the points that are not landmarks
+  others.reserve(static_cast<std::size_t>(n - L));
+  for (Eigen::Index i = 0; i < n; ++i)
+  {
+    const bool isLandmark = landmarkOf[static_cast<std::size_t>(i)] >= 0;
+    start[static_cast<std::size_t>(i) + 1] = start[static_cast<std::size_t>(i)] + (isLandmark ? 1 : k);
+    if (!isLandmark)
+    {
+      others.push_back(static_cast<std::uint32_t>(i));
+    }
+  }
+  std::vector<std::pair<int, double>> entries(start.back());
   // ExactKnn: the tiled brute force in high dimension, where a kd-tree visits most leaves.
   const ExactKnn index(landmarkX.data(), static_cast<std::size_t>(L), static_cast<int>(D));
-  std::vector<std::uint32_t> nearest(static_cast<std::size_t>(n) * k);
-  std::vector<double> weight(static_cast<std::size_t>(n) * k, 0.0);
-  const Eigen::Index block = static_cast<Eigen::Index>(kKnnQueryBlock);
-  const Eigen::Index blocks = (n + block - 1) / block;
+  const long long queries = static_cast<long long>(others.size());
+  const long long block = static_cast<long long>(kKnnQueryBlock);
+  const long long blocks = (queries + block - 1) / block;
 #pragma omp parallel
   {
+    RowMatrixF queryX(block, D);
+    std::vector<std::uint32_t> nearest(kKnnQueryBlock * k);
     std::vector<double> d2(kKnnQueryBlock * k);
     Eigen::MatrixXd Zi(k, D), G;
     Eigen::VectorXd w;
-#pragma omp for schedule(dynamic, 1)
-    for (Eigen::Index b = 0; b < blocks; ++b)
+#pragma omp for schedule(static)
+    for (Eigen::Index i = 0; i < n; ++i)
     {
-      const Eigen::Index first = b * block;
-      const Eigen::Index count = std::min(block, n - first);
-      index.query(X.row(first).data(), static_cast<std::size_t>(count), k, nearest.data() + first * k, d2.data());
-      for (Eigen::Index i = first; i < first + count; ++i)
+      if (landmarkOf[static_cast<std::size_t>(i)] >= 0)
       {
-        const std::uint32_t* nb = nearest.data() + i * k;
-        if (d2[static_cast<std::size_t>((i - first) * k)] == 0.0)
+        entries[start[static_cast<std::size_t>(i)]] = { landmarkOf[static_cast<std::size_t>(i)], 1.0 };
+      }
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (long long b = 0; b < blocks; ++b)
+    {
+      const long long first = b * block;
+      const long long count = std::min(block, queries - first);
+      for (long long r = 0; r < count; ++r)
+      {
+        queryX.row(r) = X.row(others[static_cast<std::size_t>(first + r)]);
+      }
+      index.query(queryX.data(), static_cast<std::size_t>(count), k, nearest.data(), d2.data());
+      for (long long r = 0; r < count; ++r)
+      {
+        const std::uint32_t* nb = nearest.data() + r * k;
+        std::pair<int, double>* row = entries.data() + start[others[static_cast<std::size_t>(first + r)]];
+        if (d2[static_cast<std::size_t>(r * k)] == 0.0)
         {
-          weight[static_cast<std::size_t>(i * k)] = 1.0;
+          row[0] = { static_cast<int>(nb[0]), 1.0 };
+          for (int j = 1; j < k; ++j)
+          {
+            row[j] = { static_cast<int>(nb[j]), 0.0 }; // dropped
+          }
           continue;
         }
         for (int j = 0; j < k; ++j)
         {
-          Zi.row(j) = (landmarkX.row(nb[j]) - X.row(i)).cast<double>();
+          Zi.row(j) = (landmarkX.row(nb[j]) - queryX.row(r)).cast<double>();
         }
         barycentricWeights(Zi, regularization, G, w);
-        std::copy(w.data(), w.data() + k, weight.begin() + i * k);
+        for (int j = 0; j < k; ++j)
+        {
+          row[j] = { static_cast<int>(nb[j]), w[j] };
+        }
       }
     }
   }
-  std::vector<std::pair<int, double>> entries(nearest.size());
-  std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1);
-  for (std::size_t e = 0; e < nearest.size(); ++e)
-  {
-    entries[e] = { static_cast<int>(nearest[e]), weight[e] };
-  }
-  for (std::size_t i = 0; i <= static_cast<std::size_t>(n); ++i)
-  {
-    start[i] = i * static_cast<std::size_t>(k);
-  }
-  const LandmarkWeights Z = sparseFromRows(n, L, start, entries);
-  return Z;
+  return sparseFromRows(n, L, start, entries);
 }
 } // namespace
 
