@@ -2,27 +2,58 @@
 
 #include <Eigen/Cholesky>
 
-#ifdef MCV_AVX2_CHOLESKY
+#ifdef MCV_SIMD_CHOLESKY
 namespace mcv
 {
-// DenseCholeskyAvx2.cpp: column-major, leading dimension ld.
+// DenseCholeskyKernel.cpp, built twice: column-major, leading dimension ld.
 bool choleskyInPlaceAvx2Fma(double* a, Eigen::Index n, Eigen::Index ld);
 void solveWithFactorAvx2Fma(const double* f, Eigen::Index n, Eigen::Index ld, double* x, bool transposed);
+bool choleskyInPlaceAvx512(double* a, Eigen::Index n, Eigen::Index ld);
+void solveWithFactorAvx512(const double* f, Eigen::Index n, Eigen::Index ld, double* x, bool transposed);
 }
 #endif
 
 namespace mcv
 {
 
-bool avx2CholeskyAvailable()
+bool choleskyKernelAvailable(CholeskyKernel kernel)
 {
-#ifdef MCV_AVX2_CHOLESKY
-  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return ok;
+#ifdef MCV_SIMD_CHOLESKY
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  static const bool avx512 = avx2 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+    __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512cd");
+  switch (kernel)
+  {
+    case CholeskyKernel::Avx2Fma:
+      return avx2;
+    case CholeskyKernel::Avx512:
+      return avx512;
+    default:
+      return true;
+  }
 #else
-  return false;
+  return kernel == CholeskyKernel::Auto || kernel == CholeskyKernel::Baseline;
 #endif
 }
+
+namespace
+{
+// The kernel a request runs: the one asked for where this CPU has it, else the widest
+// available below it (Auto: the widest of all).
+CholeskyKernel resolve(CholeskyKernel kernel)
+{
+  if ((kernel == CholeskyKernel::Auto || kernel == CholeskyKernel::Avx512) &&
+    choleskyKernelAvailable(CholeskyKernel::Avx512))
+  {
+    return CholeskyKernel::Avx512;
+  }
+  if (kernel != CholeskyKernel::Baseline && choleskyKernelAvailable(CholeskyKernel::Avx2Fma))
+  {
+    return CholeskyKernel::Avx2Fma;
+  }
+  return CholeskyKernel::Baseline;
+}
+} // namespace
 
 bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel)
 {
@@ -30,33 +61,44 @@ bool choleskyInPlace(Eigen::Ref<Eigen::MatrixXd> A, CholeskyKernel kernel)
   {
     return false;
   }
-#ifdef MCV_AVX2_CHOLESKY
-  if (kernel != CholeskyKernel::Baseline && avx2CholeskyAvailable())
+  switch (resolve(kernel))
   {
-    return choleskyInPlaceAvx2Fma(A.data(), A.rows(), A.outerStride());
-  }
+#ifdef MCV_SIMD_CHOLESKY
+    case CholeskyKernel::Avx512:
+      return choleskyInPlaceAvx512(A.data(), A.rows(), A.outerStride());
+    case CholeskyKernel::Avx2Fma:
+      return choleskyInPlaceAvx2Fma(A.data(), A.rows(), A.outerStride());
 #endif
-  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(A);
-  return factor.info() == Eigen::Success;
+    default:
+    {
+      const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> factor(A);
+      return factor.info() == Eigen::Success;
+    }
+  }
 }
 
 void solveWithFactor(
   const Eigen::Ref<const Eigen::MatrixXd>& F, Eigen::Ref<Eigen::VectorXd> x, bool transposed, CholeskyKernel kernel)
 {
-#ifdef MCV_AVX2_CHOLESKY
-  if (kernel != CholeskyKernel::Baseline && avx2CholeskyAvailable())
+  switch (resolve(kernel))
   {
-    solveWithFactorAvx2Fma(F.data(), F.rows(), F.outerStride(), x.data(), transposed);
-    return;
-  }
+#ifdef MCV_SIMD_CHOLESKY
+    case CholeskyKernel::Avx512:
+      solveWithFactorAvx512(F.data(), F.rows(), F.outerStride(), x.data(), transposed);
+      return;
+    case CholeskyKernel::Avx2Fma:
+      solveWithFactorAvx2Fma(F.data(), F.rows(), F.outerStride(), x.data(), transposed);
+      return;
 #endif
-  if (transposed)
-  {
-    F.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
-  }
-  else
-  {
-    F.triangularView<Eigen::Lower>().solveInPlace(x);
+    default:
+      if (transposed)
+      {
+        F.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+      }
+      else
+      {
+        F.triangularView<Eigen::Lower>().solveInPlace(x);
+      }
   }
 }
 

@@ -1,6 +1,6 @@
-// DenseCholesky.h: both kernels factor a random SPD matrix (L L^T = A), agree with each
-// other and with Eigen's LLT to rounding, leave the strict upper triangle alone, and report
-// a matrix that is not positive definite.
+// DenseCholesky.h: every kernel this CPU has factors a random SPD matrix (L L^T = A),
+// agrees with the others and with Eigen's LLT to rounding, leaves the strict upper triangle
+// alone, solves with the factor, and reports a matrix that is not positive definite.
 #include "DenseCholesky.h"
 
 #include <Eigen/Cholesky>
@@ -23,9 +23,12 @@ Eigen::MatrixXd randomSpd(Eigen::Index n, unsigned seed)
 std::vector<mcv::CholeskyKernel> kernels()
 {
   std::vector<mcv::CholeskyKernel> k{ mcv::CholeskyKernel::Baseline };
-  if (mcv::avx2CholeskyAvailable())
+  for (const mcv::CholeskyKernel simd : { mcv::CholeskyKernel::Avx2Fma, mcv::CholeskyKernel::Avx512 })
   {
-    k.push_back(mcv::CholeskyKernel::Avx2Fma);
+    if (mcv::choleskyKernelAvailable(simd))
+    {
+      k.push_back(simd);
+    }
   }
   return k;
 }
@@ -81,14 +84,21 @@ TEST(DenseCholesky, ReportsAMatrixThatIsNotPositiveDefinite)
   EXPECT_FALSE(mcv::choleskyInPlace(notSquare));
 }
 
-TEST(DenseCholesky, Avx2KernelRunsWhereTheCpuHasIt)
+TEST(DenseCholesky, SimdKernelsRunWhereTheCpuHasThem)
 {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  // This build compiles the AVX2 unit on x86-64; it must be used where the CPU allows it.
-  EXPECT_EQ(mcv::avx2CholeskyAvailable(), __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"));
+  // This build compiles the SIMD units on x86-64; they must be used where the CPU allows.
+  const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  EXPECT_EQ(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Avx2Fma), avx2);
+  EXPECT_EQ(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Avx512), avx2 && __builtin_cpu_supports("avx512f") &&
+      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+      __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512cd"));
 #else
-  EXPECT_FALSE(mcv::avx2CholeskyAvailable());
+  EXPECT_FALSE(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Avx2Fma));
+  EXPECT_FALSE(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Avx512));
 #endif
+  EXPECT_TRUE(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Auto));
+  EXPECT_TRUE(mcv::choleskyKernelAvailable(mcv::CholeskyKernel::Baseline));
 }
 
 TEST(DenseCholesky, SolvesWithTheFactorLikeEigen)
