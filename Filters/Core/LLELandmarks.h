@@ -14,11 +14,11 @@
 // (trustworthiness 0.70-0.77 on the brain's 6-D features). Restricted to span(Z) the
 // problem is small and well posed: 0.92-0.96 there, 0.80-0.84 at 24D (compare_sklearn.py).
 //
-// The pencil is solved by shift-invert: one dense Cholesky C - sigma B = F F^T (summed row by
-// row from the sparse A Z and Z, factored in place, with AVX-512 or AVX2 + FMA where the CPU has them:
-// DenseCholesky.h), then Spectra's symmetric Lanczos on
-// F^{-1} B F^{-T} with the constant deflated, then Rayleigh-Ritz with the exact (C, B) on the
-// Lanczos vectors (LLELandmarks.cpp says why each step takes that form).
+// The pencil is solved by shift-invert: one dense Cholesky C - sigma B = F F^T (summed a
+// column at a time from the sparse A Z and Z into a huge-page buffer, factored in place with
+// AVX-512 or AVX2 + FMA where the CPU has them: DenseCholesky.h), then Spectra's symmetric
+// Lanczos on F^{-1} B F^{-T} with the constant deflated, then Rayleigh-Ritz with the exact
+// (C, B) on the Lanczos vectors (LLELandmarks.cpp says why each step takes that form).
 #pragma once
 
 #include "LLEEigen.h"
