@@ -202,49 +202,40 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
       " links). A larger NumberOfNeighbors avoids this.");
   }
 
-  // Local reconstruction weights, one small K x K system per point; row i's neighbours
-  // (the K nearest, then any join links) and weights at rowStart[i] .. rowStart[i + 1].
-  std::vector<std::size_t> rowStart(static_cast<std::size_t>(n) + 1, 0);
+  // A = I - W by rows: row i at entryStart[i] .. entryStart[i + 1] holds the diagonal 1, then
+  // minus the local reconstruction weights of its K nearest and any join links (one small
+  // K x K system per point).
+  std::vector<std::size_t> entryStart(static_cast<std::size_t>(n) + 1, 0);
   for (Eigen::Index i = 0; i < n; ++i)
   {
-    rowStart[i + 1] = rowStart[i] + K + extra[static_cast<std::size_t>(i)].size();
+    entryStart[i + 1] = entryStart[i] + 1 + K + extra[static_cast<std::size_t>(i)].size();
   }
-  std::vector<std::uint32_t> neighbor(rowStart.back());
-  std::vector<double> weight(rowStart.back());
+  std::vector<std::pair<int, double>> entries(entryStart.back());
 #pragma omp parallel
   {
+    std::vector<std::uint32_t> nb;
     Eigen::MatrixXd Z, G;
     Eigen::VectorXd w;
 #pragma omp for schedule(static)
     for (Eigen::Index i = 0; i < n; ++i)
     {
-      std::uint32_t* nb = neighbor.data() + rowStart[i];
-      std::copy(knn.neighbors.begin() + i * K, knn.neighbors.begin() + (i + 1) * K, nb);
-      std::copy(extra[static_cast<std::size_t>(i)].begin(), extra[static_cast<std::size_t>(i)].end(), nb + K);
-      const int k = static_cast<int>(rowStart[i + 1] - rowStart[i]);
+      nb.assign(knn.neighbors.begin() + i * K, knn.neighbors.begin() + (i + 1) * K);
+      nb.insert(nb.end(), extra[static_cast<std::size_t>(i)].begin(), extra[static_cast<std::size_t>(i)].end());
+      const int k = static_cast<int>(nb.size());
       Z.resize(k, D);
       for (int j = 0; j < k; ++j)
       {
-        Z.row(j) = (X.row(nb[j]) - X.row(i)).cast<double>();
+        Z.row(j) = (X.row(nb[static_cast<std::size_t>(j)]) - X.row(i)).cast<double>();
       }
       barycentricWeights(Z, options.regularization, G, w);
-      std::copy(w.data(), w.data() + k, weight.begin() + static_cast<std::ptrdiff_t>(rowStart[i]));
+      std::pair<int, double>* row = entries.data() + entryStart[i];
+      row[0] = { static_cast<int>(i), 1.0 };
+      for (int j = 0; j < k; ++j)
+      {
+        row[1 + j] = { static_cast<int>(nb[static_cast<std::size_t>(j)]), -w[j] };
+      }
     }
   }
-
-  // A = I - W, by rows.
-  std::vector<std::size_t> entryStart(rowStart.size());
-  std::vector<std::pair<int, double>> entries(rowStart.back() + static_cast<std::size_t>(n));
-  for (Eigen::Index i = 0; i < n; ++i)
-  {
-    entryStart[i] = rowStart[i] + static_cast<std::size_t>(i);
-    entries[entryStart[i]] = { static_cast<int>(i), 1.0 };
-    for (std::size_t e = rowStart[i]; e < rowStart[i + 1]; ++e)
-    {
-      entries[entryStart[i] + 1 + (e - rowStart[i])] = { static_cast<int>(neighbor[e]), -weight[e] };
-    }
-  }
-  entryStart.back() = entries.size();
   const LLESparseRows A = sparseFromRows(n, n, entryStart, entries);
 
   // Landmarks: enough for the Lanczos step (2 nev + 1 vectors), fewer than the points.
