@@ -195,6 +195,19 @@ void rowDots(const LandmarkWeights& R, const double* x, double* y)
   }
 }
 
+// R V for a sparse row-major R (n x L) and a dense V (L x m), rows split over the threads.
+template <typename Rows>
+Eigen::MatrixXd multiplyByRows(const Rows& R, const Eigen::MatrixXd& V)
+{
+  Eigen::MatrixXd Y(R.rows(), V.cols());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index i = 0; i < R.rows(); ++i)
+  {
+    Y.row(i) = R.row(i) * V;
+  }
+  return Y;
+}
+
 // Shift-invert as a standard symmetric problem. With C - sigma B = F F^T (Cholesky) and
 // x = F^{-T} u, C x = lambda B x becomes T u = mu u, T = F^{-1} B F^{-T}, mu = 1 / (lambda -
 // sigma): the smallest lambda are the largest mu, and Lanczos needs plain dot products
@@ -296,11 +309,11 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparseRows& A, const LandmarkWei
   // Centred over the n points (Y = Z V; Z's rows sum to 1, so a constant taken from V is
   // taken from Y; the deflation made the means ~0 already), then Rayleigh-Ritz with the
   // exact pencil: V^T C V = (A Z V)^T (A Z V), V^T B V = (Z V)^T (Z V).
-  Eigen::MatrixXd Y = Z * V;
+  Eigen::MatrixXd Y = multiplyByRows(Z, V);
   const Eigen::RowVectorXd means = Y.colwise().mean();
   V.rowwise() -= means;
   Y.rowwise() -= means;
-  const Eigen::MatrixXd AY = AZ * V;
+  const Eigen::MatrixXd AY = multiplyByRows(AZ, V);
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ritz(AY.transpose() * AY, Y.transpose() * Y);
   if (ritz.info() != Eigen::Success)
   {
