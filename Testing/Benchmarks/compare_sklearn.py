@@ -38,7 +38,10 @@ ratios are what compare:
    24D  isomap  10000 |    0.593    73.789   124.3x |  0.8476    0.8567 -0.0090
    24D     lle  10000 |    0.137    17.471   127.1x |  0.8234    0.6867 +0.1367
 Two more runs of the 6D LLE rows (--methods lle --sets 6D) gave 10.8x / 14.7x / 18.4x and
-11.3x / 14.7x / 18.1x. (At e008ec8, before the SIMD Cholesky, the column-wise Gram, the
+11.3x / 14.7x / 18.1x. At 7a93d1d, six runs of --methods lle --sets 6D --sizes 2000,5000:
+N = 2000 8.7x 11.2x 11.7x 11.3x 11.4x 11.2x (the 8.7x run timed ours at 14 ms instead of
+10-11: this VM's noise weighs more on a 10 ms run than on scikit-learn's 120 ms), N = 5000
+14.5-15.4x. (At e008ec8, before the SIMD Cholesky, the column-wise Gram, the
 huge-page pencil buffer, the compile-time kd-tree dimension and the unsearched landmark
 rows: LLE 5.7x / 8.9x / 12.1x at 6D and 15.0x / 52.3x / 112.5x at 24D. At 963fefd, before
 the landmark pencil was formed row by row and solved as a standard problem: 3.3x / 6.7x /
