@@ -1,5 +1,5 @@
 // GPU path of the multichannel feature vectors: one thread per voxel for the stencil
-// features (the same float expressions as the CPU path in Filters/Core/FeatureVectors.cpp),
+// features (the same float expressions as the CPU path in Filters/Core/features/FeatureVectors.cpp),
 // per-column statistics by per-thread accumulation + shared-memory combination + per-block
 // partials summed on the host in double, and an elementwise normalisation.
 #include "FeaturesCuda.h"

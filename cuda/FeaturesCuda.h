@@ -1,4 +1,4 @@
-// GPU path of the multichannel feature vectors (Filters/Core/FeatureVectors.h). Plain C++
+// GPU path of the multichannel feature vectors (Filters/Core/features/FeatureVectors.h). Plain C++
 // interface (no CUDA types), so the core can call it; built only when MCV_ENABLE_CUDA is on
 // (the core then defines MCV_HAS_CUDA). Every method returns false with `error` set on any
 // CUDA failure (allocation included), so the core can fall back to the CPU.
@@ -8,7 +8,7 @@
 // buffer. Same per-voxel float arithmetic as the CPU path; statistics in double.
 #pragma once
 
-#include "../Filters/Core/FeatureVectors.h"
+#include "../Filters/Core/features/FeatureVectors.h"
 
 #include <cstddef>
 #include <memory>

@@ -1,4 +1,4 @@
-// GPU path of the Gaussian-widget transfer function (Filters/Core/GaussianTransferFunction.h).
+// GPU path of the Gaussian-widget transfer function (Filters/Core/transfer_function/GaussianTransferFunction.h).
 // Plain C++ interface (no CUDA types), built only when MCV_ENABLE_CUDA is on. Every call
 // returns false with `error` set on any CUDA failure (allocation included), so the core can
 // fall back to the CPU.
@@ -9,7 +9,7 @@
 // operations as the CPU path for the log-weights, expf for the exponentials.
 #pragma once
 
-#include "../Filters/Core/GaussianTransferFunction.h"
+#include "../Filters/Core/transfer_function/GaussianTransferFunction.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -3,9 +3,9 @@
 // MCV_ENABLE_CUDA is on (the core then defines MCV_HAS_CUDA).
 #pragma once
 
-#include "../Filters/Core/HarrisResponse.h"
-#include "../Filters/Core/ImageGrid.h"
-#include "../Filters/Core/TopResponses.h"
+#include "../Filters/Core/viewpoint/HarrisResponse.h"
+#include "../Filters/Core/common/ImageGrid.h"
+#include "../Filters/Core/viewpoint/TopResponses.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-// GPU path of the out-of-sample placement (Filters/Core/OutOfSample.h). Plain C++ interface
+// GPU path of the out-of-sample placement (Filters/Core/reduction/OutOfSample.h). Plain C++ interface
 // (no CUDA types) so the core can call it; built only when MCV_ENABLE_CUDA is on. Returns
 // false with `error` set on any CUDA failure (allocation included): the core then runs the
 // CPU path.

@@ -22,7 +22,7 @@
 // stable CUB radix sort do the same steps.
 #pragma once
 
-#include "../Filters/Core/TopResponses.h"
+#include "../Filters/Core/viewpoint/TopResponses.h"
 
 #include <cuda_runtime.h>
 

@@ -1,4 +1,4 @@
-// mcv::Communicator (Filters/Core/Communicator.h) over a vtkMultiProcessController: how the
+// mcv::Communicator (Filters/Core/common/Communicator.h) over a vtkMultiProcessController: how the
 // VTK filters hand ParaView's MPI processes to the VTK-free core. Header-only, like
 // mcvChannelArrays.h; the modules that include it depend on VTK::ParallelCore.
 #pragma once

@@ -8,7 +8,7 @@
  * component per feature, each named "<channel>.<feature>", e.g. "T1.gradMag". A channel is
  * named after its array ("<array>_<component name or index>" for multi-component arrays).
  *
- * Per channel (see Filters/Core/FeatureVectors.h for the exact formulas):
+ * Per channel (see Filters/Core/features/FeatureVectors.h for the exact formulas):
  * intensity; gradient vector gradX/gradY/gradZ (central differences in world units, border
  * replicated); gradient magnitude gradMag; laplacian (6-neighbour Laplacian / 6 in index
  * units: mean of the 6 face neighbours minus the voxel); mean and variance of the 3x3x3

@@ -1,4 +1,4 @@
-// Benchmark of the Gaussian-widget recolouring (Filters/Core/GaussianTransferFunction.h) at
+// Benchmark of the Gaussian-widget recolouring (Filters/Core/transfer_function/GaussianTransferFunction.h) at
 // N^3 voxels (default 256^3 = 16.8 M), 2/4/8 widgets, uint8 RGBA out (what the volume mapper
 // is given), against a straightforward per-voxel loop measured in the same run:
 //   baseline  one thread, double exp per widget per voxel, the header's formula as written;

@@ -19,9 +19,9 @@ sklearn.manifold.trustworthiness for both, on the same subset of the N points.
 Last run (commit 8894b0a, 2-core dev machine, a Sapphire Rapids VM; defaults: K = 10,
 L = 500, seed 0; runs under 2 s are repeated, fastest of up to 5, on both sides, each side
 in one warm process: ours through mcvReduceCLI --repeat, scikit-learn's in this one; our
-LLE is locally linear landmarks, see Filters/Core/LLELandmarks.h; exact LLE is
+LLE is locally linear landmarks, see Filters/Core/reduction/LLELandmarks.h; exact LLE is
 NumberOfLandmarks >= N; the kNN graph is a kd-tree at 6D and the tiled brute force at 24D,
-Filters/Core/FeatureKnn.h). Timings on this VM swing by up to 2x between minutes; the
+Filters/Core/reduction/FeatureKnn.h). Timings on this VM swing by up to 2x between minutes; the
 ratios are what compare:
    set  method      N |   ours s sklearn s speed-up |  T ours T sklearn      dT
   -----------------------------------------------------------------------------

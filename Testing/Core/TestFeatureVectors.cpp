@@ -1,4 +1,4 @@
-// Feature vectors (Filters/Core/FeatureVectors.h) against hand-computed values: a linear
+// Feature vectors (Filters/Core/features/FeatureVectors.h) against hand-computed values: a linear
 // ramp (known gradient, zero Laplacian inside, known 3x3x3 variance), a single bright voxel
 // (known mean, variance, Laplacian, gradient around it), anisotropic spacing, replicated
 // borders, presets and names, normalisation, constant columns, NaN/Inf, scalar types.

@@ -1,4 +1,4 @@
-// The memory check of the filters (Filters/Core/MemoryBudget.h): the estimates follow their
+// The memory check of the filters (Filters/Core/common/MemoryBudget.h): the estimates follow their
 // formulas and saturate instead of wrapping, the check passes up to the limit and fails
 // one byte above it, the message says how much is needed and how much there is, and the
 // limit comes from MCV_MEMORY_LIMIT_MB when set, else from the system.

@@ -1,7 +1,7 @@
 #include "BestViewpoint.h"
 
 #ifdef MCV_HAS_CUDA
-#include "../../cuda/HarrisCuda.h"
+#include "cuda/HarrisCuda.h"
 #endif
 
 #include <chrono>

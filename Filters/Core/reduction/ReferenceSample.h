@@ -27,6 +27,7 @@
 #include "Communicator.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
+#include "SeededRandom.h" // uniformIndex, used with the sample by its callers
 
 #include <cstddef>
 #include <cstdint>
@@ -101,10 +102,6 @@ std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, 
 // The random key of a voxel: a bijection of the global index for a given seed (keys never
 // tie), uniform over 64 bits.
 std::uint64_t sampleKey(std::uint64_t seed, std::int64_t globalIndex);
-
-// Seeded uniform integer in [0, n): portable (std::uniform_int_distribution is not the same
-// on every standard library, and "same seed, same result" should hold across builds).
-std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n);
 
 // L distinct indices of [0, n) drawn uniformly (seeded partial Fisher-Yates): the landmarks
 // of landmark Isomap and of locally linear landmarks. Uniform, not MaxMin (farthest point):

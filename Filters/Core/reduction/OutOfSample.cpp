@@ -1,7 +1,7 @@
 #include "OutOfSample.h"
 
 #ifdef MCV_HAS_CUDA
-#include "../../cuda/OutOfSampleCuda.h"
+#include "cuda/OutOfSampleCuda.h"
 #endif
 
 #include "BarycentricWeights.h"

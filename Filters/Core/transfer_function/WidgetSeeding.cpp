@@ -2,7 +2,7 @@
 // the C++ libraries that have it (mlpack, OpenCV) would be heavy new dependencies for that.
 #include "WidgetSeeding.h"
 
-#include "ReferenceSample.h" // uniformIndex: a portable seeded RNG
+#include "SeededRandom.h"
 
 #include <Eigen/Core>
 

@@ -41,7 +41,7 @@
 #include "Device.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
-#include "OpacityFunction.h" // ChannelView, ScalarType
+#include "ChannelView.h"
 
 #include <cstddef>
 #include <functional>

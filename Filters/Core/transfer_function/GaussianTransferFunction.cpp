@@ -1,7 +1,7 @@
 #include "GaussianTransferFunction.h"
 
 #ifdef MCV_HAS_CUDA
-#include "../../cuda/GaussianTFCuda.h"
+#include "cuda/GaussianTFCuda.h"
 #endif
 
 #include <omp.h>

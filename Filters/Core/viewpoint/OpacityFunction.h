@@ -1,6 +1,7 @@
 // Scalars -> opacity: a piecewise-linear function applied to one or more channels.
 #pragma once
 
+#include "ChannelView.h"
 #include "GridPiece.h"
 
 #include <cstddef>
@@ -20,27 +21,6 @@ struct OpacityFunction
   static OpacityFunction ramp(double lo, double hi);
   bool empty() const { return x.empty(); }
   double evaluate(double value) const;
-};
-
-enum class ScalarType
-{
-  Int8,
-  UInt8,
-  Int16,
-  UInt16,
-  Int32,
-  UInt32,
-  Float32,
-  Float64
-};
-
-// One channel of an interleaved array: value of voxel v is data[v * numComponents + component].
-struct ChannelView
-{
-  const void* data = nullptr;
-  ScalarType type = ScalarType::Float32;
-  int numComponents = 1;
-  int component = 0;
 };
 
 // Finite min and max of a channel; {+inf, -inf} when it holds no finite value.

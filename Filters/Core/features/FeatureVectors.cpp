@@ -2,7 +2,7 @@
 #include "TypedChannel.h"
 
 #ifdef MCV_HAS_CUDA
-#include "../../cuda/FeaturesCuda.h"
+#include "cuda/FeaturesCuda.h"
 #endif
 
 #include <omp.h>

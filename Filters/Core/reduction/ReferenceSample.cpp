@@ -17,19 +17,6 @@ constexpr std::uint8_t kNotOwned = 0xFF;    // stratum of a row this process doe
 constexpr std::size_t kPlainRun = 4096;     // rows per run of a plain layout
 constexpr double kEdgeSubsample = 65536.0;  // voxels the strata edges are measured on
 
-// splitmix64's finalizer: a bijection of 64-bit words with good avalanche.
-std::uint64_t mix64(std::uint64_t z)
-{
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-std::uint64_t splitmix64(std::uint64_t& state)
-{
-  return mix64(state += 0x9E3779B97F4A7C15ull);
-}
-
 // The key limit below which a fraction f of uniform 64-bit keys falls.
 std::uint64_t keyLimit(double f)
 {
@@ -713,22 +700,6 @@ RowLayout::Run RowLayout::run(std::size_t r) const
 std::uint64_t sampleKey(std::uint64_t seed, std::int64_t globalIndex)
 {
   return mix64(static_cast<std::uint64_t>(globalIndex) + mix64(seed + 0x9E3779B97F4A7C15ull));
-}
-
-std::uint64_t uniformIndex(std::uint64_t& state, std::uint64_t n)
-{
-  if (n <= 1)
-  {
-    return 0;
-  }
-  // Rejection removes the modulo bias.
-  const std::uint64_t limit = ~0ull - (~0ull % n);
-  std::uint64_t x;
-  do
-  {
-    x = splitmix64(state);
-  } while (x >= limit);
-  return x % n;
 }
 
 std::vector<std::uint32_t> uniformLandmarks(std::size_t n, int L, std::uint64_t seed)
