@@ -1,6 +1,6 @@
 // Typed access to a ChannelView: calls visit(const T* data) with the channel's own scalar
 // type, so per-voxel loops are compiled once per type. Shared by OpacityFunction.cpp and
-// FeatureVectors.cpp (was a local helper of OpacityFunction.cpp).
+// FeatureVectors.cpp.
 #pragma once
 
 #include "OpacityFunction.h"
