@@ -2,9 +2,10 @@
 // N^3 voxels (default 256^3 = 16.8 M), 2/4/8 widgets, uint8 RGBA out (what the volume mapper
 // is given), against a straightforward per-voxel loop measured in the same run:
 //   baseline  one thread, double exp per widget per voxel, the header's formula as written;
-//   simple    the same loop in float over OpenMP threads (the first version of the core);
+//   simple    the same loop in float over OpenMP threads (the straightforward parallel code);
 //   CPU       mcv::applyGaussianWidgets(Device::CPU): blocks of 64 voxels as structure of
-//             arrays, vectorised polynomial exp, widgets skipped where their weight < 1e-8;
+//             arrays, log-domain weights, vectorised polynomial exp, every widget at every
+//             voxel;
 //   GPU       (CUDA builds with a GPU) coordinates resident: the kernel alone, the kernel +
 //             download of the uint8 RGBA, and the whole mcv::applyGaussianWidgets call with
 //             an unchanged CoordinateView::version (what a widget edit costs); the first
@@ -170,7 +171,7 @@ void baselineLoop(const float* coords, std::size_t count, int components,
   }
 }
 
-// The first version of the core: the same loop in float, expf, OpenMP over voxels.
+// The straightforward parallel code: the same loop in float, expf, OpenMP over voxels.
 void simpleLoop(const float* coords, std::size_t count, int components,
   const std::vector<mcv::GaussianWidget>& widgets, unsigned char* rgba)
 {

@@ -2,8 +2,8 @@
 // (Colin27 T1 + AAL + Brodmann, 181 x 217 x 181 = 7.1 M voxels): features (24D and 6D),
 // Isomap fitted on a reference sample of 10000, out-of-sample placement of every voxel.
 // Per-stage times for the CPU and (when a GPU is usable) the GPU path, and the kd-tree
-// placement (the previous CPU path) as the in-run baseline, timed on a subset of rows and
-// extrapolated (said so in the output).
+// placement as the in-run baseline, timed on a subset of rows and extrapolated (said so in
+// the output). Latest results: docs/benchmarks.md.
 //
 //   mcvBenchmarkReduction [--presets 24,6] [--devices cpu,gpu] [--reference 10000]
 //                         [--baseline-rows 100000] [--sweep] [--sweep-rows 20000]
@@ -215,7 +215,7 @@ int main(int argc, char** argv)
     if (!cpuChain.ok)
       continue;
 
-    // Baseline: the kd-tree placement (the previous CPU path) on every step-th row, against
+    // Baseline: the kd-tree placement on every step-th row, against
     // the tiled brute force on the same rows and the same fitted model.
     const auto& r = cpuChain.r;
     const int D = static_cast<int>(r.usedColumns.size());

@@ -13,60 +13,20 @@ For every feature set, N and method, both sides get the SAME N distinct feature 
 two embeddings are of the same points. Trustworthiness (k = 10) is scikit-learn's
 sklearn.manifold.trustworthiness for both, on the same subset of the N points.
 
+Timing: runs under --repeat-below seconds are repeated, fastest of up to 5, on both sides,
+each side in one warm process (ours through mcvReduceCLI --repeat, scikit-learn's in this
+one), so neither side pays process start-up or first-touch page faults that the other
+does not. Short runs are noisy on a shared machine: compare the speed-up column, and
+repeat a subset (--methods lle --sets 6D --sizes 2000) to see the spread.
+
+Our LLE is locally linear landmarks (Filters/Core/reduction/LLELandmarks.h); --landmarks >= N gives
+exact LLE. Prints one row per set, method and N (our time, scikit-learn's, speed-up, both
+trustworthiness values and their difference) and writes <workdir>/compare_sklearn.json.
+
   /usr/bin/python3 Testing/Benchmarks/compare_sklearn.py --cli build-dr/Testing/Benchmarks/mcvReduceCLI
   ... --whole-volume      # also: Isomap fit on 10000 + out-of-sample to every voxel (CPU)
 
-Last run (commit 8894b0a, 2-core dev machine, a Sapphire Rapids VM; defaults: K = 10,
-L = 500, seed 0; runs under 2 s are repeated, fastest of up to 5, on both sides, each side
-in one warm process: ours through mcvReduceCLI --repeat, scikit-learn's in this one; our
-LLE is locally linear landmarks, see Filters/Core/reduction/LLELandmarks.h; exact LLE is
-NumberOfLandmarks >= N; the kNN graph is a kd-tree at 6D and the tiled brute force at 24D,
-Filters/Core/reduction/FeatureKnn.h). Timings on this VM swing by up to 2x between minutes; the
-ratios are what compare:
-   set  method      N |   ours s sklearn s speed-up |  T ours T sklearn      dT
-  -----------------------------------------------------------------------------
-    6D  isomap   2000 |    0.098     1.829    18.7x |  0.9896    0.9912 -0.0016
-    6D     lle   2000 |    0.011     0.124    11.3x |  0.9454    0.7017 +0.2436
-    6D  isomap   5000 |    0.220    15.180    69.0x |  0.9720    0.9718 +0.0001
-    6D     lle   5000 |    0.026     0.383    14.7x |  0.9343    0.7739 +0.1604
-    6D  isomap  10000 |    0.445    65.242   146.6x |  0.9825    0.9799 +0.0027
-    6D     lle  10000 |    0.056     0.978    17.4x |  0.9365    0.7549 +0.1816
-   24D  isomap   2000 |    0.108     2.208    20.4x |  0.8740    0.8707 +0.0033
-   24D     lle   2000 |    0.018     0.397    22.0x |  0.8344    0.7366 +0.0978
-   24D  isomap   5000 |    0.258    16.584    64.2x |  0.8528    0.8596 -0.0069
-   24D     lle   5000 |    0.052     3.466    66.4x |  0.8022    0.6492 +0.1530
-   24D  isomap  10000 |    0.593    73.789   124.3x |  0.8476    0.8567 -0.0090
-   24D     lle  10000 |    0.137    17.471   127.1x |  0.8234    0.6867 +0.1367
-Two more runs of the 6D LLE rows (--methods lle --sets 6D) gave 10.8x / 14.7x / 18.4x and
-11.3x / 14.7x / 18.1x. At 7a93d1d, six runs of --methods lle --sets 6D --sizes 2000,5000:
-N = 2000 8.7x 11.2x 11.7x 11.3x 11.4x 11.2x (the 8.7x run timed ours at 14 ms instead of
-10-11: this VM's noise weighs more on a 10 ms run than on scikit-learn's 120 ms), N = 5000
-14.5-15.4x. (At e008ec8, before the SIMD Cholesky, the column-wise Gram, the
-huge-page pencil buffer, the compile-time kd-tree dimension and the unsearched landmark
-rows: LLE 5.7x / 8.9x / 12.1x at 6D and 15.0x / 52.3x / 112.5x at 24D. At 963fefd, before
-the landmark pencil was formed row by row and solved as a standard problem: 3.3x / 6.7x /
-9.5x and 7.5x / 32.1x / 72.1x. The same trustworthiness to 4 decimals throughout. Before
-34cc60e the 24D graph came from the kd-tree: LLE 5.7x / 15.3x / 25.8x, Isomap 24D 10000
-81.8x.)
-Isomap: the landmark draw moves our trustworthiness around exact Isomap's: with --seed 1
-and 2 the dT were -0.0005 +0.0007 -0.0068 -0.0104 -0.0010 +0.0017 and -0.0041 -0.0039
-+0.0020 -0.0077 -0.0061 +0.0004 (rows in the order above; commit b16f796), 17 of 18
-within 0.01. MaxMin landmarks (before b16f796) sat 0.012 (6D, 5000) and 0.021 (24D,
-10000) below.
-LLE: with --seed 1 our trustworthiness was 0.9368 0.8989 0.9379 0.7616 0.8305 0.8130 and
-with --seed 2 0.9458 0.9086 0.9466 0.7903 0.8252 0.7548, every one above scikit-learn's
-(dT +0.025 .. +0.24). Exact LLE (ours or scikit-learn's) scores 0.65-0.86 here because the
-K = 10 graphs have closed sets of neighbours: M's near-null space is larger than d + 1 and
-the answer is an arbitrary basis of it; restricted to the landmarks' span the problem is
-well posed. Speed: 10.8-127x on every row. 6D N = 2000 is the closest, where
-scikit-learn's sparse LU is cheap (0.12 s) and our fixed costs dominate: ~11 ms on 2 cores,
-of which the kNN graph ~2.1 ms, the LLE weights ~1.1 ms, the landmark weights ~2.1 ms and
-the L = 500 pencil ~4.6 ms (AZ 0.7, Gram 0.9, Cholesky 1.0 with AVX-512, Lanczos 1.6,
-Rayleigh-Ritz 0.4; in-process minima). Fewer landmarks would cut the pencil further on the
-brain (trustworthiness flat from L = 64 to 500) but not on a clean manifold (S-curve,
-n = 1500: 0.915 at L = 93, >= 0.95 from L = 300), so L is left to the user. The exact path
-(a sparse LU of I - W; --landmarks 20000) at 8894b0a: 5.5x / 5.5x / 5.9x at 6D and 1.5x /
-6.6x / 5.3x at 24D (trustworthiness 0.86 0.78 0.76 0.79 0.73 0.73).
+Latest table, its commit and machine, and earlier runs: docs/benchmarks.md.
 """
 import argparse
 import gzip

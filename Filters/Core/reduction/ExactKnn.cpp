@@ -12,13 +12,12 @@ namespace mcv
 
 namespace
 {
-// Measured on the real brain features (Colin27 T1 + AAL + Brodmann, 7.1 M rows, 10000
-// references, k = 3, one thread of this project's 2-core EPYC (AVX-512 capable, the AVX2
-// kernel runs)): see kKdTreeMaxDimension below and Testing/Benchmarks/BenchmarkReduction.
+// Auto: the kd-tree up to this dimension, the tiled brute force above, where a kd-tree
+// visits most of its leaves. The crossover on the real brain's features (10000 references,
+// k = 3, one thread): Testing/Benchmarks/BenchmarkReduction --sweep (docs/benchmarks.md).
 constexpr int kKdTreeMaxDimension = 8;
-// Few references: the brute force at any dimension. 500 landmarks at 6D (LLE's landmark
-// weights), one thread: 10000 queries 17.7 ms brute force vs 32.3 ms kd-tree, 2000 queries
-// 3.6 vs 4.7 ms; at 2000 references the two tie (6.4 ms for 2000 queries).
+// Few references: the brute force at any dimension. With LLE's 500 landmarks at 6D it is
+// 1.3-1.8x faster than the kd-tree (one thread); the two tie at about 2000 references.
 constexpr std::size_t kBruteForceMaxReferences = 1024;
 
 constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();

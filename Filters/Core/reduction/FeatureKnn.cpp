@@ -32,15 +32,15 @@ struct RowMajorPoints
 
 // L2_Simple_Adaptor: L2_Adaptor's early exit (in steps of 4 coordinates, once the sum
 // passes the current worst) costs more than it saves at the dimensions the tree serves
-// (<= 8, ExactKnn.cpp): 5000 queries of the brain's features, k = 11, one thread, 3 / 6 / 10
-// dimensions: 6.8 / 20.9 / 36.1 ms vs 7.6 / 24.8 / 46.5 ms.
+// (<= 8, ExactKnn.cpp): 12-29 % slower queries on the brain's features at 3 to 10
+// dimensions (docs/benchmarks.md, component measurements).
 template <int Dim>
 using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, RowMajorPoints, float>,
   RowMajorPoints, Dim, std::uint32_t>;
 
 // Trees with the dimension fixed at compile time up to this one (the distance loop unrolled:
-// 6-D brain features, 2000 queries, k = 11, one thread: 3.3 vs 3.8 ms); a run-time
-// dimension above it (the kd-tree is Auto's choice only up to 8 dimensions, ExactKnn.cpp).
+// ~13 % faster queries on the brain's 6-D features); a run-time dimension above it (the
+// kd-tree is Auto's choice only up to 8 dimensions, ExactKnn.cpp).
 constexpr int kMaxFixedDimension = 8;
 
 struct UnionFind

@@ -17,8 +17,9 @@ namespace
 {
 // A_eps^T A_eps - M ~ 2 eps ||A||: small against the eigenvalues that carry an embedding
 // on real data (1e-13 .. 1e-8, ||M|| ~ 25), yet ~50x the unit roundoff x ||A||, so the
-// pivots of A's exact null vectors are not pure rounding noise (1e-12 gave 5e-13 for an
-// eigenvalue of 4e-13, 1e-15 was noisier again). A has a unit diagonal: the scale is absolute.
+// pivots of A's exact null vectors are not pure rounding noise (a shift of 1e-12 moves an
+// eigenvalue of 4e-13 to 5e-13; 1e-15 leaves the pivots noisier). A has a unit diagonal: the
+// scale is absolute.
 constexpr double kFactorShift = 1e-14;
 constexpr double kShiftInvertSigma = 1e-12; // relative to max(diag M)
 // Lanczos vectors beyond d + 1 kept for the Rayleigh-Ritz step.
