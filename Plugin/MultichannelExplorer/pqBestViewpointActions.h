@@ -6,9 +6,9 @@
 
 /**
  * The toolbar's actions run the plugin's Python helpers in ParaView's Python interpreter,
- * so the GUI and scripts share one implementation
- * (Plugin/MultichannelExplorer/multichannel_explorer.py). Enabled when there is an
- * active source and an active render view.
+ * so the GUI and scripts share one implementation (the Python package
+ * Plugin/MultichannelExplorer/multichannel_explorer/). Enabled when there is an active
+ * source and an active render view.
  * - "Best Viewpoint": apply_best_viewpoint(GetActiveSource(), GetActiveView(),
  *   disambiguate=True); for a "Gaussian TF Volume" display the opacity is its widgets'.
  * - "Follow Best Viewpoint" (a toggle): follow_best_viewpoint on the active source's

@@ -17,6 +17,10 @@ for group, name in (("filters", "BestViewpoint"), ("sources", "VolPackDenReader"
     C.check(pxm.SMProxyManager.GetPrototypeProxy(group, name) is not None,
             "proxy %s/%s defined" % (group, name))
 C.check(callable(mce.apply_best_viewpoint), "multichannel_explorer.apply_best_viewpoint")
+import multichannel_explorer.viewpoint  # noqa: E402
+
+C.check(multichannel_explorer.viewpoint.apply_best_viewpoint is mce.apply_best_viewpoint,
+        "import multichannel_explorer.viewpoint (a module of the embedded package)")
 w = Wavelet(WholeExtent=[-16, 16, -16, 16, -16, 16])
 bvp = BestViewpoint(Input=w, Device="GPU")
 msgs = T.Messages(bvp)

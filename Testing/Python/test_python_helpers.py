@@ -22,6 +22,25 @@ import multichannel_explorer  # noqa: E402
 C.check(multichannel_explorer is mce and callable(mce.apply_best_viewpoint),
         "multichannel_explorer importable after LoadPlugin")
 
+# The package (Plugin/MultichannelExplorer/multichannel_explorer/, embedded in the plugin):
+# each capability module imports by its dotted name, the top-level names are the modules'
+# own objects, and the observers of follow_best_viewpoint / show_dual_domain are one list.
+import multichannel_explorer.viewpoint  # noqa: E402
+from multichannel_explorer import (dual_domain, images, reduction, seeding,  # noqa: E402
+                                   transfer_function, _common)
+
+C.check(multichannel_explorer.viewpoint.apply_best_viewpoint is mce.apply_best_viewpoint
+        and dual_domain.show_dual_domain is mce.show_dual_domain
+        and images.image_statistics is mce.image_statistics
+        and reduction.reduce_multichannel is mce.reduce_multichannel
+        and seeding.auto_widgets is mce.auto_widgets
+        and transfer_function.show_gaussian_tf is mce.show_gaussian_tf,
+        "import multichannel_explorer.viewpoint & co: the package's modules")
+C.check(all(hasattr(mce, name) for name in mce.__all__ + ["_find_filter", "_read_png"]),
+        "every name of __all__ (and _find_filter, _read_png) at the top of the package")
+C.check(mce.viewpoint._followers is dual_domain._followers is _common._followers,
+        "one list of observers (follow_best_viewpoint, show_dual_domain, stop_following)")
+
 den = VolPackDenReader(FileName=T.data_file("brainsmall.den"))
 den.UpdatePipeline()
 

@@ -1,0 +1,72 @@
+"""Python helpers of the MultichannelExplorer ParaView plugin.
+
+Shipped inside the plugin (PYTHON_MODULES): importable in pvpython, pvbatch and the GUI's
+Python shell once the plugin is loaded::
+
+    from paraview.simple import *
+    LoadPlugin("/path/to/MultichannelExplorer.so", remote=False, ns=globals())
+    import multichannel_explorer as mce
+
+    volume = OpenDataFile("ch2.nii.gz")
+    view = GetActiveViewOrCreate("RenderView")
+    Show(volume, view).SetRepresentationType("Volume")
+    result = mce.apply_best_viewpoint(volume, view)            # camera along v3
+    print(result.direction, result.eigenvalues)
+    mce.apply_best_viewpoint(volume, view, which="worst")       # camera along v1
+    mce.apply_best_viewpoint(volume, view, disambiguate=True)   # +v3 or -v3, by entropy
+
+The "Best Viewpoint" toolbar button of the GUI runs
+``apply_best_viewpoint(GetActiveSource(), GetActiveView(), disambiguate=True)``.
+
+Nothing here imports paraview.simple at module level, so importing the module is cheap
+and safe in any ParaView process.
+
+The package, one module per capability (every public name is also here, at the top):
+
+    viewpoint           ViewpointResult, best_viewpoint_filter, apply_best_viewpoint,
+                        set_camera_direction, turn_camera, follow_best_viewpoint,
+                        stop_following
+    images              image_entropy, image_statistics (and PNG reading)
+    transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+    reduction           reduce_multichannel
+    dual_domain         reduced_domain_filter, show_dual_domain
+    seeding             auto_widgets
+    _common             private helpers shared by the others (paraview.simple on
+                        demand, warnings, proxy look-ups, property observers)
+
+The modules call each other directly: replacing a name here (``mce.X = wrapper``, as the
+GUI tests do for the functions the toolbar buttons call) changes what callers of
+``multichannel_explorer.X`` get, not what the other modules call.
+"""
+
+from . import _common, images
+from .dual_domain import reduced_domain_filter, show_dual_domain
+from .images import image_entropy, image_statistics
+from .reduction import reduce_multichannel
+from .seeding import auto_widgets
+from .transfer_function import GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_filter,
+                        follow_best_viewpoint, set_camera_direction, stop_following,
+                        turn_camera)
+
+# Private helpers the tests reach through the package (Testing/Python); not in __all__.
+_find_filter = _common._find_filter
+_read_png = images._read_png
+
+__all__ = [
+    "ViewpointResult",
+    "best_viewpoint_filter",
+    "apply_best_viewpoint",
+    "set_camera_direction",
+    "image_entropy",
+    "image_statistics",
+    "reduce_multichannel",
+    "reduced_domain_filter",
+    "auto_widgets",
+    "show_dual_domain",
+    "follow_best_viewpoint",
+    "stop_following",
+    "turn_camera",
+    "GAUSSIAN_TF_REPRESENTATION",
+    "show_gaussian_tf",
+]

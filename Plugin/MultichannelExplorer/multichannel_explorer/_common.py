@@ -1,0 +1,90 @@
+"""Shared helpers of the multichannel_explorer package (private): paraview.simple on
+demand, warnings, proxy look-ups and property observers.
+
+Module-level state: ``_followers``, the one list of live observers (_Follower) of
+follow_best_viewpoint and show_dual_domain; stop_following() empties it. Other modules
+import the list itself and only append to it or pop from it, never rebind it.
+"""
+
+
+_FILTER_XML_NAME = "BestViewpoint"
+
+
+def _simple():
+    from paraview import simple
+
+    return simple
+
+
+def _warn(message):
+    """Warnings go where ParaView shows them (Output Messages in the GUI, stderr in
+    pvpython/pvbatch)."""
+    try:
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        vtkOutputWindow.GetInstance().DisplayWarningText(
+            "multichannel_explorer: %s\n" % message)
+    except Exception:  # pragma: no cover - last resort
+        import sys
+
+        sys.stderr.write("multichannel_explorer: warning: %s\n" % message)
+
+
+def _same_proxy(a, b):
+    if a is None or b is None:
+        return False
+    a = getattr(a, "SMProxy", a)
+    b = getattr(b, "SMProxy", b)
+    return a is b or (hasattr(a, "GetGlobalID") and hasattr(b, "GetGlobalID")
+                      and a.GetGlobalID() == b.GetGlobalID())
+
+
+def _find_filter(source, xml_name=_FILTER_XML_NAME):
+    """The filter of type `xml_name` (default BestViewpoint) already applied to `source`,
+    or None."""
+    simple = _simple()
+    for proxy in simple.GetSources().values():
+        if proxy.SMProxy.GetXMLName() != xml_name:
+            continue
+        inputs = proxy.Input
+        if not isinstance(inputs, (list, tuple)):
+            inputs = [inputs]
+        for inp in inputs:
+            if _same_proxy(inp, source):
+                return proxy
+    return None
+
+
+def _is_representation(proxy):
+    proxy = getattr(proxy, "SMProxy", proxy)
+    return proxy is not None and proxy.GetXMLGroup() == "representations"
+
+
+class _Follower(object):
+    """Calls `callback` whenever a proxy property changes; stop() ends it."""
+
+    def __init__(self, proxy, prop_name, callback):
+        self.property = proxy.GetProperty(prop_name)
+        if self.property is None:
+            raise ValueError("%s has no property %s" % (proxy.GetXMLName(), prop_name))
+        self.property = getattr(self.property, "SMProperty", self.property)
+        self.callback = callback
+        self.tag = self.property.AddObserver("ModifiedEvent", self._fire)
+        self.busy = False
+
+    def _fire(self, *unused):
+        if self.busy:  # a change made by the callback itself
+            return
+        self.busy = True
+        try:
+            self.callback()
+        finally:
+            self.busy = False
+
+    def stop(self):
+        if self.tag is not None:
+            self.property.RemoveObserver(self.tag)
+            self.tag = None
+
+
+_followers = []  # keeps observers' Python callbacks alive

@@ -1,0 +1,92 @@
+"""The dual domain: the ReducedDomain filter on a volume of reduced coordinates, and the
+reduced domain (a point cloud and the widgets as spheres) shown beside the volume,
+recoloured whenever the widgets change.
+"""
+
+from ._common import _Follower, _find_filter, _followers, _simple
+from .transfer_function import _coordinates_name, _source_and_display, _widget_values
+from .viewpoint import ViewpointResult
+
+__all__ = [
+    "reduced_domain_filter",
+    "show_dual_domain",
+]
+
+
+def reduced_domain_filter(source, **props):
+    """Creates (or reuses) the ReducedDomain filter on `source` (a volume with
+    ReducedCoordinates), sets `props` (SampleSize, RandomSeed, GaussianWidgets,
+    SeedWidgetCount, Coordinates, ...) and returns it, not shown and not updated. The
+    active source is left as it was."""
+    simple = _simple()
+    if not hasattr(simple, "ReducedDomain"):
+        raise RuntimeError("ReducedDomain is not available: load the MultichannelExplorer "
+                           "plugin first")
+    domain = _find_filter(source, "ReducedDomain")
+    if domain is None:
+        active = simple.GetActiveSource()
+        domain = simple.ReducedDomain(Input=source)
+        if active is not None:
+            simple.SetActiveSource(active)
+    for name, value in props.items():
+        setattr(domain, name, value)
+    return domain
+
+
+def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
+                     widget_opacity=0.35):
+    """Shows the reduced domain beside the volume: splits the volume view's layout cell
+    and puts a render view with the domain's point cloud (a sample of `sample_size`
+    voxels at their reduced coordinates, coloured by the widgets over grey) and the
+    widgets as translucent spheres (diameter 2 sigma, the widget's colour).
+
+    `target`: a "Gaussian TF Volume" display, or the volume shown as one in
+    `volume_view`. While the returned object lives, every change of the display's
+    GaussianWidgets recolours the domain (call .stop() to end that). Returns a
+    ViewpointResult-like dict: filter, domain_view, volume_view, domain_display,
+    widget_display, stop."""
+    simple = _simple()
+    if volume_view is None:
+        volume_view = simple.GetActiveViewOrCreate("RenderView")
+    source, display = _source_and_display(target, volume_view)
+    props = dict(SampleSize=int(sample_size))
+    if display is not None:
+        props["GaussianWidgets"] = _widget_values(display)
+        props["Coordinates"] = ["POINTS", _coordinates_name(display)]
+    domain = reduced_domain_filter(source, **props)
+
+    domain_view = simple.CreateView("RenderView")
+    layout = simple.GetLayout(volume_view)
+    if layout is None:  # pvbatch: views are in no layout until given one
+        layout = simple.CreateLayout("Multichannel transfer function")
+        simple.AssignViewToLayout(view=volume_view, layout=layout, hint=0)
+    cell = layout.GetViewLocation(volume_view)
+    first = layout.SplitHorizontal(cell, 0.5)
+    layout.AssignView(first + 1, domain_view)
+    points = simple.Show(simple.OutputPort(domain, 0), domain_view)
+    points.SetRepresentationType("Points")
+    simple.ColorBy(points, ("POINTS", "DisplayColor"))
+    points.MapScalars = 0  # the colours themselves, not a colour map
+    points.PointSize = point_size
+    glyph = simple.Glyph(Input=simple.OutputPort(domain, 1), GlyphType="Sphere")
+    glyph.ScaleArray = ["POINTS", "Diameter"]
+    glyph.ScaleFactor = 1.0
+    glyph.GlyphMode = "All Points"
+    spheres = simple.Show(glyph, domain_view)
+    simple.ColorBy(spheres, ("POINTS", "Color"))
+    spheres.MapScalars = 0
+    spheres.Opacity = widget_opacity
+    simple.ResetCamera(domain_view)
+    simple.Render(domain_view)
+
+    follower = None
+    if display is not None:
+        def recolour():
+            domain.GaussianWidgets = _widget_values(display)
+            simple.Render(domain_view)
+        follower = _Follower(display, "GaussianWidgets", recolour)
+    _followers.append(follower)
+    return ViewpointResult(filter=domain, glyph=glyph, domain_view=domain_view, layout=layout,
+                           volume_view=volume_view, domain_display=points,
+                           widget_display=spheres,
+                           stop=(follower.stop if follower else (lambda: None)))
