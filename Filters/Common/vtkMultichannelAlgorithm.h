@@ -19,8 +19,10 @@
  *
  * The input port takes any vtkDataSet, so that other data gets the filter's own error
  * message rather than the pipeline's. The output is image data unless a filter says
- * otherwise in FillOutputPortInformation. Filters implement RequestMultichannelData in
- * place of RequestData. Which properties a filter offers is up to its ServerManager XML.
+ * otherwise in FillOutputPortInformation: BestViewpoint and ReducedDomain make polydata
+ * but derive from here too, so that ParaView's wrapping inherits the shared property
+ * methods from one class. Filters implement RequestMultichannelData in place of
+ * RequestData. Which properties a filter offers is up to its ServerManager XML.
  */
 
 #ifndef vtkMultichannelAlgorithm_h
