@@ -22,6 +22,7 @@
 #include "vtkVolumeProperty.h"
 #include "vtkWeakPointer.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -203,7 +204,8 @@ const char* vtkGaussianTFVolumeRepresentation::GetCoordinateArray()
 
 void vtkGaussianTFVolumeRepresentation::SetDevice(int device)
 {
-  device = device < DEVICE_AUTO ? DEVICE_AUTO : (device > DEVICE_GPU ? DEVICE_GPU : device);
+  device = std::max<int>(vtkMultichannelAlgorithm::DEVICE_AUTO,
+    std::min<int>(device, vtkMultichannelAlgorithm::DEVICE_GPU));
   if (device != this->Device)
   {
     this->Device = device;

@@ -36,6 +36,7 @@
 
 #include "mcvRepresentationsGaussianTFModule.h" // for export macro
 #include "vtkImageVolumeRepresentation.h"
+#include "vtkMultichannelAlgorithm.h" // for the DeviceType values the filters share
 
 #include <memory> // for std::unique_ptr
 
@@ -46,13 +47,6 @@ public:
   static vtkGaussianTFVolumeRepresentation* New();
   vtkTypeMacro(vtkGaussianTFVolumeRepresentation, vtkImageVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  enum DeviceType
-  {
-    DEVICE_AUTO = 0,
-    DEVICE_CPU = 1,
-    DEVICE_GPU = 2
-  };
 
   ///@{
   /**
@@ -74,7 +68,10 @@ public:
   ///@}
 
   ///@{
-  /** Where the RGBA computation runs: DEVICE_AUTO (default), DEVICE_CPU, DEVICE_GPU. */
+  /**
+   * Where the RGBA computation runs: vtkMultichannelAlgorithm::DEVICE_AUTO (default),
+   * DEVICE_CPU or DEVICE_GPU, as the filters' Device.
+   */
   void SetDevice(int device);
   vtkGetMacro(Device, int);
   ///@}
@@ -121,7 +118,7 @@ private:
 
   void UpdateRGBA();
 
-  int Device = DEVICE_AUTO;
+  int Device = vtkMultichannelAlgorithm::DEVICE_AUTO;
   int GaussianBlendMode = 0;
   int NumberOfComputations = 0;
   int NumberOfDataUpdates = 0;

@@ -19,9 +19,9 @@
  * MINMAX (to [0,1]), NONE. Constant columns are left at 0 under ZSCORE/MINMAX (warning);
  * voxels with NaN/Inf in any channel get a feature row of zeros (warning with the count).
  *
- * Channel selection (AddChannel/ClearChannels, the `Channels` property in ParaView): the
- * named point arrays; none named: every numeric point array except vtkGhostType,
- * vtkValidPointMask and an existing `Features` array.
+ * Channel selection (AddChannel/ClearChannels of vtkMultichannelAlgorithm, the `Channels`
+ * property in ParaView): the named point arrays; none named: every numeric point array
+ * except vtkGhostType, vtkValidPointMask and an existing `Features` array.
  *
  * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process asks for its piece plus
  * one ghost layer (the neighbours of the gradient, Laplacian and 3x3x3 statistics),
@@ -35,15 +35,13 @@
 #define vtkMultichannelFeatures_h
 
 #include "mcvFiltersFeaturesModule.h" // for export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkMultichannelAlgorithm.h"
 
-#include <memory> // for std::unique_ptr
-
-class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkImageAlgorithm
+class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkMultichannelAlgorithm
 {
 public:
   static vtkMultichannelFeatures* New();
-  vtkTypeMacro(vtkMultichannelFeatures, vtkImageAlgorithm);
+  vtkTypeMacro(vtkMultichannelFeatures, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum FeatureSetType
@@ -59,24 +57,6 @@ public:
     MINMAX = 1,
     NONE = 2
   };
-
-  enum DeviceType
-  {
-    DEVICE_AUTO = 0,
-    DEVICE_CPU = 1,
-    DEVICE_GPU = 2
-  };
-
-  ///@{
-  /**
-   * Point arrays used as channels (all components of each). Empty: every numeric point
-   * array (except ghost/mask arrays and an existing `Features` array).
-   */
-  void AddChannel(const char* arrayName);
-  void ClearChannels();
-  int GetNumberOfChannels();
-  const char* GetChannel(int index);
-  ///@}
 
   ///@{
   /** FEATURES_6D (default), FEATURES_24D or FEATURES_CUSTOM. */
@@ -107,27 +87,23 @@ public:
   ///@}
 
   ///@{
-  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (falls back to the CPU, warning). */
-  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
-  vtkGetMacro(Device, int);
-  ///@}
-
-  ///@{
   /** Results of the last execution. */
   vtkGetMacro(NumberOfFeatures, int);
   vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
   vtkGetMacro(ComputeTime, double); // milliseconds, core only
-  const char* GetDeviceUsed();
   ///@}
 
 protected:
   vtkMultichannelFeatures();
   ~vtkMultichannelFeatures() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestMultichannelData(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // One ghost layer: the neighbours of the gradient, Laplacian and 3x3x3 statistics.
+  int GetSplitGhostLayers() override { return 1; }
+  // Every numeric point array but ParaView's own and an existing `Features`.
+  std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd) override;
 
   int FeatureSet = FEATURES_6D;
   bool Intensity = true;
@@ -137,7 +113,6 @@ protected:
   bool LocalMean = false;
   bool LocalVariance = false;
   int Normalization = ZSCORE;
-  int Device = DEVICE_AUTO;
 
   int NumberOfFeatures = 0;
   vtkIdType NumberOfNonFiniteVoxels = 0;
@@ -146,9 +121,6 @@ protected:
 private:
   vtkMultichannelFeatures(const vtkMultichannelFeatures&) = delete;
   void operator=(const vtkMultichannelFeatures&) = delete;
-
-  struct vtkInternals;
-  std::unique_ptr<vtkInternals> Internals;
 };
 
 #endif

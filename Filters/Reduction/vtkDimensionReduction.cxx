@@ -17,18 +17,17 @@
 #include "vtkTable.h"
 
 // The VTK-free core (Filters/Core).
-#include "../Common/mcvChannelArrays.h"
-#include "../Common/mcvControllerCommunicator.h"
-#include "../Common/mcvPieces.h"
 #include "DimensionReduction.h"
 #include "MemoryBudget.h"
+
+#include "../Common/mcvChannelArrays.h" // availableArrays
+#include "../Common/mcvPieces.h"        // PieceLayout
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkDimensionReduction);
@@ -36,7 +35,6 @@ vtkStandardNewMacro(vtkDimensionReduction);
 struct vtkDimensionReduction::vtkInternals
 {
   vtkNew<vtkDoubleArray> Spectrum;
-  std::string DeviceUsed = "CPU";
 };
 
 namespace
@@ -80,7 +78,6 @@ void addFieldString(vtkFieldData* fd, const char* name, const std::string& value
 vtkDimensionReduction::vtkDimensionReduction()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
   this->Internals->Spectrum->SetName("EigenvalueSpectrum");
   // Default feature array: `Features` (the output of MultichannelFeatures).
@@ -95,21 +92,6 @@ vtkDimensionReduction::~vtkDimensionReduction() = default;
 vtkDoubleArray* vtkDimensionReduction::GetEigenvalueSpectrum()
 {
   return this->Internals->Spectrum;
-}
-
-//------------------------------------------------------------------------------
-const char* vtkDimensionReduction::GetDeviceUsed()
-{
-  return this->Internals->DeviceUsed.c_str();
-}
-
-//------------------------------------------------------------------------------
-int vtkDimensionReduction::FillInputPortInformation(int, vtkInformation* info)
-{
-  // vtkDataSet rather than vtkImageData so that other inputs get this filter's own,
-  // explicit error message (ParaView's XML restricts the input to image data anyway).
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -132,18 +114,7 @@ int vtkDimensionReduction::RequestInformation(
   tableInfo->Remove(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
   tableInfo->Remove(vtkDataObject::ORIGIN());
   tableInfo->Remove(vtkDataObject::SPACING());
-  // Piece requests become extents (vtkExtentTranslator), so a split run computes pieces.
-  outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
   return 1;
-}
-
-//------------------------------------------------------------------------------
-int vtkDimensionReduction::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  // Split runs: the extent asked of the image output (and the owned voxels); no ghosts,
-  // every voxel is placed on its own.
-  return mcv::vtkhelpers::requestOutputExtentWithGhosts(inputVector, outputVector, 0);
 }
 
 //------------------------------------------------------------------------------
@@ -151,7 +122,6 @@ void vtkDimensionReduction::ResetResults()
 {
   this->Internals->Spectrum->Initialize();
   this->Internals->Spectrum->SetName("EigenvalueSpectrum");
-  this->Internals->DeviceUsed = "CPU";
   this->VarianceRetained = 0.0;
   this->Trustworthiness = 0.0;
   this->NumberOfFeaturesUsed = 0;
@@ -162,20 +132,10 @@ void vtkDimensionReduction::ResetResults()
 }
 
 //------------------------------------------------------------------------------
-int vtkDimensionReduction::RequestData(
+int vtkDimensionReduction::RequestMultichannelData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->ResetResults();
-  // A run split over processes: which voxels this one owns, and the collectives. Every
-  // return before check.AllPassed() votes "failed" there.
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const mcv::vtkhelpers::PieceLayout layout =
-    mcv::vtkhelpers::pieceLayout(outInfo, inputVector[0]->GetInformationObject(0));
-  mcv::vtkhelpers::ControllerCommunicator communicator(layout.Controller);
-  const mcv::Communicator* comm = layout.IsSplit() ? &communicator : nullptr;
-  mcv::vtkhelpers::CollectiveCheck check(comm);
-
-  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
   vtkTable* spectrumTable = vtkTable::GetData(outputVector, 1);
   if (!output || !spectrumTable)
@@ -185,12 +145,10 @@ int vtkDimensionReduction::RequestData(
   }
 
   // ---- Argument checks -----------------------------------------------------------
-  vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  vtkImageData* image =
+    this->GetInputImage(inputVector, "with a point array of feature vectors.");
   if (!image)
   {
-    vtkErrorMacro("Input is " << (inputObject ? inputObject->GetClassName() : "missing")
-                              << ", not image data: DimensionReduction needs a vtkImageData "
-                                 "with a point array of feature vectors.");
     return 0;
   }
   if (this->OutputDimension != 2 && this->OutputDimension != 3)
@@ -214,34 +172,14 @@ int vtkDimensionReduction::RequestData(
       "ReferenceSampleSize must be positive (got " << this->ReferenceSampleSize << ").");
     return 0;
   }
-  int extent[6];
-  image->GetExtent(extent);
-  std::size_t count = 1;
-  for (int a = 0; a < 3; ++a)
-  {
-    const int n = extent[2 * a + 1] - extent[2 * a] + 1;
-    if (n <= 0)
-    {
-      count = 0;
-      break;
-    }
-    count *= static_cast<std::size_t>(n);
-  }
-  if (count == 0)
-  {
-    vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
-                                                      << extent[2] << " " << extent[3] << " "
-                                                      << extent[4] << " " << extent[5] << ").");
-    return 0;
-  }
-
+  mcv::ImageGrid grid;
   mcv::GridPiece piece;
-  const std::string pieceError = mcv::vtkhelpers::gridPiece(image, layout, piece);
-  if (!pieceError.empty())
+  if (!this->GetImageBlock(image, grid, piece))
   {
-    vtkErrorMacro(<< pieceError);
     return 0;
   }
+  const std::size_t count = grid.voxelCount();
+  const mcv::vtkhelpers::PieceLayout& layout = this->GetPieceLayout();
 
   // ---- The feature array -----------------------------------------------------------
   vtkPointData* pd = image->GetPointData();
@@ -312,11 +250,9 @@ int vtkDimensionReduction::RequestData(
   }
 
   const bool isFloat = features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout();
-  const std::string memoryError =
-    mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat);
-  if (!memoryError.empty())
+  if (this->ReportError(
+        mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat)))
   {
-    vtkErrorMacro(<< memoryError);
     return 0;
   }
 
@@ -347,31 +283,19 @@ int vtkDimensionReduction::RequestData(
   options.numberOfLandmarks = this->NumberOfLandmarks;
   options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
   options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
-  options.device = static_cast<mcv::Device>(this->Device);
-  const std::thread::id callingThread = std::this_thread::get_id();
-  options.progress = [this, callingThread](const char* stage, double p) {
-    // UpdateProgress fires VTK events: only from the thread that runs the pipeline.
-    if (std::this_thread::get_id() == callingThread)
-    {
-      this->SetProgressText(stage);
-      this->UpdateProgress(std::min(1.0, std::max(0.0, p)));
-    }
-  };
+  options.device = this->GetRequestedDevice();
+  options.progress = this->StageProgressCallback();
 
   if (layout.IsSplit())
   {
-    options.communicator = comm;
+    options.communicator = this->GetCommunicator();
     options.piece = piece;
-    for (int a = 0; a < 3; ++a)
-    {
-      options.block.dims[a] = extent[2 * a + 1] - extent[2 * a] + 1;
-    }
+    options.block.dims = grid.dims;
   }
 
   // ---- The core ----------------------------------------------------------------------
-  if (!check.AllPassed())
+  if (!this->AllProcessesReady())
   {
-    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
     return 0;
   }
   // The output array, written by the core in place (no second coordinates buffer).
@@ -389,10 +313,7 @@ int vtkDimensionReduction::RequestData(
   this->UpdateProgress(0.0);
   const mcv::ReductionResult result = mcv::reduceDimension(matrix, options);
   this->SetProgressText(nullptr);
-  for (const std::string& warning : result.warnings)
-  {
-    vtkWarningMacro(<< warning);
-  }
+  this->ReportWarnings(result.warnings);
   if (!result.ok())
   {
     vtkErrorMacro(<< methodName(this->Method) << " on '" << requested << "': " << result.error);
@@ -407,7 +328,7 @@ int vtkDimensionReduction::RequestData(
 
   // ---- Output port 0: the input plus ReducedCoordinates (filled above) -----------------
 
-  this->Internals->DeviceUsed = mcv::deviceName(result.deviceUsed);
+  this->SetDeviceUsed(result.deviceUsed);
   this->VarianceRetained = result.varianceRetained;
   this->Trustworthiness = result.trustworthiness;
   this->NumberOfFeaturesUsed = static_cast<int>(result.usedColumns.size());
@@ -431,11 +352,8 @@ int vtkDimensionReduction::RequestData(
   spectrumCopy->SetName("EigenvalueSpectrum");
   fd->AddArray(spectrumCopy);
   addFieldString(fd, "ReductionMethod", methodName(this->Method));
-  addFieldString(fd, "DeviceUsed", this->Internals->DeviceUsed);
-  if (layout.IsSplit() && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
-  {
-    output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
-  }
+  addFieldString(fd, "DeviceUsed", this->GetDeviceUsed());
+  this->CropToRequestedExtent(output, outputVector);
 
   // ---- Output port 1: the spectrum table (one process of a split run: no copies) ------
   if (layout.IsSplit() && layout.Piece != 0)
@@ -488,8 +406,6 @@ void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfLandmarks: " << this->NumberOfLandmarks << "\n";
   os << indent << "ReferenceSampleSize: " << this->ReferenceSampleSize << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
-  os << indent << "Device: " << this->Device << "\n";
   os << indent << "VarianceRetained: " << this->VarianceRetained << "\n";
   os << indent << "Trustworthiness: " << this->Trustworthiness << "\n";
-  os << indent << "DeviceUsed: " << this->Internals->DeviceUsed << "\n";
 }

@@ -27,6 +27,9 @@
  * NumberOfNeighbors / NumberOfLandmarks / ReferenceSampleSize, and every error of the
  * core (K >= M, NaN/Inf features, ...). The core's warnings are forwarded as VTK warnings.
  *
+ * Device (vtkMultichannelAlgorithm): where the out-of-sample step runs; GetDeviceUsed says
+ * where it ran.
+ *
  * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process holds a piece; the
  * column statistics and the reference sample are drawn across all processes and shared
  * (the same sample, hence the same embedding, as one process for the same seed), the fit
@@ -38,17 +41,17 @@
 #define vtkDimensionReduction_h
 
 #include "mcvFiltersReductionModule.h" // for export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
 
 class vtkDoubleArray;
 
-class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkImageAlgorithm
+class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkMultichannelAlgorithm
 {
 public:
   static vtkDimensionReduction* New();
-  vtkTypeMacro(vtkDimensionReduction, vtkImageAlgorithm);
+  vtkTypeMacro(vtkDimensionReduction, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum MethodType
@@ -56,13 +59,6 @@ public:
     PCA = 0,
     ISOMAP = 1,
     LLE = 2
-  };
-
-  enum DeviceType
-  {
-    DEVICE_AUTO = 0,
-    DEVICE_CPU = 1,
-    DEVICE_GPU = 2
   };
 
   ///@{
@@ -108,12 +104,6 @@ public:
   ///@}
 
   ///@{
-  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (the out-of-sample step). */
-  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
-  vtkGetMacro(Device, int);
-  ///@}
-
-  ///@{
   /** Results of the last execution (empty / zero before the first or after a failure). */
   /** Eigenvalue spectrum as returned by the core (PCA, Isomap: descending). */
   vtkDoubleArray* GetEigenvalueSpectrum();
@@ -128,19 +118,18 @@ public:
   vtkGetMacro(NumberOfFeaturesUsed, int);
   /** Milliseconds: fit, out-of-sample placement, total (core timings). */
   vtkGetVector3Macro(StageTimings, double);
-  /** "CPU" or "GPU": where the out-of-sample step ran. */
-  const char* GetDeviceUsed();
   ///@}
 
 protected:
   vtkDimensionReduction();
   ~vtkDimensionReduction() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestMultichannelData(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Split runs: no ghost layers, every voxel is placed on its own.
+  int GetSplitGhostLayers() override { return 0; }
 
   void ResetResults();
 
@@ -150,7 +139,6 @@ protected:
   int NumberOfLandmarks = 500;
   vtkIdType ReferenceSampleSize = 10000;
   int RandomSeed = 0;
-  int Device = DEVICE_AUTO;
 
   double VarianceRetained = 0.0;
   double Trustworthiness = 0.0;

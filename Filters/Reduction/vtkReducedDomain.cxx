@@ -20,7 +20,6 @@
 #include "ReferenceSample.h" // uniformIndex: the suite's portable seeded RNG
 #include "WidgetSeeding.h"
 
-#include "../Common/mcvWholeExtent.h"
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -107,7 +106,6 @@ vtkSmartPointer<vtkPolyData> widgetGlyphSource(const std::vector<mcv::GaussianWi
 vtkReducedDomain::vtkReducedDomain()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(1);
   this->SetNumberOfOutputPorts(2);
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "ReducedCoordinates");
@@ -166,21 +164,14 @@ vtkDoubleArray* vtkReducedDomain::GetSeededWidgets()
 }
 
 //------------------------------------------------------------------------------
-int vtkReducedDomain::FillInputPortInformation(int, vtkInformation* info)
+int vtkReducedDomain::FillOutputPortInformation(int, vtkInformation* info)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
   return 1;
 }
 
 //------------------------------------------------------------------------------
-int vtkReducedDomain::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
-{
-  return mcv::vtkhelpers::requestWholeExtent(inputVector);
-}
-
-//------------------------------------------------------------------------------
-int vtkReducedDomain::RequestData(
+int vtkReducedDomain::RequestMultichannelData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->Internals->SeededWidgets->Reset();
@@ -222,12 +213,9 @@ int vtkReducedDomain::RequestData(
     vtkErrorMacro(<< widgets.error);
     return 0;
   }
-  for (const std::string& warning : widgets.warnings)
+  if (this->SeedWidgetCount == 0) // seeding runs with no widgets yet: nothing to warn about
   {
-    if (this->SeedWidgetCount == 0) // seeding runs with no widgets yet: nothing to warn about
-    {
-      vtkWarningMacro(<< warning);
-    }
+    this->ReportWarnings(widgets.warnings);
   }
 
   // ---- The sample ------------------------------------------------------------------------

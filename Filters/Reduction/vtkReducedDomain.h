@@ -30,17 +30,17 @@
 #define vtkReducedDomain_h
 
 #include "mcvFiltersReductionModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
 
 class vtkDoubleArray;
 
-class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkPolyDataAlgorithm
+class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkMultichannelAlgorithm
 {
 public:
   static vtkReducedDomain* New();
-  vtkTypeMacro(vtkReducedDomain, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkReducedDomain, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -92,9 +92,10 @@ protected:
   vtkReducedDomain();
   ~vtkReducedDomain() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  // Not split (GetSplitGhostLayers): every process samples the whole volume.
+  int RequestMultichannelData(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   vtkIdType SampleSize = 20000;
   int RandomSeed = 0;

@@ -28,8 +28,6 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
-#include "../Common/mcvControllerCommunicator.h"
-#include "../Common/mcvPieces.h"
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -37,7 +35,6 @@
 #include <limits>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
 vtkStandardNewMacro(vtkBestViewpoint);
@@ -45,12 +42,7 @@ vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
 
 struct vtkBestViewpoint::vtkInternals
 {
-  mcv::vtkhelpers::ChannelSelection Channels;
   mcv::vtkhelpers::WidgetValues GaussianWidgets;
-  std::string DeviceUsed = "CPU";
-  // Set during RequestData of a run split over processes (else null).
-  const mcv::Communicator* Communicator = nullptr;
-  mcv::vtkhelpers::CollectiveCheck* Check = nullptr;
 };
 
 namespace
@@ -140,8 +132,6 @@ void addFieldVector(vtkFieldData* fd, const char* name, const double v[3])
 vtkBestViewpoint::vtkBestViewpoint()
   : Internals(new vtkInternals)
 {
-  this->SetNumberOfInputPorts(1);
-  this->SetNumberOfOutputPorts(1);
   this->SetWidgetCoordinates("ReducedCoordinates");
 }
 
@@ -183,42 +173,6 @@ double vtkBestViewpoint::GetGaussianWidgetValue(int index)
 }
 
 //------------------------------------------------------------------------------
-void vtkBestViewpoint::AddChannel(const char* arrayName)
-{
-  if (this->Internals->Channels.Add(arrayName))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkBestViewpoint::ClearChannels()
-{
-  if (this->Internals->Channels.Clear())
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-int vtkBestViewpoint::GetNumberOfChannels()
-{
-  return this->Internals->Channels.Size();
-}
-
-//------------------------------------------------------------------------------
-const char* vtkBestViewpoint::GetChannel(int index)
-{
-  return this->Internals->Channels.Get(index);
-}
-
-//------------------------------------------------------------------------------
-const char* vtkBestViewpoint::GetDeviceUsed()
-{
-  return this->Internals->DeviceUsed.c_str();
-}
-
-//------------------------------------------------------------------------------
 vtkMTimeType vtkBestViewpoint::GetMTime()
 {
   vtkMTimeType t = this->Superclass::GetMTime();
@@ -230,42 +184,26 @@ vtkMTimeType vtkBestViewpoint::GetMTime()
 }
 
 //------------------------------------------------------------------------------
-int vtkBestViewpoint::FillInputPortInformation(int, vtkInformation* info)
+int vtkBestViewpoint::FillOutputPortInformation(int, vtkInformation* info)
 {
-  // vtkDataSet rather than vtkImageData so that other inputs get this filter's own,
-  // explicit error message (ParaView's XML restricts the input to image data anyway).
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
   return 1;
 }
 
 //------------------------------------------------------------------------------
-int vtkBestViewpoint::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkBestViewpoint::GetSplitGhostLayers()
 {
-  // Only HarrisPCA runs split; its ghost layers cover the gradient and the Gaussian.
-  if (this->Method != HARRIS_PCA)
-  {
-    return mcv::vtkhelpers::requestWholeExtent(inputVector);
-  }
-  return mcv::vtkhelpers::requestPieceWithGhosts(
-    inputVector, outputVector, this->GhostLayers());
+  return this->Method == HARRIS_PCA ? 1 + std::max(0, this->KernelWidth / 2) : -1;
 }
 
 //------------------------------------------------------------------------------
-int vtkBestViewpoint::GhostLayers() const
+std::vector<vtkDataArray*> vtkBestViewpoint::GetDefaultChannels(vtkPointData* pd)
 {
-  return 1 + std::max(0, this->KernelWidth / 2);
-}
-
-//------------------------------------------------------------------------------
-bool vtkBestViewpoint::AllProcessesReady()
-{
-  if (this->Internals->Check && !this->Internals->Check->AllPassed())
+  if (vtkDataArray* scalars = pd->GetScalars())
   {
-    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
-    return false;
+    return { scalars };
   }
-  return true;
+  return this->Superclass::GetDefaultChannels(pd);
 }
 
 //------------------------------------------------------------------------------
@@ -283,7 +221,6 @@ void vtkBestViewpoint::ResetResults()
   this->ViewValid = 0;
   this->NumberOfPointsFound = 0;
   this->NumberOfNonFiniteVoxels = 0;
-  this->Internals->DeviceUsed = "CPU";
 }
 
 //------------------------------------------------------------------------------
@@ -291,40 +228,10 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
   const mcv::GridPiece& block, std::vector<float>& opacity)
 {
   const std::size_t count = grid.voxelCount();
-  std::vector<vtkDataArray*> arrays;
-  const std::string selectionError = mcv::vtkhelpers::selectChannelArrays(image,
-    this->Internals->Channels.GetNames(),
-    [](vtkPointData* pd) {
-      // No names: the active scalars, else every numeric point array.
-      std::vector<vtkDataArray*> picked;
-      if (vtkDataArray* scalars = pd->GetScalars())
-      {
-        picked.push_back(scalars);
-        return picked;
-      }
-      for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
-      {
-        vtkDataArray* dataArray = pd->GetArray(i);
-        if (dataArray && !mcv::vtkhelpers::isInternalArray(dataArray->GetName()))
-        {
-          picked.push_back(dataArray);
-        }
-      }
-      return picked;
-    },
-    "BestViewpoint", arrays);
-  if (!selectionError.empty())
-  {
-    vtkErrorMacro(<< selectionError);
-    return false;
-  }
-
   // Channels as the core sees them: contiguous (AOS) arrays of a supported type.
   mcv::vtkhelpers::ChannelArrays channelArrays;
-  const std::string channelError = mcv::vtkhelpers::toChannels(arrays, count, channelArrays);
-  if (!channelError.empty())
+  if (!this->SelectChannels(image, count, channelArrays))
   {
-    vtkErrorMacro(<< channelError);
     return false;
   }
   const std::vector<mcv::ChannelView>& channels = channelArrays.views;
@@ -355,10 +262,10 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
       lows[c] = range.first;
       highs[c] = range.second;
     }
-    if (this->Internals->Communicator)
+    if (const mcv::Communicator* comm = this->GetCommunicator())
     {
-      this->Internals->Communicator->min(lows);
-      this->Internals->Communicator->max(highs);
+      comm->min(lows);
+      comm->max(highs);
     }
   }
   opacity.assign(count, 0.0f);
@@ -394,9 +301,9 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
   std::vector<double> nonFinite{ blockNonFinite > 0
       ? static_cast<double>(mcv::countNonFiniteVoxels(channels, grid, block))
       : 0.0 };
-  if (this->Internals->Communicator)
+  if (const mcv::Communicator* comm = this->GetCommunicator())
   {
-    this->Internals->Communicator->sum(nonFinite);
+    comm->sum(nonFinite);
   }
   this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite[0]);
   if (this->NumberOfNonFiniteVoxels > 0)
@@ -418,10 +325,7 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
     vtkErrorMacro(<< widgets.error);
     return false;
   }
-  for (const std::string& warning : widgets.warnings)
-  {
-    vtkWarningMacro(<< warning);
-  }
+  this->ReportWarnings(widgets.warnings);
   const char* name = this->WidgetCoordinates ? this->WidgetCoordinates : "";
   vtkDataArray* coordinates = image->GetPointData()->GetArray(name);
   if (!coordinates)
@@ -453,42 +357,21 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
   opacity.assign(count, 0.0f);
   const mcv::TransferFunctionRun run = mcv::gaussianWidgetOpacity(
     { floats->GetPointer(0), count, components }, widgets.widgets, opacity.data(),
-    static_cast<mcv::Device>(this->Device));
+    this->GetRequestedDevice());
   if (!run.ok())
   {
     vtkErrorMacro(<< run.error);
     return false;
   }
-  for (const std::string& warning : run.warnings)
-  {
-    vtkWarningMacro(<< warning);
-  }
+  this->ReportWarnings(run.warnings);
   return true;
 }
 
 //------------------------------------------------------------------------------
-int vtkBestViewpoint::RequestData(
+int vtkBestViewpoint::RequestMultichannelData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->ResetResults();
-  // A run split over processes: which voxels this one owns, and the collectives. Every
-  // return before AllProcessesReady() votes "failed" there (CollectiveCheck).
-  const mcv::vtkhelpers::PieceLayout layout = this->Method == HARRIS_PCA
-    ? mcv::vtkhelpers::pieceLayout(
-        outputVector->GetInformationObject(0), inputVector[0]->GetInformationObject(0))
-    : mcv::vtkhelpers::PieceLayout();
-  mcv::vtkhelpers::ControllerCommunicator communicator(layout.Controller);
-  const mcv::Communicator* comm = layout.IsSplit() ? &communicator : nullptr;
-  mcv::vtkhelpers::CollectiveCheck check(comm);
-  this->Internals->Communicator = comm;
-  this->Internals->Check = &check;
-  struct Forget
-  {
-    vtkInternals* I;
-    ~Forget() { I->Communicator = nullptr; I->Check = nullptr; }
-  } forget{ this->Internals.get() };
-
-  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkPolyData* output = vtkPolyData::GetData(outputVector, 0);
   if (!output)
   {
@@ -497,12 +380,10 @@ int vtkBestViewpoint::RequestData(
   }
 
   // ---- Argument checks -----------------------------------------------------------
-  vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  vtkImageData* image =
+    this->GetInputImage(inputVector, "(resample other data to an image first).");
   if (!image)
   {
-    vtkErrorMacro("Input is " << (inputObject ? inputObject->GetClassName() : "missing")
-                              << ", not image data: BestViewpoint needs a vtkImageData "
-                                 "(resample other data to an image first).");
     return 0;
   }
   if (this->NumberOfInterestPoints <= 0)
@@ -511,33 +392,15 @@ int vtkBestViewpoint::RequestData(
       << this->NumberOfInterestPoints << ").");
     return 0;
   }
-  int extent[6];
-  image->GetExtent(extent);
   mcv::ImageGrid grid;
-  for (int a = 0; a < 3; ++a)
+  mcv::GridPiece block;
+  if (!this->GetImageBlock(image, grid, block))
   {
-    grid.dims[a] = extent[2 * a + 1] - extent[2 * a] + 1;
-  }
-  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
-  {
-    vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
-                                                      << extent[2] << " " << extent[3] << " "
-                                                      << extent[4] << " " << extent[5] << ").");
     return 0;
   }
   const std::size_t count = grid.voxelCount();
-  mcv::GridPiece block;
-  const std::string pieceError = mcv::vtkhelpers::gridPiece(image, layout, block);
-  if (!pieceError.empty())
+  if (this->ReportError(mcv::checkViewpointMemory(count)))
   {
-    vtkErrorMacro(<< pieceError);
-    return 0;
-  }
-
-  const std::string memoryError = mcv::checkViewpointMemory(count);
-  if (!memoryError.empty())
-  {
-    vtkErrorMacro(<< memoryError);
     return 0;
   }
 
@@ -555,6 +418,8 @@ int vtkBestViewpoint::RequestData(
   // ---- Geometry --------------------------------------------------------------------
   // Voxel (0,0,0) of the arrays is at extent-minimum; an oriented image (direction
   // matrix not identity) is computed in its index frame and rotated back afterwards.
+  int extent[6];
+  image->GetExtent(extent);
   double spacing[3], origin[3];
   image->GetSpacing(spacing);
   image->GetOrigin(origin);
@@ -612,32 +477,22 @@ int vtkBestViewpoint::RequestData(
   options.harris.kernelWidth = this->KernelWidth;
   options.harris.k = this->HarrisK;
   options.numberOfInterestPoints = this->NumberOfInterestPoints;
-  options.device = static_cast<mcv::Device>(this->Device);
+  options.device = this->GetRequestedDevice();
   options.entropy.samples = this->EntropySamples;
   options.entropy.imageSize = this->EntropyImageSize;
-  options.communicator = comm;
+  options.communicator = this->GetCommunicator();
   options.piece = block;
-  const std::thread::id callingThread = std::this_thread::get_id();
-  options.progress = [this, callingThread](double p) {
-    // UpdateProgress fires VTK events: only from the thread that runs the pipeline.
-    if (std::this_thread::get_id() == callingThread)
-    {
-      this->UpdateProgress(0.05 + 0.95 * std::min(1.0, std::max(0.0, p)));
-    }
-  };
+  options.progress = this->ProgressCallback(0.05, 1.0);
 
   const mcv::BestViewpointResult result =
     mcv::computeBestViewpoint(opacity.data(), grid, options);
-  for (const std::string& warning : result.warnings)
-  {
-    vtkWarningMacro(<< warning);
-  }
+  this->ReportWarnings(result.warnings);
   if (!result.ok())
   {
     vtkErrorMacro(<< result.error);
     return 0;
   }
-  this->Internals->DeviceUsed = mcv::deviceName(result.deviceUsed);
+  this->SetDeviceUsed(result.deviceUsed);
   this->StageTimings[0] = result.timings.harrisMs;
   this->StageTimings[1] = result.timings.selectMs;
   this->StageTimings[2] = result.timings.pcaMs;
@@ -720,7 +575,7 @@ int vtkBestViewpoint::RequestData(
   fd->AddArray(valid);
   vtkNew<vtkStringArray> device;
   device->SetName("DeviceUsed");
-  device->InsertNextValue(this->Internals->DeviceUsed);
+  device->InsertNextValue(this->GetDeviceUsed());
   fd->AddArray(device);
 
   this->UpdateProgress(1.0);
@@ -731,12 +586,6 @@ int vtkBestViewpoint::RequestData(
 void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Channels:";
-  for (const std::string& name : this->Internals->Channels.GetNames())
-  {
-    os << " " << name;
-  }
-  os << "\n";
   os << indent << "OpacityFunction: " << this->OpacityFunction << "\n";
   os << indent << "NumberOfInterestPoints: " << this->NumberOfInterestPoints << "\n";
   os << indent << "GaussianSigma: " << this->GaussianSigma << "\n";
@@ -745,7 +594,6 @@ void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Method: " << this->Method << "\n";
   os << indent << "EntropySamples: " << this->EntropySamples << "\n";
   os << indent << "EntropyImageSize: " << this->EntropyImageSize << "\n";
-  os << indent << "Device: " << this->Device << "\n";
   os << indent << "BestViewDirection: " << this->BestViewDirection[0] << " "
      << this->BestViewDirection[1] << " " << this->BestViewDirection[2] << "\n";
   os << indent << "ViewValid: " << this->ViewValid << "\n";

@@ -8,10 +8,10 @@
  * channel's own finite range maps linearly to 0..1) and the opacity volume is the maximum
  * over channels. NaN/Inf voxels get opacity 0 (with a warning giving their count).
  *
- * Channel selection (AddChannel/ClearChannels, the `Channels` property in ParaView):
- * the named point arrays, all their components. With no name given: the active point
- * scalars (all components), or, when there are no active scalars, every numeric point
- * array.
+ * Channel selection (AddChannel/ClearChannels of vtkMultichannelAlgorithm, the `Channels`
+ * property in ParaView): the named point arrays, all their components. With no name
+ * given: the active point scalars (all components), or, when there are no active
+ * scalars, every numeric point array.
  *
  * The work is done by mcv::computeBestViewpoint (Filters/Core, no VTK): Harris response
  * R = det(M) - k tr(M)^3 with M the Gaussian-smoothed gradient tensor, the
@@ -39,7 +39,7 @@
 #define vtkBestViewpoint_h
 
 #include "mcvFiltersViewpointModule.h" // for export macro
-#include "vtkPolyDataAlgorithm.h"
+#include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
 #include <vector> // for std::vector
@@ -53,11 +53,11 @@ struct GridPiece;
 struct ImageGrid;
 }
 
-class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkPolyDataAlgorithm
+class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkMultichannelAlgorithm
 {
 public:
   static vtkBestViewpoint* New();
-  vtkTypeMacro(vtkBestViewpoint, vtkPolyDataAlgorithm);
+  vtkTypeMacro(vtkBestViewpoint, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   enum MethodType
@@ -72,24 +72,6 @@ public:
     OPACITY_CHANNELS = 0,        // channels through OpacityFunction (or their ranges)
     OPACITY_GAUSSIAN_WIDGETS = 1 // the Gaussian TF representation's widget opacity
   };
-
-  enum DeviceType
-  {
-    DEVICE_AUTO = 0,
-    DEVICE_CPU = 1,
-    DEVICE_GPU = 2
-  };
-
-  ///@{
-  /**
-   * Point arrays used as channels (all components of each). Empty: the active point
-   * scalars, else every numeric point array.
-   */
-  void AddChannel(const char* arrayName);
-  void ClearChannels();
-  int GetNumberOfChannels();
-  const char* GetChannel(int index);
-  ///@}
 
   ///@{
   /**
@@ -172,12 +154,6 @@ public:
   ///@}
 
   ///@{
-  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU. */
-  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
-  vtkGetMacro(Device, int);
-  ///@}
-
-  ///@{
   /** Results of the last execution (zeros when no direction could be found). */
   vtkGetVector3Macro(BestViewDirection, double);
   vtkGetVector3Macro(WorstViewDirection, double);
@@ -198,8 +174,6 @@ public:
   vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
   /** Milliseconds: Harris, top-N selection, PCA, total (core timings). */
   vtkGetVector4Macro(StageTimings, double);
-  /** "CPU" or "GPU": where the last execution ran. */
-  const char* GetDeviceUsed();
   ///@}
 
   /** Includes the opacity function's modification time. */
@@ -209,16 +183,16 @@ protected:
   vtkBestViewpoint();
   ~vtkBestViewpoint() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestMultichannelData(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Only HarrisPCA runs split: ghost layers for the gradient (1) and the Gaussian
+  // (KernelWidth/2). The baselines take the whole volume.
+  int GetSplitGhostLayers() override;
+  // The active point scalars, else every numeric point array.
+  std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd) override;
 
   void ResetResults();
-  // Ghost layers a split run asks for: the gradient (1) and the Gaussian (KernelWidth/2).
-  int GhostLayers() const;
-  // Split runs: where every process has passed its local checks; false (reported) when
-  // one has not. Serial runs: true.
-  bool AllProcessesReady();
   // The opacity volume (count floats) from the channels or from the widgets; false after
   // an error was reported.
   bool ComputeChannelOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
@@ -233,7 +207,6 @@ protected:
   int Method = HARRIS_PCA;
   int EntropySamples = 400;
   int EntropyImageSize = 128;
-  int Device = DEVICE_AUTO;
   int OpacitySource = OPACITY_CHANNELS;
   char* WidgetCoordinates = nullptr;
 

@@ -1,0 +1,331 @@
+#include "vtkMultichannelAlgorithm.h"
+
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+// The VTK-free core (Filters/Core).
+#include "Device.h"
+
+#include "mcvChannelArrays.h"
+#include "mcvControllerCommunicator.h"
+#include "mcvPieces.h"
+
+#include <algorithm>
+#include <cstring>
+#include <thread>
+
+struct vtkMultichannelAlgorithm::vtkInternals
+{
+  mcv::vtkhelpers::ChannelSelection Channels;
+  std::string DeviceUsed = "CPU";
+  // Set during RequestData.
+  mcv::vtkhelpers::PieceLayout Layout;
+  const mcv::Communicator* Communicator = nullptr;
+  mcv::vtkhelpers::CollectiveCheck* Check = nullptr;
+};
+
+namespace
+{
+bool makesImageData(vtkAlgorithm* algorithm, int port)
+{
+  vtkInformation* info = algorithm->GetOutputPortInformation(port);
+  const char* type = info ? info->Get(vtkDataObject::DATA_TYPE_NAME()) : nullptr;
+  return type && std::strcmp(type, "vtkImageData") == 0;
+}
+} // namespace
+
+//------------------------------------------------------------------------------
+vtkMultichannelAlgorithm::vtkMultichannelAlgorithm()
+  : Internals(new vtkInternals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+}
+
+//------------------------------------------------------------------------------
+vtkMultichannelAlgorithm::~vtkMultichannelAlgorithm() = default;
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::AddChannel(const char* arrayName)
+{
+  if (this->Internals->Channels.Add(arrayName))
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::ClearChannels()
+{
+  if (this->Internals->Channels.Clear())
+  {
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkMultichannelAlgorithm::GetNumberOfChannels()
+{
+  return this->Internals->Channels.Size();
+}
+
+//------------------------------------------------------------------------------
+const char* vtkMultichannelAlgorithm::GetChannel(int index)
+{
+  return this->Internals->Channels.Get(index);
+}
+
+//------------------------------------------------------------------------------
+const char* vtkMultichannelAlgorithm::GetDeviceUsed()
+{
+  return this->Internals->DeviceUsed.c_str();
+}
+
+//------------------------------------------------------------------------------
+mcv::Device vtkMultichannelAlgorithm::GetRequestedDevice() const
+{
+  return static_cast<mcv::Device>(this->Device);
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::SetDeviceUsed(mcv::Device device)
+{
+  this->Internals->DeviceUsed = mcv::deviceName(device);
+}
+
+//------------------------------------------------------------------------------
+int vtkMultichannelAlgorithm::FillInputPortInformation(int, vtkInformation* info)
+{
+  // vtkDataSet rather than vtkImageData so that other inputs get the filter's own,
+  // explicit error message (ParaView's XML restricts the input to image data anyway).
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::CopyInputArrayAttributesToOutput(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (makesImageData(this, 0))
+  {
+    this->Superclass::CopyInputArrayAttributesToOutput(request, inputVector, outputVector);
+  }
+}
+
+//------------------------------------------------------------------------------
+int vtkMultichannelAlgorithm::RequestInformation(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestInformation(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  // Piece requests become extents (vtkExtentTranslator), so a split run computes pieces.
+  if (this->GetSplitGhostLayers() >= 0 && makesImageData(this, 0))
+  {
+    outputVector->GetInformationObject(0)->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+int vtkMultichannelAlgorithm::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  const int ghostLayers = this->GetSplitGhostLayers();
+  if (ghostLayers < 0)
+  {
+    return mcv::vtkhelpers::requestWholeExtent(inputVector);
+  }
+  // An image output keeps the extent asked of it; other outputs come in pieces.
+  return makesImageData(this, 0)
+    ? mcv::vtkhelpers::requestOutputExtentWithGhosts(inputVector, outputVector, ghostLayers)
+    : mcv::vtkhelpers::requestPieceWithGhosts(inputVector, outputVector, ghostLayers);
+}
+
+//------------------------------------------------------------------------------
+int vtkMultichannelAlgorithm::RequestData(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkInternals& internals = *this->Internals;
+  internals.DeviceUsed = "CPU";
+  internals.Layout = this->GetSplitGhostLayers() >= 0
+    ? mcv::vtkhelpers::pieceLayout(
+        outputVector->GetInformationObject(0), inputVector[0]->GetInformationObject(0))
+    : mcv::vtkhelpers::PieceLayout();
+  mcv::vtkhelpers::ControllerCommunicator communicator(internals.Layout.Controller);
+  internals.Communicator = internals.Layout.IsSplit() ? &communicator : nullptr;
+  // A process that returns before AllProcessesReady() votes "failed" as `check` goes.
+  mcv::vtkhelpers::CollectiveCheck check(internals.Communicator);
+  internals.Check = &check;
+  const int status = this->RequestMultichannelData(request, inputVector, outputVector);
+  internals.Check = nullptr;
+  internals.Communicator = nullptr;
+  return status;
+}
+
+//------------------------------------------------------------------------------
+const mcv::vtkhelpers::PieceLayout& vtkMultichannelAlgorithm::GetPieceLayout() const
+{
+  return this->Internals->Layout;
+}
+
+//------------------------------------------------------------------------------
+const mcv::Communicator* vtkMultichannelAlgorithm::GetCommunicator() const
+{
+  return this->Internals->Communicator;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultichannelAlgorithm::AllProcessesReady()
+{
+  if (this->Internals->Check && !this->Internals->Check->AllPassed())
+  {
+    vtkErrorMacro("Another process of the parallel run reported an error (see its output).");
+    return false;
+  }
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultichannelAlgorithm::ReportError(const std::string& message)
+{
+  if (message.empty())
+  {
+    return false;
+  }
+  vtkErrorMacro(<< message);
+  return true;
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::ReportWarnings(const std::vector<std::string>& warnings)
+{
+  for (const std::string& warning : warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+}
+
+//------------------------------------------------------------------------------
+vtkImageData* vtkMultichannelAlgorithm::GetInputImage(
+  vtkInformationVector** inputVector, const char* requirement)
+{
+  vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
+  vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  if (!image)
+  {
+    // "vtkBestViewpoint" -> "BestViewpoint", the filter's label in ParaView.
+    vtkErrorMacro("Input is " << (inputObject ? inputObject->GetClassName() : "missing")
+                              << ", not image data: " << (this->GetClassName() + 3)
+                              << " needs a vtkImageData " << requirement);
+  }
+  return image;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultichannelAlgorithm::GetImageBlock(
+  vtkImageData* image, mcv::ImageGrid& grid, mcv::GridPiece& piece)
+{
+  int extent[6];
+  image->GetExtent(extent);
+  for (int a = 0; a < 3; ++a)
+  {
+    grid.dims[a] = extent[2 * a + 1] - extent[2 * a] + 1;
+  }
+  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
+  {
+    vtkErrorMacro("Input image has an empty extent (" << extent[0] << " " << extent[1] << " "
+                                                      << extent[2] << " " << extent[3] << " "
+                                                      << extent[4] << " " << extent[5] << ").");
+    return false;
+  }
+  return !this->ReportError(mcv::vtkhelpers::gridPiece(image, this->Internals->Layout, piece));
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkDataArray*> vtkMultichannelAlgorithm::GetDefaultChannels(vtkPointData* pd)
+{
+  std::vector<vtkDataArray*> picked;
+  for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
+  {
+    vtkDataArray* dataArray = pd->GetArray(i);
+    if (dataArray && !mcv::vtkhelpers::isInternalArray(dataArray->GetName()))
+    {
+      picked.push_back(dataArray);
+    }
+  }
+  return picked;
+}
+
+//------------------------------------------------------------------------------
+bool vtkMultichannelAlgorithm::SelectChannels(
+  vtkImageData* image, std::size_t count, mcv::vtkhelpers::ChannelArrays& channels)
+{
+  std::vector<vtkDataArray*> arrays;
+  std::string error = mcv::vtkhelpers::selectChannelArrays(image,
+    this->Internals->Channels.GetNames(),
+    [this](vtkPointData* pd) { return this->GetDefaultChannels(pd); }, this->GetClassName() + 3,
+    arrays);
+  if (error.empty())
+  {
+    error = mcv::vtkhelpers::toChannels(arrays, count, channels);
+  }
+  return !this->ReportError(error);
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::CropToRequestedExtent(
+  vtkImageData* output, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (this->Internals->Layout.IsSplit() &&
+    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+  }
+}
+
+//------------------------------------------------------------------------------
+std::function<void(double)> vtkMultichannelAlgorithm::ProgressCallback(double from, double to)
+{
+  const std::thread::id callingThread = std::this_thread::get_id();
+  return [this, callingThread, from, to](double p) {
+    if (std::this_thread::get_id() == callingThread)
+    {
+      this->UpdateProgress(from + (to - from) * std::min(1.0, std::max(0.0, p)));
+    }
+  };
+}
+
+//------------------------------------------------------------------------------
+std::function<void(const char*, double)> vtkMultichannelAlgorithm::StageProgressCallback()
+{
+  const std::thread::id callingThread = std::this_thread::get_id();
+  return [this, callingThread](const char* stage, double p) {
+    if (std::this_thread::get_id() == callingThread)
+    {
+      this->SetProgressText(stage);
+      this->UpdateProgress(std::min(1.0, std::max(0.0, p)));
+    }
+  };
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Channels:";
+  for (const std::string& name : this->Internals->Channels.GetNames())
+  {
+    os << " " << name;
+  }
+  os << "\n";
+  os << indent << "Device: " << this->Device << "\n";
+  os << indent << "DeviceUsed: " << this->Internals->DeviceUsed << "\n";
+}

@@ -1,0 +1,167 @@
+/**
+ * @class   vtkMultichannelAlgorithm
+ * @brief   base of the suite's filters: channels, Device, split runs, progress.
+ *
+ * The filters of the suite (MultichannelFeatures, DimensionReduction, BestViewpoint,
+ * ReducedDomain) read image data and hand it to the VTK-free core (Filters/Core). What
+ * they share lives here, once:
+ *
+ * - the `Channels` property (AddChannel/ClearChannels) and its resolution into the core's
+ *   channels (SelectChannels; GetDefaultChannels when no array is named),
+ * - the `Device` property (DEVICE_AUTO, DEVICE_CPU, DEVICE_GPU) and the device the last
+ *   execution ran on (GetDeviceUsed),
+ * - runs split over processes (mpiexec pvbatch --mpi, pvserver): the piece each process
+ *   asks of its input, with GetSplitGhostLayers() ghost layers (mcvPieces.h), the
+ *   communicator of the core, and AllProcessesReady(), the vote that keeps the processes
+ *   together when one of them fails its checks,
+ * - the checks of the input image, progress callbacks for the core, and the reporting of
+ *   the core's messages (memory checks, errors, warnings).
+ *
+ * The input port takes any vtkDataSet, so that other data gets the filter's own error
+ * message rather than the pipeline's. The output is image data unless a filter says
+ * otherwise in FillOutputPortInformation: BestViewpoint and ReducedDomain make polydata
+ * but derive from here too, so that ParaView's wrapping inherits the shared property
+ * methods from one class. Filters implement RequestMultichannelData in place of
+ * RequestData. Which properties a filter offers is up to its ServerManager XML.
+ */
+
+#ifndef vtkMultichannelAlgorithm_h
+#define vtkMultichannelAlgorithm_h
+
+#include "mcvFiltersCommonModule.h" // for export macro
+#include "vtkImageAlgorithm.h"
+
+#include <cstddef>    // for std::size_t
+#include <functional> // for std::function
+#include <memory>     // for std::unique_ptr
+#include <string>     // for std::string
+#include <vector>     // for std::vector
+
+class vtkDataArray;
+class vtkImageData;
+class vtkPointData;
+
+#ifndef __VTK_WRAP__
+namespace mcv
+{
+class Communicator;
+enum class Device;
+struct GridPiece;
+struct ImageGrid;
+namespace vtkhelpers
+{
+struct ChannelArrays;
+struct PieceLayout;
+}
+}
+#endif
+
+class MCVFILTERSCOMMON_EXPORT vtkMultichannelAlgorithm : public vtkImageAlgorithm
+{
+public:
+  vtkTypeMacro(vtkMultichannelAlgorithm, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
+
+  ///@{
+  /**
+   * Point arrays used as channels, in order (all components of each). None named: what
+   * GetDefaultChannels picks.
+   */
+  void AddChannel(const char* arrayName);
+  void ClearChannels();
+  int GetNumberOfChannels();
+  const char* GetChannel(int index);
+  ///@}
+
+  ///@{
+  /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (falls back to the CPU, warning). */
+  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
+  vtkGetMacro(Device, int);
+  ///@}
+
+  /** "CPU" or "GPU": where the last execution ran ("CPU" before the first one). */
+  const char* GetDeviceUsed();
+
+protected:
+  vtkMultichannelAlgorithm();
+  ~vtkMultichannelAlgorithm() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // Sets up the run (its piece, communicator and vote), then RequestMultichannelData.
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // The active-scalar information describes image outputs only.
+  void CopyInputArrayAttributesToOutput(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  // The filter's RequestData. Every return before AllProcessesReady() votes "failed".
+  virtual int RequestMultichannelData(
+    vtkInformation*, vtkInformationVector**, vtkInformationVector*) = 0;
+
+  // Ghost layers a split run asks of the input around this process's piece. Negative (the
+  // default): the filter is not split; every process takes the whole volume.
+  virtual int GetSplitGhostLayers() { return -1; }
+
+  // The channels when none is named: every numeric point array but ParaView's own.
+  virtual std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd);
+
+  // Reports a non-empty message as the filter's error; returns whether it did.
+  bool ReportError(const std::string& message);
+  void ReportWarnings(const std::vector<std::string>& warnings);
+
+  // In RequestMultichannelData, where every process has passed its local checks: true
+  // when all have (always in a serial run); false, reported, otherwise. Call it once.
+  bool AllProcessesReady();
+
+  // The input as image data, or nullptr after an error that ends "<label> needs a
+  // vtkImageData <requirement>".
+  vtkImageData* GetInputImage(vtkInformationVector** inputVector, const char* requirement);
+
+  // A split run's image output holds the extent asked of it, not the ghost layers.
+  void CropToRequestedExtent(vtkImageData* output, vtkInformationVector* outputVector);
+
+// The core's types stay out of the wrappers' view.
+#ifndef __VTK_WRAP__
+  // This process's piece of a split run (IsSplit() false otherwise) and its communicator
+  // (nullptr unless split); valid in RequestMultichannelData.
+  const mcv::vtkhelpers::PieceLayout& GetPieceLayout() const;
+  const mcv::Communicator* GetCommunicator() const;
+
+  // The voxel counts of `image` (grid.dims; spacing and origin are the filter's) and where
+  // the block lies in the whole volume; false after an error (empty extent, a block that
+  // misses voxels of this process).
+  bool GetImageBlock(vtkImageData* image, mcv::ImageGrid& grid, mcv::GridPiece& piece);
+
+  // The selected channels of `image` (count voxels) as the core reads them; false after
+  // an error (no such array, not numeric, wrong length, nothing to select).
+  bool SelectChannels(
+    vtkImageData* image, std::size_t count, mcv::vtkhelpers::ChannelArrays& channels);
+
+  mcv::Device GetRequestedDevice() const;
+  void SetDeviceUsed(mcv::Device device);
+
+  // Progress for the core, mapped to [from, to]. UpdateProgress fires VTK events: only
+  // calls from the pipeline's thread are passed on. The staged form also sets the text.
+  std::function<void(double)> ProgressCallback(double from = 0.0, double to = 1.0);
+  std::function<void(const char*, double)> StageProgressCallback();
+#endif
+
+  int Device = DEVICE_AUTO;
+
+private:
+  vtkMultichannelAlgorithm(const vtkMultichannelAlgorithm&) = delete;
+  void operator=(const vtkMultichannelAlgorithm&) = delete;
+
+  struct vtkInternals;
+  std::unique_ptr<vtkInternals> Internals;
+};
+
+#endif
