@@ -116,6 +116,12 @@ vtkReducedDomain::vtkReducedDomain()
 vtkReducedDomain::~vtkReducedDomain() = default;
 
 //------------------------------------------------------------------------------
+vtkPolyData* vtkReducedDomain::GetOutput(int port)
+{
+  return vtkPolyData::SafeDownCast(this->GetOutputDataObject(port));
+}
+
+//------------------------------------------------------------------------------
 void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -36,12 +36,20 @@
 
 class vtkDoubleArray;
 
+class vtkPolyData;
+
 class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkMultichannelAlgorithm
 {
 public:
   static vtkReducedDomain* New();
   vtkTypeMacro(vtkReducedDomain, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** The output is polydata (the base's GetOutput would cast it to image data). */
+  vtkPolyData* GetOutput() { return this->GetOutput(0); }
+  vtkPolyData* GetOutput(int port);
+  ///@}
 
   ///@{
   /** Number of sampled voxels (default 20000; >= the number of points: all of them). */

@@ -583,6 +583,12 @@ int vtkBestViewpoint::RequestMultichannelData(
 }
 
 //------------------------------------------------------------------------------
+vtkPolyData* vtkBestViewpoint::GetOutput(int port)
+{
+  return vtkPolyData::SafeDownCast(this->GetOutputDataObject(port));
+}
+
+//------------------------------------------------------------------------------
 void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -53,12 +53,20 @@ struct GridPiece;
 struct ImageGrid;
 }
 
+class vtkPolyData;
+
 class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkMultichannelAlgorithm
 {
 public:
   static vtkBestViewpoint* New();
   vtkTypeMacro(vtkBestViewpoint, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /** The output is polydata (the base's GetOutput would cast it to image data). */
+  vtkPolyData* GetOutput() { return this->GetOutput(0); }
+  vtkPolyData* GetOutput(int port);
+  ///@}
 
   enum MethodType
   {
