@@ -2,6 +2,9 @@
 
 #include <Eigen/Cholesky>
 
+#include <cstdlib>
+#include <cstring>
+
 #ifdef MCV_SIMD_CHOLESKY
 namespace mcv
 {
@@ -42,6 +45,15 @@ namespace
 // available below it (Auto: the widest of all).
 CholeskyKernel resolve(CholeskyKernel kernel)
 {
+  // MCV_CHOLESKY_KERNEL=baseline makes Auto the plain Eigen LLT (docs/benchmarks-libraries.md).
+  static const bool forceBaseline = [] {
+    const char* v = std::getenv("MCV_CHOLESKY_KERNEL");
+    return v && std::strcmp(v, "baseline") == 0;
+  }();
+  if (kernel == CholeskyKernel::Auto && forceBaseline)
+  {
+    return CholeskyKernel::Baseline;
+  }
   if ((kernel == CholeskyKernel::Auto || kernel == CholeskyKernel::Avx512) &&
     choleskyKernelAvailable(CholeskyKernel::Avx512))
   {
