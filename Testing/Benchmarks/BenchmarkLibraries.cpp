@@ -13,7 +13,8 @@
 // Input: the float32 files of dump_brain_samples.py (same samples as compare_sklearn.py).
 //   dump_brain_samples.py --out /tmp/mcv_libbench
 //   OPENBLAS_NUM_THREADS=2 mcvBenchmarkLibraries --data /tmp/mcv_libbench [--threads 2]
-//       [--rounds 7] [--sizes 2000,5000,10000] [--parts knn,dijkstra]
+//       [--rounds 7] [--sizes 2000,5000,10000] [--parts knn,oos,dijkstra] [--queries 200000]
+//       [--dijkstra-neighbors 10,50]   (K of the Isomap graph: compare_sklearn's 10, the filter's 50)
 // Every variant of a row runs once per round, in rotating order, and the minimum over the
 // rounds is reported: the 2-core machine is shared with other builds, minima of alternating
 // runs are what survives that noise.
@@ -439,9 +440,9 @@ BoostGraph toBoost(const Csr& g)
   return BoostGraph(boost::edges_are_sorted, edges.begin(), edges.end(), w.begin(), n);
 }
 
-void benchDijkstra(const std::string& dir, const std::vector<int>& sizes, int rounds)
+void benchDijkstra(const std::string& dir, const std::vector<int>& sizes, int rounds, int K)
 {
-  const int K = 10, L = 500;
+  const int L = 500;
   std::printf("\n== 2. Isomap's geodesic stage: L = %d Dijkstras over the K = %d graph of the sample, %d threads, "
               "min of %d alternating rounds\n",
     L, K, omp_get_max_threads(), rounds);
@@ -532,7 +533,8 @@ std::vector<int> parseList(const std::string& s)
 int main(int argc, char** argv)
 {
   std::map<std::string, std::string> a{ { "data", "/tmp/mcv_libbench" }, { "threads", "2" }, { "rounds", "7" },
-    { "sizes", "2000,5000,10000" }, { "parts", "knn,oos,dijkstra" }, { "queries", "200000" } };
+    { "sizes", "2000,5000,10000" }, { "parts", "knn,oos,dijkstra" }, { "queries", "200000" },
+    { "dijkstra-neighbors", "10" } };
   for (int i = 1; i + 1 < argc; i += 2)
   {
     a[argv[i] + 2] = argv[i + 1];
@@ -557,7 +559,10 @@ int main(int argc, char** argv)
   }
   if (parts.find("dijkstra") != std::string::npos)
   {
-    benchDijkstra(a["data"], sizes, rounds);
+    for (int K : parseList(a["dijkstra-neighbors"]))
+    {
+      benchDijkstra(a["data"], sizes, rounds, K);
+    }
   }
   return 0;
 }
