@@ -7,8 +7,8 @@
 //   2. Isomap's geodesic stage (L Dijkstras over the symmetric kNN graph): IndexedMinHeap
 //      vs std::priority_queue with lazy deletion vs Boost.Graph dijkstra_shortest_paths (and
 //      its _no_color_map variant).
-//   (3. the SIMD Cholesky builds are measured on the whole LLE fit with mcvReduceCLI and
-//      MCV_CHOLESKY_KERNEL=baseline: Testing/Benchmarks/benchmark_cholesky.sh.)
+//   (3. the SIMD Cholesky builds were measured on the whole LLE fit with mcvReduceCLI:
+//      benchmark_cholesky.py, docs/benchmarks-libraries.md.)
 //
 // Input: the float32 files of dump_brain_samples.py (same samples as compare_sklearn.py).
 //   dump_brain_samples.py --out /tmp/mcv_libbench
