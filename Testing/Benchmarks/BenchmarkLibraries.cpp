@@ -4,7 +4,8 @@
 //   1. kNN: ExactKnn's tiled brute force (TiledKnn) vs FAISS IndexFlatL2 (exact) and
 //      IndexHNSWFlat (approximate): the kNN graph of the sample (k = 10, + the point itself)
 //      and the out-of-sample 3-NN of many voxels against a 10000-vector reference sample.
-//   2. Isomap's geodesic stage (L Dijkstras over the symmetric kNN graph): IndexedMinHeap
+//   2. Isomap's geodesic stage (L Dijkstras over the symmetric kNN graph): the former
+//      hand-written IndexedMinHeap
 //      vs std::priority_queue with lazy deletion vs Boost.Graph dijkstra_shortest_paths (and
 //      its _no_color_map variant).
 //   (3. the SIMD Cholesky builds were measured on the whole LLE fit with mcvReduceCLI:
@@ -20,7 +21,6 @@
 // runs are what survives that noise.
 #include "ExactKnn.h"
 #include "FeatureKnn.h"
-#include "IndexedMinHeap.h"
 #include "ReferenceSample.h"
 #include "TiledKnn.h"
 
@@ -360,8 +360,107 @@ Csr isomapGraph(const float* X, std::size_t n, int D, int K)
   return g;
 }
 
-// IsomapEmbedding.cpp's dijkstra (IndexedMinHeap, decrease-key).
-void dijkstraIndexed(const Csr& g, std::uint32_t source, double* dist, mcv::IndexedMinHeap& heap)
+// The hand-written 4-ary min-heap with decrease-key that IsomapEmbedding.cpp used until
+// Boost.Graph replaced it (Filters/Core/IndexedMinHeap.h before that commit), kept here as
+// the baseline of this comparison.
+class IndexedMinHeap
+{
+public:
+  static constexpr std::uint32_t kAbsent = 0xffffffffu;
+
+  // Empties the heap for items 0..n-1.
+  void reset(std::size_t n)
+  {
+    heap_.clear();
+    position_.assign(n, kAbsent);
+  }
+  bool empty() const { return heap_.empty(); }
+
+  // Inserts item with key, or moves it up to its new, smaller key.
+  void pushOrDecrease(std::uint32_t item, double key)
+  {
+    std::uint32_t at = position_[item];
+    if (at == kAbsent)
+    {
+      at = static_cast<std::uint32_t>(heap_.size());
+      heap_.push_back({ key, item });
+    }
+    siftUp(at, { key, item });
+  }
+
+  std::uint32_t popMin()
+  {
+    const std::uint32_t top = heap_.front().item;
+    position_[top] = kAbsent;
+    const Entry last = heap_.back();
+    heap_.pop_back();
+    if (!heap_.empty())
+    {
+      siftDown(0, last);
+    }
+    return top;
+  }
+
+private:
+  struct Entry
+  {
+    double key;
+    std::uint32_t item;
+  };
+  void place(std::uint32_t at, const Entry& entry)
+  {
+    heap_[at] = entry;
+    position_[entry.item] = at;
+  }
+  void siftUp(std::uint32_t at, const Entry& entry)
+  {
+    while (at > 0)
+    {
+      const std::uint32_t parent = (at - 1) / 4;
+      if (!(entry.key < heap_[parent].key))
+      {
+        break;
+      }
+      place(at, heap_[parent]);
+      at = parent;
+    }
+    place(at, entry);
+  }
+  void siftDown(std::uint32_t at, const Entry& entry)
+  {
+    const std::size_t size = heap_.size();
+    for (;;)
+    {
+      const std::size_t first = 4 * static_cast<std::size_t>(at) + 1;
+      if (first >= size)
+      {
+        break;
+      }
+      std::size_t best = first;
+      const std::size_t end = first + 4 < size ? first + 4 : size;
+      for (std::size_t c = first + 1; c < end; ++c)
+      {
+        if (heap_[c].key < heap_[best].key)
+        {
+          best = c;
+        }
+      }
+      if (!(heap_[best].key < entry.key))
+      {
+        break;
+      }
+      place(at, heap_[best]);
+      at = static_cast<std::uint32_t>(best);
+    }
+    place(at, entry);
+  }
+
+  std::vector<Entry> heap_;
+  std::vector<std::uint32_t> position_;
+};
+
+// IsomapEmbedding.cpp's former dijkstra (IndexedMinHeap, decrease-key).
+void dijkstraIndexed(const Csr& g, std::uint32_t source, double* dist, IndexedMinHeap& heap)
 {
   const std::size_t n = g.start.size() - 1;
   std::fill(dist, dist + n, std::numeric_limits<double>::infinity());
@@ -460,7 +559,7 @@ void benchDijkstra(const std::string& dir, const std::vector<int>& sizes, int ro
       auto indexed = [&] {
 #pragma omp parallel
         {
-          mcv::IndexedMinHeap heap;
+          IndexedMinHeap heap;
 #pragma omp for schedule(dynamic, 1)
           for (int l = 0; l < L; ++l)
           {
@@ -502,7 +601,8 @@ void benchDijkstra(const std::string& dir, const std::vector<int>& sizes, int ro
           double* dist = e.data() + static_cast<std::size_t>(l) * N;
           boost::dijkstra_shortest_paths_no_color_map(bg, landmarks[l],
             boost::weight_map(boost::get(&EdgeWeight::w, bg))
-              .distance_map(boost::make_iterator_property_map(dist, boost::get(boost::vertex_index, bg))));
+              .distance_map(boost::make_iterator_property_map(dist, boost::get(boost::vertex_index, bg)))
+              .distance_inf(std::numeric_limits<double>::infinity()));
         }
       };
       const std::vector<double> t = alternate(rounds, { indexed, lazy, boostGraph, boostNoColor });
