@@ -31,9 +31,10 @@ packages=(
   # ... and the core, its tests, benchmarks and the data fetch.
   xvfb xauth libgtest-dev googletest libbenchmark-dev ninja-build cmake g++ make
   python3-numpy
-  # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), and
-  # scikit-learn as the reference the comparison script measures against.
-  libnanoflann-dev libspectra-dev python3-sklearn
+  # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), Isomap's
+  # Dijkstras (Boost.Graph, header-only, in libboost-dev), and scikit-learn as the
+  # reference the comparison script measures against.
+  libnanoflann-dev libspectra-dev libboost-dev python3-sklearn
 )
 # Never libvtk9-dev: it pulls python3-vtk9, which conflicts with python3-paraview.
 

@@ -1,12 +1,13 @@
 #include "IsomapEmbedding.h"
 
 #include "FeatureKnn.h"
-#include "IndexedMinHeap.h"
 #include "ReferenceSample.h"
 
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/DenseSymMatProd.h>
 #include <Spectra/SymEigsSolver.h>
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/graph/dijkstra_shortest_paths_no_color_map.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -111,30 +112,41 @@ Graph buildGraph(std::size_t n, const KnnGraph& knn, const std::vector<GraphEdge
   return g;
 }
 
-// Single-source shortest paths. (Boost.Graph would do it too, but would be a large
-// dependency for twenty lines, and its graph types would need a copy of the CSR arrays.)
-void dijkstra(const Graph& g, std::uint32_t source, double* dist, IndexedMinHeap& heap)
+// The same graph for Boost.Graph's Dijkstra (edges in CSR order; lengths in double, as the
+// sums are). Its 4-ary indirect heap with decrease-key ties the hand-written one this replaced
+// (docs/benchmarks.md, section 9) and gives bitwise the same distances.
+struct EdgeLength
+{
+  double length;
+};
+using GeodesicGraph = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, EdgeLength,
+  boost::no_property, std::uint32_t>;
+
+GeodesicGraph geodesicGraph(const Graph& g)
 {
   const std::size_t n = g.start.size() - 1;
-  std::fill(dist, dist + n, std::numeric_limits<double>::infinity());
-  heap.reset(n);
-  dist[source] = 0;
-  heap.pushOrDecrease(source, 0.0);
-  while (!heap.empty())
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  std::vector<EdgeLength> lengths;
+  edges.reserve(g.to.size());
+  lengths.reserve(g.to.size());
+  for (std::size_t u = 0; u < n; ++u)
   {
-    const std::uint32_t u = heap.popMin();
-    const double du = dist[u];
     for (std::size_t e = g.start[u]; e < g.start[u + 1]; ++e)
     {
-      const std::uint32_t v = g.to[e];
-      const double dv = du + static_cast<double>(g.weight[e]);
-      if (dv < dist[v])
-      {
-        dist[v] = dv;
-        heap.pushOrDecrease(v, dv);
-      }
+      edges.emplace_back(static_cast<std::uint32_t>(u), g.to[e]);
+      lengths.push_back({ static_cast<double>(g.weight[e]) });
     }
   }
+  return GeodesicGraph(boost::edges_are_sorted, edges.begin(), edges.end(), lengths.begin(), n);
+}
+
+// Single-source shortest paths; unreachable points stay at +inf.
+void dijkstra(const GeodesicGraph& g, std::uint32_t source, double* dist)
+{
+  boost::dijkstra_shortest_paths_no_color_map(g, source,
+    boost::weight_map(boost::get(&EdgeLength::length, g))
+      .distance_map(boost::make_iterator_property_map(dist, boost::get(boost::vertex_index, g)))
+      .distance_inf(std::numeric_limits<double>::infinity()));
 }
 
 // Every eigenvalue of the symmetric B (descending; the spectrum and the variance retained
@@ -228,20 +240,17 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   // Geodesic distances from every landmark: L x n, row-major.
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> geo(L, static_cast<Eigen::Index>(n));
   std::atomic<int> doneCount{ 0 };
-#pragma omp parallel
+  const GeodesicGraph geodesic = geodesicGraph(graph);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (int l = 0; l < L; ++l)
   {
-    IndexedMinHeap heap;
-#pragma omp for schedule(dynamic, 1)
-    for (int l = 0; l < L; ++l)
-    {
-      dijkstra(graph, landmarks[static_cast<std::size_t>(l)], geo.row(l).data(), heap);
-      const int done = ++doneCount;
+    dijkstra(geodesic, landmarks[static_cast<std::size_t>(l)], geo.row(l).data());
+    const int done = ++doneCount;
 #ifdef _OPENMP
-      if (omp_get_thread_num() == 0)
+    if (omp_get_thread_num() == 0)
 #endif
-      {
-        report("Isomap: shortest paths", 0.2 + 0.7 * done / L);
-      }
+    {
+      report("Isomap: shortest paths", 0.2 + 0.7 * done / L);
     }
   }
   if (!geo.allFinite())

@@ -1,8 +1,8 @@
 #include "LLELandmarks.h"
 
-#include "DenseCholesky.h"
 #include "HugePageBuffer.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Spectra/SymEigsSolver.h>
 
@@ -219,7 +219,7 @@ class DeflatedShiftInvert
 {
 public:
   using Scalar = double;
-  // F: the Cholesky factor in the lower triangle (DenseCholesky.h).
+  // F: the Cholesky factor in the lower triangle (Eigen's LLT, in place).
   DeflatedShiftInvert(const Eigen::Ref<const Eigen::MatrixXd>& F, const LandmarkWeights& Z)
     : F_(F)
     , Z_(Z)
@@ -236,7 +236,7 @@ public:
     Eigen::Map<const Eigen::VectorXd> in(x, rows());
     Eigen::Map<Eigen::VectorXd> out(y, rows());
     work_ = in - constant_ * constant_.dot(in);
-    solveWithFactor(F_, work_, true); // F^{-T}
+    F_.triangularView<Eigen::Lower>().transpose().solveInPlace(work_); // F^{-T}
     // B work = Z^T (Z work), both products as row-by-row dot products (Zt_: Z^T by rows)
     // split over the threads, so each entry is summed in the same order for any count.
 #pragma omp parallel
@@ -244,7 +244,7 @@ public:
       rowDots(Z_, work_.data(), points_.data());
       rowDots(Zt_, points_.data(), out.data());
     }
-    solveWithFactor(F_, out, false); // F^{-1}
+    F_.triangularView<Eigen::Lower>().solveInPlace(out); // F^{-1}
     out -= constant_ * constant_.dot(out);
   }
 
@@ -279,7 +279,9 @@ LLEBottomEigen lleLandmarkEigenvectors(const LLESparseRows& A, const LandmarkWei
   HugePageBuffer storage(static_cast<std::size_t>(L * L));
   Eigen::Map<Eigen::MatrixXd> S(storage.data(), L, L);
   lowerGram(AZ, 1.0, Z, -sigma, S);
-  if (!choleskyInPlace(S)) // S becomes F (lower triangle)
+  // Plain Eigen LLT: Eigen builds for AVX2 / AVX-512 picked at run time made no difference
+  // a user would see on the whole LLE fit (docs/benchmarks.md, section 9).
+  if (Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>>(S).info() != Eigen::Success) // S becomes F (lower triangle)
   {
     r.error = "the Cholesky factorisation of C - sigma B failed";
     return r;

@@ -15,8 +15,8 @@
 // problem is small and well posed: 0.92-0.96 there, 0.80-0.84 at 24D (compare_sklearn.py).
 //
 // The pencil is solved by shift-invert: one dense Cholesky C - sigma B = F F^T (summed a
-// column at a time from the sparse A Z and Z into a huge-page buffer, factored in place with
-// AVX-512 or AVX2 + FMA where the CPU has them: DenseCholesky.h), then Spectra's symmetric
+// column at a time from the sparse A Z and Z into a huge-page buffer, factored in place by
+// Eigen's LLT), then Spectra's symmetric
 // Lanczos on F^{-1} B F^{-T} with the constant deflated, then Rayleigh-Ritz with the exact
 // (C, B) on the Lanczos vectors (LLELandmarks.cpp says why each step takes that form).
 #pragma once
