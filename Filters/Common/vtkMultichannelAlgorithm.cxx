@@ -15,6 +15,8 @@
 #include "mcvControllerCommunicator.h"
 #include "mcvPieces.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstring>
 #include <thread>
@@ -31,6 +33,14 @@ struct vtkMultichannelAlgorithm::vtkInternals
 
 namespace
 {
+// Thrown by the progress callbacks when AbortExecute is set (by a ProgressEvent observer,
+// the VTK way), caught in RequestData. An exception because the core's progress callbacks
+// return nothing: it unwinds the core (RAII throughout) from the next progress report.
+// Not derived from std::exception, so the core's own handlers let it pass.
+struct AbortRequested
+{
+};
+
 bool makesImageData(vtkAlgorithm* algorithm, int port)
 {
   vtkInformation* info = algorithm->GetOutputPortInformation(port);
@@ -163,7 +173,27 @@ int vtkMultichannelAlgorithm::RequestData(
   // A process that returns before AllProcessesReady() votes "failed" as `check` goes.
   mcv::vtkhelpers::CollectiveCheck check(internals.Communicator);
   internals.Check = &check;
-  const int status = this->RequestMultichannelData(request, inputVector, outputVector);
+  int status = 1;
+  try
+  {
+    status = this->RequestMultichannelData(request, inputVector, outputVector);
+  }
+  catch (const AbortRequested&)
+  {
+    // Aborted: no partial result is left behind (VTK's convention: no error either).
+    for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+    {
+      if (vtkDataObject* output =
+            outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()))
+      {
+        output->Initialize();
+      }
+    }
+    // VTK 9.2's executive does not clear the flag before the next run: clear it here, so
+    // that the run after a modification starts afresh.
+    this->SetAbortExecute(0);
+    vtkDebugMacro("aborted");
+  }
   internals.Check = nullptr;
   internals.Communicator = nullptr;
   return status;
@@ -299,6 +329,7 @@ std::function<void(double)> vtkMultichannelAlgorithm::ProgressCallback(double fr
     if (std::this_thread::get_id() == callingThread)
     {
       this->UpdateProgress(from + (to - from) * std::min(1.0, std::max(0.0, p)));
+      this->StopIfAborted();
     }
   };
 }
@@ -312,8 +343,20 @@ std::function<void(const char*, double)> vtkMultichannelAlgorithm::StageProgress
     {
       this->SetProgressText(stage);
       this->UpdateProgress(std::min(1.0, std::max(0.0, p)));
+      this->StopIfAborted();
     }
   };
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::StopIfAborted()
+{
+  // Never inside an OpenMP region (an exception may not leave it), and only in a run that
+  // is not split over processes (the others would wait for this one in a collective).
+  if (this->GetAbortExecute() && !this->Internals->Communicator && !omp_in_parallel())
+  {
+    throw AbortRequested();
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -14,8 +14,9 @@
  *   asks of its input, with GetSplitGhostLayers() ghost layers (mcvPieces.h), the
  *   communicator of the core, and AllProcessesReady(), the vote that keeps the processes
  *   together when one of them fails its checks,
- * - the checks of the input image, progress callbacks for the core, and the reporting of
- *   the core's messages (memory checks, errors, warnings).
+ * - the checks of the input image, progress callbacks for the core (which also carry an
+ *   abort requested through AbortExecute into the core), and the reporting of the core's
+ *   messages (memory checks, errors, warnings).
  *
  * The input port takes any vtkDataSet, so that other data gets the filter's own error
  * message rather than the pipeline's. The output is image data unless a filter says
@@ -150,6 +151,9 @@ protected:
 
   // Progress for the core, mapped to [from, to]. UpdateProgress fires VTK events: only
   // calls from the pipeline's thread are passed on. The staged form also sets the text.
+  // Abort: when AbortExecute is set (a ProgressEvent observer may set it), the next report
+  // stops the core and RequestData leaves the outputs empty, without an error. Honoured in
+  // runs on one process; a run split over processes goes on (they must stay together).
   std::function<void(double)> ProgressCallback(double from = 0.0, double to = 1.0);
   std::function<void(const char*, double)> StageProgressCallback();
 #endif
@@ -157,6 +161,8 @@ protected:
   int Device = DEVICE_AUTO;
 
 private:
+  void StopIfAborted();
+
   vtkMultichannelAlgorithm(const vtkMultichannelAlgorithm&) = delete;
   void operator=(const vtkMultichannelAlgorithm&) = delete;
 
