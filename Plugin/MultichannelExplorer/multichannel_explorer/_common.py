@@ -16,6 +16,23 @@ def _simple():
     return simple
 
 
+def _filter(name):
+    """The paraview.simple constructor of the plugin's filter `name`. LoadPlugin(...,
+    ns=globals()) adds the plugin's filters to the caller's namespace only; they are added
+    to paraview.simple's own here, so every helper works however the plugin was loaded
+    (pvpython, pvbatch, the GUI's Python shell)."""
+    simple = _simple()
+    ctor = getattr(simple, name, None)
+    if ctor is None:
+        simple._add_functions(vars(simple))
+        ctor = getattr(simple, name, None)
+    if ctor is None:
+        raise RuntimeError(
+            "The %s filter is not available: load the MultichannelExplorer plugin first, "
+            "e.g. LoadPlugin(path, remote=False, ns=globals())" % name)
+    return ctor
+
+
 def _warn(message):
     """Warnings go where ParaView shows them (Output Messages in the GUI, stderr in
     pvpython/pvbatch)."""

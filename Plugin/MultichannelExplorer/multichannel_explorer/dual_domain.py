@@ -3,7 +3,7 @@ reduced domain (a point cloud and the widgets as spheres) shown beside the volum
 recoloured whenever the widgets change.
 """
 
-from ._common import _Follower, _find_filter, _followers, _simple
+from ._common import _Follower, _filter, _find_filter, _followers, _simple
 from .transfer_function import _coordinates_name, _source_and_display, _widget_values
 from .viewpoint import ViewpointResult
 
@@ -19,13 +19,10 @@ def reduced_domain_filter(source, **props):
     SeedWidgetCount, Coordinates, ...) and returns it, not shown and not updated. The
     active source is left as it was."""
     simple = _simple()
-    if not hasattr(simple, "ReducedDomain"):
-        raise RuntimeError("ReducedDomain is not available: load the MultichannelExplorer "
-                           "plugin first")
     domain = _find_filter(source, "ReducedDomain")
     if domain is None:
         active = simple.GetActiveSource()
-        domain = simple.ReducedDomain(Input=source)
+        domain = _filter("ReducedDomain")(Input=source)
         if active is not None:
             simple.SetActiveSource(active)
     for name, value in props.items():

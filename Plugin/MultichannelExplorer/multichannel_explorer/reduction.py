@@ -2,7 +2,7 @@
 DimensionReduction (PCA, Isomap, LLE) to a 2D/3D domain of reduced coordinates.
 """
 
-from ._common import _simple
+from ._common import _filter
 
 __all__ = [
     "reduce_multichannel",
@@ -27,20 +27,15 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
         red.UpdatePipeline(); red.UpdatePropertyInformation()
         print(red.VarianceRetained, red.Trustworthiness)
     """
-    simple = _simple()
-    if not hasattr(simple, "DimensionReduction"):
-        raise RuntimeError("DimensionReduction is not available: load the "
-                           "MultichannelExplorer plugin first")
+    dimension_reduction = _filter("DimensionReduction")
     if features in ("6D", "24D", "Custom"):
-        if not hasattr(simple, "MultichannelFeatures"):
-            raise RuntimeError("MultichannelFeatures is not available in this plugin build")
-        feats = simple.MultichannelFeatures(Input=source)
+        feats = _filter("MultichannelFeatures")(Input=source)
         feats.FeatureSet = features
         array = "Features"
     else:
         feats = source
         array = str(features)
-    reduction = simple.DimensionReduction(Input=feats)
+    reduction = dimension_reduction(Input=feats)
     reduction.Features = ["POINTS", array]
     reduction.Method = method
     reduction.OutputDimension = int(output_dimension)

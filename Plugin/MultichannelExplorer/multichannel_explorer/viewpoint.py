@@ -5,7 +5,7 @@ Gaussian TF display.
 
 import math
 
-from ._common import (_FILTER_XML_NAME, _Follower, _find_filter, _followers,
+from ._common import (_FILTER_XML_NAME, _Follower, _filter, _find_filter, _followers,
                       _is_representation, _simple, _warn)
 from .images import _render_entropy
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -55,15 +55,7 @@ def best_viewpoint_filter(source, view=None, **filter_properties):
     active = simple.GetActiveSource()
     bvp = _find_filter(source)
     if bvp is None:
-        ctor = getattr(simple, _FILTER_XML_NAME, None)
-        if ctor is None:
-            simple._add_functions(vars(simple))
-            ctor = getattr(simple, _FILTER_XML_NAME, None)
-        if ctor is None:
-            raise RuntimeError(
-                "The BestViewpoint filter is not available: load the MultichannelExplorer "
-                "plugin first, e.g. LoadPlugin(path, remote=False, ns=globals())")
-        bvp = ctor(Input=source)
+        bvp = _filter(_FILTER_XML_NAME)(Input=source)
         if active is not None:
             simple.SetActiveSource(active)
 
