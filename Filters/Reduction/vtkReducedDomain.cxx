@@ -17,7 +17,7 @@
 
 // The VTK-free core (Filters/Core).
 #include "GaussianTransferFunction.h"
-#include "ReferenceSample.h" // uniformIndex: the suite's portable seeded RNG
+#include "SeededRandom.h" // uniformIndex: the suite's portable seeded RNG
 #include "WidgetSeeding.h"
 
 #include "../Common/mcvWidgetValues.h"

@@ -21,6 +21,7 @@
 // Times are medians over the runs; ratio = baseline / time. "max diff" is the largest
 // byte difference of our CPU (and GPU) output against the double baseline.
 #include "GaussianTransferFunction.h"
+#include "SeededRandom.h"
 
 #ifdef MCV_HAS_CUDA
 #include "cuda/GaussianTFCuda.h"
@@ -91,11 +92,7 @@ double loadAverage()
 // A float in [0,1) from a 64-bit hash (splitmix64): deterministic, no global state.
 float hashUnit(std::uint64_t x)
 {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return static_cast<float>(x >> 40) / 16777216.f;
+  return static_cast<float>(mcv::mix64(x + 0x9e3779b97f4a7c15ULL) >> 40) / 16777216.f;
 }
 
 // Coordinates in [0,1]^components.

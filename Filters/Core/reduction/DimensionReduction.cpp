@@ -10,6 +10,7 @@
 #include "OutOfSample.h"
 #include "PCAEmbedding.h"
 #include "ReferenceSample.h"
+#include "SeededRandom.h"
 #include "Trustworthiness.h"
 
 #include <algorithm>

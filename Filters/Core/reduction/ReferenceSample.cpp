@@ -1,4 +1,5 @@
 #include "ReferenceSample.h"
+#include "SeededRandom.h"
 
 #include <algorithm>
 #include <cmath>

@@ -27,7 +27,6 @@
 #include "Communicator.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
-#include "SeededRandom.h" // uniformIndex, used with the sample by its callers
 
 #include <cstddef>
 #include <cstdint>
