@@ -683,6 +683,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
 {
   vtkNew<vtkTimerLog> timer;
   timer->StartTimer();
+  const int updatesBefore = this->NumberOfComputations + this->NumberOfTextureBuilds;
   vtkInternals& internals = *this->Internals;
   auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
   const bool perSample = this->UsePerSample();
@@ -754,7 +755,11 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     smartMapper->SetVectorComponent(0);
   }
   timer->StopTimer();
-  this->LastPreparationSeconds = timer->GetElapsedTime();
+  if (this->NumberOfComputations + this->NumberOfTextureBuilds != updatesBefore)
+  {
+    // Only a preparation that did work: a render calls this more than once.
+    this->LastPreparationSeconds = timer->GetElapsedTime();
+  }
 }
 
 //------------------------------------------------------------------------------

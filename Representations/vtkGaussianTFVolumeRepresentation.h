@@ -157,9 +157,9 @@ public:
   vtkGetMacro(NumberOfTextureBuilds, int);
 
   /**
-   * Seconds the last render spent preparing the classification in this representation
-   * (building the texture or the RGBA array, setting uniforms): the work a widget edit
-   * costs before the ray caster runs.
+   * Seconds the last render that updated the classification spent preparing it in this
+   * representation (building the texture or the RGBA array, setting uniforms): the work a
+   * widget edit costs before the ray caster runs.
    */
   vtkGetMacro(LastPreparationSeconds, double);
 
