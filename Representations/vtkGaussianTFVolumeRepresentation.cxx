@@ -274,7 +274,11 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
       return;
     }
     this->AlphaRamp->RemoveAllPoints();
-    for (int byte = 0; byte <= 255; ++byte)
+    // u = 1 is the identity: two points, so that the ray caster's opacity table stays small
+    // over the 16-bit range of the per-sample texture (one point per byte value would ask
+    // for a 65536-entry table there).
+    const int step = unitDistance == 1.0 ? 255 : 1;
+    for (int byte = 0; byte <= 255; byte += step)
     {
       const double alpha = byte / 255.0;
       this->AlphaRamp->AddPoint(byte, 1.0 - std::pow(1.0 - alpha, 1.0 / unitDistance));
