@@ -54,8 +54,9 @@ def _spectrum_text(method, values, kept, variance_retained):
     negative = sum(1 for v in values if v < 0)
     shown = min(len(values), SPECTRUM_BARS)
     title = ("%s eigenvalue spectrum: %.1f%% of the variance retained by the %d kept\n"
-             "the leading %d of %d eigenvalues" % (method, 100.0 * variance_retained, kept,
-                                                   shown, len(values)))
+             % (method, 100.0 * variance_retained, kept))
+    title += ("the leading %d of %d eigenvalues" % (shown, len(values)) if shown < len(values)
+              else "all %d eigenvalues" % len(values))
     if negative:
         title += " (%d negative: geodesic distances are not Euclidean)" % negative
     heights = [100.0 * max(0.0, v) / positive if positive > 0 else 0.0 for v in values]
@@ -72,6 +73,7 @@ def spectrum_figure(path, method, values, kept, variance_retained, size=(900, 56
     colours = [_rgb(KEPT_COLOUR if i <= kept else OTHER_COLOUR) for i in index]
     fig, ax = plt.subplots(figsize=(size[0] / 100.0, size[1] / 100.0), dpi=100)
     ax.bar(index, heights, color=colours, width=0.8, antialiased=False)
+    ax.set_ylim(0.0, 1.2 * max(heights + [1e-30]))  # room for the legend above the bars
     ax.set_xticks(index)
     ax.set_xlabel("eigenvalue index")
     ax.set_ylabel(ylabel)
