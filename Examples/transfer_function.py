@@ -191,7 +191,7 @@ methods = None
 if args.methods:
     panels, grid, drawn = timed("methods", method_panels)
     caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
-               "reference sample (seed %d, K %d, L %d); the same %d voxels drawn at "
+               "reference sample (seed=%d, K=%d, L=%d); the same %d voxels drawn at "
                "dimensions 1-2, in the colour of the %s domain's widget that selects them "
                "(opacity at least 0.1; the others grey)"
                % (args.features, _every(args.methods_stride), grid, args.reference_size,
