@@ -12,9 +12,16 @@ AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh.
  4. the volume rendered through those widgets ("Gaussian TF Volume" representation);
  5. the best viewpoint of what the widgets show (3D Harris + PCA of the widget opacity);
 writes into the output folder best.png, worst.png, dual_domain.png (volume and reduced
-domain side by side), domain.png, spectrum.png (eigenvalue spectrum) and report.json
-(timings per stage, variance retained, trustworthiness, view directions, eigenvalues),
+domain side by side), domain.png, spectrum.png (bar chart of the leading eigenvalues, the
+kept ones highlighted, the variance retained in the title), methods.png (the reduced
+domains of PCA, Isomap and LLE side by side, see --no-methods) and report.json (timings
+per stage, variance retained, trustworthiness, view directions, eigenvalues, the figures),
 then prints a summary and the folder.
+
+methods.png: the three methods are fitted on the same reference sample (same size, K, L
+and seed) of a coarser grid, every --methods-stride-th voxel per axis of the features
+(placing all voxels three more times would cost more than the whole job); the same
+--methods-sample voxels are drawn in each, coloured by the main domain's widgets.
 """
 import argparse
 import json
@@ -27,6 +34,7 @@ from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from example_support import DATA, load_plugin, render_view, require  # noqa: E402
+import report_figures  # noqa: E402
 
 parser = argparse.ArgumentParser(
     description=__doc__.split("\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -50,6 +58,12 @@ parser.add_argument("--device", default="Auto", choices=["Auto", "CPU", "GPU"])
 parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
 parser.add_argument("--plugin", default=None, help="MultichannelExplorer.so to load")
+parser.add_argument("--no-methods", dest="methods", action="store_false",
+                    help="skip methods.png (PCA, Isomap and LLE side by side)")
+parser.add_argument("--methods-stride", type=int, default=3,
+                    help="methods.png: every N-th voxel per axis is reduced (default 3)")
+parser.add_argument("--methods-sample", type=int, default=20000,
+                    help="methods.png: voxels drawn per method (default 20000)")
 args = parser.parse_args(sys.argv[1:])
 
 for path in args.channels:
@@ -57,6 +71,11 @@ for path in args.channels:
 os.makedirs(args.output, exist_ok=True)
 mce = load_plugin(args.plugin)
 stages = {}
+
+
+def _every(n):
+    return "every voxel" if n <= 1 else "every %s voxel per axis" % (
+        {2: "2nd", 3: "3rd"}.get(n, "%dth" % n))
 
 
 def timed(name, function):
@@ -109,18 +128,78 @@ dual = timed("dual domain", lambda: mce.show_dual_domain(display, view))
 SaveScreenshot(os.path.join(args.output, "dual_domain.png"), dual.layout,
                ImageResolution=[2 * args.size[0], args.size[1]])
 SaveScreenshot(os.path.join(args.output, "domain.png"), dual.domain_view)
-chart = CreateView("XYBarChartView")
-chart.ViewSize = list(args.size)
-chart.ChartTitle = "Eigenvalue spectrum (%s)" % args.method
-bars = Show(OutputPort(reduction, 1), chart)
-try:
-    bars.UseIndexForXAxis = 0
-    bars.XArrayName = "Index"
-    bars.SeriesVisibility = ["Value"]
-except AttributeError:
-    pass
-Render(chart)
-SaveScreenshot(os.path.join(args.output, "spectrum.png"), chart)
+values, _ = report_figures.spectrum_table(reduction)
+variance = float(reduction.GetPropertyValue("VarianceRetained"))
+spectrum_bars = report_figures.spectrum_figure(
+    os.path.join(args.output, "spectrum.png"), args.method, values, 3, variance)
+
+
+def coarse(source):
+    """Every --methods-stride-th voxel of `source` per axis."""
+    rate = max(1, args.methods_stride)
+    return simple.ExtractSubset(Input=source, SampleRateI=rate, SampleRateJ=rate,
+                                SampleRateK=rate)
+
+
+def fetch_array(source, name, port=0):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    data = servermanager.Fetch(source, idx=port)
+    return vtk_to_numpy(data.GetPointData().GetArray(name))
+
+
+def reduce_coarse(method, coarse_features):
+    """The main reduction's settings (reference size, K, L, seed) with another method, on
+    the coarse grid; returns the proxy, updated."""
+    other = simple.DimensionReduction(
+        Input=coarse_features, Method=method, OutputDimension=3,
+        ReferenceSampleSize=args.reference_size, NumberOfNeighbors=args.neighbors,
+        NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
+    other.Features = ["POINTS", "Features"]
+    other.UpdatePipeline()
+    other.UpdatePropertyInformation()
+    return other
+
+
+def method_panels():
+    """The same sampled voxels of the coarse grid in the domains of PCA, Isomap and LLE,
+    each coloured as the main domain's widgets colour it (ReducedDomain's RGBA and
+    WidgetOpacity on the main domain's coordinates of those voxels)."""
+    coarse_features = coarse(features)
+    shown = simple.ReducedDomain(Input=coarse(reduction), SampleSize=args.methods_sample,
+                                 RandomSeed=args.seed, GaussianWidgets=widgets)
+    shown.Coordinates = ["POINTS", "ReducedCoordinates"]
+    voxels = fetch_array(shown, "VoxelId")
+    colours = report_figures.point_colours(fetch_array(shown, "RGBA").tolist(),
+                                           fetch_array(shown, "WidgetOpacity").tolist())
+    panels = []
+    for method in ("PCA", "Isomap", "LLE"):
+        start = time.time()
+        other = reduce_coarse(method, coarse_features)
+        xyz = fetch_array(other, "ReducedCoordinates")[voxels]
+        panels.append(dict(
+            name=method, x=xyz[:, 0].tolist(), y=xyz[:, 1].tolist(), colours=colours,
+            variance_retained=float(other.GetPropertyValue("VarianceRetained")),
+            trustworthiness=float(other.GetPropertyValue("Trustworthiness")),
+            seconds=round(time.time() - start, 3)))
+        Delete(other)
+    grid = coarse_features.GetDataInformation().GetNumberOfPoints()
+    return panels, grid, len(voxels)
+
+
+methods = None
+if args.methods:
+    panels, grid, drawn = timed("methods", method_panels)
+    caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
+               "reference sample (seed=%d, K=%d, L=%d); the same %d voxels drawn at "
+               "dimensions 1-2, in the colour of the %s domain's widget that selects them "
+               "(opacity at least 0.1; the others grey)"
+               % (args.features, _every(args.methods_stride), grid, args.reference_size,
+                  args.seed, args.neighbors, args.landmarks, drawn, args.method))
+    report_figures.methods_figure(os.path.join(args.output, "methods.png"), panels, caption)
+    methods = {p["name"]: {k: p[k] for k in ("variance_retained", "trustworthiness",
+                                             "seconds")} for p in panels}
+    methods.update(grid_voxels=grid, voxels_drawn=drawn, stride=args.methods_stride)
 
 # Report.
 bvp = best.filter
@@ -143,7 +222,12 @@ report = {
                                    [float(x) for x in bvp.GetPropertyValue("StageTimings")])),
     "stage_seconds": stages,
     "images": {k: os.path.abspath(os.path.join(args.output, k + ".png"))
-               for k in ("best", "worst", "dual_domain", "domain", "spectrum")},
+               for k in ("best", "worst", "dual_domain", "domain", "spectrum")
+               + (("methods",) if methods else ())},
+    "spectrum_figure": {"bars": spectrum_bars, "kept": 3,
+                        "kept_colour": list(report_figures.KEPT_COLOUR),
+                        "other_colour": list(report_figures.OTHER_COLOUR)},
+    "methods": methods,
 }
 with open(os.path.join(args.output, "report.json"), "w") as f:
     json.dump(report, f, indent=2)

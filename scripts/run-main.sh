@@ -3,7 +3,8 @@
 # volumes, builds, then runs the whole method on the real 3-channel brain (Colin27 T1 +
 # AAL + Brodmann from mricron-data) under pvbatch: 24D features -> Isomap -> seeded
 # Gaussian widgets -> Gaussian TF volume rendering -> best viewpoint. Writes best/worst
-# views, the reduced domain beside the volume, the eigenvalue spectrum and report.json
+# views, the reduced domain beside the volume, the eigenvalue spectrum, PCA / Isomap / LLE
+# side by side (methods.png) and report.json
 # into ./output/transfer_function. Arguments go to Examples/transfer_function.py
 # (--help lists them, e.g. --features 6D --output DIR).
 set -euo pipefail

@@ -31,6 +31,8 @@ packages=(
   # ... and the core, its tests, benchmarks and the data fetch.
   xvfb xauth libgtest-dev googletest libbenchmark-dev ninja-build cmake g++ make
   python3-numpy
+  # The main job's spectrum.png and methods.png (Examples/report_figures.py).
+  python3-matplotlib
   # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), Isomap's
   # Dijkstras (Boost.Graph, header-only, in libboost-dev), and scikit-learn as the
   # reference the comparison script measures against.

@@ -13,7 +13,9 @@
  *   disambiguate=True); for a "Gaussian TF Volume" display the opacity is its widgets'.
  * - "Follow Best Viewpoint" (a toggle): follow_best_viewpoint on the active source's
  *   "Gaussian TF Volume" display: the camera turns to the best view after every change
- *   of its widgets, until the toggle is switched off (stop_following()).
+ *   of its widgets, until the toggle is switched off (stop_following()). The turn is the
+ *   helper's animation (turn_camera: about 0.5 s of rendered steps on the sphere, the
+ *   view-up carried along, of v and -v the one nearer the camera), the same as in scripts.
  * - "Seed Gaussian Widgets": auto_widgets(display, 4): widgets at the k-means clusters
  *   of the reduced domain.
  */

@@ -3,7 +3,8 @@ part 1 (run by `paraview --script=` before gui_follow_click.xml switches the tog
 clicks the seed button). A synthetic volume whose ReducedCoordinates are the voxel
 positions is shown as a Gaussian TF Volume with 5 widgets on a plane; the helpers the
 buttons call (follow_best_viewpoint, auto_widgets) are wrapped so that what they did is
-recorded into $MCV_GUI_STATE. gui_follow_check.py checks it."""
+recorded into $MCV_GUI_STATE, with the camera of every render while the seed button's
+widgets turn it. gui_follow_check.py checks it."""
 import json
 import os
 
@@ -42,6 +43,12 @@ def camera():
     return [b - a for a, b in zip(p, f)]
 
 
+# Every render's camera (direction, view-up): the follower's turn must be animated.
+path = []
+_camera = view.GetActiveCamera()
+view.GetRenderWindow().AddObserver("EndEvent", lambda *unused: path.append(
+    [list(_camera.GetDirectionOfProjection()), list(_camera.GetViewUp())]))
+
 _follow, _auto = mce.follow_best_viewpoint, mce.auto_widgets
 
 
@@ -55,6 +62,8 @@ def follow(*args, **kwargs):
 
 
 def auto(*args, **kwargs):
+    del path[:]
+    before = camera()
     seeded = _auto(*args, **kwargs)  # sets the display's widgets: the follower turns
     bvp = mce._find_filter(coords)
     bvp.UpdatePropertyInformation()
@@ -63,7 +72,8 @@ def auto(*args, **kwargs):
         "camera": camera(), "opacity_source": str(bvp.GetPropertyValue("OpacitySource")),
         "filter_widgets": [float(v) for v in bvp.GaussianWidgets],
         "display_values": [float(v) for v in display.GaussianWidgets],
-        "best": [float(x) for x in bvp.GetPropertyValue("BestViewDirection")]})
+        "best": [float(x) for x in bvp.GetPropertyValue("BestViewDirection")],
+        "before": before, "path": list(path)})
     SaveScreenshot(os.path.join(out, "gui_after_seed.png"), view)
     save()
     return seeded

@@ -4,8 +4,11 @@ widgets -> Gaussian TF Volume -> best viewpoint of the widgets' opacity.
 
 Checks the report (every stage timed, finite trustworthiness and variance retained, a
 valid best direction perpendicular to the worst one), that every image is written and
-not blank, and that the best-view image shows the seeded widgets' colours: pixels whose
-colour is near a widget's hue, for at least two widgets.
+not blank, that the best-view image shows the seeded widgets' colours: pixels whose
+colour is near a widget's hue, for at least two widgets; that spectrum.png has its bars
+(along the row just above the axis: as many runs of the kept bars' colour as eigenvalues
+kept, of the other colour as the others shown) and that methods.png has three panels of
+points, widget-coloured and grey.
 """
 import json
 import math
@@ -43,7 +46,7 @@ if not C.check(os.path.exists(report_path), "report.json written"):
 with open(report_path) as f:
     report = json.load(f)
 C.check(set(report["stage_seconds"]) >= {"read", "features", "reduction", "seed widgets",
-                                         "best viewpoint", "dual domain"},
+                                         "best viewpoint", "dual domain", "methods"},
         "report: every stage timed %s" % sorted(report["stage_seconds"]))
 C.check(0.0 < report["variance_retained"] <= 1.0 and 0.5 < report["trustworthiness"] <= 1.0,
         "report: variance retained %.3f, trustworthiness %.3f"
@@ -53,9 +56,75 @@ C.check(abs(T.norm(best) - 1) < 1e-6 and abs(T.dot(best, worst)) < 1e-6,
         "report: unit best direction perpendicular to the worst")
 C.check(len(report["widgets"]) == 3, "report: 3 widgets seeded")
 
-for name in ("best", "worst", "dual_domain", "domain", "spectrum"):
+for name in ("best", "worst", "dual_domain", "domain", "spectrum", "methods"):
     T.image_ok(mce, os.path.join(out, name + ".png"), C, name, min_stddev=4.0,
                min_fraction=0.02)
+C.check(set(report["images"]) >= {"spectrum", "methods"},
+        "report: spectrum.png and methods.png listed")
+
+
+def rgb_pixels(path):
+    """The picture as a numpy array [row, column, rgb] (rows bottom to top)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    image = mce._read_png(path)
+    width, height = image.GetDimensions()[:2]
+    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(height, width, -1)[:, :, :3]
+
+
+def runs(mask):
+    """Number of runs of True in a 1D boolean array (separate bars along a row)."""
+    return int((mask[1:] & ~mask[:-1]).sum() + (1 if mask[0] else 0))
+
+
+def bar_counts(path, kept_colour, other_colour):
+    """Bars of each colour along the row with the most bar pixels (just above the axis,
+    where every bar is; the legend's patches are higher up)."""
+    import numpy
+
+    pixels = rgb_pixels(path).astype(int)
+    kept = (abs(pixels - numpy.array(kept_colour)).max(axis=2) <= 3)
+    other = (abs(pixels - numpy.array(other_colour)).max(axis=2) <= 3)
+    row = int((kept | other).sum(axis=1).argmax())
+    return runs(kept[row]), runs(other[row]), int(kept.sum() + other.sum())
+
+
+# spectrum.png: a bar per eigenvalue shown, the kept ones in their own colour.
+figure = report.get("spectrum_figure") or {}
+if C.check(figure.get("bars", 0) > figure.get("kept", 0) > 0,
+           "report: spectrum figure of %s bars, %s kept" % (figure.get("bars"),
+                                                            figure.get("kept"))):
+    kept_bars, other_bars, bar_pixels = bar_counts(os.path.join(out, "spectrum.png"),
+                                                   figure["kept_colour"],
+                                                   figure["other_colour"])
+    C.check(kept_bars == figure["kept"] and other_bars == figure["bars"] - figure["kept"]
+            and bar_pixels > 5000,
+            "spectrum.png: %d kept and %d other bars drawn (%d bar pixels)"
+            % (kept_bars, other_bars, bar_pixels))
+
+
+def panel_points(path, panels=3):
+    """Pixels of widget-coloured points (saturated) and of grey points (190) in each third
+    of methods.png."""
+    pixels = rgb_pixels(path).astype(int)
+    spread = pixels.max(axis=2) - pixels.min(axis=2)
+    coloured = spread > 100
+    grey = (abs(pixels - 190).max(axis=2) <= 2)
+    width = pixels.shape[1] // panels
+    return [(int(coloured[:, i * width:(i + 1) * width].sum()),
+             int(grey[:, i * width:(i + 1) * width].sum())) for i in range(panels)]
+
+
+# methods.png: PCA, Isomap and LLE side by side, each panel with points in widget colours.
+methods = report.get("methods") or {}
+C.check(all(name in methods and 0.5 < methods[name]["trustworthiness"] <= 1.0
+            for name in ("PCA", "Isomap", "LLE")),
+        "report: trustworthiness of PCA, Isomap, LLE on the same sample %s"
+        % [round(methods.get(n, {}).get("trustworthiness", 0), 3) for n in ("PCA", "Isomap", "LLE")])
+if os.path.exists(os.path.join(out, "methods.png")):
+    counts = panel_points(os.path.join(out, "methods.png"))
+    C.check(all(c > 200 and g > 1000 for c, g in counts),
+            "methods.png: three panels with points, widget-coloured and grey (%s)" % counts)
 
 
 def hue(rgb):

@@ -1,9 +1,10 @@
 """The best viewpoint: the BestViewpoint filter on a source, the camera turned (at once or
-in rendered steps) to the best or worst view, and the camera following the widgets of a
-Gaussian TF display.
+animated over about half a second) to the best or worst view, and the camera following the
+widgets of a Gaussian TF display.
 """
 
 import math
+import time
 
 from ._common import (_FILTER_XML_NAME, _Follower, _filter, _find_filter, _followers,
                       _is_representation, _simple, _warn)
@@ -186,51 +187,157 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
     return result
 
 
+def _dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
 def _normalized(v):
     n = math.sqrt(sum(x * x for x in v))
     return [x / n for x in v] if n > 0 else list(v)
 
 
-def _slerp(a, b, t):
-    """Unit vector a fraction t of the way from unit vector a to b along the great circle."""
-    dot = max(-1.0, min(1.0, sum(x * y for x, y in zip(a, b))))
-    angle = math.acos(dot)
-    if angle < 1e-6:
+def _perpendicular(v, hint=None):
+    """A unit vector perpendicular to unit `v`: `hint` with its component along v removed,
+    or any perpendicular when there is no usable hint."""
+    if hint is not None:
+        p = [h - _dot(hint, v) * x for h, x in zip(hint, v)]
+        if _dot(p, p) > 1e-12:
+            return _normalized(p)
+    return _normalized([v[1], -v[0], 0.0] if abs(v[2]) < 0.9 else [0.0, v[2], -v[1]])
+
+
+def _rotate(v, axis, angle):
+    """`v` rotated by `angle` about unit `axis` (Rodrigues); angle 0 returns v exactly."""
+    c, s = math.cos(angle), math.sin(angle)
+    k_dot_v = _dot(axis, v)
+    k_x_v = _cross(axis, v)
+    return [x * c + kx * s + k * k_dot_v * (1.0 - c) for x, kx, k in zip(v, k_x_v, axis)]
+
+
+def _turn_axis(a, b, hint=None):
+    """(axis, angle) of the shortest rotation taking unit `a` to unit `b`. Opposite vectors
+    have no shortest turn: it is about `hint` made perpendicular to a (the camera's view-up,
+    so the camera swings round without rolling), or about any perpendicular."""
+    angle = math.acos(max(-1.0, min(1.0, _dot(a, b))))
+    axis = _cross(a, b)
+    if _dot(axis, axis) > 1e-24 and math.pi - angle > 1e-6:
+        return _normalized(axis), angle
+    return _perpendicular(a, hint), angle
+
+
+def _slerp(a, b, t, hint=None):
+    """Unit vector a fraction t of the way from unit vector a to b along the great circle
+    (t = 0: a, t = 1: b, exactly)."""
+    if t >= 1.0:
         return list(b)
-    if math.pi - angle < 1e-6:  # opposite: turn through any perpendicular
-        perp = _normalized([a[1], -a[0], 0.0] if abs(a[2]) < 0.9 else [0.0, a[2], -a[1]])
-        return _normalized([math.cos(t * math.pi) * x + math.sin(t * math.pi) * y
-                            for x, y in zip(a, perp)])
-    s = math.sin(angle)
-    return [(math.sin((1 - t) * angle) * x + math.sin(t * angle) * y) / s
-            for x, y in zip(a, b)]
+    axis, angle = _turn_axis(a, b, hint)
+    return _rotate(a, axis, t * angle)
 
 
-def turn_camera(view, center, direction, view_up, frames=10):
-    """Turns the camera of `view` to look along `direction` at `center` in `frames`
-    rendered steps (great-circle interpolation of the direction and the view-up), then
-    fits the data in the view. frames <= 1: at once."""
+def _continuous_sign(current, direction):
+    """+1 or -1: the sign of the best-view `direction` (v and -v are equally good) that is
+    nearer the camera's `current` direction, so following never turns the camera by more
+    than 90 degrees for a sign the PCA chose at random."""
+    return -1 if _dot(current, direction) < 0.0 else 1
+
+
+def _signed_angle(a, b, axis):
+    """Angle turning a to b about `axis` (a, b perpendicular to it), in (-pi, pi]."""
+    return math.atan2(_dot(axis, _cross(a, b)), _dot(a, b))
+
+
+_MAX_STEPS_PER_SECOND = 60.0
+
+
+def _animation_fractions(duration, min_steps, clock=None, sleep=None):
+    """The fractions t in (0, 1] of a camera turn, one per rendered step, the last exactly
+    1. Time-based: t is the elapsed share of `duration` seconds (as many steps as fit, at
+    most 60 a second: a faster render waits for its time), but a step never advances more
+    than 1 / min_steps, so a slow render still shows at least `min_steps` steps (and then
+    takes longer). min_steps <= 1: one step; duration <= 0: min_steps equal steps."""
+    clock = clock or time.monotonic
+    sleep = sleep or time.sleep
+    min_steps = int(min_steps)
+    if min_steps <= 1:
+        yield 1.0
+        return
+    if not duration > 0:
+        for i in range(1, min_steps + 1):
+            yield 1.0 if i == min_steps else float(i) / min_steps
+        return
+    start = clock()
+    most, least = 1.0 / min_steps, 1.0 / (_MAX_STEPS_PER_SECOND * duration)
+    t = 0.0
+    while t < 1.0:
+        on_time = (clock() - start) / duration
+        t = min(1.0, t + most, max(on_time, t + least))
+        if t > 1.0 - 1e-9:  # the sum of equal shares may fall short of 1 by rounding
+            t = 1.0
+        ahead = t * duration - (clock() - start)
+        if ahead > 0:
+            sleep(ahead)
+        yield t
+
+
+def _camera_state(view):
     position = [float(p) for p in view.CameraPosition]
     focal = [float(p) for p in view.CameraFocalPoint]
-    start = _normalized([f - p for f, p in zip(focal, position)])
-    start_up = _normalized([float(u) for u in view.CameraViewUp])
-    goal, goal_up = _normalized(direction), _normalized(view_up)
-    for i in range(1, max(1, int(frames))):
-        t = float(i) / frames
-        d = _slerp(start, goal, t)
-        up = _slerp(start_up, goal_up, t)
-        # Keep view-up perpendicular to the direction.
-        dot = sum(x * y for x, y in zip(up, d))
-        up = _normalized([u - dot * x for u, x in zip(up, d)])
-        set_camera_direction(view, center, d, up, fill=False)
-    set_camera_direction(view, center, goal, goal_up)
+    offset = [f - p for f, p in zip(focal, position)]
+    distance = math.sqrt(_dot(offset, offset))
+    direction = _normalized(offset) if distance > 1e-9 else [0.0, 0.0, -1.0]
+    up = _perpendicular(direction, [float(u) for u in view.CameraViewUp])
+    return focal, direction, (distance if distance > 1e-9 else 1.0), up
 
 
-def follow_best_viewpoint(display, view=None, frames=10, which="best", **filter_properties):
+def _place_camera(view, focal, direction, distance, up):
+    view.CameraFocalPoint = list(focal)
+    view.CameraPosition = [f - distance * d for f, d in zip(focal, direction)]
+    view.CameraViewUp = list(up)
+
+
+def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5):
+    """Turns the camera of `view` smoothly to look along `direction` at `center`: about
+    `duration` seconds of rendered steps (as many as fit, at least `frames`; frames <= 1:
+    at once), the last one exactly along `direction`.
+
+    The direction turns on the great circle (slerp about the focal point, the distance
+    kept; the focal point slides to `center`). The view-up turns with it (carried along
+    the same rotation, so the picture does not roll); with `view_up` given, the roll
+    needed to end on it is spread over the steps. Returns the number of rendered steps."""
+    simple = _simple()
+    focal0, start, distance, up0 = _camera_state(view)
+    goal = _normalized([float(d) for d in direction])
+    center = [float(c) for c in center]
+    axis, angle = _turn_axis(start, goal, up0)
+    carried_up = _perpendicular(goal, _rotate(up0, axis, angle))
+    roll = 0.0
+    if view_up is not None:
+        roll = _signed_angle(carried_up, _perpendicular(goal, view_up), goal)
+    steps = 0
+    for t in _animation_fractions(duration, frames):
+        d = _slerp(start, goal, t, up0)
+        up = _rotate(_perpendicular(d, _rotate(up0, axis, t * angle)), d, t * roll)
+        focal = [a + t * (b - a) for a, b in zip(focal0, center)]
+        _place_camera(view, focal, d, distance, _perpendicular(d, up))
+        simple.Render(view)
+        steps += 1
+    return steps
+
+
+def follow_best_viewpoint(display, view=None, frames=4, which="best", duration=0.5,
+                          **filter_properties):
     """Keeps the camera of `view` on the best view of what a "Gaussian TF Volume"
     `display` shows: now, and after every change of its GaussianWidgets the best
-    viewpoint is recomputed from the widgets' opacity and the camera turns there in
-    `frames` rendered steps. Returns an object with .stop() (also stop_following())."""
+    viewpoint is recomputed from the widgets' opacity and the camera turns there
+    (turn_camera: about `duration` seconds, at least `frames` rendered steps, the view-up
+    carried along, the distance kept). Of the two equally good directions v and -v the
+    one nearer the current camera is taken, so the camera never flips to the other side.
+    Returns an object with .stop() (also stop_following()) and .state["result"]: the
+    last update's ViewpointResult (direction, best, sign, steps, ...)."""
     simple = _simple()
     if view is None:
         view = simple.GetActiveView()
@@ -248,19 +355,16 @@ def follow_best_viewpoint(display, view=None, frames=10, which="best", **filter_
         props.update(OpacitySource="Representation", GaussianWidgets=_widget_values(display),
                      WidgetCoordinates=_coordinates_name(display))
         bvp = best_viewpoint_filter(source, view, **props)
-        direction = _vec(bvp, "BestViewDirection" if which == "best" else "WorstViewDirection")
-        if not bvp.GetPropertyValue("ViewValid") or sum(d * d for d in direction) < 0.5:
+        best = _vec(bvp, "BestViewDirection" if which == "best" else "WorstViewDirection")
+        if not bvp.GetPropertyValue("ViewValid") or _dot(best, best) < 0.5:
             _warn("follow_best_viewpoint: no %s view for these widgets; the camera stays"
                   % which)
             return
-        # Of +v and -v, the one nearer the current camera: the smallest turn.
-        position = [float(p) for p in view.CameraPosition]
-        focal = [float(p) for p in view.CameraFocalPoint]
-        current = [f - p for f, p in zip(focal, position)]
-        if sum(c * d for c, d in zip(current, direction)) < 0:
-            direction = [-d for d in direction]
-        turn_camera(view, _vec(bvp, "DataCenter"), direction, _vec(bvp, "ViewUp"), frames)
-        state["result"] = ViewpointResult(direction=direction, filter=bvp, which=which,
+        sign = _continuous_sign(_camera_state(view)[1], best)
+        direction = [sign * d for d in best]
+        steps = turn_camera(view, _vec(bvp, "DataCenter"), direction, None, frames, duration)
+        state["result"] = ViewpointResult(direction=direction, best=best, sign=sign,
+                                          steps=steps, filter=bvp, which=which,
                                           eigenvalues=_vec(bvp, "EigenvalueSpectrum"))
 
     follower = _Follower(display, "GaussianWidgets", update)

@@ -1,0 +1,139 @@
+"""The main job's figures (Examples/transfer_function.py): the eigenvalue spectrum of the
+reduction, and the reduced domains of PCA, Isomap and LLE side by side.
+
+Drawn with matplotlib (Agg, no display): ParaView's chart views cannot colour some bars of
+one series differently, and matplotlib renders the same under pvbatch as anywhere else.
+Import it from an example with ``sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))``.
+"""
+import math
+import textwrap
+
+# Bar colours, written into report.json so a test can count their pixels.
+KEPT_COLOUR = (214, 39, 40)     # the OutputDimension leading eigenvalues
+OTHER_COLOUR = (31, 119, 180)   # the ones the reduction drops
+SPECTRUM_BARS = 20              # leading eigenvalues shown (Isomap has one per landmark)
+
+
+def _pyplot():
+    try:
+        import matplotlib
+    except ImportError:
+        raise SystemExit("matplotlib is needed for spectrum.png and methods.png: "
+                         "apt-get install python3-matplotlib (scripts/setup.sh does)")
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+
+    return pyplot
+
+
+def _rgb(colour):
+    return tuple(c / 255.0 for c in colour)
+
+
+def spectrum_table(reduction):
+    """(values, fractions) of the Spectrum output (port 1) of a DimensionReduction proxy:
+    eigenvalues in the filter's order and each one's share of the positive ones (0 for
+    LLE, whose eigenvalues are no variances)."""
+    from paraview import servermanager
+
+    table = servermanager.Fetch(reduction, idx=1)
+    values = table.GetColumnByName("value")
+    fractions = table.GetColumnByName("fraction")
+    n = table.GetNumberOfRows()
+    return ([values.GetValue(i) for i in range(n)], [fractions.GetValue(i) for i in range(n)])
+
+
+def _spectrum_text(method, values, kept, variance_retained):
+    """Title, y label and the bars' heights: shares in % for PCA / Isomap, the raw
+    eigenvalues for LLE (no variance spectrum: it keeps the bottom eigenvectors)."""
+    if method == "LLE":
+        title = ("LLE: the %d smallest non-trivial eigenvalues of (I-W)$^T$(I-W)\n"
+                 "no variance spectrum (LLE keeps the bottom eigenvectors)" % len(values))
+        return title, "eigenvalue", list(values)
+    positive = sum(v for v in values if v > 0)
+    negative = sum(1 for v in values if v < 0)
+    shown = min(len(values), SPECTRUM_BARS)
+    title = ("%s eigenvalue spectrum: %.1f%% of the variance retained by the %d kept\n"
+             % (method, 100.0 * variance_retained, kept))
+    title += ("the leading %d of %d eigenvalues" % (shown, len(values)) if shown < len(values)
+              else "all %d eigenvalues" % len(values))
+    if negative:
+        title += " (%d negative: geodesic distances are not Euclidean)" % negative
+    heights = [100.0 * max(0.0, v) / positive if positive > 0 else 0.0 for v in values]
+    return title, "share of the positive eigenvalues (%)", heights
+
+
+def spectrum_figure(path, method, values, kept, variance_retained, size=(900, 560)):
+    """Bar chart of the leading eigenvalues, the `kept` ones in KEPT_COLOUR, the others in
+    OTHER_COLOUR, the variance retained in the title. Returns the number of bars."""
+    plt = _pyplot()
+    title, ylabel, heights = _spectrum_text(method, values, kept, variance_retained)
+    heights = heights[:SPECTRUM_BARS]
+    index = list(range(1, len(heights) + 1))
+    colours = [_rgb(KEPT_COLOUR if i <= kept else OTHER_COLOUR) for i in index]
+    fig, ax = plt.subplots(figsize=(size[0] / 100.0, size[1] / 100.0), dpi=100)
+    ax.bar(index, heights, color=colours, width=0.8, antialiased=False)
+    ax.set_ylim(0.0, 1.2 * max(heights + [1e-30]))  # room for the legend above the bars
+    ax.set_xticks(index)
+    ax.set_xlabel("eigenvalue index")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=11)
+    legend = [plt.Rectangle((0, 0), 1, 1, color=_rgb(KEPT_COLOUR))]
+    labels = ["kept (the %d reduced coordinates)" % kept]
+    if len(heights) > kept:
+        legend.append(plt.Rectangle((0, 0), 1, 1, color=_rgb(OTHER_COLOUR)))
+        labels.append("dropped")
+    ax.legend(legend, labels, loc="upper right")
+    ax.grid(axis="y", alpha=0.3)
+    ax.set_axisbelow(True)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return len(heights)
+
+
+def _panel_title(name, variance_retained, trustworthiness):
+    variance = ("variance retained %.1f%%" % (100.0 * variance_retained)
+                if name != "LLE" else "variance retained: n/a")
+    trust = ("trustworthiness %.3f" % trustworthiness if math.isfinite(trustworthiness)
+             else "trustworthiness n/a")
+    return "%s\n%s, %s" % (name, variance, trust)
+
+
+def point_colours(rgba, opacity, threshold=0.1):
+    """Per voxel: the colour of the widgets that select it (RGBA of ReducedDomain, 0..255)
+    where their opacity reaches `threshold`, else grey. Full colours, not the domain
+    view's blend over grey by opacity, which is too pale to tell apart in a small plot."""
+    return [tuple(c[:3]) if a >= threshold else GREY for c, a in zip(rgba, opacity)]
+
+
+GREY = (190, 190, 190)
+
+
+def methods_figure(path, panels, caption, size=(1500, 600)):
+    """One scatter plot per method (dimensions 1 and 2 of its reduced domain) of the same
+    sampled voxels in the same colours. `panels`: dicts with name, x, y, colours (RGB
+    0..255 per point), variance_retained, trustworthiness. Grey voxels (no widget) are
+    drawn first so the coloured ones stay on top."""
+    plt = _pyplot()
+    fig, axes = plt.subplots(1, len(panels), figsize=(size[0] / 100.0, size[1] / 100.0),
+                             dpi=100)
+    for ax, panel in zip(axes, panels):
+        colours = panel["colours"]
+        order = sorted(range(len(colours)), key=lambda i: _spread(colours[i]))
+        ax.scatter([panel["x"][i] for i in order], [panel["y"][i] for i in order],
+                   c=[_rgb(colours[i]) for i in order], s=3, linewidths=0)
+        ax.set_title(_panel_title(panel["name"], panel["variance_retained"],
+                                  panel["trustworthiness"]), fontsize=11)
+        ax.set_xlabel("dimension 1")
+        ax.set_ylabel("dimension 2")
+        ax.tick_params(labelsize=8)
+    fig.suptitle(textwrap.fill(caption, 130), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def _spread(rgb):
+    """How far a colour is from grey: 0 for voxels no widget selects."""
+    return max(rgb) - min(rgb)
