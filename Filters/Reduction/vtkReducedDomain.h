@@ -24,6 +24,15 @@
  * auto_widgets() copies them to the representation. Distinct coordinates only: voxels with
  * the same feature vector (a uniform background) share one point in the domain and would
  * otherwise pull widgets onto it.
+ *
+ * Background: when the input has the uint8 point array `Foreground` (MultichannelFeatures'
+ * MaskBackground, passed on by DimensionReduction), points whose Foreground is 0 are left
+ * out of the sample, hence out of the domain cloud and of the k-means: no widget is seeded
+ * on the background. SkipLargestCluster applies only when the input has no Foreground
+ * array (the mask already removed the background; the largest foreground cluster is a
+ * structure). A Foreground array that marks no point is ignored (warning). Seeded widgets
+ * take the suite's palette (mcv::widgetColor: ColorBrewer Set1), sigmas that overlap
+ * little and lower peak opacity for bigger clusters (WidgetSeeding.h).
  */
 
 #ifndef vtkReducedDomain_h
@@ -78,7 +87,10 @@ public:
   ///@}
 
   ///@{
-  /** Peak opacity of the seeded widgets (default 0.5). */
+  /**
+   * Peak opacity of the smallest seeded cluster's widget (default 0.5); a cluster of m
+   * points gets SeedWidgetOpacity * (smallest / m)^(1/3).
+   */
   vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
   vtkGetMacro(SeedWidgetOpacity, double);
   ///@}
@@ -87,6 +99,8 @@ public:
   /**
    * Leave the largest cluster out of the seeded widgets (default on): count + 1 clusters
    * are made and the largest, almost always the background of a volume, gets no widget.
+   * Applies only when the input has no Foreground array (with one, the background is
+   * already out of the sample).
    */
   vtkSetMacro(SkipLargestCluster, bool);
   vtkGetMacro(SkipLargestCluster, bool);

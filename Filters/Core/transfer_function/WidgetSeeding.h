@@ -1,14 +1,22 @@
 // Automatic starting widgets for the Gaussian transfer function (the dissertation's future
 // work, section 7.7): k-means clusters of the reduced domain, one widget per cluster.
 //
-// Centre = the cluster mean; sigma = the cluster's RMS spread per axis,
-// sqrt(mean |x - mu|^2 / dims) (the sigma of an isotropic Gaussian with that spread);
-// colour = evenly spaced hues, largest cluster first; opacity = `opacity`.
-// With `skipLargest`, count + 1 clusters are made and the largest is left out: in a volume
-// the largest class is almost always the background (air around a head, the dark field
-// of a micrograph), which a widget would turn into an opaque box; each widget's sigma is
-// then at most a quarter of its centre's distance to the skipped cluster's centre, so the
-// background keeps a weight below exp(-8) and stays dark.
+// Widgets are ordered largest cluster first. For each:
+//  - centre = the cluster mean;
+//  - sigma = the cluster's RMS spread per axis, sqrt(mean |x - mu|^2 / dims) (the sigma of
+//    an isotropic Gaussian with that spread), capped at a quarter of the distance from its
+//    centre to the nearest other cluster centre: two neighbouring widgets then weigh at
+//    most exp(-2) = 0.14 at the point halfway between them, so each one selects its own
+//    structure instead of one widget covering everything;
+//  - colour = widgetColor(i): ColorBrewer's qualitative Set1, one palette for the suite;
+//  - peak opacity = `opacity` * (smallest seeded cluster / this cluster)^(1/3): the
+//    opacity a ray gathers through a structure grows with its thickness, which goes as the
+//    cube root of its voxel count, so the big classes (white matter, tissue filling the
+//    volume) get a lower peak and leave the small inner structures visible.
+// With `skipLargest`, count + 1 clusters are made and the largest is left out: without a
+// foreground mask the largest class is almost always the background (air around a head,
+// the dark field of a micrograph), which a widget would turn into an opaque box. The cap
+// above then also keeps the background's centre at a weight below exp(-8), dark.
 #pragma once
 
 #include "GaussianTransferFunction.h"
@@ -33,7 +41,7 @@ struct WidgetSeeding
 {
   std::string error;
   std::vector<GaussianWidget> widgets;      // largest cluster first
-  std::vector<std::size_t> clusterSizes;    // points per widget's cluster
+  std::vector<std::size_t> clusterSizes;    // points per widget's cluster (descending)
   std::vector<int> labels;                  // widget of every finite point (-1: not finite,
                                             // -2: in the skipped largest cluster)
   std::size_t skippedSize = 0;              // points of the skipped cluster
@@ -46,7 +54,13 @@ struct WidgetSeeding
 // distinct points.
 WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeedingOptions& options);
 
-// Hue h in [0,1) at full value and 85 % saturation, as RGB in [0,1].
-void distinctColor(int index, int count, double rgb[3]);
+// The colour of seeded widget `index` (0-based), RGB in [0,1]: the 8 colours of ColorBrewer
+// Set1 without its grey (red, blue, green, purple, orange, yellow, brown, pink), readable
+// on dark and light backgrounds; then the same 8 at 60 % brightness, so the first 16
+// differ; after that they repeat.
+void widgetColor(int index, double rgb[3]);
+
+// The number of colours of the qualitative palette behind widgetColor.
+int widgetPaletteSize();
 
 } // namespace mcv
