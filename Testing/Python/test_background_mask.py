@@ -12,6 +12,8 @@ x = -9, channel B from 25 to 75 along y inside a ball at x = +9; both are 0 else
   balls, more than 2.5 sigma from the background's reduced coordinates,
   in the palette's first two colours; without the mask the cloud is mostly background:
   what the mask prevents.
+* BestViewpoint of one all-covering widget: the interest points lie on the balls (the
+  background gets opacity 0).
 * A volume that is background everywhere: a clear warning, an all-0 mask, and the
   reduction and the domain still run (each warns that the mask marks no voxel).
 """
@@ -171,6 +173,30 @@ C.check(plain_background > plain_ids.GetNumberOfTuples() // 2,
         "without the mask most of the cloud is background (%d of %d points; weight of the "
         "widgets at the background %.2e)" % (plain_background, plain_ids.GetNumberOfTuples(),
                                              max(weight_at(w, plain_bg) for w in plain_widgets)))
+
+# ---- BestViewpoint of the widgets' opacity: the background is transparent ----------------
+# One widget covering the whole domain: without the mask its opacity fills the volume (a
+# flat box); with it only the two balls are opaque and the interest points lie on them.
+everything = [0.0, 0.0, 0.0, 1000.0, 1.0, 1.0, 1.0, 0.8]
+ball_centres = [(-9.0, 0.0, 0.0, 7.0), (9.0, 0.0, 0.0, 6.0)]
+
+
+def farthest_from_balls(viewpoint):
+    points = fetch(viewpoint).GetPoints()
+    worst = 0.0
+    for i in range(points.GetNumberOfPoints()):
+        p = points.GetPoint(i)
+        worst = max(worst, min(math.sqrt(sum((p[c] - b[c]) ** 2 for c in range(3))) - b[3]
+                               for b in ball_centres))
+    return worst, points.GetNumberOfPoints()
+
+
+masked_view = simple.BestViewpoint(Input=reduction, OpacitySource="Representation",
+                                   GaussianWidgets=everything, NumberOfInterestPoints=200)
+worst, count = farthest_from_balls(masked_view)
+C.check(count > 0 and worst < 3.0, "BestViewpoint of the widgets: the %d interest points lie "
+        "on the balls (at most %.1f voxels outside), the background is transparent"
+        % (count, worst))
 
 # ---- Every voxel background -----------------------------------------------------------------
 flat = Calculator(Input=wavelet, ResultArrayName="Flat", ResultArrayType="Float",
