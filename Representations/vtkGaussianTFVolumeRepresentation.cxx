@@ -1,28 +1,36 @@
 #include "vtkGaussianTFVolumeRepresentation.h"
 
-#include "GaussianTransferFunction.h" // mcv core (Filters/Core)
+#include "CoordinateTexture.h"           // mcv core (Filters/Core)
+#include "GaussianTransferFunction.h"    // mcv core (Filters/Core)
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
+#include "mcvGaussianTFShader.h"
+#include "vtkGaussianTFVolumeMapper.h"
 
 #include "vtkCompositeDataSet.h"
 #include "vtkFloatArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
-#include "vtkMultiBlockVolumeMapper.h"
 #include "vtkObjectFactory.h"
+#include "vtkOpenGLShaderProperty.h"
 #include "vtkPVLODVolume.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
 #include "vtkScalarsToColors.h"
+#include "vtkShader.h"
 #include "vtkSmartPointer.h"
 #include "vtkSmartVolumeMapper.h"
 #include "vtkTimeStamp.h"
+#include "vtkTimerLog.h"
+#include "vtkUniforms.h"
 #include "vtkUnsignedCharArray.h"
+#include "vtkUnsignedShortArray.h"
 #include "vtkVolumeMapper.h"
 #include "vtkVolumeProperty.h"
 #include "vtkWeakPointer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <string>
@@ -35,9 +43,9 @@ namespace
 // at 128 would be shown at full brightness. vtkDataArray caches the ranges in its
 // information until the next Modified(): anchor them to the full byte range, so the
 // texture's scale and bias are the identity on [0, 255].
-void anchorByteRanges(vtkDataArray* array)
+void anchorRanges(vtkDataArray* array, double top)
 {
-  const double range[2] = { 0.0, 255.0 };
+  const double range[2] = { 0.0, top };
   vtkInformation* info = array->GetInformation();
   const int components = array->GetNumberOfComponents();
   for (vtkInformationInformationVectorKey* key :
@@ -67,62 +75,211 @@ std::vector<vtkImageData*> imagePieces(vtkDataObject* data)
   return {};
 }
 
+bool isOwnArray(const char* name)
+{
+  const std::string n = name ? name : "";
+  return n == vtkGaussianTFVolumeRepresentation::GetRGBAArrayName() ||
+    n == vtkGaussianTFVolumeRepresentation::GetTextureArrayName();
+}
+
 std::string pointArrayNames(vtkPointData* pd)
 {
   std::string names;
   for (int i = 0; i < pd->GetNumberOfArrays(); ++i)
   {
     const char* name = pd->GetArrayName(i);
-    if (name && std::string(name) != vtkGaussianTFVolumeRepresentation::GetRGBAArrayName())
+    if (name && !isOwnArray(name))
     {
       names += (names.empty() ? "" : ", ") + std::string(name);
     }
   }
   return names.empty() ? "none" : names;
 }
+
+// The coordinate array of a piece, or an error message saying what is wrong with it.
+vtkDataArray* coordinatesOf(vtkImageData* piece, const std::string& name, std::string& error)
+{
+  vtkPointData* pd = piece->GetPointData();
+  vtkDataArray* coords = pd->GetArray(name.c_str());
+  std::ostringstream msg;
+  if (!coords)
+  {
+    msg << "The coordinate array '" << name
+        << "' is not a numeric point array of the input (point arrays: " << pointArrayNames(pd)
+        << "). Select the reduced coordinates, e.g. ReducedCoordinates of DimensionReduction.";
+  }
+  else if (coords->GetNumberOfComponents() != 2 && coords->GetNumberOfComponents() != 3)
+  {
+    msg << "The coordinate array '" << name << "' has " << coords->GetNumberOfComponents()
+        << " component(s); the Gaussian widgets need 2D or 3D coordinates (2 or 3 "
+           "components).";
+  }
+  else if (coords->GetNumberOfTuples() != piece->GetNumberOfPoints())
+  {
+    msg << "The coordinate array '" << name << "' has " << coords->GetNumberOfTuples()
+        << " tuples for " << piece->GetNumberOfPoints() << " points.";
+  }
+  error = msg.str();
+  return error.empty() ? coords : nullptr;
+}
+
+// The mask array of a piece when it is usable (one component, one value per point).
+vtkDataArray* maskOf(vtkImageData* piece, const std::string& name)
+{
+  vtkDataArray* mask = name.empty() ? nullptr : piece->GetPointData()->GetArray(name.c_str());
+  if (mask && mask->GetNumberOfComponents() == 1 &&
+    mask->GetNumberOfTuples() == piece->GetNumberOfPoints())
+  {
+    return mask;
+  }
+  return nullptr;
+}
+
+// Float32 values of `array` (no copy when it already is float32).
+const float* asFloats(vtkDataArray* array, std::vector<float>& storage)
+{
+  if (auto floats = vtkFloatArray::FastDownCast(array))
+  {
+    return floats->GetPointer(0);
+  }
+  const vtkIdType n = array->GetNumberOfTuples();
+  const int components = array->GetNumberOfComponents();
+  storage.resize(static_cast<size_t>(n) * components);
+  for (vtkIdType t = 0; t < n; ++t)
+  {
+    for (int c = 0; c < components; ++c)
+    {
+      storage[t * components + c] = static_cast<float>(array->GetComponent(t, c));
+    }
+  }
+  return storage.data();
+}
+
+// One byte per voxel, 0 where `mask` is 0 (no copy for a uint8 mask); nullptr: no mask.
+const std::uint8_t* asBytes(vtkDataArray* mask, std::vector<std::uint8_t>& storage)
+{
+  if (!mask)
+  {
+    return nullptr;
+  }
+  if (auto bytes = vtkUnsignedCharArray::FastDownCast(mask))
+  {
+    return bytes->GetPointer(0);
+  }
+  const vtkIdType n = mask->GetNumberOfTuples();
+  storage.resize(static_cast<size_t>(n));
+  for (vtkIdType t = 0; t < n; ++t)
+  {
+    storage[t] = mask->GetComponent(t, 0) != 0 ? 1 : 0;
+  }
+  return storage.data();
+}
+
+// The arrays one classification was made from: a new piece, a modified coordinate or mask
+// array, or other array names make it stale.
+struct InputStamp
+{
+  std::vector<vtkWeakPointer<vtkImageData>> Pieces;
+  std::vector<vtkWeakPointer<vtkDataArray>> Arrays; // coordinates, mask, per piece
+  std::vector<vtkMTimeType> MTimes;
+  std::string Names;
+
+  static std::vector<vtkDataArray*> arraysOf(const std::vector<vtkImageData*>& pieces,
+    const std::string& coordinates, const std::string& mask)
+  {
+    std::vector<vtkDataArray*> arrays;
+    for (vtkImageData* piece : pieces)
+    {
+      arrays.push_back(piece->GetPointData()->GetArray(coordinates.c_str()));
+      arrays.push_back(maskOf(piece, mask));
+    }
+    return arrays;
+  }
+
+  bool Changed(const std::vector<vtkImageData*>& pieces, const std::string& coordinates,
+    const std::string& mask) const
+  {
+    const std::vector<vtkDataArray*> arrays = arraysOf(pieces, coordinates, mask);
+    if (pieces.size() != this->Pieces.size() || coordinates + '\n' + mask != this->Names)
+    {
+      return true;
+    }
+    for (size_t i = 0; i < pieces.size(); ++i)
+    {
+      if (pieces[i] != this->Pieces[i])
+      {
+        return true;
+      }
+    }
+    for (size_t i = 0; i < arrays.size(); ++i)
+    {
+      if (arrays[i] != this->Arrays[i] || (arrays[i] && arrays[i]->GetMTime() != this->MTimes[i]))
+      {
+        return true;
+      }
+    }
+    return false;
+  }
+
+  void Record(const std::vector<vtkImageData*>& pieces, const std::string& coordinates,
+    const std::string& mask)
+  {
+    const std::vector<vtkDataArray*> arrays = arraysOf(pieces, coordinates, mask);
+    this->Pieces.assign(pieces.begin(), pieces.end());
+    this->Arrays.assign(arrays.begin(), arrays.end());
+    this->MTimes.clear();
+    for (vtkDataArray* a : arrays)
+    {
+      this->MTimes.push_back(a ? a->GetMTime() : 0);
+    }
+    this->Names = coordinates + '\n' + mask;
+  }
+};
 } // namespace
 
 struct vtkGaussianTFVolumeRepresentation::vtkInternals
 {
   mcv::vtkhelpers::WidgetValues WidgetValues; // flat, 8 per widget
   std::string CoordinateArray = "ReducedCoordinates";
-  vtkTimeStamp SettingsTime; // widgets, coordinate array or device changed
-  vtkTimeStamp ComputeTime;  // last (attempted) computation
+  std::string MaskArray = "Foreground";
+  vtkTimeStamp SettingsTime; // widgets, arrays, device or classification changed
+  vtkTimeStamp ComputeTime;  // last (attempted) classification update
 
-  // What the last computation used: a new piece or a modified coordinate array recomputes.
-  std::vector<vtkWeakPointer<vtkImageData>> Pieces;
-  std::vector<vtkWeakPointer<vtkDataArray>> Coordinates;
-  std::vector<vtkMTimeType> CoordinatesMTime;
+  InputStamp RGBAInputs;    // what the RGBA arrays were computed from
+  InputStamp TextureInputs; // what the coordinate textures were built from
+  mcv::CoordinateRange TextureRange;
+  int TextureComponents = 3;
 
   bool Valid = false;
   std::string DeviceUsed;
   std::vector<std::string> LastRunWarnings; // reported once, not per computation
   std::vector<float> Converted;             // non-float32 coordinates as float32
+  std::vector<std::uint8_t> ConvertedMask;  // a non-uint8 mask as bytes
 
-  vtkNew<vtkPiecewiseFunction> AlphaRamp; // byte alpha -> opacity, the identity
+  // Byte alpha -> opacity. VTK's ray caster corrects the opacity table of dependent
+  // components for the sample distance as if the unit distance were 1 (seen with ParaView
+  // 5.11: the Scalar Opacity Unit Distance changes nothing), so the ramp carries the unit
+  // distance u itself: alpha -> 1 - (1 - alpha)^(1/u), one point per byte value. Per voxel
+  // and per sample then both accumulate opacity alpha over a length u.
+  vtkNew<vtkPiecewiseFunction> AlphaRamp;
+  double AlphaRampUnitDistance = 0;
+  vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
+  std::string ShaderKey;                          // blend mode and jitter of the replacements
+  bool FallbackWarned = false;
 
-  vtkInternals()
+  void UpdateAlphaRamp(double unitDistance)
   {
-    this->AlphaRamp->AddPoint(0.0, 0.0);
-    this->AlphaRamp->AddPoint(255.0, 1.0);
-  }
-
-  bool PiecesChanged(const std::vector<vtkImageData*>& pieces, const std::string& name) const
-  {
-    if (pieces.size() != this->Pieces.size())
+    if (unitDistance == this->AlphaRampUnitDistance)
     {
-      return true;
+      return;
     }
-    for (size_t i = 0; i < pieces.size(); ++i)
+    this->AlphaRamp->RemoveAllPoints();
+    for (int byte = 0; byte <= 255; ++byte)
     {
-      vtkDataArray* coords = pieces[i]->GetPointData()->GetArray(name.c_str());
-      if (pieces[i] != this->Pieces[i] || coords != this->Coordinates[i] ||
-        (coords && coords->GetMTime() != this->CoordinatesMTime[i]))
-      {
-        return true;
-      }
+      const double alpha = byte / 255.0;
+      this->AlphaRamp->AddPoint(byte, 1.0 - std::pow(1.0 - alpha, 1.0 / unitDistance));
     }
-    return false;
+    this->AlphaRampUnitDistance = unitDistance;
   }
 };
 
@@ -132,6 +289,8 @@ vtkStandardNewMacro(vtkGaussianTFVolumeRepresentation);
 vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
   : Internals(new vtkInternals())
 {
+  // ParaView's multi-block mapper, plus passing our shader property to the rendered volume.
+  this->VolumeMapper = vtkSmartPointer<vtkGaussianTFVolumeMapper>::New();
 }
 
 //------------------------------------------------------------------------------
@@ -151,13 +310,13 @@ int vtkGaussianTFVolumeRepresentation::FillInputPortInformation(int port, vtkInf
 int vtkGaussianTFVolumeRepresentation::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  ++this->NumberOfDataUpdates; // the RGBA array is made at render time, on what was delivered
+  ++this->NumberOfDataUpdates; // classification happens at render time, on what was delivered
   return this->Superclass::RequestData(request, inputVector, outputVector);
 }
 
 //------------------------------------------------------------------------------
 // The setters below change no pipeline state (no MarkModified): only the next render's
-// RGBA computation sees them.
+// classification update sees them.
 void vtkGaussianTFVolumeRepresentation::SetNumberOfGaussianWidgetValues(int count)
 {
   if (this->Internals->WidgetValues.SetNumber(count))
@@ -187,6 +346,7 @@ double vtkGaussianTFVolumeRepresentation::GetGaussianWidgetValue(int index)
   return this->Internals->WidgetValues.Get(index);
 }
 
+//------------------------------------------------------------------------------
 void vtkGaussianTFVolumeRepresentation::SetCoordinateArray(const char* name)
 {
   const std::string value = name ? name : "";
@@ -200,6 +360,44 @@ void vtkGaussianTFVolumeRepresentation::SetCoordinateArray(const char* name)
 const char* vtkGaussianTFVolumeRepresentation::GetCoordinateArray()
 {
   return this->Internals->CoordinateArray.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::SetMaskArray(const char* name)
+{
+  const std::string value = name ? name : "";
+  if (value != this->Internals->MaskArray)
+  {
+    this->Internals->MaskArray = value;
+    this->Internals->SettingsTime.Modified();
+  }
+}
+
+const char* vtkGaussianTFVolumeRepresentation::GetMaskArray()
+{
+  return this->Internals->MaskArray.c_str();
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::SetClassification(int mode)
+{
+  mode = mode == PER_VOXEL ? PER_VOXEL : PER_SAMPLE;
+  if (mode != this->Classification)
+  {
+    this->Classification = mode;
+    this->Internals->SettingsTime.Modified();
+  }
+}
+
+void vtkGaussianTFVolumeRepresentation::SetJittering(bool jittering)
+{
+  this->Jittering = jittering; // read at every render
+}
+
+void vtkGaussianTFVolumeRepresentation::SetRequestedRenderMode(int mode)
+{
+  this->RequestedRenderMode = mode;
+  this->Superclass::SetRequestedRenderMode(mode);
 }
 
 void vtkGaussianTFVolumeRepresentation::SetDevice(int device)
@@ -216,7 +414,7 @@ void vtkGaussianTFVolumeRepresentation::SetDevice(int device)
 
 void vtkGaussianTFVolumeRepresentation::SetGaussianBlendMode(int mode)
 {
-  // Only these two make sense for colours that are already decided per voxel.
+  // Only these two make sense for colours decided by the widgets.
   this->GaussianBlendMode = mode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
     ? vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND
     : vtkVolumeMapper::COMPOSITE_BLEND;
@@ -233,41 +431,52 @@ int vtkGaussianTFVolumeRepresentation::GetRGBAValid()
 }
 
 //------------------------------------------------------------------------------
-void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
+bool vtkGaussianTFVolumeRepresentation::UsePerSample()
+{
+  if (this->Classification != PER_SAMPLE)
+  {
+    return false;
+  }
+  // The shader replacements exist in VTK's GPU ray caster only; ParaView's "Ray Cast Only"
+  // (CPU) and OSPRay modes render without them.
+  const bool gpu = this->RequestedRenderMode == vtkSmartVolumeMapper::DefaultRenderMode ||
+    this->RequestedRenderMode == vtkSmartVolumeMapper::GPURenderMode;
+  if (!gpu && !this->Internals->FallbackWarned)
+  {
+    vtkWarningMacro(<< "Per-sample classification needs the GPU ray caster (Volume "
+                       "Rendering Mode 'Smart' or 'GPU Based'); classifying per voxel instead.");
+    this->Internals->FallbackWarned = true;
+  }
+  return gpu;
+}
+
+//------------------------------------------------------------------------------
+bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
 {
   vtkInternals& internals = *this->Internals;
-  const std::vector<vtkImageData*> pieces =
-    imagePieces(this->VolumeMapper->GetNumberOfInputConnections(0) > 0
-        ? this->VolumeMapper->GetInputDataObject(0, 0)
-        : nullptr);
+  const std::vector<vtkImageData*> pieces = imagePieces(
+    this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
+                                                           : nullptr);
   const bool settingsChanged = internals.SettingsTime > internals.ComputeTime;
-  if (!settingsChanged && !internals.PiecesChanged(pieces, internals.CoordinateArray))
+  if (!settingsChanged &&
+    !internals.RGBAInputs.Changed(pieces, internals.CoordinateArray, internals.MaskArray))
   {
-    return;
+    return internals.Valid;
   }
   internals.ComputeTime.Modified();
+  internals.RGBAInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
   internals.Valid = false;
-  internals.Pieces.assign(pieces.begin(), pieces.end());
-  internals.Coordinates.clear();
-  internals.CoordinatesMTime.clear();
-  for (vtkImageData* piece : pieces)
-  {
-    vtkDataArray* coords = piece->GetPointData()->GetArray(internals.CoordinateArray.c_str());
-    internals.Coordinates.emplace_back(coords);
-    internals.CoordinatesMTime.push_back(coords ? coords->GetMTime() : 0);
-  }
   if (pieces.empty())
   {
-    return; // nothing delivered here (a rank without data): nothing to draw
+    return false; // nothing delivered here (a rank without data): nothing to draw
   }
 
-  const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    internals.WidgetValues.Data(), internals.WidgetValues.Size());
+  const mcv::WidgetList widgets =
+    mcv::parseGaussianWidgets(internals.WidgetValues.Data(), internals.WidgetValues.Size());
   if (!widgets.ok())
   {
-    vtkErrorMacro(<< widgets.error
-                  << " Nothing is drawn until the list is fixed.");
-    return;
+    vtkErrorMacro(<< widgets.error << " Nothing is drawn until the list is fixed.");
+    return false;
   }
   if (settingsChanged)
   {
@@ -277,66 +486,26 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     }
   }
 
-  bool ok = true;
   std::vector<std::string> runWarnings;
   for (vtkImageData* piece : pieces)
   {
-    vtkPointData* pd = piece->GetPointData();
-    vtkDataArray* coords = pd->GetArray(internals.CoordinateArray.c_str());
-    const vtkIdType n = piece->GetNumberOfPoints();
+    std::string error;
+    vtkDataArray* coords = coordinatesOf(piece, internals.CoordinateArray, error);
     if (!coords)
     {
-      vtkErrorMacro(<< "The coordinate array '" << internals.CoordinateArray
-                    << "' is not a numeric point array of the input (point arrays: "
-                    << pointArrayNames(pd)
-                    << "). Select the reduced coordinates, e.g. ReducedCoordinates of "
-                       "DimensionReduction.");
-      ok = false;
-      break;
+      vtkErrorMacro(<< error);
+      return false;
     }
-    const int components = coords->GetNumberOfComponents();
-    if (components != 2 && components != 3)
-    {
-      vtkErrorMacro(<< "The coordinate array '" << internals.CoordinateArray << "' has "
-                    << components
-                    << " component(s); the Gaussian widgets need 2D or 3D coordinates "
-                       "(2 or 3 components).");
-      ok = false;
-      break;
-    }
-    if (coords->GetNumberOfTuples() != n)
-    {
-      vtkErrorMacro(<< "The coordinate array '" << internals.CoordinateArray << "' has "
-                    << coords->GetNumberOfTuples() << " tuples for " << n << " points.");
-      ok = false;
-      break;
-    }
-
+    const vtkIdType n = piece->GetNumberOfPoints();
     mcv::CoordinateView view;
     view.count = static_cast<size_t>(n);
-    view.components = components;
+    view.components = coords->GetNumberOfComponents();
     // The array's modification time tags its values: the GPU path keeps the coordinates
     // on the device across widget edits and uploads them again only when it changes.
     view.version = static_cast<std::uint64_t>(coords->GetMTime());
-    auto floats = vtkFloatArray::FastDownCast(coords);
-    if (floats)
-    {
-      view.data = floats->GetPointer(0);
-    }
-    else
-    {
-      internals.Converted.resize(static_cast<size_t>(n) * components);
-      for (vtkIdType t = 0; t < n; ++t)
-      {
-        for (int c = 0; c < components; ++c)
-        {
-          internals.Converted[t * components + c] =
-            static_cast<float>(coords->GetComponent(t, c));
-        }
-      }
-      view.data = internals.Converted.data();
-    }
+    view.data = asFloats(coords, internals.Converted);
 
+    vtkPointData* pd = piece->GetPointData();
     vtkSmartPointer<vtkUnsignedCharArray> rgba =
       vtkUnsignedCharArray::SafeDownCast(pd->GetArray(GetRGBAArrayName()));
     if (!rgba || rgba->GetNumberOfComponents() != 4 || rgba->GetNumberOfTuples() != n)
@@ -352,15 +521,26 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     if (!run.ok())
     {
       vtkErrorMacro(<< "Gaussian transfer function: " << run.error);
-      ok = false;
-      break;
+      return false;
+    }
+    if (const std::uint8_t* mask =
+          asBytes(maskOf(piece, internals.MaskArray), internals.ConvertedMask))
+    {
+      unsigned char* out = rgba->GetPointer(0);
+      for (vtkIdType t = 0; t < n; ++t)
+      {
+        if (!mask[t])
+        {
+          std::fill(out + 4 * t, out + 4 * t + 4, 0); // background: transparent black
+        }
+      }
     }
     runWarnings.insert(runWarnings.end(), run.warnings.begin(), run.warnings.end());
     internals.DeviceUsed = mcv::deviceName(run.deviceUsed);
-    rgba->Modified(); // new texture upload; also drops the cached ranges...
-    anchorByteRanges(rgba); // ...which are set again to [0, 255] per component
+    rgba->Modified();            // new texture upload; also drops the cached ranges...
+    anchorRanges(rgba, 255.0);   // ...which are set again to [0, 255] per component
   }
-  if (ok && runWarnings != internals.LastRunWarnings)
+  if (runWarnings != internals.LastRunWarnings)
   {
     for (const std::string& warning : runWarnings)
     {
@@ -368,21 +548,185 @@ void vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     }
     internals.LastRunWarnings = runWarnings;
   }
-  internals.Valid = ok;
+  internals.Valid = true;
   ++this->NumberOfComputations;
+  return true;
+}
+
+//------------------------------------------------------------------------------
+bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
+{
+  vtkInternals& internals = *this->Internals;
+  const std::vector<vtkImageData*> pieces = imagePieces(
+    this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
+                                                           : nullptr);
+  const bool dataChanged =
+    internals.TextureInputs.Changed(pieces, internals.CoordinateArray, internals.MaskArray);
+  const bool settingsChanged = internals.SettingsTime > internals.ComputeTime;
+  if (!dataChanged && !settingsChanged)
+  {
+    return internals.Valid;
+  }
+  internals.ComputeTime.Modified();
+  internals.Valid = false;
+  if (pieces.empty())
+  {
+    internals.TextureInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
+    return false;
+  }
+
+  // The coordinate textures: once per data change, one range for all pieces of this rank
+  // (the widgets are uniforms of the one volume prop).
+  if (dataChanged)
+  {
+    std::vector<vtkDataArray*> coords;
+    for (vtkImageData* piece : pieces)
+    {
+      std::string error;
+      coords.push_back(coordinatesOf(piece, internals.CoordinateArray, error));
+      if (!coords.back())
+      {
+        vtkErrorMacro(<< error);
+        return false;
+      }
+    }
+    internals.TextureComponents = coords[0]->GetNumberOfComponents();
+    internals.TextureRange = mcv::CoordinateRange();
+    for (size_t p = 0; p < pieces.size(); ++p)
+    {
+      const float* x = asFloats(coords[p], internals.Converted);
+      internals.TextureRange.Add(x, coords[p]->GetNumberOfTuples(),
+        coords[p]->GetNumberOfComponents(),
+        asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask));
+    }
+    for (size_t p = 0; p < pieces.size(); ++p)
+    {
+      const vtkIdType n = pieces[p]->GetNumberOfPoints();
+      vtkNew<vtkUnsignedShortArray> texels;
+      texels->SetName(GetTextureArrayName());
+      texels->SetNumberOfComponents(4);
+      texels->SetNumberOfTuples(n);
+      mcv::quantizeCoordinates(asFloats(coords[p], internals.Converted), static_cast<size_t>(n),
+        coords[p]->GetNumberOfComponents(),
+        asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask),
+        internals.TextureRange, texels->GetPointer(0));
+      anchorRanges(texels, 65535.0); // the texture's range: no pass to find it
+      pieces[p]->GetPointData()->AddArray(texels);
+    }
+    internals.Converted = std::vector<float>();
+    internals.ConvertedMask = std::vector<std::uint8_t>();
+    internals.TextureInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
+    ++this->NumberOfTextureBuilds;
+  }
+
+  // The widgets: uniforms only.
+  const mcv::WidgetList widgets =
+    mcv::parseGaussianWidgets(internals.WidgetValues.Data(), internals.WidgetValues.Size());
+  if (!widgets.ok())
+  {
+    vtkErrorMacro(<< widgets.error << " Nothing is drawn until the list is fixed.");
+    return false;
+  }
+  std::string error;
+  std::vector<std::string> warnings;
+  const std::vector<mcv::detail::PackedGaussianWidget> packed =
+    mcv::detail::packGaussianWidgets(widgets.widgets, internals.TextureComponents, error, warnings);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< "Gaussian transfer function: " << error);
+    return false;
+  }
+  if (static_cast<int>(packed.size()) > mcv::shader::MaximumWidgets)
+  {
+    vtkErrorMacro(<< packed.size() << " visible Gaussian widgets: per-sample classification "
+                  << "evaluates at most " << mcv::shader::MaximumWidgets
+                  << " in the shader. Remove widgets, or set Classification to 'Per voxel' "
+                     "(no limit).");
+    return false;
+  }
+  if (settingsChanged)
+  {
+    for (const std::string& warning : widgets.warnings)
+    {
+      vtkWarningMacro(<< warning);
+    }
+  }
+  float centreK[mcv::shader::MaximumWidgets][4] = {};
+  float colourLogA[mcv::shader::MaximumWidgets][4] = {};
+  for (size_t i = 0; i < packed.size(); ++i)
+  {
+    const mcv::detail::PackedGaussianWidget& w = packed[i];
+    const float ck[4] = { w.cx, w.cy, w.cz, w.k };
+    const float cl[4] = { w.r, w.g, w.b, w.logA };
+    std::copy(ck, ck + 4, centreK[i]);
+    std::copy(cl, cl + 4, colourLogA[i]);
+  }
+  const mcv::CoordinateRange& range = internals.TextureRange;
+  const float minimum[3] = { float(range.min[0]), float(range.min[1]),
+    internals.TextureComponents == 3 ? float(range.min[2]) : 0.f };
+  const float extent[3] = { float(range.Extent(0)), float(range.Extent(1)),
+    internals.TextureComponents == 3 ? float(range.Extent(2)) : 0.f };
+  vtkUniforms* uniforms = internals.ShaderProperty->GetFragmentCustomUniforms();
+  uniforms->SetUniformi(mcv::shader::WidgetCount, static_cast<int>(packed.size()));
+  uniforms->SetUniform4fv(mcv::shader::WidgetCentreK, mcv::shader::MaximumWidgets, centreK);
+  uniforms->SetUniform4fv(mcv::shader::WidgetColourLogA, mcv::shader::MaximumWidgets, colourLogA);
+  uniforms->SetUniform3f(mcv::shader::CoordinateMin, minimum);
+  uniforms->SetUniform3f(mcv::shader::CoordinateExtent, extent);
+  internals.DeviceUsed = "OpenGL";
+  internals.Valid = true;
+  ++this->NumberOfComputations;
+  return true;
 }
 
 //------------------------------------------------------------------------------
 void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
 {
-  this->UpdateRGBA();
-
-  this->VolumeMapper->SelectScalarArray(GetRGBAArrayName());
+  vtkNew<vtkTimerLog> timer;
+  timer->StartTimer();
+  const int updatesBefore = this->NumberOfComputations + this->NumberOfTextureBuilds;
+  vtkInternals& internals = *this->Internals;
+  auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
+  const bool perSample = this->UsePerSample();
+  // The widgets' opacity is accumulated over the volume's Scalar Opacity Unit Distance.
+  const double unitDistance = std::max(1e-6, this->Property->GetScalarOpacityUnitDistance());
+  const bool mip = this->GaussianBlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
+  internals.UpdateAlphaRamp(perSample || mip ? 1.0 : unitDistance); // MIP: no correction
+  if (perSample)
+  {
+    this->UpdatePerSample();
+    internals.ShaderProperty->GetFragmentCustomUniforms()->SetUniformf(
+      mcv::shader::UnitDistance, static_cast<float>(unitDistance));
+    const std::string key = std::string(mip ? "mip" : "composite") + (this->Jittering ? "+jitter" : "");
+    if (key != internals.ShaderKey)
+    {
+      vtkOpenGLShaderProperty* sp = internals.ShaderProperty;
+      sp->ClearAllFragmentShaderReplacements();
+      sp->AddFragmentShaderReplacement("//VTK::Shading::Dec", true,
+        "//VTK::Shading::Dec\n" + mcv::shader::ClassifyDeclaration(), false);
+      sp->AddFragmentShaderReplacement(
+        "//VTK::Shading::Init", true, mcv::shader::RayStart(this->Jittering), false);
+      sp->AddFragmentShaderReplacement(
+        "//VTK::Shading::Impl", true, mcv::shader::SampleAndBlend(mip), false);
+      internals.ShaderKey = key;
+    }
+    this->VolumeMapper->SelectScalarArray(GetTextureArrayName());
+    // The shader blends (composite or maximum); VTK's composite set-up is the neutral one.
+    this->VolumeMapper->SetBlendMode(vtkVolumeMapper::COMPOSITE_BLEND);
+  }
+  else
+  {
+    this->UpdateRGBA();
+    this->VolumeMapper->SelectScalarArray(GetRGBAArrayName());
+    this->VolumeMapper->SetBlendMode(this->GaussianBlendMode);
+  }
+  if (mapper)
+  {
+    mapper->SetRenderShaderProperty(perSample ? internals.ShaderProperty.Get() : nullptr);
+  }
   this->VolumeMapper->SetScalarMode(VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
-  this->VolumeMapper->SetBlendMode(this->GaussianBlendMode);
   this->Actor->SetMapper(this->VolumeMapper);
   // Bad input: draw nothing rather than stale or garbage colours.
-  this->Actor->SetVisibility(this->Internals->Valid);
+  this->Actor->SetVisibility(internals.Valid);
 
   if (this->VolumeMapper->GetCropping())
   {
@@ -394,12 +738,12 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     this->VolumeMapper->SetCroppingRegionPlanes(planes);
   }
 
-  // Dependent RGBA: RGB is the colour, A goes through the identity ramp. Set on every
-  // render because the shared volume properties (MapScalars, ScalarOpacityFunction...)
-  // would otherwise switch it back.
+  // Four dependent components (RGBA, or the coordinate texture whose classification the
+  // shader replaces); A through the identity ramp. Set on every render because the shared
+  // volume properties (MapScalars, ScalarOpacityFunction...) would otherwise switch it back.
   this->Property->SetIndependentComponents(false);
   this->Property->SetTransferFunctionMode(vtkVolumeProperty::TF_1D);
-  this->Property->SetScalarOpacity(this->Internals->AlphaRamp);
+  this->Property->SetScalarOpacity(internals.AlphaRamp);
   if (auto mbMapper = vtkMultiBlockVolumeMapper::SafeDownCast(this->VolumeMapper))
   {
     mbMapper->SetVectorMode(vtkScalarsToColors::COMPONENT);
@@ -410,16 +754,26 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     smartMapper->SetVectorMode(vtkScalarsToColors::COMPONENT);
     smartMapper->SetVectorComponent(0);
   }
+  timer->StopTimer();
+  if (this->NumberOfComputations + this->NumberOfTextureBuilds != updatesBefore)
+  {
+    // Only a preparation that did work: a render calls this more than once.
+    this->LastPreparationSeconds = timer->GetElapsedTime();
+  }
 }
 
 //------------------------------------------------------------------------------
 void vtkGaussianTFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "Classification: " << (this->Classification == PER_SAMPLE ? "per sample" : "per voxel") << "\n";
+  os << indent << "Jittering: " << this->Jittering << "\n";
   os << indent << "CoordinateArray: " << this->Internals->CoordinateArray << "\n";
+  os << indent << "MaskArray: " << this->Internals->MaskArray << "\n";
   os << indent << "GaussianWidgets: " << this->Internals->WidgetValues.Size() << " values\n";
   os << indent << "Device: " << this->Device << "\n";
   os << indent << "GaussianBlendMode: " << this->GaussianBlendMode << "\n";
   os << indent << "DeviceUsed: " << this->Internals->DeviceUsed << "\n";
   os << indent << "NumberOfComputations: " << this->NumberOfComputations << "\n";
+  os << indent << "NumberOfTextureBuilds: " << this->NumberOfTextureBuilds << "\n";
 }

@@ -9,10 +9,19 @@
  *   alpha_i(x) = a_i * exp(-|x - mu_i|^2 / (2 sigma_i^2))
  *   opacity(x) = 1 - prod_i (1 - alpha_i(x))
  *   colour(x)  = sum_i alpha_i(x) c_i / sum_i alpha_i(x)
- * computed by the VTK-free core (mcv::applyGaussianWidgets) into a uint8 RGBA point array
- * `GaussianTF_RGBA`, which the GPU ray caster renders as dependent components (RGB is the
- * colour, A through an identity opacity ramp). Blend modes: composite and maximum
- * intensity (SetGaussianBlendMode).
+ * Two ways to classify (property Classification):
+ * - Per sample (default): the coordinates are uploaded once as a 16-bit RGBA texture
+ *   (x, y, z, drawn; mcv::quantizeCoordinates) and the GPU ray caster's fragment shader
+ *   evaluates the widgets at every interpolated ray sample (mcvGaussianTFShader.h): thin
+ *   structures between voxels stay sharp and no colour bleeds across boundaries. A widget
+ *   edit sets uniforms only. Opacity is per unit length (the volume's Scalar Opacity Unit
+ *   Distance), corrected for the sample distance; rays are jittered (property Jittering).
+ * - Per voxel: the VTK-free core (mcv::applyGaussianWidgets, CPU or CUDA) computes a uint8
+ *   RGBA point array `GaussianTF_RGBA` that the ray caster interpolates as dependent
+ *   components (pre-classification). Also the fallback, with one warning, where the
+ *   shader path cannot run (a ray cast mode other than the GPU's).
+ * Voxels whose mask array (MaskArray, `Foreground` of MultichannelFeatures by default) is
+ * 0, and voxels with non-finite coordinates, are transparent in both.
  *
  * Cheap widget edits: setting widgets, the coordinate array or the device does not mark
  * the representation modified (no re-execution, no re-delivery of the volume); the RGBA
@@ -69,12 +78,51 @@ public:
 
   ///@{
   /**
-   * Where the RGBA computation runs: vtkMultichannelAlgorithm::DEVICE_AUTO (default),
+   * PER_SAMPLE (default): the widgets are evaluated in the ray caster's shader at every
+   * sample. PER_VOXEL: an RGBA array per voxel (CPU or CUDA, see Device).
+   */
+  enum ClassificationType
+  {
+    PER_SAMPLE = 0,
+    PER_VOXEL = 1
+  };
+  void SetClassification(int mode);
+  vtkGetMacro(Classification, int);
+  ///@}
+
+  ///@{
+  /**
+   * Per sample: start every ray a pseudo-random fraction of a sample step further in, so
+   * that no wood-grain banding shows (default on).
+   */
+  void SetJittering(bool jittering);
+  vtkGetMacro(Jittering, bool);
+  ///@}
+
+  ///@{
+  /**
+   * Point array whose zero values mark voxels that are never drawn (uint8 or any numeric
+   * type; default `Foreground`, the background mask of MultichannelFeatures). A name that
+   * is not an array of the input masks nothing.
+   */
+  void SetMaskArray(const char* name);
+  const char* GetMaskArray();
+  ///@}
+
+  ///@{
+  /**
+   * Where the per-voxel RGBA computation runs: vtkMultichannelAlgorithm::DEVICE_AUTO (default),
    * DEVICE_CPU or DEVICE_GPU, as the filters' Device.
    */
   void SetDevice(int device);
   vtkGetMacro(Device, int);
   ///@}
+
+  /**
+   * ParaView's Volume Rendering Mode, forwarded to the volume mapper; remembered because
+   * per-sample classification needs the GPU ray caster (Default or GPU).
+   */
+  void SetRequestedRenderMode(int mode);
 
   ///@{
   /**
@@ -87,20 +135,39 @@ public:
   vtkGetMacro(GaussianBlendMode, int);
   ///@}
 
-  /** Where the last computation ran ("CPU" or "GPU"; "" before the first one). */
+  /**
+   * Where the last classification ran: "CPU" or "GPU" (per voxel), "OpenGL" (per sample);
+   * "" before the first one.
+   */
   const char* GetDeviceUsed();
 
   /** True when the last computation succeeded (the volume is drawn). */
   int GetRGBAValid();
 
-  /** How many times the RGBA array was computed (tests: widget edits recompute once). */
+  /**
+   * How many times the classification was updated: the RGBA array computed (per voxel) or
+   * the widget uniforms set (per sample). Tests: a widget edit updates once.
+   */
   vtkGetMacro(NumberOfComputations, int);
 
   /** How many times the data was (re-)executed and delivered (tests: widget edits do not). */
   vtkGetMacro(NumberOfDataUpdates, int);
 
-  /** Name of the RGBA point array added to the delivered volume. */
+  /** How many times the per-sample coordinate texture was built (data changes only). */
+  vtkGetMacro(NumberOfTextureBuilds, int);
+
+  /**
+   * Seconds the last render that updated the classification spent preparing it in this
+   * representation (building the texture or the RGBA array, setting uniforms): the work a
+   * widget edit costs before the ray caster runs.
+   */
+  vtkGetMacro(LastPreparationSeconds, double);
+
+  /** Name of the RGBA point array added to the delivered volume (per voxel). */
   static const char* GetRGBAArrayName() { return "GaussianTF_RGBA"; }
+
+  /** Name of the 16-bit coordinate texture array added to the delivered volume (per sample). */
+  static const char* GetTextureArrayName() { return "GaussianTF_Coordinates"; }
 
 protected:
   vtkGaussianTFVolumeRepresentation();
@@ -116,8 +183,16 @@ private:
   vtkGaussianTFVolumeRepresentation(const vtkGaussianTFVolumeRepresentation&) = delete;
   void operator=(const vtkGaussianTFVolumeRepresentation&) = delete;
 
-  void UpdateRGBA();
+  // Both return false (after an error) when nothing can be drawn.
+  bool UpdateRGBA();
+  bool UpdatePerSample();
+  bool UsePerSample();
 
+  int Classification = PER_SAMPLE;
+  int RequestedRenderMode = 0;
+  bool Jittering = true;
+  int NumberOfTextureBuilds = 0;
+  double LastPreparationSeconds = 0;
   int Device = vtkMultichannelAlgorithm::DEVICE_AUTO;
   int GaussianBlendMode = 0;
   int NumberOfComputations = 0;

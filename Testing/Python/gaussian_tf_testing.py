@@ -78,6 +78,8 @@ def info(display):
         "data_updates": int(display.GetPropertyValue("GaussianTFDataUpdates")),
         "valid": int(display.GetPropertyValue("GaussianTFValid")),
         "device": str(display.GetPropertyValue("GaussianTFDeviceUsed")),
+        "texture_builds": int(display.GetPropertyValue("GaussianTFTextureBuilds")),
+        "preparation_s": float(display.GetPropertyValue("GaussianTFPreparationSeconds")),
     }
 
 

@@ -1,4 +1,6 @@
-"""The "Gaussian TF Volume" representation on a synthetic volume with known coordinates.
+"""The "Gaussian TF Volume" representation on a synthetic volume with known coordinates,
+with the classification given as the first argument ("Per sample", the default, or
+"Per voxel"): every check holds for both.
 
 A 32^3 image whose 3-component ReducedCoordinates is the voxel position / 31 (so [0,1]^3),
 seen along -z with a parallel camera on a black background; pixel values are read at the
@@ -25,7 +27,9 @@ import builtins as B  # noqa: E402  (a ProgrammableFilter script shadows max/min
 from paraview import simple  # noqa: E402
 
 mce = T.load_plugin(globals())
-C = T.Checker("test_gaussian_tf_representation")
+CLASSIFICATION = sys.argv[1] if len(sys.argv) > 1 else "Per sample"
+PER_SAMPLE = CLASSIFICATION == "Per sample"
+C = T.Checker("test_gaussian_tf_representation (%s)" % CLASSIFICATION)
 
 N = 32
 RED = [0.25, 0.5, 0.5, 0.08, 1, 0, 0, 1]
@@ -51,6 +55,10 @@ C.check(display.Representation == "Gaussian TF Volume", "SetRepresentationType w
 C.check(display.CoordinateArray == "ReducedCoordinates" and list(display.GaussianWidgets) == []
         and display.Device == "Auto" and display.GaussianBlendMode == "Composite",
         "defaults: CoordinateArray ReducedCoordinates, no widgets, Device Auto, Composite")
+C.check(display.Classification == "Per sample" and display.Jittering == 1 and
+        display.MaskArray == "Foreground",
+        "defaults: Classification Per sample, Jittering on, MaskArray Foreground")
+display.Classification = CLASSIFICATION
 C.check(sorted(display.GetProperty("GaussianBlendMode").Available) ==
         ["Composite", "Maximum Intensity"], "blend modes: Composite, Maximum Intensity")
 
@@ -88,7 +96,8 @@ first = G.info(display)
 print("info after the first render: %s" % first)
 C.check(first["valid"] == 1 and first["computations"] >= 1 and first["data_updates"] >= 1,
         "rendered: colours computed and volume delivered %s" % first)
-C.check(first["device"] in ("CPU", "GPU"), "DeviceUsed is CPU or GPU (%s)" % first["device"])
+C.check(first["device"] == "OpenGL" if PER_SAMPLE else first["device"] in ("CPU", "GPU"),
+        "DeviceUsed is OpenGL per sample, CPU or GPU per voxel (%s)" % first["device"])
 check_two_colours("composite", shot("gaussian_tf_composite.png"))
 
 before = G.info(display)
@@ -134,6 +143,8 @@ C.check(after["computations"] == before["computations"] + 1,
         "a widget edit recomputes once %s -> %s" % (before, after))
 C.check(after["data_updates"] == before["data_updates"],
         "a widget edit does not deliver the volume again %s -> %s" % (before, after))
+C.check(after["texture_builds"] == before["texture_builds"],
+        "a widget edit builds no texture %s -> %s" % (before, after))
 simple.Render(view)
 C.check(G.info(display)["computations"] == after["computations"],
         "a plain re-render computes nothing")
@@ -146,6 +157,9 @@ check_two_colours("mirrored coordinates", shot("gaussian_tf_mirrored.png"), 1, 0
 C.check(mirrored["data_updates"] > after["data_updates"] and
         mirrored["computations"] > after["computations"],
         "a data change re-delivers and recomputes %s -> %s" % (after, mirrored))
+C.check(mirrored["texture_builds"] == after["texture_builds"] + (1 if PER_SAMPLE else 0),
+        "a data change builds the texture once per sample, never per voxel %s -> %s"
+        % (after, mirrored))
 calc.Function = "coords/%d" % (N - 1)
 
 # float64 coordinates are converted
@@ -229,15 +243,28 @@ C.check(G.info(display)["valid"] == 1, "clamped: still valid")
 bad("no_widgets", None, ["no gaussian widgets", "transparent"], GaussianWidgets=[])
 C.check(G.info(display)["valid"] == 1, "no widgets: valid (a transparent volume)")
 
-# GPU requested: runs there, or falls back to the CPU with a warning
+# 64 widgets are the shader's limit: 65 is an error per sample, fine per voxel
+far = [5.0, 5.0, 5.0, 0.1, 1, 1, 1, 1]
+if PER_SAMPLE:
+    bad("65_widgets", ["65 visible Gaussian widgets", "at most 64", "Per voxel"],
+        GaussianWidgets=RED + GREEN + far * 63)
+    bad("64_widgets", None, drawn=True, GaussianWidgets=RED + GREEN + far * 62)
+    C.check(G.info(display)["valid"] == 1, "64 widgets: valid per sample")
+else:
+    bad("65_widgets", None, drawn=True, GaussianWidgets=RED + GREEN + far * 63)
+    C.check(G.info(display)["valid"] == 1, "65 widgets: valid per voxel")
+
+# GPU requested: runs there, or falls back to the CPU with a warning (per voxel; per
+# sample classifies in OpenGL whatever Device says)
 msgs.clear()
 display.Device = "GPU"
 display.GaussianWidgets = RED + GREEN
 simple.Render(view)
 used = G.info(display)["device"]
 print("Device GPU -> ran on %s; warnings %s" % (used, msgs.warnings))
-C.check(used == "GPU" or msgs.any_warning("GPU", "CPU"),
-        "Device GPU: ran on the GPU or warned about the CPU fallback (%s)" % used)
+C.check(used == "OpenGL" if PER_SAMPLE else (used == "GPU" or msgs.any_warning("GPU", "CPU")),
+        "Device GPU: OpenGL per sample; per voxel on the GPU or a warning about the CPU "
+        "fallback (%s)" % used)
 check_two_colours("after bad inputs (recovered)", shot("gaussian_tf_recovered.png"))
 
 C.finish()

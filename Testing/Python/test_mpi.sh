@@ -26,3 +26,10 @@ sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_nonfinite_check.py" || exit 1
 echo "== 3 processes, NaN/Inf voxels"
 OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np 3 "$pvbatch" --mpi \
   "$here/mpi_nonfinite_check.py" || exit 1
+# The Gaussian TF Volume (per sample and per voxel): 2 processes draw the one-process picture.
+gtf="${MCV_OUTPUT_DIR:-/tmp}/mpi_gaussian_tf"
+rm -rf "$gtf" && mkdir -p "$gtf"
+sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_gaussian_tf_check.py" --reference "$gtf" || exit 1
+echo "== 2 processes, Gaussian TF Volume"
+OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np 2 "$pvbatch" --mpi \
+  "$here/mpi_gaussian_tf_check.py" --compare "$gtf" || exit 1

@@ -85,16 +85,19 @@ def _flat_widgets(widgets):
 
 
 def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordinates",
-                     blend="Composite"):
+                     blend="Composite", classification="Per sample"):
     """Shows `source` (image data with a 2- or 3-component point array of reduced
     coordinates, e.g. the output of DimensionReduction) as a "Gaussian TF Volume" in
     `view` (default: the active render view) and returns the display.
 
     ``widgets``: a flat list of 8 numbers per widget (cx, cy, cz, sigma, r, g, b,
     opacity) or a sequence of such 8-tuples; ``coordinates``: the point array of reduced
-    coordinates; ``blend``: "Composite" or "Maximum Intensity". Edit the widgets later
-    with ``display.GaussianWidgets = [...]`` and ``Render()``: only the colours are
-    recomputed, the volume is not delivered again::
+    coordinates; ``blend``: "Composite" or "Maximum Intensity"; ``classification``:
+    "Per sample" (the widgets evaluated at every ray sample in the GPU ray caster's
+    shader, at most 64 widgets) or "Per voxel" (an RGBA array per voxel, CPU or CUDA).
+    Edit the widgets later with ``display.GaussianWidgets = [...]`` and ``Render()``: per
+    sample only shader uniforms change, per voxel only the colours are recomputed; the
+    volume is not delivered again::
 
         display = mce.show_gaussian_tf(reduction, view,
                                        widgets=[(0.2, 0.1, 0, 0.05, 1, 0, 0, 1),
@@ -112,5 +115,6 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     display.SetRepresentationType(GAUSSIAN_TF_REPRESENTATION)
     display.CoordinateArray = str(coordinates)
     display.GaussianBlendMode = str(blend)
+    display.Classification = str(classification)
     display.GaussianWidgets = _flat_widgets(widgets)
     return display

@@ -1,0 +1,47 @@
+// The GLSL of per-sample classification: the fragment-shader replacements that make VTK's
+// GPU ray caster evaluate the Gaussian widgets at every ray sample (dissertation chapter 5,
+// the same formula as mcv::applyGaussianWidgets), and the uniforms they read.
+//
+// The volume texture is the coordinate texture of CoordinateTexture.h (x, y, z, drawn as
+// 16-bit normalised values). Per sample t = texture(x, y, z, w):
+//   x = min + extent * t.xyz / t.w   (the drawn neighbours' mean: undrawn texels hold 0)
+//   alpha_i = a_i exp(-|x - mu_i|^2 / (2 sigma_i^2)),  opacity = (1 - prod(1 - alpha_i)) t.w
+//   colour  = sum_i alpha_i c_i / sum_i alpha_i   (accumulated relative to the largest
+//             log-weight, so it does not underflow far from every widget)
+// Composite: opacity per unit length, corrected for the sample distance as VTK corrects
+// its opacity tables (1 - (1 - a)^(d / unit)), then front-to-back compositing. Maximum
+// intensity: the colour of the most opaque sample of the ray.
+#pragma once
+
+#include <string>
+
+namespace mcv
+{
+namespace shader
+{
+
+// Widgets in uniform arrays: 2 x vec4 each, 128 vec4 in all, well inside the 1024 uniform
+// components that OpenGL 3.2 (what VTK's ray caster requires) guarantees a fragment shader.
+constexpr int MaximumWidgets = 64;
+
+// Uniform names (set through vtkOpenGLShaderProperty::GetFragmentCustomUniforms()).
+constexpr const char* WidgetCount = "mcv_widgetCount";       // int
+constexpr const char* WidgetCentreK = "mcv_widgetCentreK";   // vec4[64]: mu, 1/(2 sigma^2)
+constexpr const char* WidgetColourLogA = "mcv_widgetColourLogA"; // vec4[64]: c, ln a
+constexpr const char* CoordinateMin = "mcv_coordinateMin";   // vec3
+constexpr const char* CoordinateExtent = "mcv_coordinateExtent"; // vec3
+constexpr const char* UnitDistance = "mcv_unitDistance";     // float, world units
+
+// Appended to //VTK::Shading::Dec: mcvClassify(vec4 texel) -> (rgb, opacity).
+std::string ClassifyDeclaration();
+
+// Appended to //VTK::Shading::Init (before the first sample): with `jitter`, each ray
+// starts a pseudo-random fraction of a step further in, so that samples of neighbouring
+// pixels do not lie on the same view-aligned planes (the wood-grain banding).
+std::string RayStart(bool jitter);
+
+// Replaces //VTK::Shading::Impl: sample, classify, composite or keep the maximum.
+std::string SampleAndBlend(bool maximumIntensity);
+
+} // namespace shader
+} // namespace mcv
