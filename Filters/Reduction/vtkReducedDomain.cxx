@@ -386,6 +386,7 @@ int vtkReducedDomain::RequestMultichannelData(
     // The largest cluster stands for the background only when nothing else removed it.
     options.skipLargest = this->SkipLargestCluster && !foreground;
     std::vector<float> distinct = packed;
+    std::vector<double> multiplicity; // sampled voxels at each distinct point
     {
       // Distinct rows: sort row indices lexicographically, keep the first of each run.
       std::vector<std::size_t> order(static_cast<std::size_t>(m));
@@ -403,9 +404,13 @@ int vtkReducedDomain::RequestMultichannelData(
         if (i == 0 || !std::equal(row(order[i]), row(order[i]) + dims, row(order[i - 1])))
         {
           distinct.insert(distinct.end(), row(order[i]), row(order[i]) + dims);
+          multiplicity.push_back(0.0);
         }
+        multiplicity.back() += 1.0;
       }
     }
+    // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
+    options.weights = multiplicity.data();
     const mcv::WidgetSeeding seeding = mcv::seedGaussianWidgets(
       { distinct.data(), distinct.size() / static_cast<std::size_t>(dims), dims }, options);
     if (!seeding.ok())

@@ -19,7 +19,8 @@
  *   and `WidgetIndex`.
  *
  * Automatic widgets: with SeedWidgetCount = n > 0 the filter also clusters the sample's
- * distinct coordinates with k-means (mcv::seedGaussianWidgets) and reports n widgets in
+ * distinct coordinates with k-means (mcv::seedGaussianWidgets; each weighted by the sampled
+ * voxels at it in the cluster sizes) and reports n widgets in
  * SeededWidgets (8 values each, the GaussianWidgets layout); the Python helper
  * auto_widgets() copies them to the representation. Distinct coordinates only: voxels with
  * the same feature vector (a uniform background) share one point in the domain and would
@@ -89,7 +90,7 @@ public:
   ///@{
   /**
    * Peak opacity of the smallest seeded cluster's widget (default 0.5); a cluster of m
-   * points gets SeedWidgetOpacity * (smallest / m)^(1/3).
+   * sampled voxels gets SeedWidgetOpacity * max(0.05, smallest / m).
    */
   vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
   vtkGetMacro(SeedWidgetOpacity, double);

@@ -91,6 +91,15 @@ double clusterSigma(double squaredSpread, std::size_t m, int dims, double domain
   return domainSigma > 0 ? 0.1 * domainSigma : 1.0;
 }
 
+// Peak opacity of a cluster of `size` voxels relative to the smallest seeded one's:
+// smallest / size (every widget adds about the same opacity, peak x voxels, to the picture),
+// at least kMinOpacityFactor so no suggested widget vanishes.
+constexpr double kMinOpacityFactor = 0.05;
+double sizeOpacityFactor(double smallest, double size)
+{
+  return size > 0 && smallest > 0 ? std::max(kMinOpacityFactor, std::min(1.0, smallest / size)) : 1.0;
+}
+
 // Distance from centre c to the nearest other centre (0 when there is none).
 double nearestOtherCentre(const Points& centres, int c)
 {
@@ -194,15 +203,18 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     }
   }
 
-  // Spread per cluster, then order by size (stable: equal sizes keep k-means' order, so
-  // the order is deterministic).
+  // Spread and points per cluster, and its size: the voxels its points stand for (their
+  // weights). Then order by size (stable: equal sizes keep k-means' order, so the order is
+  // deterministic).
   std::vector<double> spread(static_cast<std::size_t>(k), 0.0);
-  std::vector<std::size_t> size(static_cast<std::size_t>(k), 0);
+  std::vector<std::size_t> count(static_cast<std::size_t>(k), 0);
+  std::vector<double> size(static_cast<std::size_t>(k), 0.0);
   for (Eigen::Index r = 0; r < X.rows(); ++r)
   {
     const int c = label[static_cast<std::size_t>(r)];
     spread[static_cast<std::size_t>(c)] += (X.row(r) - centres.row(c)).squaredNorm();
-    ++size[static_cast<std::size_t>(c)];
+    ++count[static_cast<std::size_t>(c)];
+    size[static_cast<std::size_t>(c)] += options.weights ? options.weights[finite[static_cast<std::size_t>(r)]] : 1.0;
   }
   // The domain's own spread: sigma for a cluster of one point (or identical points).
   const double domainSigma =
@@ -214,16 +226,15 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
   std::vector<int> rank(static_cast<std::size_t>(k), -2);
   if (first > 0)
   {
-    out.skippedSize = size[static_cast<std::size_t>(order[0])];
+    out.skippedSize = static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(order[0])]));
   }
   // The smallest non-empty seeded cluster gets the full opacity.
   double smallest = 0;
   for (int i = first; i < k; ++i)
   {
-    const double m = static_cast<double>(size[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])]);
+    const double m = size[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
     smallest = m > 0 && (smallest == 0 || m < smallest) ? m : smallest;
   }
-  smallest = std::max(1.0, smallest);
   for (int i = first; i < k; ++i)
   {
     const int c = order[static_cast<std::size_t>(i)];
@@ -233,8 +244,7 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     {
       w.center[d] = centres(c, d);
     }
-    const std::size_t m = size[static_cast<std::size_t>(c)];
-    w.sigma = clusterSigma(spread[static_cast<std::size_t>(c)], m, dims, domainSigma);
+    w.sigma = clusterSigma(spread[static_cast<std::size_t>(c)], count[static_cast<std::size_t>(c)], dims, domainSigma);
     // Little overlap: at most a quarter of the way to the nearest other centre (the
     // skipped background's included, which then keeps a weight below exp(-8)).
     const double nearest = nearestOtherCentre(centres, c);
@@ -243,10 +253,10 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
       w.sigma = std::min(w.sigma, 0.25 * nearest);
     }
     widgetColor(i - first, w.color);
-    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) *
-      std::cbrt(smallest / std::max<double>(1.0, static_cast<double>(m)));
+    const double m = size[static_cast<std::size_t>(c)];
+    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) * sizeOpacityFactor(smallest, m);
     out.widgets.push_back(w);
-    out.clusterSizes.push_back(m);
+    out.clusterSizes.push_back(static_cast<std::size_t>(std::llround(m)));
   }
   out.labels.assign(points.count, -1);
   for (std::size_t r = 0; r < finite.size(); ++r)

@@ -9,10 +9,13 @@
 //    most exp(-2) = 0.14 at the point halfway between them, so each one selects its own
 //    structure instead of one widget covering everything;
 //  - colour = widgetColor(i): ColorBrewer's qualitative Set1, one palette for the suite;
-//  - peak opacity = `opacity` * (smallest seeded cluster / this cluster)^(1/3): the
-//    opacity a ray gathers through a structure grows with its thickness, which goes as the
-//    cube root of its voxel count, so the big classes (white matter, tissue filling the
-//    volume) get a lower peak and leave the small inner structures visible.
+//  - peak opacity = `opacity` * smallest seeded cluster / this cluster (sizes in voxels:
+//    the points' weights), at least 0.05 * `opacity`: every widget then adds about the
+//    same opacity (peak x voxels) to the picture, so a class that fills the volume (the
+//    tissue of a whole head) is a faint veil and the small inner structures stay visible.
+//    On the main job's brain (Examples/transfer_function.py, 4 widgets) a cube-root rule
+//    left the largest class (the scalp) at 0.165 and it hid the brain; this one gives it
+//    0.025 and the brain's structures show through.
 // With `skipLargest`, count + 1 clusters are made and the largest is left out: without a
 // foreground mask the largest class is almost always the background (air around a head,
 // the dark field of a micrograph), which a widget would turn into an opaque box. The cap
@@ -35,16 +38,20 @@ struct WidgetSeedingOptions
   int maxIterations = 100;
   double opacity = 0.8;
   bool skipLargest = false;
+  // Optional, one per point: the voxels the point stands for (ReducedDomain clusters
+  // distinct coordinates, each standing for all voxels at it). They weigh in the cluster
+  // sizes (order, skipped cluster, opacity), not in the k-means. Null: 1 each.
+  const double* weights = nullptr;
 };
 
 struct WidgetSeeding
 {
   std::string error;
   std::vector<GaussianWidget> widgets;      // largest cluster first
-  std::vector<std::size_t> clusterSizes;    // points per widget's cluster (descending)
+  std::vector<std::size_t> clusterSizes;    // size (weights) of each widget's cluster, descending
   std::vector<int> labels;                  // widget of every finite point (-1: not finite,
                                             // -2: in the skipped largest cluster)
-  std::size_t skippedSize = 0;              // points of the skipped cluster
+  std::size_t skippedSize = 0;              // size (weights) of the skipped cluster
   int iterations = 0;
   bool ok() const { return error.empty(); }
 };
