@@ -33,7 +33,7 @@
  * array (the mask already removed the background; the largest foreground cluster is a
  * structure). A Foreground array that marks no point is ignored (warning). Seeded widgets
  * take the suite's palette (mcv::widgetColor: ColorBrewer Set1), sigmas that overlap
- * little and lower peak opacity for bigger clusters (WidgetSeeding.h).
+ * little, and the largest is a faint veil (WidgetSeeding.h).
  */
 
 #ifndef vtkReducedDomain_h
@@ -89,8 +89,8 @@ public:
 
   ///@{
   /**
-   * Peak opacity of the smallest seeded cluster's widget (default 0.5); a cluster of m
-   * sampled voxels gets SeedWidgetOpacity * max(0.05, smallest / m).
+   * Peak opacity of the seeded widgets (default 0.5); the largest of several (in sampled
+   * voxels) gets 0.05 of it: a veil over the structures it holds.
    */
   vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
   vtkGetMacro(SeedWidgetOpacity, double);

@@ -1,6 +1,6 @@
 // Automatic widgets from k-means of the reduced domain: well-separated blobs with known
 // centres, sizes and spreads must come back as the widgets, largest first, in the palette's
-// colours, with lower peak opacity for bigger clusters and sigmas that overlap little.
+// colours, the largest one faint, and sigmas that overlap little.
 #include "WidgetSeeding.h"
 
 #include <gtest/gtest.h>
@@ -67,8 +67,8 @@ TEST(WidgetSeeding, RecoversSeparatedBlobsLargestFirst)
         EXPECT_NEAR(w.center[d], b.center[d], 5 * b.sigma / std::sqrt(b.count)) << "dims " << dims;
       }
       EXPECT_NEAR(w.sigma, b.sigma, 0.15 * b.sigma);
-      // The smallest cluster (150) gets the full 0.6; the others 0.6 x 150 / size.
-      EXPECT_NEAR(w.opacity, 0.6 * 150.0 / b.count, 1e-12);
+      // The largest of the widgets is a faint veil (0.05 of the opacity), the others 0.6.
+      EXPECT_NEAR(w.opacity, i == 0 ? 0.03 : 0.6, 1e-12);
     }
     // Every point carries the label of its blob's widget.
     std::size_t offset = 0;
@@ -160,10 +160,10 @@ TEST(WidgetSeeding, SigmaCappedSoNeighboursOverlapLittle)
   EXPECT_NEAR(std::exp(-d * d / (2 * a.sigma * a.sigma)), std::exp(-8.0), 1e-12);
 }
 
-TEST(WidgetSeeding, WeightsAreVoxelsInSizesAndOpacityNotInTheClustering)
+TEST(WidgetSeeding, WeightsAreVoxelsInSizesNotInTheClustering)
 {
   // Two blobs of 200 points; each point of the second stands for 10 voxels: it becomes the
-  // largest cluster (first, 1/10 of the opacity), with the same centres as unweighted.
+  // largest cluster (first, the faint one), with the same centres as unweighted.
   const std::vector<float> points = sampleBlobs({ { { -5, 0, 0 }, 0.3, 200 }, { { 5, 0, 0 }, 0.3, 200 } }, 3, 9);
   std::vector<double> weights(400, 1.0);
   std::fill(weights.begin() + 200, weights.end(), 10.0);
@@ -177,7 +177,7 @@ TEST(WidgetSeeding, WeightsAreVoxelsInSizesAndOpacityNotInTheClustering)
   ASSERT_EQ(s.widgets.size(), 2u);
   EXPECT_NEAR(s.widgets[0].center[0], 5.0, 0.1);
   EXPECT_EQ(s.clusterSizes, (std::vector<std::size_t>{ 2000, 200 }));
-  EXPECT_NEAR(s.widgets[0].opacity, 0.05, 1e-12);
+  EXPECT_NEAR(s.widgets[0].opacity, 0.025, 1e-12);
   EXPECT_NEAR(s.widgets[1].opacity, 0.5, 1e-12);
   for (const mcv::GaussianWidget& w : plain.widgets)
   {
@@ -185,9 +185,14 @@ TEST(WidgetSeeding, WeightsAreVoxelsInSizesAndOpacityNotInTheClustering)
     EXPECT_DOUBLE_EQ(w.center[0], same.center[0]);
     EXPECT_DOUBLE_EQ(w.sigma, same.sigma);
   }
-  // A cluster 100 times the smallest keeps the floor, 0.05 of the opacity.
-  std::fill(weights.begin() + 200, weights.end(), 100.0);
-  EXPECT_NEAR(mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options).widgets[0].opacity, 0.025, 1e-12);
+  // Weighted the other way, the first blob is the largest and the faint one.
+  std::fill(weights.begin(), weights.begin() + 200, 100.0);
+  const mcv::WidgetSeeding other = mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options);
+  EXPECT_NEAR(other.widgets[0].center[0], -5.0, 0.1);
+  EXPECT_NEAR(other.widgets[0].opacity, 0.025, 1e-12);
+  // One widget alone is not a veil.
+  options.count = 1;
+  EXPECT_NEAR(mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options).widgets[0].opacity, 0.5, 1e-12);
 }
 
 TEST(WidgetSeeding, FewDistinctPointsNonFiniteAndBadInput)

@@ -91,14 +91,9 @@ double clusterSigma(double squaredSpread, std::size_t m, int dims, double domain
   return domainSigma > 0 ? 0.1 * domainSigma : 1.0;
 }
 
-// Peak opacity of a cluster of `size` voxels relative to the smallest seeded one's:
-// smallest / size (every widget adds about the same opacity, peak x voxels, to the picture),
-// at least kMinOpacityFactor so no suggested widget vanishes.
-constexpr double kMinOpacityFactor = 0.05;
-double sizeOpacityFactor(double smallest, double size)
-{
-  return size > 0 && smallest > 0 ? std::max(kMinOpacityFactor, std::min(1.0, smallest / size)) : 1.0;
-}
+// Peak opacity of the largest of several seeded widgets, as a fraction of the others'
+// (WidgetSeeding.h says why).
+constexpr double kVeilOpacity = 0.05;
 
 // Distance from centre c to the nearest other centre (0 when there is none).
 double nearestOtherCentre(const Points& centres, int c)
@@ -228,13 +223,6 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
   {
     out.skippedSize = static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(order[0])]));
   }
-  // The smallest non-empty seeded cluster gets the full opacity.
-  double smallest = 0;
-  for (int i = first; i < k; ++i)
-  {
-    const double m = size[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
-    smallest = m > 0 && (smallest == 0 || m < smallest) ? m : smallest;
-  }
   for (int i = first; i < k; ++i)
   {
     const int c = order[static_cast<std::size_t>(i)];
@@ -253,10 +241,12 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
       w.sigma = std::min(w.sigma, 0.25 * nearest);
     }
     widgetColor(i - first, w.color);
-    const double m = size[static_cast<std::size_t>(c)];
-    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) * sizeOpacityFactor(smallest, m);
+    // The largest of several widgets is the class that holds the others (a head's scalp
+    // and skull around the brain once the air is masked): a faint veil.
+    const bool veil = i == first && k - first > 1;
+    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) * (veil ? kVeilOpacity : 1.0);
     out.widgets.push_back(w);
-    out.clusterSizes.push_back(static_cast<std::size_t>(std::llround(m)));
+    out.clusterSizes.push_back(static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(c)])));
   }
   out.labels.assign(points.count, -1);
   for (std::size_t r = 0; r < finite.size(); ++r)

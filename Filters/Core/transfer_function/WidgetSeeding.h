@@ -9,13 +9,13 @@
 //    most exp(-2) = 0.14 at the point halfway between them, so each one selects its own
 //    structure instead of one widget covering everything;
 //  - colour = widgetColor(i): ColorBrewer's qualitative Set1, one palette for the suite;
-//  - peak opacity = `opacity` * smallest seeded cluster / this cluster (sizes in voxels:
-//    the points' weights), at least 0.05 * `opacity`: every widget then adds about the
-//    same opacity (peak x voxels) to the picture, so a class that fills the volume (the
-//    tissue of a whole head) is a faint veil and the small inner structures stay visible.
-//    On the main job's brain (Examples/transfer_function.py, 4 widgets) a cube-root rule
-//    left the largest class (the scalp) at 0.165 and it hid the brain; this one gives it
-//    0.025 and the brain's structures show through.
+//  - peak opacity = `opacity`, except for the largest of several widgets (by voxels: the
+//    points' weights), which gets 0.05 * `opacity`. Once the empty background is masked,
+//    the largest class is the one that holds the others (the scalp and skull around a
+//    brain, the tissue around labelled cells) and, in front of them along most rays, it
+//    hid them at any comparable opacity: on the main job's brain a peak of 0.165 (and
+//    still 0.042) made the brain a red ball; at 0.025 it is a veil and the brain's widgets
+//    show through.
 // With `skipLargest`, count + 1 clusters are made and the largest is left out: without a
 // foreground mask the largest class is almost always the background (air around a head,
 // the dark field of a micrograph), which a widget would turn into an opaque box. The cap

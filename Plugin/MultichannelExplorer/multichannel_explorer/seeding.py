@@ -14,8 +14,8 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
                  skip_background=True):
     """Seeds `count` Gaussian widgets at the k-means cluster centres of the reduced domain
     (largest cluster first, colours of ColorBrewer Set1, sigma = each cluster's spread
-    capped at a quarter of the distance to the nearest other cluster, peak `opacity` for
-    the smallest cluster and less for bigger ones: ReducedDomain's SeedWidgetOpacity).
+    capped at a quarter of the distance to the nearest other cluster, peak `opacity`, the
+    largest of several widgets 0.05 x `opacity`: a veil over what it holds).
     Voxels the volume's Foreground array (MultichannelFeatures' MaskBackground, on by
     default) marks as background are left out. Without such an array, `skip_background`
     (default) makes count + 1 clusters and leaves the largest, almost always the volume's
