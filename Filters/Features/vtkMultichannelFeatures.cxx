@@ -11,8 +11,10 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
+#include "BackgroundMask.h"
 #include "FeatureVectors.h"
 #include "MemoryBudget.h"
 
@@ -29,6 +31,22 @@ vtkStandardNewMacro(vtkMultichannelFeatures);
 namespace
 {
 const char* const kOutputName = "Features";
+const char* const kMaskName = "Foreground";
+
+// The Foreground array (1 = foreground) of the channels, written by the core in place;
+// nullptr when the core failed (result.error says why).
+vtkSmartPointer<vtkUnsignedCharArray> computeForeground(const std::vector<mcv::ChannelView>& channels,
+  const mcv::ImageGrid& grid, const mcv::BackgroundMaskOptions& options, mcv::BackgroundMaskResult& result)
+{
+  auto mask = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  mask->SetName(kMaskName);
+  mask->SetNumberOfTuples(static_cast<vtkIdType>(grid.voxelCount()));
+  if (!mcv::computeBackgroundMask(channels, grid, options, mask->GetPointer(0), result))
+  {
+    return nullptr;
+  }
+  return mask;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -41,7 +59,10 @@ vtkMultichannelFeatures::~vtkMultichannelFeatures() = default;
 std::vector<vtkDataArray*> vtkMultichannelFeatures::GetDefaultChannels(vtkPointData* pd)
 {
   std::vector<vtkDataArray*> picked = this->Superclass::GetDefaultChannels(pd);
-  auto isOutput = [](vtkDataArray* a) { return a->GetName() && a->GetName() == std::string(kOutputName); };
+  // Neither the features nor the mask of an earlier run are channels.
+  auto isOutput = [](vtkDataArray* a) {
+    return a->GetName() && (a->GetName() == std::string(kOutputName) || a->GetName() == std::string(kMaskName));
+  };
   picked.erase(std::remove_if(picked.begin(), picked.end(), isOutput), picked.end());
   return picked;
 }
@@ -86,6 +107,7 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   this->NumberOfFeatures = 0;
   this->NumberOfNonFiniteVoxels = 0;
   this->ComputeTime = 0.0;
+  this->NumberOfBackgroundVoxels = 0;
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
   if (!output)
   {
@@ -186,9 +208,34 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   this->ComputeTime = result.totalMs;
   this->SetDeviceUsed(result.deviceUsed);
 
-  // ---- Output: the input plus Features ------------------------------------------------
+  // ---- The background mask (collective, like the features' statistics) -----------------
+  vtkSmartPointer<vtkUnsignedCharArray> foreground;
+  if (this->MaskBackground)
+  {
+    mcv::BackgroundMaskOptions maskOptions;
+    maskOptions.threshold = this->BackgroundThreshold;
+    maskOptions.communicator = options.communicator;
+    maskOptions.piece = piece;
+    mcv::BackgroundMaskResult mask;
+    foreground = computeForeground(channels.views, grid, maskOptions, mask);
+    this->ReportWarnings(mask.warnings);
+    if (!foreground)
+    {
+      vtkErrorMacro("Background mask: " << mask.error);
+      return 0;
+    }
+    this->NumberOfBackgroundVoxels = static_cast<vtkIdType>(mask.backgroundVoxels);
+  }
+
+  // ---- Output: the input plus Features (and Foreground) ----------------------------------
   output->ShallowCopy(image);
   output->GetPointData()->AddArray(features);
+  // A mask from upstream would describe other channels or settings: ours, or none.
+  output->GetPointData()->RemoveArray(kMaskName);
+  if (foreground)
+  {
+    output->GetPointData()->AddArray(foreground);
+  }
   this->CropToRequestedExtent(output, outputVector);
   this->UpdateProgress(1.0);
   return 1;
@@ -206,5 +253,8 @@ void vtkMultichannelFeatures::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LocalMean: " << this->LocalMean << "\n";
   os << indent << "LocalVariance: " << this->LocalVariance << "\n";
   os << indent << "Normalization: " << this->Normalization << "\n";
+  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
+  os << indent << "BackgroundThreshold: " << this->BackgroundThreshold << "\n";
   os << indent << "NumberOfFeatures: " << this->NumberOfFeatures << "\n";
+  os << indent << "NumberOfBackgroundVoxels: " << this->NumberOfBackgroundVoxels << "\n";
 }

@@ -19,9 +19,18 @@
  * MINMAX (to [0,1]), NONE. Constant columns are left at 0 under ZSCORE/MINMAX (warning);
  * voxels with NaN/Inf in any channel get a feature row of zeros (warning with the count).
  *
+ * Background (MaskBackground, default on): a voxel is background when EVERY selected
+ * channel is <= min + BackgroundThreshold * (max - min) of that channel (min/max over the
+ * whole volume; default threshold 0: the voxels at every channel's minimum, e.g. the zero
+ * field of an MRI). The output then also holds the uint8 point array `Foreground`
+ * (1 = foreground, 0 = background), which DimensionReduction, ReducedDomain and the
+ * "Gaussian TF Volume" representation use to leave the background out. MaskBackground
+ * off: no `Foreground` array (one from upstream is removed). A volume that is background
+ * everywhere gets an all-0 mask and a warning. Core: Filters/Core/features/BackgroundMask.h.
+ *
  * Channel selection (AddChannel/ClearChannels of vtkMultichannelAlgorithm, the `Channels`
  * property in ParaView): the named point arrays; none named: every numeric point array
- * except vtkGhostType, vtkValidPointMask and an existing `Features` array.
+ * except vtkGhostType, vtkValidPointMask and existing `Features` / `Foreground` arrays.
  *
  * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process asks for its piece plus
  * one ghost layer (the neighbours of the gradient, Laplacian and 3x3x3 statistics),
@@ -87,10 +96,30 @@ public:
   ///@}
 
   ///@{
+  /**
+   * Mark the background (voxels empty in every channel) in the `Foreground` array
+   * (default on).
+   */
+  vtkSetMacro(MaskBackground, bool);
+  vtkGetMacro(MaskBackground, bool);
+  vtkBooleanMacro(MaskBackground, bool);
+  ///@}
+
+  ///@{
+  /**
+   * A channel is empty at a voxel when its value is <= min + BackgroundThreshold *
+   * (max - min) of the channel (default 0: exactly the minimum). In [0, 1].
+   */
+  vtkSetClampMacro(BackgroundThreshold, double, 0.0, 1.0);
+  vtkGetMacro(BackgroundThreshold, double);
+  ///@}
+
+  ///@{
   /** Results of the last execution. */
   vtkGetMacro(NumberOfFeatures, int);
   vtkGetMacro(NumberOfNonFiniteVoxels, vtkIdType);
   vtkGetMacro(ComputeTime, double); // milliseconds, core only
+  vtkGetMacro(NumberOfBackgroundVoxels, vtkIdType); // whole volume; 0 with MaskBackground off
   ///@}
 
 protected:
@@ -113,10 +142,13 @@ protected:
   bool LocalMean = false;
   bool LocalVariance = false;
   int Normalization = ZSCORE;
+  bool MaskBackground = true;
+  double BackgroundThreshold = 0.0;
 
   int NumberOfFeatures = 0;
   vtkIdType NumberOfNonFiniteVoxels = 0;
   double ComputeTime = 0.0;
+  vtkIdType NumberOfBackgroundVoxels = 0;
 
 private:
   vtkMultichannelFeatures(const vtkMultichannelFeatures&) = delete;

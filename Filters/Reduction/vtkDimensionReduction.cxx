@@ -15,6 +15,7 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
 #include "DimensionReduction.h"
@@ -125,6 +126,7 @@ void vtkDimensionReduction::ResetResults()
   this->VarianceRetained = 0.0;
   this->Trustworthiness = 0.0;
   this->NumberOfFeaturesUsed = 0;
+  this->NumberOfSampledVoxels = 0;
   for (double& t : this->StageTimings)
   {
     t = 0.0;
@@ -285,6 +287,7 @@ int vtkDimensionReduction::RequestMultichannelData(
   options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
   options.device = this->GetRequestedDevice();
   options.progress = this->StageProgressCallback();
+  options.sampleMask = this->ForegroundMask(pd, count);
 
   if (layout.IsSplit())
   {
@@ -335,6 +338,7 @@ int vtkDimensionReduction::RequestMultichannelData(
   this->StageTimings[0] = result.fitMs;
   this->StageTimings[1] = result.placeMs;
   this->StageTimings[2] = result.totalMs;
+  this->NumberOfSampledVoxels = static_cast<vtkIdType>(result.sampledVoxels);
   vtkDoubleArray* spectrum = this->Internals->Spectrum;
   spectrum->SetNumberOfTuples(static_cast<vtkIdType>(result.eigenvalues.size()));
   for (std::size_t i = 0; i < result.eigenvalues.size(); ++i)
@@ -394,6 +398,26 @@ int vtkDimensionReduction::RequestMultichannelData(
 
   this->UpdateProgress(1.0);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+const unsigned char* vtkDimensionReduction::ForegroundMask(vtkPointData* pd, std::size_t count)
+{
+  vtkAbstractArray* array = pd->GetAbstractArray("Foreground");
+  if (!array)
+  {
+    return nullptr;
+  }
+  auto* mask = vtkUnsignedCharArray::SafeDownCast(array);
+  if (!mask || mask->GetNumberOfComponents() != 1 ||
+    static_cast<std::size_t>(mask->GetNumberOfTuples()) != count)
+  {
+    // Someone else's array of that name: sampling everything is still a valid reduction.
+    vtkWarningMacro("The point array 'Foreground' is not a one-component uint8 mask of the "
+      << count << " voxels; the reference sample is drawn from every voxel.");
+    return nullptr;
+  }
+  return mask->GetPointer(0);
 }
 
 //------------------------------------------------------------------------------

@@ -13,6 +13,13 @@
  * fits on all of them) and every voxel is placed by its 3 nearest reference vectors in
  * feature space with barycentric weights.
  *
+ * Background: when the input has the uint8 point array `Foreground` of
+ * MultichannelFeatures (1 = foreground), the reference sample is drawn from foreground
+ * voxels only, so the embedding, its spectrum and trustworthiness describe the data and not
+ * the empty field around it; background voxels are still placed (every voxel gets
+ * ReducedCoordinates) and `Foreground` is passed on. A mask that marks no voxel is ignored
+ * (warning).
+ *
  * Output port 0: the input (shallow copy) plus the point array `ReducedCoordinates`
  * (float32, OutputDimension components named dim1, dim2[, dim3]) and field-data arrays
  * `Trustworthiness`, `VarianceRetained`, `EigenvalueSpectrum`, `ReductionMethod`,
@@ -43,9 +50,11 @@
 #include "mcvFiltersReductionModule.h" // for export macro
 #include "vtkMultichannelAlgorithm.h"
 
-#include <memory> // for std::unique_ptr
+#include <cstddef> // for std::size_t
+#include <memory>  // for std::unique_ptr
 
 class vtkDoubleArray;
+class vtkPointData;
 
 class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkMultichannelAlgorithm
 {
@@ -118,6 +127,8 @@ public:
   vtkGetMacro(NumberOfFeaturesUsed, int);
   /** Milliseconds: fit, out-of-sample placement, total (core timings). */
   vtkGetVector3Macro(StageTimings, double);
+  /** Voxels the reference sample was drawn from (the foreground ones with a mask). */
+  vtkGetMacro(NumberOfSampledVoxels, vtkIdType);
   ///@}
 
 protected:
@@ -144,10 +155,15 @@ protected:
   double Trustworthiness = 0.0;
   int NumberOfFeaturesUsed = 0;
   double StageTimings[3] = { 0, 0, 0 };
+  vtkIdType NumberOfSampledVoxels = 0;
 
 private:
   vtkDimensionReduction(const vtkDimensionReduction&) = delete;
   void operator=(const vtkDimensionReduction&) = delete;
+
+  // The input's `Foreground` mask (uint8, one per voxel) as the core reads it; nullptr when
+  // there is none or it is not such a mask (warning).
+  const unsigned char* ForegroundMask(vtkPointData* pd, std::size_t count);
 
   struct vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -62,6 +62,22 @@ std::vector<vtkIdType> selectionSample(const std::vector<bool>& isEligible, std:
   return picked;
 }
 
+// The input's Foreground mask (uint8, 1 = foreground, one per point of `n`), or nullptr
+// when there is none, it is not such an array, or it marks no point (then the mask would
+// leave nothing to show; the caller warns).
+vtkUnsignedCharArray* foregroundMask(vtkPointData* pd, vtkIdType n, bool& marksNothing)
+{
+  marksNothing = false;
+  auto* mask = vtkUnsignedCharArray::SafeDownCast(pd->GetAbstractArray("Foreground"));
+  if (!mask || mask->GetNumberOfComponents() != 1 || mask->GetNumberOfTuples() != n)
+  {
+    return nullptr;
+  }
+  const unsigned char* m = mask->GetPointer(0);
+  marksNothing = std::none_of(m, m + n, [](unsigned char v) { return v != 0; });
+  return marksNothing ? nullptr : mask;
+}
+
 vtkSmartPointer<vtkPolyData> widgetGlyphSource(const std::vector<mcv::GaussianWidget>& widgets)
 {
   auto poly = vtkSmartPointer<vtkPolyData>::New();
@@ -224,26 +240,33 @@ int vtkReducedDomain::RequestMultichannelData(
     this->ReportWarnings(widgets.warnings);
   }
 
-  // ---- The sample ------------------------------------------------------------------------
-  std::vector<bool> finite(static_cast<std::size_t>(n));
-  std::size_t finiteCount = 0;
+  // ---- The sample: foreground points with finite coordinates --------------------------
+  bool maskMarksNothing = false;
+  vtkUnsignedCharArray* foreground = foregroundMask(input->GetPointData(), n, maskMarksNothing);
+  if (maskMarksNothing)
+  {
+    this->ReportWarnings({ "The Foreground array marks no voxel (every voxel is background): "
+                           "the domain shows all of them." });
+  }
+  std::vector<bool> eligible(static_cast<std::size_t>(n));
+  std::size_t eligibleCount = 0;
   for (vtkIdType i = 0; i < n; ++i)
   {
-    bool ok = true;
-    for (int c = 0; c < dims; ++c)
+    bool ok = !foreground || foreground->GetValue(i) != 0;
+    for (int c = 0; c < dims && ok; ++c)
     {
-      ok = ok && std::isfinite(coordinates->GetComponent(i, c));
+      ok = std::isfinite(coordinates->GetComponent(i, c));
     }
-    finite[static_cast<std::size_t>(i)] = ok;
-    finiteCount += ok ? 1 : 0;
+    eligible[static_cast<std::size_t>(i)] = ok;
+    eligibleCount += ok ? 1 : 0;
   }
-  if (finiteCount == 0)
+  if (eligibleCount == 0)
   {
-    vtkErrorMacro("No point has finite reduced coordinates.");
+    vtkErrorMacro(<< (foreground ? "No foreground point" : "No point") << " has finite reduced coordinates.");
     return 0;
   }
   this->UpdateProgress(0.2);
-  const std::vector<vtkIdType> sample = selectionSample(finite, finiteCount,
+  const std::vector<vtkIdType> sample = selectionSample(eligible, eligibleCount,
     static_cast<std::size_t>(this->SampleSize), static_cast<std::uint64_t>(this->RandomSeed));
   const vtkIdType m = static_cast<vtkIdType>(sample.size());
 
@@ -360,8 +383,10 @@ int vtkReducedDomain::RequestMultichannelData(
     options.count = this->SeedWidgetCount;
     options.seed = static_cast<std::uint64_t>(this->RandomSeed);
     options.opacity = this->SeedWidgetOpacity;
-    options.skipLargest = this->SkipLargestCluster;
+    // The largest cluster stands for the background only when nothing else removed it.
+    options.skipLargest = this->SkipLargestCluster && !foreground;
     std::vector<float> distinct = packed;
+    std::vector<double> multiplicity; // sampled voxels at each distinct point
     {
       // Distinct rows: sort row indices lexicographically, keep the first of each run.
       std::vector<std::size_t> order(static_cast<std::size_t>(m));
@@ -379,9 +404,13 @@ int vtkReducedDomain::RequestMultichannelData(
         if (i == 0 || !std::equal(row(order[i]), row(order[i]) + dims, row(order[i - 1])))
         {
           distinct.insert(distinct.end(), row(order[i]), row(order[i]) + dims);
+          multiplicity.push_back(0.0);
         }
+        multiplicity.back() += 1.0;
       }
     }
+    // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
+    options.weights = multiplicity.data();
     const mcv::WidgetSeeding seeding = mcv::seedGaussianWidgets(
       { distinct.data(), distinct.size() / static_cast<std::size_t>(dims), dims }, options);
     if (!seeding.ok())

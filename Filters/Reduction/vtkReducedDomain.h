@@ -19,11 +19,21 @@
  *   and `WidgetIndex`.
  *
  * Automatic widgets: with SeedWidgetCount = n > 0 the filter also clusters the sample's
- * distinct coordinates with k-means (mcv::seedGaussianWidgets) and reports n widgets in
+ * distinct coordinates with k-means (mcv::seedGaussianWidgets; each weighted by the sampled
+ * voxels at it in the cluster sizes) and reports n widgets in
  * SeededWidgets (8 values each, the GaussianWidgets layout); the Python helper
  * auto_widgets() copies them to the representation. Distinct coordinates only: voxels with
  * the same feature vector (a uniform background) share one point in the domain and would
  * otherwise pull widgets onto it.
+ *
+ * Background: when the input has the uint8 point array `Foreground` (MultichannelFeatures'
+ * MaskBackground, passed on by DimensionReduction), points whose Foreground is 0 are left
+ * out of the sample, hence out of the domain cloud and of the k-means: no widget is seeded
+ * on the background. SkipLargestCluster applies only when the input has no Foreground
+ * array (the mask already removed the background; the largest foreground cluster is a
+ * structure). A Foreground array that marks no point is ignored (warning). Seeded widgets
+ * take the suite's palette (mcv::widgetColor: ColorBrewer Set1), sigmas that overlap
+ * little, and the largest is a faint veil (WidgetSeeding.h).
  */
 
 #ifndef vtkReducedDomain_h
@@ -78,7 +88,10 @@ public:
   ///@}
 
   ///@{
-  /** Peak opacity of the seeded widgets (default 0.5). */
+  /**
+   * Peak opacity of the seeded widgets (default 0.5); the largest of several (in sampled
+   * voxels) gets 0.05 of it: a veil over the structures it holds.
+   */
   vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
   vtkGetMacro(SeedWidgetOpacity, double);
   ///@}
@@ -87,6 +100,8 @@ public:
   /**
    * Leave the largest cluster out of the seeded widgets (default on): count + 1 clusters
    * are made and the largest, almost always the background of a volume, gets no widget.
+   * Applies only when the input has no Foreground array (with one, the background is
+   * already out of the sample).
    */
   vtkSetMacro(SkipLargestCluster, bool);
   vtkGetMacro(SkipLargestCluster, bool);

@@ -19,6 +19,7 @@
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
 #include "BestViewpoint.h"
@@ -364,6 +365,20 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
     return false;
   }
   this->ReportWarnings(run.warnings);
+  // The background (Foreground 0, MultichannelFeatures' mask) is transparent, as the
+  // representation draws it: its coordinates are extrapolated from foreground reference
+  // voxels and would otherwise take a widget's opacity and turn the volume into a box.
+  vtkUnsignedCharArray* mask =
+    vtkUnsignedCharArray::SafeDownCast(image->GetPointData()->GetAbstractArray("Foreground"));
+  if (mask && mask->GetNumberOfComponents() == 1 &&
+    static_cast<std::size_t>(mask->GetNumberOfTuples()) == count)
+  {
+    const unsigned char* foreground = mask->GetPointer(0);
+    for (std::size_t v = 0; v < count; ++v)
+    {
+      opacity[v] = foreground[v] ? opacity[v] : 0.0f;
+    }
+  }
   return true;
 }
 

@@ -96,7 +96,8 @@ public:
    * OpacityFunction) or OPACITY_GAUSSIAN_WIDGETS: the opacity
    * 1 - prod_i (1 - a_i exp(-|x - mu_i|^2 / (2 sigma_i^2))) of the Gaussian widgets at each
    * voxel's coordinates (the point array WidgetCoordinates, 2 or 3 components), the same
-   * opacity the "Gaussian TF Volume" representation renders.
+   * opacity the "Gaussian TF Volume" representation renders; 0 where the input's uint8
+   * point array `Foreground` (MultichannelFeatures' background mask) is 0.
    */
   vtkSetClampMacro(OpacitySource, int, OPACITY_CHANNELS, OPACITY_GAUSSIAN_WIDGETS);
   vtkGetMacro(OpacitySource, int);

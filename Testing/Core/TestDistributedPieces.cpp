@@ -1,7 +1,8 @@
-// Best viewpoint and features split over processes (threads standing in for MPI ranks) give
+// Best viewpoint, features and the background mask split over processes (threads standing in for MPI ranks) give
 // what one process gives for the whole volume: the property the MPI-parallel filters rely
 // on. Pieces are cut like vtkExtentTranslator's block mode (neighbouring pieces share one
 // boundary layer) and padded with ghost layers.
+#include "BackgroundMask.h"
 #include "BestViewpoint.h"
 #include "FeatureVectors.h"
 #include "ThreadCommunicator.h"
@@ -251,6 +252,77 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
         EXPECT_NEAR(res.columnScale[c], serial.columnScale[c], 1e-9 * (1 + std::abs(serial.columnScale[c])));
       }
     }
+  }
+}
+
+TEST_P(Distributed, BackgroundMaskEqualsOneProcess)
+{
+  // The channels' extremes lie in different pieces (channel 0's maximum near z = 0,
+  // channel 1's near the top), so a mask from local ranges would differ from the whole's.
+  const int R = GetParam();
+  mcv::ImageGrid whole;
+  whole.dims = { 13, 11, 10 };
+  const Extent wholeExtent{ 0, 12, 0, 10, 0, 9 };
+  std::vector<std::vector<float>> data(2, std::vector<float>(whole.voxelCount(), 0.f));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  for (std::size_t v = 0; v < whole.voxelCount(); ++v)
+  {
+    data[0][v] = u(rng) < 0.5f ? 0.f : 10.f * u(rng);
+    data[1][v] = u(rng) < 0.5f ? 0.f : 10.f * u(rng);
+  }
+  data[0][3] = 100.f;
+  data[1][whole.voxelCount() - 4] = 50.f;
+  auto views = [](const std::vector<std::vector<float>>& d) {
+    std::vector<mcv::ChannelView> v(d.size());
+    for (std::size_t c = 0; c < d.size(); ++c)
+    {
+      v[c].data = d[c].data();
+    }
+    return v;
+  };
+  mcv::BackgroundMaskOptions options;
+  options.threshold = 0.04; // cuts at 4 and 2: the local maxima would move them
+  std::vector<unsigned char> serialMask(whole.voxelCount());
+  mcv::BackgroundMaskResult serial;
+  ASSERT_TRUE(mcv::computeBackgroundMask(views(data), whole, options, serialMask.data(), serial));
+  ASSERT_GT(serial.backgroundVoxels, 0u);
+  ASSERT_LT(serial.backgroundVoxels, whole.voxelCount());
+
+  const std::vector<Extent> pieces = splitPieces(wholeExtent, R);
+  std::vector<mcv::BackgroundMaskResult> results(static_cast<std::size_t>(R));
+  std::vector<std::vector<unsigned char>> pieceMasks(static_cast<std::size_t>(R));
+  mcv::testing::ThreadGroup group(R);
+  group.run([&](int rank, const mcv::Communicator& comm) {
+    const Extent& piece = pieces[static_cast<std::size_t>(rank)];
+    const Block b = makeBlock(wholeExtent, piece, 1, whole);
+    std::vector<std::vector<float>> local;
+    for (const auto& c : data)
+    {
+      local.push_back(cropValues(c, 1, whole, b.extent));
+    }
+    mcv::BackgroundMaskOptions o = options;
+    o.communicator = &comm;
+    o.piece = b.piece;
+    std::vector<unsigned char> out(b.grid.voxelCount());
+    mcv::computeBackgroundMask(views(local), b.grid, o, out.data(), results[static_cast<std::size_t>(rank)]);
+    Extent inBlock;
+    for (int a = 0; a < 6; ++a)
+    {
+      inBlock[a] = piece[a] - b.extent[2 * (a / 2)];
+    }
+    pieceMasks[static_cast<std::size_t>(rank)] = cropValues(out, 1, b.grid, inBlock);
+  });
+  for (int r = 0; r < R; ++r)
+  {
+    const mcv::BackgroundMaskResult& res = results[static_cast<std::size_t>(r)];
+    ASSERT_TRUE(res.ok()) << res.error;
+    EXPECT_EQ(res.channelMax, serial.channelMax);
+    EXPECT_EQ(res.backgroundVoxels, serial.backgroundVoxels) << "each voxel counted once";
+    EXPECT_EQ(res.voxels, whole.voxelCount());
+    EXPECT_EQ(pieceMasks[static_cast<std::size_t>(r)],
+      cropValues(serialMask, 1, whole, pieces[static_cast<std::size_t>(r)]))
+      << "rank " << r;
   }
 }
 

@@ -28,6 +28,7 @@ struct Volume
   std::array<int, 3> dims{ 0, 0, 0 };
   std::vector<float> values;       // voxels x kFeatures, x fastest
   std::vector<std::int64_t> blob;  // the rare bright voxels
+  std::vector<unsigned char> foreground; // per voxel: 0 outside the ellipsoid (background)
   std::size_t voxels() const { return values.size() / kFeatures; }
   mcv::FeatureMatrix matrix() const { return { values.data(), voxels(), kFeatures }; }
 };
@@ -62,6 +63,7 @@ Volume syntheticVolume(std::array<int, 3> dims = { 40, 30, 20 })
         }
         else if (x * x + y * y + z * z > 1.0)
         {
+          v.foreground.push_back(0);
           const float level = 0.05f * static_cast<float>(i * 3 / dims[0]);
           f[0] = level;
           f[1] = 0.1f;
@@ -81,6 +83,7 @@ Volume syntheticVolume(std::array<int, 3> dims = { 40, 30, 20 })
           f[4] = static_cast<float>(std::round(a * 8.0) / 8.0);
           f[5] = static_cast<float>(0.5 * z * z) + noise(rng);
         }
+        v.foreground.resize(v.voxels() + 1, 1);
         v.values.insert(v.values.end(), f, f + kFeatures);
       }
     }
@@ -138,6 +141,7 @@ struct Block
   mcv::ImageGrid grid;
   std::vector<float> values;
   std::vector<std::int64_t> global; // per row
+  std::vector<unsigned char> foreground; // per row
   mcv::FeatureMatrix matrix() const { return { values.empty() ? nullptr : values.data(), global.size(), kFeatures }; }
 };
 
@@ -164,13 +168,15 @@ std::vector<Block> splitVolume(const Volume& v, int pieces, int ghost = 0)
       const std::int64_t g = b.piece.globalIndex(static_cast<std::int64_t>(r), b.grid);
       b.global.push_back(g);
       b.values.insert(b.values.end(), v.values.begin() + g * kFeatures, v.values.begin() + (g + 1) * kFeatures);
+      b.foreground.push_back(v.foreground[static_cast<std::size_t>(g)]);
     }
     blocks.push_back(std::move(b));
   }
   return blocks;
 }
 
-// Every block reduced by its own thread-rank.
+// Every block reduced by its own thread-rank (with its part of the foreground mask when
+// options.sampleMask is set).
 std::vector<mcv::ReductionResult> reduceSplit(const std::vector<Block>& blocks, const mcv::ReductionOptions& options)
 {
   std::vector<mcv::ReductionResult> results(blocks.size());
@@ -179,6 +185,10 @@ std::vector<mcv::ReductionResult> reduceSplit(const std::vector<Block>& blocks, 
     o.communicator = &comm;
     o.piece = blocks[static_cast<std::size_t>(rank)].piece;
     o.block = blocks[static_cast<std::size_t>(rank)].grid;
+    if (options.sampleMask)
+    {
+      o.sampleMask = blocks[static_cast<std::size_t>(rank)].foreground.data();
+    }
     results[static_cast<std::size_t>(rank)] = mcv::reduceDimension(blocks[static_cast<std::size_t>(rank)].matrix(), o);
   });
   return results;
@@ -293,6 +303,78 @@ TEST(DistributedReduction, SameAnswerAsSerial)
       }
     }
   }
+}
+
+TEST(DistributedReduction, ForegroundMaskKeepsTheSampleOffTheBackground)
+{
+  // The background (three shared vectors outside the ellipsoid, most of the volume) is
+  // masked: no reference voxel is a background voxel, every voxel is still placed, and a
+  // split run draws the same sample as one process.
+  const Volume v = syntheticVolume();
+  const std::size_t foreground = static_cast<std::size_t>(std::count(v.foreground.begin(), v.foreground.end(), 1));
+  ASSERT_GT(foreground, 3000u);
+  ASSERT_LT(foreground, v.voxels() / 2);
+  for (auto method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap })
+  {
+    mcv::ReductionOptions o = options(method);
+    o.sampleMask = v.foreground.data();
+    const mcv::ReductionResult serial = mcv::reduceDimension(v.matrix(), o);
+    ASSERT_TRUE(serial.ok()) << serial.error;
+    EXPECT_EQ(serial.sampledVoxels, foreground);
+    ASSERT_EQ(serial.referenceIndices.size(), o.referenceSampleSize);
+    for (std::int64_t g : serial.referenceIndices)
+    {
+      ASSERT_EQ(v.foreground[static_cast<std::size_t>(g)], 1) << "voxel " << g << " is background";
+    }
+    EXPECT_TRUE(std::all_of(serial.coordinates.begin(), serial.coordinates.end(), [](float c) { return std::isfinite(c); }));
+    EXPECT_EQ(serial.coordinates.size(), v.voxels() * static_cast<std::size_t>(serial.outputDimension));
+    // Without the mask the same seed draws background voxels (the mask is what keeps them out).
+    o.sampleMask = nullptr;
+    const mcv::ReductionResult unmasked = mcv::reduceDimension(v.matrix(), o);
+    ASSERT_TRUE(unmasked.ok()) << unmasked.error;
+    EXPECT_TRUE(std::any_of(unmasked.referenceIndices.begin(), unmasked.referenceIndices.end(),
+      [&](std::int64_t g) { return v.foreground[static_cast<std::size_t>(g)] == 0; }));
+    o.sampleMask = v.foreground.data();
+    for (int pieces : { 2, 3 })
+    {
+      SCOPED_TRACE(std::to_string(pieces) + " pieces");
+      const std::vector<Block> blocks = splitVolume(v, pieces, 1);
+      expectSameAsSerial(serial, blocks, reduceSplit(blocks, o));
+    }
+  }
+}
+
+TEST(DistributedReduction, ForegroundMaskWithFewOrNoForegroundVoxels)
+{
+  const Volume v = syntheticVolume();
+  const std::size_t foreground = static_cast<std::size_t>(std::count(v.foreground.begin(), v.foreground.end(), 1));
+  // More asked for than there are foreground voxels: all of them (their distinct vectors).
+  mcv::ReductionOptions o = options(mcv::ReductionMethod::PCA);
+  o.sampleMask = v.foreground.data();
+  o.referenceSampleSize = v.voxels();
+  const mcv::ReductionResult all = mcv::reduceDimension(v.matrix(), o);
+  ASSERT_TRUE(all.ok()) << all.error;
+  EXPECT_LE(all.referenceIndices.size(), foreground);
+  EXPECT_GT(all.referenceIndices.size(), foreground * 9 / 10);
+  for (std::int64_t g : all.referenceIndices)
+  {
+    ASSERT_EQ(v.foreground[static_cast<std::size_t>(g)], 1);
+  }
+  const auto mentions = [](const mcv::ReductionResult& r, const char* text) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(), [&](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(mentions(all, "exceeds the number of foreground voxels"));
+
+  // A mask with no foreground at all: ignored, with a warning, on every process alike.
+  const std::vector<unsigned char> none(v.voxels(), 0);
+  o = options(mcv::ReductionMethod::PCA);
+  o.sampleMask = none.data();
+  const mcv::ReductionResult ignored = mcv::reduceDimension(v.matrix(), o);
+  ASSERT_TRUE(ignored.ok()) << ignored.error;
+  EXPECT_TRUE(mentions(ignored, "marks no voxel"));
+  EXPECT_EQ(ignored.sampledVoxels, v.voxels());
+  o.sampleMask = nullptr;
+  EXPECT_EQ(ignored.referenceIndices, mcv::reduceDimension(v.matrix(), o).referenceIndices);
 }
 
 TEST(DistributedReduction, PlainRowsFollowOneAnotherInRankOrder)

@@ -1,12 +1,15 @@
 // Automatic widgets from k-means of the reduced domain: well-separated blobs with known
-// centres, sizes and spreads must come back as the widgets, largest first.
+// centres, sizes and spreads must come back as the widgets, largest first, in the palette's
+// colours, the largest one faint, and sigmas that overlap little.
 #include "WidgetSeeding.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
+#include <vector>
 
 namespace
 {
@@ -64,7 +67,8 @@ TEST(WidgetSeeding, RecoversSeparatedBlobsLargestFirst)
         EXPECT_NEAR(w.center[d], b.center[d], 5 * b.sigma / std::sqrt(b.count)) << "dims " << dims;
       }
       EXPECT_NEAR(w.sigma, b.sigma, 0.15 * b.sigma);
-      EXPECT_DOUBLE_EQ(w.opacity, 0.6);
+      // The largest of the widgets is a faint veil (0.05 of the opacity), the others 0.6.
+      EXPECT_NEAR(w.opacity, i == 0 ? 0.03 : 0.6, 1e-12);
     }
     // Every point carries the label of its blob's widget.
     std::size_t offset = 0;
@@ -91,12 +95,104 @@ TEST(WidgetSeeding, DistinctColoursAndSameSeedSameResult)
   ASSERT_EQ(a.widgets.size(), 6u);
   EXPECT_EQ(mcv::flattenGaussianWidgets(a.widgets), mcv::flattenGaussianWidgets(b.widgets));
   std::set<std::vector<double>> colours;
-  for (const mcv::GaussianWidget& w : a.widgets)
+  for (std::size_t i = 0; i < a.widgets.size(); ++i)
   {
+    const mcv::GaussianWidget& w = a.widgets[i];
     colours.insert({ w.color[0], w.color[1], w.color[2] });
-    EXPECT_GE(*std::max_element(w.color, w.color + 3), 1.0 - 1e-12); // full value
+    double expected[3];
+    mcv::widgetColor(static_cast<int>(i), expected); // the palette, in order
+    for (int c = 0; c < 3; ++c)
+    {
+      EXPECT_DOUBLE_EQ(w.color[c], expected[c]);
+    }
   }
   EXPECT_EQ(colours.size(), 6u);
+}
+
+TEST(WidgetSeeding, PaletteIsColorBrewerSet1)
+{
+  ASSERT_EQ(mcv::widgetPaletteSize(), 8);
+  double rgb[3];
+  const int set1[8][3] = { { 228, 26, 28 }, { 55, 126, 184 }, { 77, 175, 74 }, { 152, 78, 163 },
+    { 255, 127, 0 }, { 255, 255, 51 }, { 166, 86, 40 }, { 247, 129, 191 } };
+  for (int i = 0; i < 8; ++i)
+  {
+    mcv::widgetColor(i, rgb);
+    for (int c = 0; c < 3; ++c)
+    {
+      EXPECT_NEAR(rgb[c] * 255.0, set1[i][c], 1e-9) << "colour " << i;
+    }
+    mcv::widgetColor(i + 8, rgb); // the second round: the same hue, darker
+    for (int c = 0; c < 3; ++c)
+    {
+      EXPECT_NEAR(rgb[c] * 255.0, 0.6 * set1[i][c], 1e-9) << "colour " << i + 8;
+    }
+  }
+  std::set<std::vector<double>> first16;
+  for (int i = 0; i < 16; ++i)
+  {
+    mcv::widgetColor(i, rgb);
+    first16.insert({ rgb[0], rgb[1], rgb[2] });
+  }
+  EXPECT_EQ(first16.size(), 16u);
+}
+
+TEST(WidgetSeeding, SigmaCappedSoNeighboursOverlapLittle)
+{
+  // Two broad blobs (sigma 1) whose centres are 2 apart: each cluster's own spread is about
+  // 0.9, more than a quarter of the distance between the k-means centres (about 2.8), so the
+  // cap decides: sigma = d / 4, and each widget weighs exp(-8) at the other's centre.
+  const std::vector<float> points =
+    sampleBlobs({ { { -1, 0, 0 }, 1.0, 1500 }, { { 1, 0, 0 }, 1.0, 1500 } }, 3, 5);
+  mcv::WidgetSeedingOptions options;
+  options.count = 2;
+  options.seed = 1;
+  const mcv::WidgetSeeding s = mcv::seedGaussianWidgets({ points.data(), 3000, 3 }, options);
+  ASSERT_TRUE(s.ok()) << s.error;
+  ASSERT_EQ(s.widgets.size(), 2u);
+  const mcv::GaussianWidget& a = s.widgets[0];
+  const mcv::GaussianWidget& b = s.widgets[1];
+  const double d = std::sqrt(std::pow(a.center[0] - b.center[0], 2) + std::pow(a.center[1] - b.center[1], 2) +
+    std::pow(a.center[2] - b.center[2], 2));
+  EXPECT_GT(d, 2.0);
+  EXPECT_NEAR(a.sigma, 0.25 * d, 1e-12);
+  EXPECT_NEAR(b.sigma, 0.25 * d, 1e-12);
+  EXPECT_NEAR(std::exp(-d * d / (2 * a.sigma * a.sigma)), std::exp(-8.0), 1e-12);
+}
+
+TEST(WidgetSeeding, WeightsAreVoxelsInSizesNotInTheClustering)
+{
+  // Two blobs of 200 points; each point of the second stands for 10 voxels: it becomes the
+  // largest cluster (first, the faint one), with the same centres as unweighted.
+  const std::vector<float> points = sampleBlobs({ { { -5, 0, 0 }, 0.3, 200 }, { { 5, 0, 0 }, 0.3, 200 } }, 3, 9);
+  std::vector<double> weights(400, 1.0);
+  std::fill(weights.begin() + 200, weights.end(), 10.0);
+  mcv::WidgetSeedingOptions options;
+  options.count = 2;
+  options.opacity = 0.5;
+  const mcv::WidgetSeeding plain = mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options);
+  options.weights = weights.data();
+  const mcv::WidgetSeeding s = mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options);
+  ASSERT_TRUE(s.ok() && plain.ok());
+  ASSERT_EQ(s.widgets.size(), 2u);
+  EXPECT_NEAR(s.widgets[0].center[0], 5.0, 0.1);
+  EXPECT_EQ(s.clusterSizes, (std::vector<std::size_t>{ 2000, 200 }));
+  EXPECT_NEAR(s.widgets[0].opacity, 0.025, 1e-12);
+  EXPECT_NEAR(s.widgets[1].opacity, 0.5, 1e-12);
+  for (const mcv::GaussianWidget& w : plain.widgets)
+  {
+    const mcv::GaussianWidget& same = s.widgets[w.center[0] > 0 ? 0 : 1];
+    EXPECT_DOUBLE_EQ(w.center[0], same.center[0]);
+    EXPECT_DOUBLE_EQ(w.sigma, same.sigma);
+  }
+  // Weighted the other way, the first blob is the largest and the faint one.
+  std::fill(weights.begin(), weights.begin() + 200, 100.0);
+  const mcv::WidgetSeeding other = mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options);
+  EXPECT_NEAR(other.widgets[0].center[0], -5.0, 0.1);
+  EXPECT_NEAR(other.widgets[0].opacity, 0.025, 1e-12);
+  // One widget alone is not a veil.
+  options.count = 1;
+  EXPECT_NEAR(mcv::seedGaussianWidgets({ points.data(), 400, 3 }, options).widgets[0].opacity, 0.5, 1e-12);
 }
 
 TEST(WidgetSeeding, FewDistinctPointsNonFiniteAndBadInput)

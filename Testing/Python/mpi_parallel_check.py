@@ -7,9 +7,10 @@ Run twice on the real 3-channel brain (Colin27 ch2 + AAL + Brodmann):
   mpiexec -np R pvbatch --mpi mpi_parallel_check.py --compare DIR
       R processes, each holding a piece (ParaView splits the volume; the filters ask for
       ghost layers and combine global statistics, top-N lists and the reference sample
-      across processes): checks the view direction within 0.5 degrees, the features and the
-      reduced coordinates of every voxel equal to the reference (float tolerance), and
-      prints the times of each stage.
+      across processes): checks the view direction within 0.5 degrees, the features, the
+      background mask (Foreground: from the channels' global ranges; the reference sample
+      is drawn from its foreground) and the reduced coordinates of every voxel equal to the
+      reference (float tolerance; the mask exactly), and prints the times of each stage.
 Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
 """
 import argparse
@@ -47,9 +48,13 @@ def timed(proxy):
     return time.time() - start
 
 
-def values_of(vtk_array):
-    """float32 values of a VTK array, tuple-major, as array('f')."""
-    out = array.array("f")
+# The arrays compared, with their array module type codes (float32, uint8).
+COMPARED = (("Features", "f"), ("Foreground", "B"), ("ReducedCoordinates", "f"))
+
+
+def values_of(vtk_array, typecode="f"):
+    """The values of a VTK array of that type (float32 by default), tuple-major."""
+    out = array.array(typecode)
     out.frombytes(bytes(memoryview(vtk_array)))
     return out
 
@@ -101,9 +106,12 @@ def main():
                 "timings": timings}
         with open(os.path.join(args.reference, "reference.json"), "w") as f:
             json.dump(info, f)
-        for name in ("Features", "ReducedCoordinates"):
-            with open(os.path.join(args.reference, name + ".f32"), "wb") as f:
-                values_of(image.GetPointData().GetArray(name)).tofile(f)
+        for name, code in COMPARED:
+            with open(os.path.join(args.reference, name + ".values"), "wb") as f:
+                values_of(image.GetPointData().GetArray(name), code).tofile(f)
+        mask = values_of(image.GetPointData().GetArray("Foreground"), "B")
+        C.check(0 < sum(mask) < len(mask), "the mask has background and foreground (%d of %d "
+                "voxels foreground)" % (sum(mask), len(mask)))
         C.check(image.GetNumberOfPoints() > 100000, "reference of %d voxels written"
                 % image.GetNumberOfPoints())
         print("timings (1 process): " + ", ".join("%s %.2f s" % kv for kv in timings.items()))
@@ -124,9 +132,9 @@ def main():
         covered.update(piece_indices(piece, dims))
     C.check(len(covered) == total, "the %d pieces cover the %s volume (%d of %d voxels)"
             % (R, dims, len(covered), total))
-    for name in ("Features", "ReducedCoordinates"):
-        expected = array.array("f")
-        with open(os.path.join(args.compare, name + ".f32"), "rb") as f:
+    for name, code in COMPARED:
+        expected = array.array(code)
+        with open(os.path.join(args.compare, name + ".values"), "rb") as f:
             expected.frombytes(f.read())
         span = max(expected) - min(expected)
         worst = 0.0
@@ -134,7 +142,7 @@ def main():
             got_array = piece.GetPointData().GetArray(name)
             if not C.check(got_array is not None, "%s in every piece" % name):
                 break
-            got = values_of(got_array)
+            got = values_of(got_array, code)
             width = got_array.GetNumberOfComponents()
             for row, v in enumerate(piece_indices(piece, dims)):
                 a = got[row * width:(row + 1) * width]

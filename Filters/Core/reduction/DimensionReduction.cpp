@@ -106,7 +106,7 @@ std::string checkAgreement(const FeatureMatrix& f, const ReductionOptions& o, co
   }
   const std::vector<double> mine{ static_cast<double>(f.cols), hasGrid(o) ? 1.0 : 0.0,
     static_cast<double>(o.piece.wholeDims[0]), static_cast<double>(o.piece.wholeDims[1]),
-    static_cast<double>(o.piece.wholeDims[2]) };
+    static_cast<double>(o.piece.wholeDims[2]), o.sampleMask ? 1.0 : 0.0 };
   std::vector<double> lowest = mine, highest = mine;
   comm->min(lowest);
   comm->max(highest);
@@ -114,6 +114,10 @@ std::string checkAgreement(const FeatureMatrix& f, const ReductionOptions& o, co
   {
     return "The processes' feature arrays have different numbers of components (" +
       std::to_string(static_cast<int>(lowest[0])) + " to " + std::to_string(static_cast<int>(highest[0])) + ").";
+  }
+  if (lowest[5] != highest[5])
+  {
+    return "Some processes have a foreground mask (sampleMask) and others not.";
   }
   if (lowest != highest)
   {
@@ -280,6 +284,21 @@ void combineStats(ColumnStats& s, double voxels, const Communicator* comm)
   {
     s.mean[c] = exactValue(&s.bins[c * kExponents]) / voxels;
   }
+}
+
+// Collective: the voxels of all processes the sample may draw (`mask` null: all N).
+std::size_t sampleableVoxels(const RowLayout& rows, const unsigned char* mask, std::size_t N, const Communicator* comm)
+{
+  if (!mask)
+  {
+    return N;
+  }
+  std::vector<double> count{ static_cast<double>(eligibleCount(rows, mask)) };
+  if (isDistributed(comm))
+  {
+    comm->sum(count);
+  }
+  return static_cast<std::size_t>(count[0]);
 }
 
 // ---- The fit: on process 0, shared with the others ------------------------------------------
@@ -663,14 +682,26 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
 
   // --- Reference sample (the same voxels on every process) ---------------------------------
   report("Drawing the reference sample", 0.03);
-  if (options.referenceSampleSize > N)
+  const unsigned char* mask = options.sampleMask;
+  const std::size_t eligible = sampleableVoxels(rows, mask, N, comm);
+  if (mask && eligible == 0)
+  {
+    result.warnings.push_back("The foreground mask marks no voxel (every voxel is background): the reference "
+                              "sample is drawn from all voxels.");
+    mask = nullptr;
+  }
+  const std::size_t Ns = mask ? eligible : N;
+  const char* const what = mask ? "foreground voxels" : "voxels";
+  result.sampledVoxels = Ns;
+  if (options.referenceSampleSize > Ns)
   {
     result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
-      ") exceeds the number of voxels (" + std::to_string(N) + "); the embedding is fitted on all of them.");
+      ") exceeds the number of " + what + " (" + std::to_string(Ns) + "); the embedding is fitted on all of them.");
   }
   ReferenceSampleOptions so;
   so.size = options.referenceSampleSize;
   so.seed = options.randomSeed;
+  so.eligible = mask;
   ReferenceSample sample = drawReferenceSample(features.data, features.cols, rows, used, usedMean, so, comm);
   if (!sample.error.empty())
   {
@@ -678,7 +709,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   }
   result.referenceIndices = std::move(sample.indices);
   const std::size_t M = result.referenceIndices.size();
-  const std::size_t wanted = std::min(options.referenceSampleSize, N);
+  const std::size_t wanted = std::min(options.referenceSampleSize, Ns);
   if (M < wanted)
   {
     result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +

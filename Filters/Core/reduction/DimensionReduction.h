@@ -56,6 +56,12 @@ struct ReductionOptions
   // a zero-filled buffer and a copy as large as the output (85 MB for the 7.1 M-voxel brain
   // in 3D). Undefined where the reduction fails.
   float* coordinatesOutput = nullptr;
+  // Optional, one byte per row (features.rows): rows marked 0 (the background of a volume:
+  // the Foreground array of MultichannelFeatures) are never drawn into the reference
+  // sample, so the embedding, its spectrum and trustworthiness describe the foreground.
+  // They are still placed out of sample like every row. Null: every row may be drawn. A
+  // mask that marks no row at all is ignored (warning).
+  const unsigned char* sampleMask = nullptr;
 
   // Split over processes (Communicator.h): every process calls reduceDimension with its own
   // rows and the same options, and all get the answer one process would give for the whole
@@ -87,6 +93,8 @@ struct ReductionResult
   std::vector<int> usedColumns;      // features kept (zero-variance ones are dropped)
   std::vector<std::int64_t> referenceIndices; // rows the embedding was fitted on: global
                                               // indices (voxels of the whole volume)
+  std::size_t sampledVoxels = 0;     // voxels (all processes) the sample was drawn from:
+                                     // those sampleMask marks, or all of them
   Device deviceUsed = Device::CPU;
   double fitMs = 0, placeMs = 0, totalMs = 0;
   bool ok() const { return error.empty(); }

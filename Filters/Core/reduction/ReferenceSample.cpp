@@ -131,9 +131,15 @@ struct Candidate
   std::size_t vector; // row in the merged vector buffer
 };
 
-// Calls visit(row, global) for every owned row, OpenMP over runs.
+// True when row may be drawn: `eligible` null (every row) or non-zero at the row.
+inline bool isEligible(const unsigned char* eligible, std::size_t row)
+{
+  return eligible == nullptr || eligible[row] != 0;
+}
+
+// Calls visit(row, global) for every owned eligible row, OpenMP over runs.
 template <class Visit>
-void forOwned(const RowLayout& rows, const Visit& visit)
+void forOwned(const RowLayout& rows, const unsigned char* eligible, const Visit& visit)
 {
   const long long runs = static_cast<long long>(rows.runCount());
 #pragma omp parallel for schedule(static)
@@ -142,15 +148,18 @@ void forOwned(const RowLayout& rows, const Visit& visit)
     const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
     for (std::size_t t = 0; t < run.count; ++t)
     {
-      visit(run.row + t, run.global + static_cast<std::int64_t>(t));
+      if (isEligible(eligible, run.row + t))
+      {
+        visit(run.row + t, run.global + static_cast<std::int64_t>(t));
+      }
     }
   }
 }
 
-// Calls visit(row, global, found) for every owned row, OpenMP over runs, and returns what
-// the visits appended to `found`, in no particular order (callers sort by key).
+// Calls visit(row, global, found) for every owned eligible row, OpenMP over runs, and
+// returns what the visits appended to `found`, in no particular order (callers sort by key).
 template <class T, class Visit>
-std::vector<T> collectOwned(const RowLayout& rows, const Visit& visit)
+std::vector<T> collectOwned(const RowLayout& rows, const unsigned char* eligible, const Visit& visit)
 {
   std::vector<T> all;
   const long long runs = static_cast<long long>(rows.runCount());
@@ -163,7 +172,10 @@ std::vector<T> collectOwned(const RowLayout& rows, const Visit& visit)
       const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
       for (std::size_t t = 0; t < run.count; ++t)
       {
-        visit(run.row + t, run.global + static_cast<std::int64_t>(t), found);
+        if (isEligible(eligible, run.row + t))
+        {
+          visit(run.row + t, run.global + static_cast<std::int64_t>(t), found);
+        }
       }
     }
 #pragma omp critical(mcvCollectOwned)
@@ -255,7 +267,7 @@ void Sampler::copyVector(std::size_t row, float* out) const
 std::vector<float> Sampler::edgeSubsample(double total) const
 {
   const std::uint64_t limit = keyLimit(kEdgeSubsample / total);
-  return collectOwned<float>(rows_, [&](std::size_t row, std::int64_t g, std::vector<float>& found) {
+  return collectOwned<float>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<float>& found) {
     if (sampleKey(options_.seed, g) <= limit)
     {
       found.push_back(norm(row));
@@ -281,15 +293,15 @@ std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
 std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
 {
   stratum_.assign(rows_.size(), kNotOwned);
-  forOwned(rows_, [&](std::size_t row, std::int64_t) {
+  forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {
     stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(row)) - edges.begin());
   });
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
-  count[0] = rows_.ownedCount();
   for (std::uint8_t s : stratum_)
   {
     if (s != kNotOwned)
     {
+      ++count[0];
       ++count[1 + s];
     }
   }
@@ -361,7 +373,7 @@ void Sampler::collect(const std::vector<std::size_t>& which)
     Entry entry;
   };
   const std::vector<Found> found =
-    collectOwned<Found>(rows_, [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
+    collectOwned<Found>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
       const std::uint64_t key = sampleKey(options_.seed, g);
       for (std::size_t w = 0; w < which.size(); ++w)
       {
@@ -408,7 +420,7 @@ std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found) const
 // it is asked for more than there are), in index order. On one process only.
 ReferenceSample Sampler::everyDistinctVector() const
 {
-  std::vector<Entry> reps = distinctInKeyOrder(collectOwned<Entry>(rows_,
+  std::vector<Entry> reps = distinctInKeyOrder(collectOwned<Entry>(rows_, options_.eligible,
     [&](std::size_t row, std::int64_t g, std::vector<Entry>& out) { out.push_back({ sampleKey(options_.seed, g), g, row }); }));
   std::sort(reps.begin(), reps.end(), [](const Entry& a, const Entry& b) { return a.global < b.global; });
   ReferenceSample out;
@@ -574,8 +586,8 @@ bool Sampler::decide(const std::vector<char>& all, std::vector<bool>& more, Refe
 ReferenceSample Sampler::draw()
 {
   ReferenceSample out;
-  // Voxels of all processes: the edge subsample and the first guesses depend on it.
-  std::vector<double> total{ static_cast<double>(rows_.ownedCount()) };
+  // Eligible voxels of all processes: the edge subsample and the first guesses depend on it.
+  std::vector<double> total{ static_cast<double>(eligibleCount(rows_, options_.eligible)) };
   if (comm_)
   {
     comm_->sum(total);
@@ -696,6 +708,26 @@ RowLayout::Run RowLayout::run(std::size_t r) const
   out.global = piece_.globalIndex(static_cast<std::int64_t>(out.row), block_);
   out.count = static_cast<std::size_t>(piece_.ownedHi[0] - piece_.ownedLo[0] + 1);
   return out;
+}
+
+std::size_t eligibleCount(const RowLayout& rows, const unsigned char* eligible)
+{
+  if (!eligible)
+  {
+    return rows.ownedCount();
+  }
+  std::size_t count = 0;
+  const long long runs = static_cast<long long>(rows.runCount());
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (long long r = 0; r < runs; ++r)
+  {
+    const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
+    for (std::size_t t = 0; t < run.count; ++t)
+    {
+      count += eligible[run.row + t] != 0 ? 1 : 0;
+    }
+  }
+  return count;
 }
 
 std::uint64_t sampleKey(std::uint64_t seed, std::int64_t globalIndex)

@@ -18,6 +18,8 @@
 //  - the rest is uniform (keeps the density: what is common in the volume is common in the
 //    domain): the distinct vectors with the smallest keys among those not yet taken.
 // When fewer distinct vectors exist than asked for, all of them are returned.
+// Rows marked 0 in ReferenceSampleOptions::eligible (the background of a volume) are never
+// drawn and count in no stratum: the sample is that of the eligible voxels alone.
 //
 // Split over processes, no process sees all voxels: each proposes its own candidates in key
 // order, all gather the candidates (O(M) vectors), merge them by key and, while the merged
@@ -77,6 +79,9 @@ struct ReferenceSampleOptions
   std::uint64_t seed = 0;
   int strata = 8;
   double stratifiedFraction = 0.5; // of the sample shared equally among the strata
+  // Optional, one byte per row of this process (RowLayout::size()): 0 = never drawn. Null:
+  // every owned row may be drawn.
+  const unsigned char* eligible = nullptr;
 };
 
 struct ReferenceSample
@@ -97,6 +102,10 @@ ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout&
 // vectors; when size >= n every distinct row is returned.
 std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, int dim,
   const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options);
+
+// This process's owned rows that `eligible` (ReferenceSampleOptions::eligible; null:
+// every row) lets the sample draw.
+std::size_t eligibleCount(const RowLayout& rows, const unsigned char* eligible);
 
 // The random key of a voxel: a bijection of the global index for a given seed (keys never
 // tie), uniform over 64 bits.

@@ -14,15 +14,28 @@
 namespace mcv
 {
 
-void distinctColor(int index, int count, double rgb[3])
+namespace
 {
-  const double h = count > 0 ? 6.0 * static_cast<double>(index) / static_cast<double>(count) : 0.0;
-  const double s = 0.85, v = 1.0;
-  const int sector = static_cast<int>(std::floor(h)) % 6;
-  const double f = h - std::floor(h);
-  const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
-  const double table[6][3] = { { v, t, p }, { q, v, p }, { p, v, t }, { p, q, v }, { t, p, v }, { v, p, q } };
-  std::copy(table[sector], table[sector] + 3, rgb);
+// ColorBrewer Set1 (Cynthia Brewer, colorbrewer2.org) without its grey, in its own order.
+constexpr int kPaletteSize = 8;
+constexpr unsigned char kSet1[kPaletteSize][3] = { { 0xE4, 0x1A, 0x1C }, { 0x37, 0x7E, 0xB8 },
+  { 0x4D, 0xAF, 0x4A }, { 0x98, 0x4E, 0xA3 }, { 0xFF, 0x7F, 0x00 }, { 0xFF, 0xFF, 0x33 },
+  { 0xA6, 0x56, 0x28 }, { 0xF7, 0x81, 0xBF } };
+} // namespace
+
+int widgetPaletteSize()
+{
+  return kPaletteSize;
+}
+
+void widgetColor(int index, double rgb[3])
+{
+  const int i = ((index % (2 * kPaletteSize)) + 2 * kPaletteSize) % (2 * kPaletteSize);
+  const double shade = i < kPaletteSize ? 1.0 : 0.6;
+  for (int c = 0; c < 3; ++c)
+  {
+    rgb[c] = shade * kSet1[i % kPaletteSize][c] / 255.0;
+  }
 }
 
 namespace
@@ -64,6 +77,37 @@ Points kmeansPlusPlus(const Points& X, int k, std::uint64_t seed)
     nearest = nearest.cwiseMin((X.rowwise() - centres.row(c)).rowwise().squaredNorm());
   }
   return centres;
+}
+
+// sigma of an isotropic Gaussian with the cluster's RMS spread; a cluster of identical
+// points gets a tenth of the domain's (a usable widget rather than a zero-width one).
+double clusterSigma(double squaredSpread, std::size_t m, int dims, double domainSigma)
+{
+  const double sigma = m > 0 ? std::sqrt(squaredSpread / (static_cast<double>(m) * dims)) : 0.0;
+  if (sigma > 0)
+  {
+    return sigma;
+  }
+  return domainSigma > 0 ? 0.1 * domainSigma : 1.0;
+}
+
+// Peak opacity of the largest of several seeded widgets, as a fraction of the others'
+// (WidgetSeeding.h says why).
+constexpr double kVeilOpacity = 0.05;
+
+// Distance from centre c to the nearest other centre (0 when there is none).
+double nearestOtherCentre(const Points& centres, int c)
+{
+  double nearest = 0;
+  for (Eigen::Index o = 0; o < centres.rows(); ++o)
+  {
+    if (o != c)
+    {
+      const double d = (centres.row(o) - centres.row(c)).norm();
+      nearest = nearest > 0 ? std::min(nearest, d) : d;
+    }
+  }
+  return nearest;
 }
 
 } // namespace
@@ -154,14 +198,18 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     }
   }
 
-  // Spread per cluster, then order by size (ties: by centre, so the order is deterministic).
+  // Spread and points per cluster, and its size: the voxels its points stand for (their
+  // weights). Then order by size (stable: equal sizes keep k-means' order, so the order is
+  // deterministic).
   std::vector<double> spread(static_cast<std::size_t>(k), 0.0);
-  std::vector<std::size_t> size(static_cast<std::size_t>(k), 0);
+  std::vector<std::size_t> count(static_cast<std::size_t>(k), 0);
+  std::vector<double> size(static_cast<std::size_t>(k), 0.0);
   for (Eigen::Index r = 0; r < X.rows(); ++r)
   {
     const int c = label[static_cast<std::size_t>(r)];
     spread[static_cast<std::size_t>(c)] += (X.row(r) - centres.row(c)).squaredNorm();
-    ++size[static_cast<std::size_t>(c)];
+    ++count[static_cast<std::size_t>(c)];
+    size[static_cast<std::size_t>(c)] += options.weights ? options.weights[finite[static_cast<std::size_t>(r)]] : 1.0;
   }
   // The domain's own spread: sigma for a cluster of one point (or identical points).
   const double domainSigma =
@@ -173,7 +221,7 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
   std::vector<int> rank(static_cast<std::size_t>(k), -2);
   if (first > 0)
   {
-    out.skippedSize = size[static_cast<std::size_t>(order[0])];
+    out.skippedSize = static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(order[0])]));
   }
   for (int i = first; i < k; ++i)
   {
@@ -184,27 +232,21 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
     {
       w.center[d] = centres(c, d);
     }
-    const std::size_t m = size[static_cast<std::size_t>(c)];
-    double sigma = m > 0 ? std::sqrt(spread[static_cast<std::size_t>(c)] / (static_cast<double>(m) * dims)) : 0.0;
-    if (!(sigma > 0))
+    w.sigma = clusterSigma(spread[static_cast<std::size_t>(c)], count[static_cast<std::size_t>(c)], dims, domainSigma);
+    // Little overlap: at most a quarter of the way to the nearest other centre (the
+    // skipped background's included, which then keeps a weight below exp(-8)).
+    const double nearest = nearestOtherCentre(centres, c);
+    if (nearest > 0)
     {
-      sigma = domainSigma > 0 ? 0.1 * domainSigma : 1.0;
+      w.sigma = std::min(w.sigma, 0.25 * nearest);
     }
-    if (first > 0)
-    {
-      // Keep the skipped background dark: its centre gets a weight below exp(-8) (the
-      // background fills most of the volume, so even a faint weight there becomes a haze).
-      const double toBackground = (centres.row(c) - centres.row(order[0])).norm();
-      if (toBackground > 0)
-      {
-        sigma = std::min(sigma, 0.25 * toBackground);
-      }
-    }
-    w.sigma = sigma;
-    distinctColor(i - first, k - first, w.color);
-    w.opacity = std::min(1.0, std::max(0.0, options.opacity));
+    widgetColor(i - first, w.color);
+    // The largest of several widgets is the class that holds the others (a head's scalp
+    // and skull around the brain once the air is masked): a faint veil.
+    const bool veil = i == first && k - first > 1;
+    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) * (veil ? kVeilOpacity : 1.0);
     out.widgets.push_back(w);
-    out.clusterSizes.push_back(m);
+    out.clusterSizes.push_back(static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(c)])));
   }
   out.labels.assign(points.count, -1);
   for (std::size_t r = 0; r < finite.size(); ++r)

@@ -20,7 +20,9 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
     already holds feature vectors (then no MultichannelFeatures filter is made and the
     first proxy returned is `source`). ``props`` are further DimensionReduction
     properties (NumberOfNeighbors, NumberOfLandmarks, ReferenceSampleSize, RandomSeed,
-    Device). Nothing is shown or updated; the reduced coordinates are the point array
+    Device). MultichannelFeatures marks the background (its MaskBackground, on by
+    default), so the reduction is fitted on foreground voxels; ``feats.MaskBackground = 0``
+    fits on every voxel. Nothing is shown or updated; the reduced coordinates are the point array
     ReducedCoordinates of the reduction's first output, its spectrum the second output::
 
         feats, red = mce.reduce_multichannel(volume, "PCA", "6D", ReferenceSampleSize=5000)

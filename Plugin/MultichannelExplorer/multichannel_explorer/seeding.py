@@ -13,9 +13,13 @@ __all__ = [
 def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20000,
                  skip_background=True):
     """Seeds `count` Gaussian widgets at the k-means cluster centres of the reduced domain
-    (largest cluster first, distinct hues, sigma = each cluster's spread, peak `opacity`).
-    With `skip_background` (default) count + 1 clusters are made and the largest, almost
-    always the volume's background, gets no widget.
+    (largest cluster first, colours of ColorBrewer Set1, sigma = each cluster's spread
+    capped at a quarter of the distance to the nearest other cluster, peak `opacity`, the
+    largest of several widgets 0.05 x `opacity`: a veil over what it holds).
+    Voxels the volume's Foreground array (MultichannelFeatures' MaskBackground, on by
+    default) marks as background are left out. Without such an array, `skip_background`
+    (default) makes count + 1 clusters and leaves the largest, almost always the volume's
+    background, without a widget; with one it has no effect.
 
     `target` is a volume with ReducedCoordinates or its "Gaussian TF Volume" display; when
     a display is given (or the volume is shown as one in `view`), its GaussianWidgets are
