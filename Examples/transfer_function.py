@@ -119,6 +119,18 @@ best = timed("best viewpoint", lambda: mce.apply_best_viewpoint(reduction, view,
 if not best.valid:
     sys.exit("no best viewpoint for these widgets (their opacity is flat or empty)")
 SaveScreenshot(os.path.join(args.output, "best.png"), view)
+
+
+def camera_of(view):
+    """What best.png was rendered with: tests re-render the brain's silhouette with it."""
+    return {"position": list(view.CameraPosition), "focal_point": list(view.CameraFocalPoint),
+            "view_up": list(view.CameraViewUp), "view_angle": float(view.CameraViewAngle),
+            "parallel_projection": int(view.CameraParallelProjection),
+            "parallel_scale": float(view.CameraParallelScale),
+            "size": [int(v) for v in view.ViewSize], "background": list(view.Background)}
+
+
+best_camera = camera_of(view)
 worst = mce.apply_best_viewpoint(reduction, view, which="worst", disambiguate=True)
 SaveScreenshot(os.path.join(args.output, "worst.png"), view)
 mce.apply_best_viewpoint(reduction, view, disambiguate=True)
@@ -216,6 +228,7 @@ report = {
     "best_direction": best.direction,
     "worst_direction": worst.direction,
     "view_up": best.view_up,
+    "best_camera": best_camera,
     "view_eigenvalues": best.eigenvalues,
     "device": best.device,
     "viewpoint_stage_ms": dict(zip(("harris", "select", "pca", "total"),

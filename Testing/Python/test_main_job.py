@@ -8,7 +8,10 @@ not blank, that the best-view image shows the seeded widgets' colours: pixels wh
 colour is near a widget's hue, for at least two widgets; that spectrum.png has its bars
 (along the row just above the axis: as many runs of the kept bars' colour as eigenvalues
 kept, of the other colour as the others shown) and that methods.png has three panels of
-points, widget-coloured and grey.
+points, widget-coloured and grey; and that nothing glows around the head: every pixel of
+best.png outside the silhouette of the brain's foreground voxels (re-rendered here with
+best.png's camera as the Foreground = 0.5 surface, dilated by 4 pixels) is the view's
+background colour.
 """
 import json
 import math
@@ -155,4 +158,69 @@ for i in range(pixels.GetNumberOfTuples()):
             counts[w] += 1
 C.check(sum(1 for c in counts if c > 50) >= 2,
         "best view shows the widgets' colours (pixels per widget hue: %s)" % counts)
+
+
+def foreground_silhouette(camera):
+    """Pixels (rows bottom-up, as vtkPNGReader's) whose ray meets the brain's foreground:
+    the Foreground = 0.5 surface of the same channels, white on black, with best.png's
+    camera; dilated by 4 pixels (the renderer fades the mask over up to a voxel)."""
+    from paraview import simple
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    readers = [simple.OpenDataFile(T.data_file(n))
+               for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+    features = simple.MultichannelFeatures(Input=simple.AppendAttributes(Input=readers),
+                                           FeatureSet="6D")
+    surface = simple.Contour(Input=features, ContourBy=["POINTS", "Foreground"],
+                             Isosurfaces=[0.5])
+    view = simple.CreateView("RenderView")
+    view.ViewSize = camera["size"]
+    view.OrientationAxesVisibility = 0
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    view.Background = [0, 0, 0]
+    display = simple.Show(surface, view)
+    simple.ColorBy(display, None)
+    display.AmbientColor = display.DiffuseColor = [1, 1, 1]
+    display.Ambient, display.Diffuse = 1.0, 0.0
+    view.CameraPosition = camera["position"]
+    view.CameraFocalPoint = camera["focal_point"]
+    view.CameraViewUp = camera["view_up"]
+    view.CameraViewAngle = camera["view_angle"]
+    view.CameraParallelProjection = camera["parallel_projection"]
+    view.CameraParallelScale = camera["parallel_scale"]
+    path = os.path.join(out, "foreground_silhouette.png")
+    simple.SaveScreenshot(path, view, ImageResolution=camera["size"])
+    image = mce._read_png(path)
+    w, h = image.GetDimensions()[:2]
+    inside = vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].max(axis=1).reshape(h, w) > 0
+    grown = inside.copy()
+    for dy in range(-4, 5):
+        for dx in range(-4, 5):
+            grown |= np.roll(np.roll(inside, dy, axis=0), dx, axis=1)
+    return grown
+
+
+camera = report.get("best_camera")
+if C.check(camera is not None, "report: best_camera recorded"):
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    silhouette = foreground_silhouette(camera)
+    w, h = image.GetDimensions()[:2]
+    best_rgb = vtk_to_numpy(pixels)[:, :3].reshape(h, w, 3).astype(int)
+    background = np.array([round(255 * c) for c in camera["background"]])
+    outside = ~silhouette
+    outside[: h // 4, : w // 4] = False  # the orientation axes (bottom left)
+    glow = outside & (np.abs(best_rgb - background).max(axis=2) > 2)
+    print("silhouette covers %d of %d pixels; %d pixels outside it are not the background %s"
+          % (silhouette.sum(), w * h, glow.sum(), background.tolist()))
+    C.check(silhouette.sum() > 0.05 * w * h and outside.sum() > 0.2 * w * h,
+            "the brain's silhouette is neither empty nor everything")
+    C.check(glow.sum() <= 0.001 * outside.sum(),
+            "no glow around the head: %d pixels outside the brain's silhouette differ from "
+            "the background" % glow.sum())
 C.finish()
