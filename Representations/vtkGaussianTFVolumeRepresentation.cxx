@@ -265,7 +265,7 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   double AlphaRampUnitDistance = 0;
   vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
   std::string ShaderKey;                          // blend mode and jitter of the replacements
-  bool FallbackWarned = false;
+  bool RenderModeReported = false; // the error about a render mode without the GPU ray caster
 
   void UpdateAlphaRamp(double unitDistance)
   {
@@ -400,7 +400,11 @@ void vtkGaussianTFVolumeRepresentation::SetJittering(bool jittering)
 
 void vtkGaussianTFVolumeRepresentation::SetRequestedRenderMode(int mode)
 {
-  this->RequestedRenderMode = mode;
+  if (mode != this->RequestedRenderMode)
+  {
+    this->RequestedRenderMode = mode;
+    this->Internals->SettingsTime.Modified(); // may switch between per sample and per voxel
+  }
   this->Superclass::SetRequestedRenderMode(mode);
 }
 
@@ -435,22 +439,24 @@ int vtkGaussianTFVolumeRepresentation::GetRGBAValid()
 }
 
 //------------------------------------------------------------------------------
-bool vtkGaussianTFVolumeRepresentation::UsePerSample()
+bool vtkGaussianTFVolumeRepresentation::GPURayCasterRequested()
 {
-  if (this->Classification != PER_SAMPLE)
-  {
-    return false;
-  }
-  // The shader replacements exist in VTK's GPU ray caster only; ParaView's "Ray Cast Only"
-  // (CPU) and OSPRay modes render without them.
+  // Both classifications need VTK's GPU ray caster: the shader replacements exist there
+  // only, and ParaView's CPU ray caster ("Ray Cast Only") takes no multi-component data,
+  // so it would draw nothing per voxel either (seen with ParaView 5.11: "Data array
+  // GaussianTF_RGBA is not supported by FixedPointVolumeRCMapper").
   const bool gpu = this->RequestedRenderMode == vtkSmartVolumeMapper::DefaultRenderMode ||
     this->RequestedRenderMode == vtkSmartVolumeMapper::GPURenderMode;
-  if (!gpu && !this->Internals->FallbackWarned)
+  if (!gpu && !this->Internals->RenderModeReported)
   {
-    vtkWarningMacro(<< "Per-sample classification needs the GPU ray caster (Volume "
-                       "Rendering Mode 'Smart' or 'GPU Based'); classifying per voxel instead.");
-    this->Internals->FallbackWarned = true;
+    vtkErrorMacro(<< "The Gaussian TF Volume is drawn by the GPU ray caster only: set Volume "
+                     "Rendering Mode to 'Smart' or 'GPU Based' (nothing is drawn with '"
+                  << (this->RequestedRenderMode == vtkSmartVolumeMapper::RayCastRenderMode
+                         ? "Ray Cast Only"
+                         : "OSPRay Based")
+                  << "').");
   }
+  this->Internals->RenderModeReported = !gpu;
   return gpu;
 }
 
@@ -690,7 +696,8 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
   const int updatesBefore = this->NumberOfComputations + this->NumberOfTextureBuilds;
   vtkInternals& internals = *this->Internals;
   auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
-  const bool perSample = this->UsePerSample();
+  const bool gpuRayCaster = this->GPURayCasterRequested();
+  const bool perSample = gpuRayCaster && this->Classification == PER_SAMPLE;
   // The widgets' opacity is accumulated over the volume's Scalar Opacity Unit Distance.
   const double unitDistance = std::max(1e-6, this->Property->GetScalarOpacityUnitDistance());
   const bool mip = this->GaussianBlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
@@ -730,6 +737,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
   this->VolumeMapper->SetScalarMode(VTK_SCALAR_MODE_USE_POINT_FIELD_DATA);
   this->Actor->SetMapper(this->VolumeMapper);
   // Bad input: draw nothing rather than stale or garbage colours.
+  internals.Valid = internals.Valid && gpuRayCaster;
   this->Actor->SetVisibility(internals.Valid);
 
   if (this->VolumeMapper->GetCropping())

@@ -18,8 +18,9 @@
  *   Distance), corrected for the sample distance; rays are jittered (property Jittering).
  * - Per voxel: the VTK-free core (mcv::applyGaussianWidgets, CPU or CUDA) computes a uint8
  *   RGBA point array `GaussianTF_RGBA` that the ray caster interpolates as dependent
- *   components (pre-classification). Also the fallback, with one warning, where the
- *   shader path cannot run (a ray cast mode other than the GPU's).
+ *   components (pre-classification). Any number of widgets; colours on the CPU or CUDA.
+ * Both need VTK's GPU ray caster (Volume Rendering Mode Smart or GPU Based): with another
+ * mode the representation reports an error and draws nothing.
  * Voxels whose mask array (MaskArray, `Foreground` of MultichannelFeatures by default) is
  * 0, and voxels with non-finite coordinates, are transparent in both.
  *
@@ -120,7 +121,7 @@ public:
 
   /**
    * ParaView's Volume Rendering Mode, forwarded to the volume mapper; remembered because
-   * per-sample classification needs the GPU ray caster (Default or GPU).
+   * the representation needs the GPU ray caster (Default or GPU).
    */
   void SetRequestedRenderMode(int mode);
 
@@ -186,7 +187,7 @@ private:
   // Both return false (after an error) when nothing can be drawn.
   bool UpdateRGBA();
   bool UpdatePerSample();
-  bool UsePerSample();
+  bool GPURayCasterRequested();
 
   int Classification = PER_SAMPLE;
   int RequestedRenderMode = 0;

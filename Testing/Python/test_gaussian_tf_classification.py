@@ -12,6 +12,8 @@ answers, on synthetic volumes seen along -z with a parallel camera on black:
 * opacity per unit length: a uniform slab of depth L under a widget of peak opacity a
   shows the colour times 1 - (1 - a)^(L / u) for the Scalar Opacity Unit Distance u, in
   both classifications (u = 1 and 4);
+* a Volume Rendering Mode without the GPU ray caster ("Ray Cast Only"): one error, nothing
+  drawn, drawn again with "Smart"; a string array as coordinates: an error;
 * Jittering: on by default; on and off draw the same mean brightness, and on changes
   pixels (the sample planes move).
 """
@@ -174,5 +176,48 @@ print("mean brightness jitter on %.2f off %.2f; %d sampled pixels differ"
 C.check(means[0] > 5 and abs(means[1] - means[0]) <= 0.03 * means[0],
         "jittering keeps the mean brightness (%.2f vs %.2f)" % (means[1], means[0]))
 C.check(changed > 100, "jittering moves the samples (%d pixels differ)" % changed)
+simple.Hide(sphere, view)
+
+# --- a render mode without the GPU ray caster: one clear error, nothing drawn -------------
+display = mce.show_gaussian_tf(halves, view, widgets=WIDGETS)
+G.look_down_z(view, [0, N - 1] * 3)
+msgs = G.messages(display)
+for mode in MODES:
+    msgs.clear()
+    display.Classification = mode
+    display.VolumeRenderingMode = "Ray Cast Only"
+    simple.Render(view)
+    s = G.Shot(view, G.output_path("classification_ray_cast_only.png"))
+    print("Ray Cast Only, %s: errors %s, info %s, max pixel %d"
+          % (mode, msgs.errors, G.info(display), s.max_channel()))
+    C.check(B.sum(1 for e in msgs.errors if "GPU ray caster only" in e and "Smart" in e) == 1
+            and G.info(display)["valid"] == 0 and s.max_channel() <= 10,
+            "Ray Cast Only, %s: one error naming the mode to use, nothing drawn" % mode)
+    display.VolumeRenderingMode = "Smart"
+    simple.Render(view)
+    s = G.Shot(view, G.output_path("classification_smart_again.png"))
+    C.check(G.info(display)["valid"] == 1 and s.max_channel() > 60,
+            "back to Smart, %s: drawn again" % mode)
+simple.Hide(halves, view)
+
+# --- a coordinate array that is not numeric: a clear error, nothing drawn --------------
+names = simple.ProgrammableFilter(Input=halves)
+names.Script = """
+from vtkmodules.vtkCommonCore import vtkStringArray
+out = self.GetOutput()
+out.ShallowCopy(self.GetInput())
+a = vtkStringArray()
+a.SetName("Labels")
+a.SetNumberOfTuples(out.GetNumberOfPoints())
+out.GetPointData().AddArray(a)
+"""
+display = mce.show_gaussian_tf(names, view, widgets=WIDGETS, coordinates="Labels")
+msgs = G.messages(display)
+simple.Render(view)
+s = G.Shot(view, G.output_path("classification_string_array.png"))
+print("string array: errors %s, info %s, max pixel %d"
+      % (msgs.errors, G.info(display), s.max_channel()))
+C.check(msgs.any_error("Labels", "not a numeric point array") and G.info(display)["valid"] == 0
+        and s.max_channel() <= 10, "a string array as coordinates: an error, nothing drawn")
 
 C.finish()
