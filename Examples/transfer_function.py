@@ -246,8 +246,10 @@ with open(os.path.join(args.output, "report.json"), "w") as f:
     json.dump(report, f, indent=2)
 
 fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
-print("\n%d voxels, %s features, %s: variance retained %.3f, trustworthiness %.3f"
-      % (report["voxels"], args.features, args.method, report["variance_retained"],
+variance_text = ("n/a (LLE has no variance spectrum)" if args.method == "LLE"
+                 else "%.3f" % report["variance_retained"])
+print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
+      % (report["voxels"], args.features, args.method, variance_text,
          report["trustworthiness"]))
 print("%d widgets seeded; best view %s, worst %s, view eigenvalues %s"
       % (len(report["widgets"]), fmt(best.direction), fmt(worst.direction),
