@@ -92,6 +92,18 @@ std::vector<T> cropValues(const std::vector<T>& values, int components, const mc
   return out;
 }
 
+// Every channel cropped to a block's extent (its piece plus ghost layers).
+std::vector<std::vector<float>> cropChannels(const std::vector<std::vector<float>>& channels,
+  const mcv::ImageGrid& from, const Extent& box)
+{
+  std::vector<std::vector<float>> out;
+  for (const auto& c : channels)
+  {
+    out.push_back(cropValues(c, 1, from, box));
+  }
+  return out;
+}
+
 // Smooth blobs plus noise: many corners, distinct responses.
 std::vector<float> blobVolume(const mcv::ImageGrid& g, unsigned seed)
 {
@@ -213,11 +225,7 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
     group.run([&](int rank, const mcv::Communicator& comm) {
       const Extent& piece = pieces[static_cast<std::size_t>(rank)];
       const Block b = makeBlock(wholeExtent, piece, 1, whole);
-      std::vector<std::vector<float>> local;
-      for (const auto& c : data)
-      {
-        local.push_back(cropValues(c, 1, whole, b.extent));
-      }
+      const std::vector<std::vector<float>> local = cropChannels(data, whole, b.extent);
       mcv::FeatureOptions o = options;
       o.communicator = &comm;
       o.piece = b.piece;
@@ -296,11 +304,7 @@ TEST_P(Distributed, BackgroundMaskEqualsOneProcess)
   group.run([&](int rank, const mcv::Communicator& comm) {
     const Extent& piece = pieces[static_cast<std::size_t>(rank)];
     const Block b = makeBlock(wholeExtent, piece, 1, whole);
-    std::vector<std::vector<float>> local;
-    for (const auto& c : data)
-    {
-      local.push_back(cropValues(c, 1, whole, b.extent));
-    }
+    const std::vector<std::vector<float>> local = cropChannels(data, whole, b.extent);
     mcv::BackgroundMaskOptions o = options;
     o.communicator = &comm;
     o.piece = b.piece;
