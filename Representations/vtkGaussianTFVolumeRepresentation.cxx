@@ -547,6 +547,10 @@ bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     }
     runWarnings.insert(runWarnings.end(), run.warnings.begin(), run.warnings.end());
     internals.DeviceUsed = mcv::deviceName(run.deviceUsed);
+    if (this->Device == vtkMultichannelAlgorithm::DEVICE_AUTO && run.deviceUsed == mcv::Device::CPU)
+    {
+      vtkMultichannelAlgorithm::NoteAutoDeviceOnCPU();
+    }
     rgba->Modified();            // new texture upload; also drops the cached ranges...
     anchorRanges(rgba, 255.0);   // ...which are set again to [0, 255] per component
   }

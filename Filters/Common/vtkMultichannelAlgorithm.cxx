@@ -5,6 +5,7 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLogger.h"
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
@@ -106,6 +107,25 @@ mcv::Device vtkMultichannelAlgorithm::GetRequestedDevice() const
 void vtkMultichannelAlgorithm::SetDeviceUsed(mcv::Device device)
 {
   this->Internals->DeviceUsed = mcv::deviceName(device);
+  if (this->GetRequestedDevice() == mcv::Device::Auto && device == mcv::Device::CPU)
+  {
+    NoteAutoDeviceOnCPU();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::NoteAutoDeviceOnCPU()
+{
+  // Device Auto without a usable GPU is the expected case on most desktops: one line at
+  // INFO level per process, not a warning that opens ParaView's Output Messages window.
+  static bool noted = false;
+  if (!noted)
+  {
+    noted = true;
+    std::string why;
+    mcv::gpuUsable(&why);
+    vtkLog(INFO, "Multichannel Explorer: Device Auto runs on the CPU (no usable GPU: " << why << ").");
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -149,6 +149,16 @@ protected:
   mcv::Device GetRequestedDevice() const;
   void SetDeviceUsed(mcv::Device device);
 
+public:
+  /**
+   * Logs once per process, at INFO level, that Device Auto runs on the CPU and why (no
+   * warning: that is the expected case without a GPU). Called by the filters and the
+   * Gaussian TF Volume representation.
+   */
+  static void NoteAutoDeviceOnCPU();
+
+protected:
+
   // Progress for the core, mapped to [from, to]. UpdateProgress fires VTK events: only
   // calls from the pipeline's thread are passed on. The staged form also sets the text.
   // Abort: when AbortExecute is set (a ProgressEvent observer may set it), the next report

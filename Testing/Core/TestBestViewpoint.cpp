@@ -216,4 +216,25 @@ TEST(BestViewpoint, GpuRequestWithoutGpuFallsBackWithWarning)
   EXPECT_TRUE(r.view.valid);
 }
 
+TEST(BestViewpoint, AutoWithoutGpuRunsOnTheCpuWithoutAWarning)
+{
+  if (mcv::gpuUsable())
+  {
+    GTEST_SKIP() << "a GPU is usable here; Auto takes it";
+  }
+  mcv::ImageGrid g;
+  g.dims = { 24, 24, 24 };
+  const std::vector<float> I = blobVolume(g, { { 8, 8, 8 }, { 16, 12, 10 }, { 10, 18, 16 } }, 1.5);
+  mcv::BestViewpointOptions o;
+  o.device = mcv::Device::Auto;
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_EQ(r.deviceUsed, mcv::Device::CPU);
+  for (const std::string& w : r.warnings)
+  {
+    EXPECT_EQ(w.find("GPU"), std::string::npos) << w;
+  }
+  EXPECT_TRUE(r.view.valid);
+}
+
 } // namespace

@@ -147,6 +147,14 @@ if C.check(arrm is not None, "MinMax: Features array"):
             "MinMax: every column spans [0, 1]")
 Delete(fm)
 
+# Device=Auto: the GPU where there is one, else the CPU without a warning (the expected
+# case: no Output Messages window for it).
+fa, msgs = run("Auto", merged, Channels=names, FeatureSet="6D", Device="Auto")
+used = fa.GetPropertyValue("DeviceUsed")
+C.check(not msgs.errors and not B.any("GPU" in w for w in msgs.warnings),
+        "Device=Auto: runs on %s without a GPU warning (%s)" % (used, msgs.warnings))
+Delete(fa)
+
 # Device=GPU: the GPU where there is one, else the CPU with a warning; same values.
 fg, msgs = run("GPU", merged, Channels=names, FeatureSet="6D", Device="GPU")
 _, arrg = features_of(fg)

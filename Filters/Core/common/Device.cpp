@@ -61,10 +61,9 @@ Device resolveDevice(Device requested, std::string* warning)
   {
     return Device::GPU;
   }
-  if (warning)
+  if (warning && requested == Device::GPU)
   {
-    *warning = std::string("Device ") + deviceName(requested) + ": no usable GPU (" + why +
-      "); running on the CPU.";
+    *warning = std::string("Device GPU: no usable GPU (") + why + "); running on the CPU.";
   }
   return Device::CPU;
 }

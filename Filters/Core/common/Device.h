@@ -8,7 +8,8 @@ namespace mcv
 
 enum class Device
 {
-  Auto = 0, // the GPU when one is usable, else the CPU (with a one-line warning)
+  Auto = 0, // the GPU when one is usable, else the CPU (no warning: the expected case on a
+            // machine without a GPU; the VTK layer logs why once, see gpuUsable)
   CPU = 1,
   GPU = 2 // the GPU; falls back to the CPU with a warning when none is usable
 };
@@ -21,7 +22,7 @@ const char* deviceName(Device device);
 bool gpuUsable(std::string* reason = nullptr);
 
 // Resolves Auto/GPU to what will really run. `warning` receives a one-line message when
-// the request cannot be honoured (GPU asked, none usable) or Auto picks the CPU.
+// the request cannot be honoured (GPU asked, none usable); Auto picking the CPU is not one.
 Device resolveDevice(Device requested, std::string* warning = nullptr);
 
 } // namespace mcv

@@ -1,0 +1,32 @@
+"""GUI test "no noise for the expected case", part 3 (run by test_gui.sh with the state
+file and paraview's exit status): the chain ran in the GUI with Device Auto, and not one
+warning or error reached ParaView's output window (so the Output Messages window never
+opened)."""
+import json
+import sys
+
+path, rc = sys.argv[1], int(sys.argv[2])
+fails = []
+
+
+def check(ok, msg):
+    print(("ok   " if ok else "FAIL ") + msg)
+    if not ok:
+        fails.append(msg)
+    return ok
+
+
+try:
+    with open(path) as f:
+        state = json.load(f)
+except (OSError, ValueError) as e:
+    state = {}
+    check(False, "state file %s readable (%s)" % (path, e))
+print("state: %s" % state)
+check(rc == 0, "paraview exited normally (%d)" % rc)
+check(state.get("done"), "the chain ran to the end in the GUI: %s" % state.get("steps"))
+check(state.get("output_window", "").startswith("pq") or state.get("output_window"),
+      "observing ParaView's output window (%s)" % state.get("output_window"))
+check(state.get("messages") == [], "no warning or error reached the output window: %s"
+      % state.get("messages"))
+sys.exit(1 if fails else 0)

@@ -1,0 +1,52 @@
+"""GUI test "no noise for the expected case", part 1 (run by `paraview --script=`): with
+Device Auto everywhere (the default) and whatever GPU this machine has, the whole chain on
+the real 3-channel brain (MultichannelFeatures -> DimensionReduction -> Gaussian TF
+Volume, per voxel and per sample -> seeded widgets -> best viewpoint) runs in the GUI.
+Every warning and error that reaches ParaView's output window (what opens the Output
+Messages window) is recorded into $MCV_GUI_STATE; gui_quiet_check.py wants none."""
+import json
+import os
+
+from paraview.simple import *  # noqa: F401,F403
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+import multichannel_explorer as mce
+
+out = os.environ.get("MCV_OUTPUT_DIR", ".")
+state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_quiet_state.json")
+state = {"messages": [], "steps": []}
+
+
+def record(caller, event):
+    state["messages"].append(event)
+    save()
+
+
+def save():
+    with open(state_file, "w") as f:
+        json.dump(state, f, indent=1)
+
+
+window = vtkOutputWindow.GetInstance()
+state["output_window"] = window.GetClassName()
+for event in (vtkCommand.WarningEvent, vtkCommand.ErrorEvent):
+    window.AddObserver(event, record)
+save()
+
+data = os.environ.get("MCV_DATA_DIR", ".")
+volume = AppendAttributes(Input=[OpenDataFile(os.path.join(data, n))
+                                 for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")])
+features, reduction = mce.reduce_multichannel(volume, "PCA", "6D")
+state["steps"].append("reduced on " + str(reduction.GetPropertyValue("DeviceUsed")))
+view = GetActiveViewOrCreate("RenderView")
+for classification in ("Per voxel", "Per sample"):
+    display = mce.show_gaussian_tf(reduction, view, classification=classification)
+    mce.auto_widgets(display, 3)
+    ResetCamera(view)
+    Render(view)
+    display.UpdatePropertyInformation()
+    state["steps"].append("%s on %s" % (classification, display.GetPropertyValue("GaussianTFDeviceUsed")))
+result = mce.apply_best_viewpoint(reduction, view)
+state["steps"].append("best viewpoint on %s, valid %s" % (result.device, result.valid))
+state["done"] = True
+save()
+SaveScreenshot(os.path.join(out, "gui_quiet.png"), view)
