@@ -107,6 +107,9 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     simple = _simple()
     if view is None:
         view = simple.GetActiveViewOrCreate("RenderView")
+    # The first thing shown in a view: frame it, as the GUI does (else the camera may sit
+    # inside the volume, and a turn to the best view keeps that distance).
+    empty = not any(getattr(r, "Visibility", 0) for r in view.Representations)
     display = simple.Show(source, view)
     if GAUSSIAN_TF_REPRESENTATION not in display.GetProperty("Representation").Available:
         raise RuntimeError('"%s" is not a representation of this source (image data '
@@ -117,4 +120,6 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     display.GaussianBlendMode = str(blend)
     display.Classification = str(classification)
     display.GaussianWidgets = _flat_widgets(widgets)
+    if empty:
+        simple.ResetCamera(view)
     return display
