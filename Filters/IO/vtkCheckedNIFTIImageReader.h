@@ -1,0 +1,49 @@
+/**
+ * @class   vtkCheckedNIFTIImageReader
+ * @brief   VTK's NIfTI reader that reads a file whole or refuses it.
+ *
+ * vtkNIFTIImageReader (ParaView 5.11) delivers a truncated file as the full volume (it
+ * only logs "truncated"), fills a volume whose header promises more data than the file
+ * holds with uninitialised memory, and aborts the process on a header whose dimensions do
+ * not fit in memory. Before anything is allocated, this subclass checks the header
+ * against the file and the machine: 1 to 5 dimensions, each at least 1; finite, non-zero
+ * spacing; the data bytes the header promises present in the file (.nii, .hdr/.img: the
+ * file size; .nii.gz/.img.gz: the whole gzip stream decompressed and counted, so a
+ * truncated or corrupt stream is caught too); the volume within the memory this process
+ * may use. Any failure is an error that names the file and the problem, and the output
+ * stays empty.
+ */
+#ifndef vtkCheckedNIFTIImageReader_h
+#define vtkCheckedNIFTIImageReader_h
+
+#include "mcvIOVolPackModule.h" // for export macro
+#include "vtkNIFTIImageReader.h"
+
+#include <string> // for std::string
+
+class MCVIOVOLPACK_EXPORT vtkCheckedNIFTIImageReader : public vtkNIFTIImageReader
+{
+public:
+  static vtkCheckedNIFTIImageReader* New();
+  vtkTypeMacro(vtkCheckedNIFTIImageReader, vtkNIFTIImageReader);
+
+protected:
+  vtkCheckedNIFTIImageReader() = default;
+  ~vtkCheckedNIFTIImageReader() override = default;
+
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+private:
+  vtkCheckedNIFTIImageReader(const vtkCheckedNIFTIImageReader&) = delete;
+  void operator=(const vtkCheckedNIFTIImageReader&) = delete;
+
+  // "" when the header and the file agree; else what is wrong, in one sentence.
+  std::string CheckHeaderAgainstFile();
+
+  bool Refused = false;
+};
+
+#endif
