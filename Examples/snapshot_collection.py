@@ -18,8 +18,10 @@ TIFF files of one folder whose names differ only in a trailing number (slice_000
 slice_001.tif, ...) are one volume (a stack); any other .tif is a volume of its own.
 Other files (.raw, .txt, ...) are ignored.
 
-Rendering: the display's default opacity (ParaView's linear ramp over the scalar range)
-and the Grayscale colour map; the best viewpoint follows that opacity. A volume with
+Rendering: a linear opacity ramp and the Grayscale colour map from the 1st to the 99.5th
+percentile of the non-empty voxels (those above the volume's minimum), as a user would set
+them by hand, so that a long bright tail does not leave the anatomy black (the record
+keeps the ramp); the best viewpoint follows that opacity. A volume with
 several components per voxel (a 4D NIfTI such as a diffusion series) is shown and
 analysed through its FIRST component (for diffusion MRI the b=0 image); the record says
 how many components the file had.
@@ -169,6 +171,26 @@ def _open_volume(simple, spec):
     return reader, data, scalars
 
 
+def robust_ramp(scalars, low_percentile=1.0, high_percentile=99.5):
+    """The ramp a user would set by hand: from the 1st to the 99.5th percentile of the
+    non-empty voxels (those above the volume's minimum, usually the background), so that a
+    long bright tail (a few vessels or artefacts at 10x the tissue) does not leave the
+    anatomy black. Falls back to the full range when the percentiles coincide."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    values = vtk_to_numpy(scalars).astype(np.float64).ravel()
+    values = values[np.isfinite(values)]
+    lowest, highest = float(values.min()), float(values.max())
+    filled = values[values > lowest]
+    if filled.size < 2:
+        return lowest, highest
+    low, high = (float(v) for v in np.percentile(filled, [low_percentile, high_percentile]))
+    if not high > low:
+        return lowest, highest
+    return low, high
+
+
 def run_worker(spec_json):
     """Renders one volume; writes its thumbnail, then its record (the record last, so a
     record on disk means the volume is finished). Returns the process exit code."""
@@ -213,8 +235,13 @@ def run_worker(spec_json):
         display = simple.Show(source, view)
         display.SetRepresentationType("Volume")
         simple.ColorBy(display, ("POINTS", array))
-        display.RescaleTransferFunctionToDataRange(True, False)
-        simple.GetColorTransferFunction(array).ApplyPreset("Grayscale", True)
+        low, high = robust_ramp(scalars)
+        record["ramp"] = [low, high]
+        lut = simple.GetColorTransferFunction(array)
+        lut.ApplyPreset("Grayscale", True)
+        lut.RescaleTransferFunction(low, high)
+        pwf = simple.GetOpacityTransferFunction(array)
+        pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
 
         best = mce.apply_best_viewpoint(source, view, which="best", disambiguate=True)
         if not best.valid:

@@ -78,6 +78,28 @@ checker.check(os.path.exists(os.path.join(inp, "aal.raw")) or
               os.path.exists(os.path.join(inp, "aal.zraw")),
               "MetaImage written as .mhd + raw data file")
 
+# The T1 as float with a long bright tail (every 997th head voxel at 10x the maximum, as
+# vessels or artefacts can be): the default ramp must still show the anatomy.
+import numpy as np  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
+
+ch2_image = ch2_reader.GetClientSideObject().GetOutputDataObject(0)
+t1 = vtk_to_numpy(ch2_image.GetPointData().GetScalars()).astype(np.float32)
+head = np.flatnonzero(t1 > t1.min())
+t1[head[::997]] = 10 * t1.max()
+tail_image = vtkImageData()
+tail_image.CopyStructure(ch2_image)
+tail_array = numpy_to_vtk(t1, deep=1)
+tail_array.SetName("T1")
+tail_image.GetPointData().SetScalars(tail_array)
+tail_writer = vtkXMLImageDataWriter()
+tail_writer.SetInputData(tail_image)
+tail_writer.SetDataModeToBinary()
+tail_writer.SetFileName(os.path.join(inp, "ch2_bright_tail.vti"))
+tail_writer.Write()
+
 # A corrupt volume (gzip of text, named like NIfTI) and a file that is no volume.
 with gzip.open(os.path.join(inp, "corrupt.nii.gz"), "wb") as f:
     f.write(b"this is not a NIfTI header " * 40)
@@ -87,6 +109,7 @@ with open(os.path.join(inp, "README.txt"), "w") as f:
 GOOD = {  # name in the index -> (dimensions, components)
     "ch2.nii.gz": ([181, 217, 181], 1),
     "ch2_half.vti": ([91, 109, 91], 1),
+    "ch2_bright_tail.vti": ([181, 217, 181], 1),
     "aal.mhd": ([181, 217, 181], 1),
     "brainsmall.den": ([128, 128, 84], 1),
     os.path.join("brainsmall_tiff", "slice_*.tif"): ([128, 128, 84], 1),
@@ -158,6 +181,25 @@ for name, (dims, ncomp) in sorted(GOOD.items()):
                   "%s: %s, range %s, spacing %s" % (name, r["scalar_type"], r["range"],
                                                     r["spacing"]))
     T.image_ok(mce, os.path.join(out, r["thumbnail"]), checker, name)
+    ramp = r.get("ramp", [None, None])
+    checker.check(ramp[0] is not None and r["range"][0] <= ramp[0] < ramp[1] <= r["range"][1],
+                  "%s: default ramp %s within the range %s" % (name, ramp, r["range"]))
+
+# The bright tail: the ramp ends at the tissue, not at the tail, and the thumbnail shows
+# the anatomy about as the plain T1's does.
+tail, plain = index.get("ch2_bright_tail.vti"), index.get("ch2.nii.gz")
+if tail and plain and tail.get("status") == plain.get("status") == "ok":
+    tail_stats = mce.image_statistics(os.path.join(out, tail["thumbnail"]))
+    plain_stats = mce.image_statistics(os.path.join(out, plain["thumbnail"]))
+    print("bright tail: ramp %s of range %s; thumbnail %s; plain T1 %s"
+          % (tail["ramp"], tail["range"], tail_stats, plain_stats))
+    checker.check(tail["ramp"][1] < 0.2 * tail["range"][1],
+                  "bright tail: the ramp ends below a fifth of the maximum (%s of %s)"
+                  % (tail["ramp"][1], tail["range"][1]))
+    checker.check(tail_stats["non_background_fraction"] >
+                  0.7 * plain_stats["non_background_fraction"] and
+                  tail_stats["stddev"] > 0.5 * plain_stats["stddev"],
+                  "bright tail: the thumbnail shows the anatomy like the plain T1's")
     checker.check(('src="%s"' % r["thumbnail"]) in page and name in page,
                   "%s: thumbnail and name in index.html" % name)
 checker.check(index["ch2_half.vti"]["spacing"] == [2.0, 2.0, 2.0],
