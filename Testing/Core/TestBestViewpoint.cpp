@@ -127,6 +127,38 @@ TEST(BestViewpoint, AnisotropicSpacingIsRespected)
   EXPECT_NEAR(r.view.center[1], centre[1], 3.0);
 }
 
+TEST(BestViewpoint, TheUnitOfTheSpacingDoesNotMatter)
+{
+  // The same voxels (anisotropic 1 : 1 : 2 spacing) written in millimetres, metres, 10 nm
+  // voxels in metres, picometres and 1e9: the same interest points and view direction.
+  // Before the response was made unit-free, 1e-8 turned the view by 36-87 degrees and
+  // 1e-12 / 1e9 found no interest points at all.
+  mcv::ImageGrid reference;
+  reference.dims = { 48, 40, 32 };
+  reference.spacing = { 1.0, 1.0, 2.0 };
+  const Vec3 normal = normalized({ 1, 2, -1 });
+  const std::vector<float> I =
+    blobVolume(reference, centresOnPlane({ 23.5, 19.5, 31.0 }, normal, 16, 30, 3), 2.0);
+  const mcv::BestViewpointResult base = mcv::computeBestViewpoint(I.data(), reference, cpuOptions());
+  ASSERT_TRUE(base.ok() && base.view.valid);
+  for (double unit : { 1e-3, 1e-8, 1e-12, 1e9 })
+  {
+    mcv::ImageGrid g = reference;
+    for (int a = 0; a < 3; ++a)
+    {
+      g.spacing[a] = reference.spacing[a] * unit;
+    }
+    const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
+    ASSERT_TRUE(r.ok() && r.view.valid) << "unit " << unit << ": " << r.view.message;
+    EXPECT_EQ(r.points.indices, base.points.indices) << "unit " << unit;
+    EXPECT_LT(mcv::axisAngleDegrees(r.view.best, base.view.best), 1e-3) << "unit " << unit;
+    for (int i = 0; i < 3; ++i)
+    {
+      EXPECT_NEAR(r.view.eigenvalues[i], base.view.eigenvalues[i], 1e-6) << "unit " << unit;
+    }
+  }
+}
+
 TEST(BestViewpoint, ConstantVolumeWarnsAndGivesNoDirection)
 {
   mcv::ImageGrid g;

@@ -5,6 +5,7 @@
 #endif
 
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -58,9 +59,38 @@ void keepOwnedResponses(const GridPiece& piece, const ImageGrid& grid, float* re
 // Harris response + top-N on the chosen device; the GPU path falls back to the CPU on
 // any CUDA failure, so a result always comes back. A partial block (split over processes)
 // selects among its owned voxels only and returns whole-volume indices.
-InterestPoints findInterestPoints(const float* opacity, const ImageGrid& grid,
+// The grid the Harris response is computed on: the same voxels with the spacing divided by
+// its geometric mean. R = det(M) - k tr(M)^3 scales as spacing^-6 in world units, which
+// overflows or underflows float for 10 nm voxels written in metres (1e-8) or for spacings
+// of 1e9; a uniform scale multiplies every response by the same positive factor, so the
+// ranking of the voxels, and the view, are those of the world units.
+ImageGrid unitFreeGrid(const ImageGrid& grid)
+{
+  ImageGrid scaled = grid;
+  const double mean = std::cbrt(grid.spacing[0] * grid.spacing[1] * grid.spacing[2]);
+  if (std::isfinite(mean) && mean > 0)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      scaled.spacing[a] = grid.spacing[a] / mean;
+    }
+  }
+  else // the product under- or overflows double: scale axis by axis through logs
+  {
+    const double logMean =
+      (std::log(grid.spacing[0]) + std::log(grid.spacing[1]) + std::log(grid.spacing[2])) / 3;
+    for (int a = 0; a < 3; ++a)
+    {
+      scaled.spacing[a] = std::exp(std::log(grid.spacing[a]) - logMean);
+    }
+  }
+  return scaled;
+}
+
+InterestPoints findInterestPoints(const float* opacity, const ImageGrid& worldGrid,
   const BestViewpointOptions& options, BestViewpointResult& result)
 {
+  const ImageGrid grid = unitFreeGrid(worldGrid); // positions come from the caller's grid
   std::string warning;
   result.deviceUsed = resolveDevice(options.device, &warning);
   if (!warning.empty())
