@@ -316,9 +316,10 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
 }
 
 //------------------------------------------------------------------------------
-bool vtkBestViewpoint::ComputeWidgetOpacity(
-  vtkImageData* image, std::size_t count, std::vector<float>& opacity)
+bool vtkBestViewpoint::ComputeWidgetOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
+  const mcv::GridPiece& block, std::vector<float>& opacity)
 {
+  const std::size_t count = grid.voxelCount();
   const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
     this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
   if (!widgets.ok())
@@ -365,6 +366,26 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(
     return false;
   }
   this->ReportWarnings(run.warnings);
+  // Voxels whose coordinates are NaN/Inf got opacity 0 (the core's rule, as the
+  // representation draws them): count them over the owned voxels of every process and say
+  // so, since such holes can decide where the interest points are.
+  std::vector<mcv::ChannelView> coordinateViews;
+  for (int c = 0; c < components; ++c)
+  {
+    coordinateViews.push_back({ floats->GetPointer(0), mcv::ScalarType::Float32, components, c });
+  }
+  std::vector<double> nonFinite{ static_cast<double>(
+    mcv::countNonFiniteVoxels(coordinateViews, grid, block)) };
+  if (const mcv::Communicator* comm = this->GetCommunicator())
+  {
+    comm->sum(nonFinite);
+  }
+  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(nonFinite[0]);
+  if (this->NumberOfNonFiniteVoxels > 0)
+  {
+    vtkWarningMacro(<< this->NumberOfNonFiniteVoxels << " voxel(s) have NaN/Inf in the widget "
+                    << "coordinates '" << name << "': they were given opacity 0.");
+  }
   // The background (Foreground 0, MultichannelFeatures' mask) is transparent, as the
   // representation draws it: its coordinates are extrapolated from foreground reference
   // voxels and would otherwise take a widget's opacity and turn the volume into a box.
@@ -423,7 +444,7 @@ int vtkBestViewpoint::RequestMultichannelData(
   this->UpdateProgress(0.0);
   std::vector<float> opacity;
   const bool opacityOk = this->OpacitySource == OPACITY_GAUSSIAN_WIDGETS
-    ? this->ComputeWidgetOpacity(image, count, opacity)
+    ? this->ComputeWidgetOpacity(image, grid, block, opacity)
     : this->ComputeChannelOpacity(image, grid, block, opacity);
   if (!opacityOk)
   {

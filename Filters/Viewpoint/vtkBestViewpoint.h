@@ -206,7 +206,8 @@ protected:
   // an error was reported.
   bool ComputeChannelOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
     const mcv::GridPiece& block, std::vector<float>& opacity);
-  bool ComputeWidgetOpacity(vtkImageData* image, std::size_t count, std::vector<float>& opacity);
+  bool ComputeWidgetOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& block, std::vector<float>& opacity);
 
   vtkPiecewiseFunction* OpacityFunction = nullptr;
   int NumberOfInterestPoints = 2048;

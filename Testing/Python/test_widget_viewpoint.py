@@ -92,6 +92,37 @@ C.check(T.angle_deg(best_b, normal_b, unsigned=True) < 2.0,
         "new widgets: best direction follows to the new normal (%.2f deg)"
         % T.angle_deg(best_b, normal_b, unsigned=True))
 
+# ---- NaN coordinates: counted, opacity 0, a warning ----------------------------------------
+# Every voxel with x > 20 gets NaN coordinates (4 x 49 x 49 = 9604 voxels, far from the
+# widgets): the count is known, the warning names the array, the view stays the normal.
+holes = ProgrammableFilter(Input=coords)
+holes.Script = """
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+out = self.GetOutput()
+out.DeepCopy(self.GetInput())
+xyz = vtk_to_numpy(out.GetPointData().GetArray("ReducedCoordinates"))
+xyz[xyz[:, 0] > 20, :] = np.nan
+out.GetPointData().GetArray("ReducedCoordinates").Modified()
+"""
+bvp_nan = BestViewpoint(Input=holes, OpacitySource="Representation", GaussianWidgets=widgets_a)
+nan_messages = T.Messages(bvp_nan)
+bvp_nan.UpdatePipeline()
+bvp_nan.UpdatePropertyInformation()
+nan_count = int(bvp_nan.GetPropertyValue("NumberOfNonFiniteVoxels"))
+best_nan = [float(x) for x in bvp_nan.GetPropertyValue("BestViewDirection")]
+C.check(nan_count == 4 * 49 * 49 and nan_messages.any_warning("9604", "ReducedCoordinates"),
+        "NaN widget coordinates: %d counted (9604), a warning %s" % (nan_count, nan_messages.warnings))
+C.check(T.angle_deg(best_nan, normal_a, unsigned=True) < 2.0,
+        "NaN widget coordinates: the view is still the plane normal (%.2f deg)"
+        % T.angle_deg(best_nan, normal_a, unsigned=True))
+Delete(bvp_nan)
+# The ProgrammableFilter's script ran in this namespace and left numpy's max/min/abs/sum
+# there: take Python's back for the checks below.
+import builtins  # noqa: E402
+max, min, abs, sum, all, any = (builtins.max, builtins.min, builtins.abs, builtins.sum,
+                                builtins.all, builtins.any)
+
 # ---- Bad input ------------------------------------------------------------------------------
 messages = T.Messages(bvp)
 for label, props, words in (
