@@ -295,6 +295,8 @@ TEST(GaussianTF, ParseErrors)
   list = mcv::parseGaussianWidgets(nan.data(), nan.size());
   EXPECT_FALSE(list.ok());
   EXPECT_NE(list.error.find("not finite"), std::string::npos) << list.error;
+  // The message names the field (cy, the 2nd number), not an index that reads as a value.
+  EXPECT_NE(list.error.find("cy (number 2 of its 8"), std::string::npos) << list.error;
 }
 
 TEST(GaussianTF, ClampsWithWarnings)

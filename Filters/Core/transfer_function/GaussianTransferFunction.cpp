@@ -40,7 +40,10 @@ WidgetList parseGaussianWidgets(const double* values, std::size_t count)
       if (!std::isfinite(v[k]))
       {
         std::ostringstream msg;
-        msg << "Gaussian widget " << i << ": value " << k << " is not finite.";
+        static const char* const fields[GaussianWidgetStride] = { "cx", "cy", "cz", "sigma", "r",
+          "g", "b", "opacity" };
+        msg << "Gaussian widget " << i << ": " << fields[k] << " (number " << k + 1
+            << " of its 8: cx, cy, cz, sigma, r, g, b, opacity) is not finite.";
         list.error = msg.str();
         return list;
       }
