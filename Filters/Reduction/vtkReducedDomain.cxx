@@ -266,6 +266,23 @@ int vtkReducedDomain::RequestMultichannelData(
     return 0;
   }
   this->UpdateProgress(0.2);
+  // Settings that cannot be honoured are errors, not silent changes.
+  if (this->SampleSize < 1)
+  {
+    vtkErrorMacro("SampleSize must be at least 1 (got " << this->SampleSize << ").");
+    return 0;
+  }
+  if (this->SeedWidgetCount < 0 || this->SeedWidgetCount > 64)
+  {
+    vtkErrorMacro("SeedWidgetCount must be between 0 and 64 (got " << this->SeedWidgetCount
+                                                                  << ").");
+    return 0;
+  }
+  if (std::isnan(this->SeedWidgetOpacity))
+  {
+    vtkErrorMacro("SeedWidgetOpacity is NaN: give a peak opacity in [0, 1].");
+    return 0;
+  }
   const std::vector<vtkIdType> sample = selectionSample(eligible, eligibleCount,
     static_cast<std::size_t>(this->SampleSize), static_cast<std::uint64_t>(this->RandomSeed));
   const vtkIdType m = static_cast<vtkIdType>(sample.size());
@@ -382,7 +399,13 @@ int vtkReducedDomain::RequestMultichannelData(
     mcv::WidgetSeedingOptions options;
     options.count = this->SeedWidgetCount;
     options.seed = static_cast<std::uint64_t>(this->RandomSeed);
-    options.opacity = this->SeedWidgetOpacity;
+    options.opacity = std::min(1.0, std::max(0.0, this->SeedWidgetOpacity));
+    if (options.opacity != this->SeedWidgetOpacity)
+    {
+      vtkWarningMacro("SeedWidgetOpacity " << this->SeedWidgetOpacity
+                                           << " is outside [0, 1]: the widgets are seeded with "
+                                           << options.opacity << ".");
+    }
     // The largest cluster stands for the background only when nothing else removed it.
     options.skipLargest = this->SkipLargestCluster && !foreground;
     std::vector<float> distinct = packed;
@@ -417,6 +440,12 @@ int vtkReducedDomain::RequestMultichannelData(
     {
       vtkErrorMacro(<< seeding.error);
       return 0;
+    }
+    if (static_cast<int>(seeding.widgets.size()) < this->SeedWidgetCount)
+    {
+      vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, " << seeding.widgets.size()
+                      << " seeded: the sample has only " << distinct.size() / dims
+                      << " distinct reduced coordinates.");
     }
     for (double v : mcv::flattenGaussianWidgets(seeding.widgets))
     {

@@ -62,8 +62,11 @@ public:
   ///@}
 
   ///@{
-  /** Number of sampled voxels (default 20000; >= the number of points: all of them). */
-  vtkSetClampMacro(SampleSize, vtkIdType, 1, VTK_ID_MAX);
+  /**
+   * Number of sampled voxels (default 20000; >= the number of points: all of them). Below
+   * 1 is an error at the next update.
+   */
+  vtkSetMacro(SampleSize, vtkIdType);
   vtkGetMacro(SampleSize, vtkIdType);
   ///@}
 
@@ -82,17 +85,22 @@ public:
   ///@}
 
   ///@{
-  /** Number of widgets to seed by k-means (0, the default: none). */
-  vtkSetClampMacro(SeedWidgetCount, int, 0, 64);
+  /**
+   * Number of widgets to seed by k-means (0, the default: none). Negative or above 64 is
+   * an error at the next update; more than the distinct sampled points seeds one widget
+   * per point, with a warning.
+   */
+  vtkSetMacro(SeedWidgetCount, int);
   vtkGetMacro(SeedWidgetCount, int);
   ///@}
 
   ///@{
   /**
    * Peak opacity of the seeded widgets (default 0.5); the largest of several (in sampled
-   * voxels) gets 0.05 of it: a veil over the structures it holds.
+   * voxels) gets 0.05 of it: a veil over the structures it holds. NaN is an error, a
+   * value outside [0, 1] is clamped with a warning.
    */
-  vtkSetClampMacro(SeedWidgetOpacity, double, 0.0, 1.0);
+  vtkSetMacro(SeedWidgetOpacity, double);
   vtkGetMacro(SeedWidgetOpacity, double);
   ///@}
 

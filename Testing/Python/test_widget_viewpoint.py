@@ -198,6 +198,30 @@ centres = sorted(tuple(round(c) for c in suggestion[i:i + 3]) for i in range(0, 
 C.check(len(suggestion) == 16 and centres == [(-10, 5, 0), (10, -5, 0)],
         "SeedWidgetCount=2: widgets at the two blobs %s" % (centres,))
 
+# Settings ReducedDomain cannot honour: errors or warnings, never a silent change.
+exact = Calculator(Input=coords, ResultArrayName="Three", ResultArrayType="Float",
+                   Function="(coordsX < -8)*iHat + (coordsX > 8)*jHat")  # 3 distinct points
+for label, props, kind, words in (
+        ("SampleSize 0", dict(SampleSize=0), "error", ("SampleSize", "at least 1")),
+        ("SampleSize -1", dict(SampleSize=-1), "error", ("SampleSize", "at least 1")),
+        ("SeedWidgetCount 65", dict(SeedWidgetCount=65), "error", ("SeedWidgetCount", "64")),
+        ("SeedWidgetOpacity NaN", dict(SeedWidgetCount=2, SeedWidgetOpacity=float("nan")),
+         "error", ("SeedWidgetOpacity", "NaN")),
+        ("SeedWidgetOpacity 1.5", dict(SeedWidgetCount=2, SeedWidgetOpacity=1.5), "warning",
+         ("SeedWidgetOpacity", "outside [0, 1]")),
+        ("5 widgets from 3 points", dict(SeedWidgetCount=5, SkipLargestCluster=0), "warning",
+         ("5 widgets asked for", "3 seeded", "3 distinct"))):
+    odd = ReducedDomain(Input=exact, SampleSize=2000)
+    odd.Coordinates = ["POINTS", "Three"]
+    odd_messages = T.Messages(odd)
+    for name, value in props.items():
+        setattr(odd, name, value)
+    odd.UpdatePipeline()
+    found = (odd_messages.any_error if kind == "error" else odd_messages.any_warning)(*words)
+    C.check(found, "ReducedDomain %s: %s mentioning %s (errors %s, warnings %s)"
+            % (label, kind, words, odd_messages.errors, odd_messages.warnings))
+    Delete(odd)
+
 # ---- With the representation: follow, auto widgets, dual domain -----------------------------
 view = CreateView("RenderView")
 view.ViewSize = [400, 400]
