@@ -82,6 +82,18 @@ pqGaussianWidgetHandles::~pqGaussianWidgetHandles()
 }
 
 //-----------------------------------------------------------------------------
+pqRenderView* pqGaussianWidgetHandles::domainView() const
+{
+  return this->DomainView;
+}
+
+//-----------------------------------------------------------------------------
+pqDataRepresentation* pqGaussianWidgetHandles::display() const
+{
+  return this->Display;
+}
+
+//-----------------------------------------------------------------------------
 vtkSMProxy* pqGaussianWidgetHandles::proxy() const
 {
   return this->Display ? this->Display->getProxy() : nullptr;

@@ -44,8 +44,8 @@ public:
     QObject* parent = nullptr);
   ~pqGaussianWidgetHandles() override;
 
-  pqRenderView* domainView() const { return this->DomainView; }
-  pqDataRepresentation* display() const { return this->Display; }
+  pqRenderView* domainView() const;
+  pqDataRepresentation* display() const;
 
   /** Number of handles shown (one per complete widget of GaussianWidgets). */
   int numberOfHandles() const { return static_cast<int>(this->Widgets.size()); }
