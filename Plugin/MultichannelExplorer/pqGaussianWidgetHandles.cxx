@@ -79,6 +79,10 @@ pqGaussianWidgetHandles::~pqGaussianWidgetHandles()
     this->Interactor->RemoveObserver(this->WheelBackwardTag);
   }
   // pqCoreUtilities::connect cleans up its observer when this object goes away.
+  if (this->DomainView)
+  {
+    this->DomainView->render(); // the handles leave the picture, not only the interactor
+  }
 }
 
 //-----------------------------------------------------------------------------
@@ -204,15 +208,19 @@ void pqGaussianWidgetHandles::updateHandles()
 //-----------------------------------------------------------------------------
 void pqGaussianWidgetHandles::styleHandle(int index, bool selected)
 {
+  // Opaque lines in both cases: translucent wireframes came out washed-out white in the
+  // view's non-composited renderer (seen under Mesa). Selected: thick and full colour;
+  // others: thin and a little darker. The selected property (used while dragging) keeps
+  // the widget's full colour.
   vtkSphereRepresentation* rep = sphereOf(this->Widgets[index]);
-  for (vtkProperty* prop : { rep->GetSphereProperty(), rep->GetSelectedSphereProperty() })
-  {
-    prop->SetLineWidth(selected ? 4.0 : 1.5);
-    prop->SetOpacity(selected ? 1.0 : 0.6);
-  }
-  // While dragged the selected property is used; it is drawn thick in any case.
-  rep->GetSelectedSphereProperty()->SetLineWidth(4.0);
-  rep->GetSelectedSphereProperty()->SetOpacity(1.0);
+  vtkProperty* full = rep->GetSelectedSphereProperty();
+  full->SetLineWidth(4.0);
+  double colour[3];
+  full->GetColor(colour);
+  const double shade = selected ? 1.0 : 0.75;
+  vtkProperty* prop = rep->GetSphereProperty();
+  prop->SetColor(shade * colour[0], shade * colour[1], shade * colour[2]);
+  prop->SetLineWidth(selected ? 4.0 : 1.0);
 }
 
 //-----------------------------------------------------------------------------
