@@ -22,8 +22,9 @@ class pqRepresentation;
  * coalesced, after any representation, view or property change.
  *
  * The handles are client-side VTK widgets on the domain view's interactor (as ParaView's
- * own 3D widgets) and write the display's GaussianWidgets through its proxy; they were
- * tested in the builtin session only.
+ * own 3D widgets) and write the display's GaussianWidgets through its proxy, so they work
+ * in the builtin session and against a pvserver (docs/gaussian-widget-handles.md says
+ * what was tried).
  */
 class pqGaussianWidgetHandlesBehavior : public QObject
 {
