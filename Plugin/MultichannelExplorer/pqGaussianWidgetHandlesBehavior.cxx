@@ -106,8 +106,8 @@ void pqGaussianWidgetHandlesBehavior::watch(pqProxy* item)
   {
     return;
   }
-  QObject::connect(
-    rep, &pqRepresentation::visibilityChanged, this, &pqGaussianWidgetHandlesBehavior::scheduleUpdate);
+  QObject::connect(rep, &pqRepresentation::visibilityChanged, this,
+    &pqGaussianWidgetHandlesBehavior::scheduleUpdate);
   // Switching to or from "Gaussian TF Volume" makes or breaks a pair.
   if (vtkSMProperty* type = rep->getProxy()->GetProperty("Representation"))
   {
