@@ -265,6 +265,7 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   double AlphaRampUnitDistance = 0;
   vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
   std::string ShaderKey;                          // blend mode and jitter of the replacements
+  bool HadWidgets = false;          // the last list checked had widgets
   bool RenderModeReported = false; // the error about a render mode without the GPU ray caster
 
   void UpdateAlphaRamp(double unitDistance)
@@ -461,6 +462,24 @@ bool vtkGaussianTFVolumeRepresentation::GPURayCasterRequested()
 }
 
 //------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::ReportWidgetWarnings(const mcv::WidgetList& widgets)
+{
+  // A representation just chosen has no widgets yet: the expected first state, not worth
+  // a warning (it would open the GUI's Output Messages window). Emptying a list that had
+  // widgets is still said.
+  const bool firstEmpty = widgets.widgets.empty() && !this->Internals->HadWidgets;
+  this->Internals->HadWidgets = !widgets.widgets.empty();
+  if (firstEmpty)
+  {
+    return;
+  }
+  for (const std::string& warning : widgets.warnings)
+  {
+    vtkWarningMacro(<< warning);
+  }
+}
+
+//------------------------------------------------------------------------------
 bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
 {
   vtkInternals& internals = *this->Internals;
@@ -490,10 +509,7 @@ bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
   }
   if (settingsChanged)
   {
-    for (const std::string& warning : widgets.warnings)
-    {
-      vtkWarningMacro(<< warning);
-    }
+    this->ReportWidgetWarnings(widgets);
   }
 
   std::vector<std::string> runWarnings;
@@ -660,10 +676,7 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
   }
   if (settingsChanged)
   {
-    for (const std::string& warning : widgets.warnings)
-    {
-      vtkWarningMacro(<< warning);
-    }
+    this->ReportWidgetWarnings(widgets);
   }
   float centreK[mcv::shader::MaximumWidgets][4] = {};
   float colourLogA[mcv::shader::MaximumWidgets][4] = {};

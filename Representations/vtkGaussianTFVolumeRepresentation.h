@@ -36,7 +36,8 @@
  * Errors (vtkErrorMacro, nothing is drawn): the coordinate array is missing, not numeric
  * or has a number of components other than 2 or 3; a widget list whose length is not a
  * multiple of 8, a non-finite value or sigma <= 0. Warnings (vtkWarningMacro, still
- * drawn): colours or opacity outside [0, 1] (clamped), no widgets (a transparent volume),
+ * drawn): colours or opacity outside [0, 1] (clamped), a list emptied of its widgets (a
+ * transparent volume; a representation that never had widgets says nothing),
  * a GPU request that falls back to the CPU. Each is reported once per change, not per
  * frame.
  */
@@ -49,6 +50,11 @@
 #include "vtkMultichannelAlgorithm.h" // for the DeviceType values the filters share
 
 #include <memory> // for std::unique_ptr
+
+namespace mcv
+{
+struct WidgetList;
+}
 
 class MCVREPRESENTATIONSGAUSSIANTF_EXPORT vtkGaussianTFVolumeRepresentation
   : public vtkImageVolumeRepresentation
@@ -188,6 +194,7 @@ private:
   bool UpdateRGBA();
   bool UpdatePerSample();
   bool GPURayCasterRequested();
+  void ReportWidgetWarnings(const mcv::WidgetList& widgets);
 
   int Classification = PER_SAMPLE;
   int RequestedRenderMode = 0;

@@ -8,6 +8,8 @@ import json
 import os
 
 from paraview.simple import *  # noqa: F401,F403
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 import multichannel_explorer as mce
 
@@ -16,8 +18,9 @@ state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_quiet_sta
 state = {"messages": [], "steps": []}
 
 
-def record(caller, event):
-    state["messages"].append(event)
+@calldata_type(VTK_STRING)
+def record(caller, event, text):
+    state["messages"].append("%s: %s" % (event, text))
     save()
 
 
