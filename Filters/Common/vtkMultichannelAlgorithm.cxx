@@ -19,6 +19,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <new>
 #include <cstring>
 #include <thread>
 
@@ -179,6 +180,23 @@ int vtkMultichannelAlgorithm::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+namespace
+{
+// No partial result is left behind after an abort or a failed allocation.
+void emptyOutputs(vtkInformationVector* outputVector)
+{
+  for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
+  {
+    if (vtkDataObject* output =
+          outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()))
+    {
+      output->Initialize();
+    }
+  }
+}
+} // namespace
+
+//------------------------------------------------------------------------------
 int vtkMultichannelAlgorithm::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -201,18 +219,21 @@ int vtkMultichannelAlgorithm::RequestData(
   catch (const AbortRequested&)
   {
     // Aborted: no partial result is left behind (VTK's convention: no error either).
-    for (int port = 0; port < outputVector->GetNumberOfInformationObjects(); ++port)
-    {
-      if (vtkDataObject* output =
-            outputVector->GetInformationObject(port)->Get(vtkDataObject::DATA_OBJECT()))
-      {
-        output->Initialize();
-      }
-    }
+    emptyOutputs(outputVector);
     // VTK 9.2's executive does not clear the flag before the next run: clear it here, so
     // that the run after a modification starts afresh.
     this->SetAbortExecute(0);
     vtkDebugMacro("aborted");
+  }
+  catch (const std::bad_alloc&)
+  {
+    // An allocation the memory check could not foresee (another process took the memory,
+    // fragmentation): an error and empty outputs rather than the process ending.
+    emptyOutputs(outputVector);
+    vtkErrorMacro(<< (this->GetClassName() + 3) << " ran out of memory (an allocation failed); "
+                  << "crop or subsample the volume, close other programs, or run on more MPI "
+                     "ranks (mpiexec -np R pvbatch --mpi) so that each holds a smaller piece.");
+    status = 0;
   }
   internals.Check = nullptr;
   internals.Communicator = nullptr;

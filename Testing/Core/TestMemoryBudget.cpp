@@ -11,6 +11,8 @@
 #include <limits>
 #include <string>
 
+#include <sys/resource.h>
+
 namespace
 {
 
@@ -156,6 +158,38 @@ TEST(MemoryBudget, SystemMemoryWhenNoLimitIsSet)
     EXPECT_NE(mcv::availableMemoryBytes(), 0u) << bad;
     EXPECT_LE(mcv::availableMemoryBytes(), system + kGiB) << bad; // memory may change a little
   }
+}
+
+TEST(MemoryBudget, AddressSpaceLimitCounts)
+{
+  // ulimit -v: the memory left is what the limit leaves above the current virtual size,
+  // however much the machine has free.
+  MemoryLimit noEnvironmentLimit(nullptr);
+  rlimit saved{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &saved), 0);
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  unsigned long long vmKiB = 0;
+  while (std::getline(status, line))
+  {
+    if (line.rfind("VmSize:", 0) == 0)
+    {
+      vmKiB = std::stoull(line.substr(7));
+    }
+  }
+  ASSERT_GT(vmKiB, 0u);
+  const unsigned long long room = 256ull << 20;
+  rlimit lowered = saved;
+  lowered.rlim_cur = vmKiB * 1024 + room;
+  if (saved.rlim_max != RLIM_INFINITY && lowered.rlim_cur > saved.rlim_max)
+  {
+    GTEST_SKIP() << "the hard address-space limit is already below the test's";
+  }
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &lowered), 0);
+  const std::size_t available = mcv::availableMemoryBytes();
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &saved), 0);
+  EXPECT_LE(available, room);
+  EXPECT_GT(available, room / 2); // the virtual size grew a little at most
 }
 
 TEST(MemoryBudget, Formatting)

@@ -1,5 +1,6 @@
 #include "MemoryBudget.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -141,6 +142,34 @@ bool cgroupAvailable(std::size_t& bytes)
   return false;
 }
 
+// What the address-space limit (ulimit -v, RLIMIT_AS; usual on clusters) leaves above the
+// process's current virtual size; false without a limit. Allocations past it fail even
+// when the machine has free memory.
+bool addressSpaceAvailable(std::size_t& bytes)
+{
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY)
+  {
+    return false;
+  }
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  unsigned long long kib = 0;
+  std::size_t used = 0;
+  while (status >> key)
+  {
+    if (key == "VmSize:" && status >> kib)
+    {
+      used = mulSat(static_cast<std::size_t>(kib), 1024);
+      break;
+    }
+    std::getline(status, key);
+  }
+  const std::size_t cap = static_cast<std::size_t>(limit.rlim_cur);
+  bytes = cap > used ? cap - used : 0;
+  return true;
+}
+
 const char* const kGeneralAdvice = "crop or subsample the volume, or run on more MPI ranks "
                                    "(mpiexec -np R pvbatch --mpi) so that each holds a smaller piece.";
 
@@ -164,6 +193,11 @@ std::size_t availableMemoryBytes()
   if (cgroupAvailable(cgroup) && cgroup < bytes)
   {
     bytes = cgroup;
+  }
+  std::size_t addressSpace = kMax;
+  if (addressSpaceAvailable(addressSpace) && addressSpace < bytes)
+  {
+    bytes = addressSpace;
   }
   return bytes;
 }

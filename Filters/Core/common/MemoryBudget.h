@@ -16,7 +16,8 @@ namespace mcv
 // Bytes this process can still allocate: MCV_MEMORY_LIMIT_MB (MiB, for tests) when set to
 // a number >= 0; else MemAvailable of /proc/meminfo (fallback: sysconf's available pages),
 // lowered to what the process's cgroup limit leaves (batch systems such as Slurm enforce
-// theirs that way). SIZE_MAX when nothing says.
+// theirs that way) and to what its address-space limit (ulimit -v) leaves above its
+// current virtual size. SIZE_MAX when nothing says.
 std::size_t availableMemoryBytes();
 
 // "2.7 GiB", "512.0 MiB", "12.0 KiB", "100 B" (one decimal, rounded up or down).
