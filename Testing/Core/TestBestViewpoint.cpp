@@ -169,7 +169,8 @@ TEST(BestViewpoint, ConstantVolumeWarnsAndGivesNoDirection)
     const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, cpuOptions());
     ASSERT_TRUE(r.ok());
     EXPECT_FALSE(r.view.valid);
-    EXPECT_FALSE(r.warnings.empty());
+    ASSERT_FALSE(r.warnings.empty());
+    EXPECT_NE(r.warnings.back().find("is constant"), std::string::npos) << r.warnings.back();
     EXPECT_EQ(r.points.size(), 0u);
     for (int a = 0; a < 3; ++a)
     {
@@ -177,6 +178,24 @@ TEST(BestViewpoint, ConstantVolumeWarnsAndGivesNoDirection)
       EXPECT_FALSE(std::isnan(r.view.eigenvalues[a]));
     }
   }
+}
+
+TEST(BestViewpoint, ParametersThatLeaveNoInterestPointAreNamed)
+{
+  // Blobs everywhere, but HarrisK 10 makes every response negative: the message must name
+  // the parameters, not call the volume constant or flat.
+  mcv::ImageGrid g;
+  g.dims = { 32, 32, 32 };
+  const std::vector<float> I = blobVolume(g, { { 10, 10, 10 }, { 20, 16, 12 }, { 14, 22, 20 } }, 1.5);
+  mcv::BestViewpointOptions o = cpuOptions();
+  o.harris.k = 10;
+  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, o);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.view.valid);
+  ASSERT_FALSE(r.warnings.empty());
+  const std::string& w = r.warnings.back();
+  EXPECT_NE(w.find("HarrisK 10"), std::string::npos) << w;
+  EXPECT_EQ(w.find("constant"), std::string::npos) << w;
 }
 
 TEST(BestViewpoint, SingleSliceGivesItsNormal)

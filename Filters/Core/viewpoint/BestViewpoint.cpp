@@ -4,8 +4,10 @@
 #include "cuda/HarrisCuda.h"
 #endif
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -208,10 +210,25 @@ void harrisPCA(const float* opacity, const ImageGrid& grid, const BestViewpointO
   const auto start = Clock::now();
   result.pointPositions = worldPositions(result.points, wholeGrid(grid, options.piece));
   const std::size_t found = result.points.size();
-  if (found == 0)
+  // Whether the opacity varies at all tells the two reasons for no interest point apart.
+  const std::size_t voxels = grid.voxelCount();
+  const bool constant = voxels == 0 ||
+    std::all_of(opacity, opacity + voxels, [first = opacity[0]](float v) { return v == first; });
+  const bool allConstant = allTrue(options.communicator, constant);
+  if (found == 0 && allConstant)
   {
-    result.warnings.push_back("No interest points: the opacity volume has no corner or "
-                              "blob (it is constant, empty or flat); no view direction.");
+    result.warnings.push_back("No interest points: the opacity volume is constant (empty or "
+                              "flat everywhere); no view direction.");
+  }
+  else if (found == 0)
+  {
+    std::ostringstream msg;
+    msg << "No interest points: no voxel has a positive Harris response with KernelWidth "
+        << options.harris.kernelWidth << ", GaussianSigma " << options.harris.sigma
+        << " and HarrisK " << options.harris.k
+        << " (the opacity does vary); try the defaults (5, 1.5, 0.004): a wider kernel or "
+           "sigma, or a smaller HarrisK. No view direction.";
+    result.warnings.push_back(msg.str());
   }
   else if (found < static_cast<std::size_t>(options.numberOfInterestPoints))
   {
