@@ -162,6 +162,16 @@ int vtkVolPackDenReader::RequestInformation(
   {
     this->Dimensions[a] = header.dims[a];
   }
+  const std::uint64_t trailing = header.fileSize - HeaderBytes - header.voxels;
+  if (trailing > 0)
+  {
+    // A consistent header over more data than it describes: read what it says, but say so
+    // (a header from another volume would otherwise go unnoticed).
+    vtkWarningMacro("'" << this->FileName << "' holds " << trailing
+                        << " bytes after the " << header.dims[0] << " x " << header.dims[1]
+                        << " x " << header.dims[2]
+                        << " voxels its header describes: they are not read.");
+  }
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int extent[6] = { 0, header.dims[0] - 1, 0, header.dims[1] - 1, 0, header.dims[2] - 1 };
   outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);

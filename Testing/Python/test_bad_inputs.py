@@ -188,6 +188,20 @@ for path, words in ((not_den, "not a VolPack"), (truncated, "truncated"),
     C.check(reader.GetDataInformation().GetNumberOfPoints() == 0,
             "%s: no output" % os.path.basename(path))
     Delete(reader)
+# A consistent header over more data than it describes: read as the header says, with a
+# warning naming the trailing bytes.
+trailing = os.path.join(tmp, "trailing.den")
+with open(trailing, "wb") as f:
+    f.write(header + bytes(range(64)) + bytes(1 << 20))
+reader = VolPackDenReader()
+msgs = T.Messages(reader)
+reader.FileName = trailing
+reader.UpdatePipeline()
+print("trailing.den: warnings %s" % msgs.warnings)
+C.check(not msgs.errors and msgs.any_warning("1048576 bytes after", "not read") and
+        reader.GetDataInformation().GetNumberOfPoints() == 64,
+        "trailing.den: the 64 voxels read, a warning about the 1048576 bytes after them")
+Delete(reader)
 reader = VolPackDenReader(FileName=swapped)
 msgs = T.Messages(reader)
 reader.UpdatePipeline()
