@@ -1,0 +1,177 @@
+// Python.h must come before the standard headers (it sets feature macros).
+#include "vtkPython.h"
+
+#include "pqMultichannelProbe.h"
+
+#include "pqActiveObjects.h"
+#include "pqCoreUtilities.h"
+#include "pqPVApplicationCore.h"
+#include "pqPythonManager.h"
+#include "pqRenderView.h"
+#include "vtkPythonInterpreter.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QEvent>
+#include <QIcon>
+#include <QLabel>
+#include <QMessageBox>
+#include <QMouseEvent>
+#include <QWidget>
+
+//-----------------------------------------------------------------------------
+pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
+  : Superclass(group)
+{
+  this->ProbeAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/Probe.svg"), "Probe", group);
+  this->ProbeAction->setObjectName("actionMultichannelProbe");
+  this->ProbeAction->setCheckable(true);
+  this->ProbeAction->setToolTip(
+    "Probe: while on, click a voxel in the \"Gaussian TF Volume\" view to read its reduced "
+    "coordinates, channels and features, and mark it in the reduced domain");
+  this->ProbeAction->setStatusTip(this->ProbeAction->toolTip());
+  group->addAction(this->ProbeAction);
+
+  this->BrushAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/Brush.svg"), "Brush Selection", group);
+  this->BrushAction->setObjectName("actionMultichannelBrush");
+  this->BrushAction->setToolTip(
+    "Brush Selection: highlight in the volume view the voxels of the points selected in the "
+    "reduced domain (select them first, e.g. with Select Points Through in the domain view)");
+  this->BrushAction->setStatusTip(this->BrushAction->toolTip());
+  group->addAction(this->BrushAction);
+
+  QObject::connect(
+    this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
+  QObject::connect(
+    this->BrushAction, &QAction::triggered, this, &pqMultichannelProbe::onBrush);
+  QObject::connect(&pqActiveObjects::instance(), &pqActiveObjects::viewChanged, this,
+    &pqMultichannelProbe::watchView);
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onProbeToggled(bool on)
+{
+  this->watchView(on ? pqActiveObjects::instance().activeView() : nullptr);
+  if (!on && this->Label)
+  {
+    this->Label->hide();
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::watchView(pqView* view)
+{
+  // Only the active render view is probed: the one the user last clicked in.
+  if (this->Watched)
+  {
+    this->Watched->removeEventFilter(this);
+    this->Watched = nullptr;
+  }
+  pqRenderView* renderView = qobject_cast<pqRenderView*>(view);
+  if (this->ProbeAction->isChecked() && renderView && renderView->widget())
+  {
+    this->Watched = renderView->widget();
+    this->Watched->installEventFilter(this);
+  }
+}
+
+//-----------------------------------------------------------------------------
+bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
+{
+  // Never consumes the event: a drag still turns the camera, a click also probes.
+  if (watched == this->Watched &&
+    (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease))
+  {
+    QMouseEvent* mouse = static_cast<QMouseEvent*>(event);
+    if (mouse->button() == Qt::LeftButton && event->type() == QEvent::MouseButtonPress)
+    {
+      this->PressPosition = mouse->pos();
+      this->Pressed = true;
+    }
+    else if (mouse->button() == Qt::LeftButton && this->Pressed)
+    {
+      this->Pressed = false;
+      if ((mouse->pos() - this->PressPosition).manhattanLength() <= 3)
+      {
+        // VTK display coordinates: device pixels, origin at the bottom left.
+        QWidget* widget = this->Watched;
+        const double ratio = widget->devicePixelRatioF();
+        const int x = static_cast<int>(mouse->pos().x() * ratio);
+        const int y = static_cast<int>((widget->height() - 1 - mouse->pos().y()) * ratio);
+        const QString text = this->runPython(
+          QString("import multichannel_explorer._gui\n"
+                  "multichannel_explorer._gui.probe(%1, %2)\n")
+            .arg(x)
+            .arg(y));
+        this->showText(widget, text);
+      }
+    }
+  }
+  return Superclass::eventFilter(watched, event);
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onBrush()
+{
+  const QString text = this->runPython("import multichannel_explorer._gui\n"
+                                       "multichannel_explorer._gui.brush()\n");
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (view && view->widget())
+  {
+    this->showText(view->widget(), text);
+  }
+}
+
+//-----------------------------------------------------------------------------
+QString pqMultichannelProbe::runPython(const QString& code)
+{
+  pqPVApplicationCore* core = pqPVApplicationCore::instance();
+  pqPythonManager* python = core ? core->pythonManager() : nullptr;
+  if (!python)
+  {
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Probe",
+      "Probing needs ParaView's Python support, which is not available.");
+    return QString();
+  }
+  // executeCode reports errors in the Output Messages window, as the other buttons do.
+  python->executeCode(code.toUtf8());
+  vtkPythonInterpreter::Initialize();
+  vtkPythonScopeGilEnsurer gil;
+  QString result;
+  PyObject* module = PyImport_ImportModule("multichannel_explorer._gui");
+  PyObject* text = module ? PyObject_GetAttrString(module, "text") : nullptr;
+  if (text && PyUnicode_Check(text))
+  {
+    result = QString::fromUtf8(PyUnicode_AsUTF8(text));
+  }
+  Py_XDECREF(text);
+  Py_XDECREF(module);
+  PyErr_Clear();
+  return result;
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
+{
+  if (!this->Label || this->Label->parentWidget() != viewWidget)
+  {
+    delete this->Label;
+    this->Label = new QLabel(viewWidget);
+    this->Label->setObjectName("MultichannelProbeLabel");
+    this->Label->setStyleSheet("QLabel { background: rgba(20, 20, 20, 200); color: white; "
+                               "padding: 6px; font-family: monospace; }");
+    this->Label->setAttribute(Qt::WA_TransparentForMouseEvents);
+  }
+  if (text.isEmpty())
+  {
+    this->Label->hide();
+    return;
+  }
+  this->Label->setText(text);
+  this->Label->adjustSize();
+  this->Label->move(8, 8);
+  this->Label->show();
+  this->Label->raise();
+}

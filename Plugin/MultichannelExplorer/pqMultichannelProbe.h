@@ -1,0 +1,61 @@
+// Toolbar "Multichannel Explorer": Probe (a toggle) and Brush Selection.
+#ifndef pqMultichannelProbe_h
+#define pqMultichannelProbe_h
+
+#include <QObject>
+#include <QPoint>
+#include <QPointer>
+
+class QAction;
+class QActionGroup;
+class QLabel;
+class QWidget;
+class pqView;
+
+/**
+ * Links the volume and its reduced domain from the GUI through the plugin's Python helpers
+ * (multichannel_explorer.picking / brushing), so the GUI and scripts share one
+ * implementation:
+ * - "Probe" (a toggle): while on, a left click (press and release without a drag, so the
+ *   camera still turns on a drag) in the active render view runs probe_at_pixel on the
+ *   pixel: the voxel seen there through the "Gaussian TF Volume" display, marked in the
+ *   dual-domain view. Its values appear in a small label over the view (top left,
+ *   object name "MultichannelProbeLabel") until the next probe or the toggle goes off.
+ * - "Brush Selection": brush(GetActiveSource()): the points selected in the domain view
+ *   (ParaView's rubber band, e.g. Select Points Through) highlighted as voxels in the
+ *   volume view; the count appears in the same label.
+ */
+class pqMultichannelProbe : public QObject
+{
+  Q_OBJECT
+  typedef QObject Superclass;
+
+public:
+  // Adds the two actions to `group` (the toolbar's action group), which owns this object.
+  pqMultichannelProbe(QActionGroup* group);
+  ~pqMultichannelProbe() override = default;
+
+protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
+private Q_SLOTS:
+  void onProbeToggled(bool on);
+  void onBrush();
+  void watchView(pqView* view);
+
+private:
+  Q_DISABLE_COPY(pqMultichannelProbe)
+  // Runs `code` in ParaView's Python, then returns the text the helper left in
+  // multichannel_explorer._gui.text (empty when Python is missing).
+  QString runPython(const QString& code);
+  void showText(QWidget* viewWidget, const QString& text);
+
+  QAction* ProbeAction;
+  QAction* BrushAction;
+  QPointer<QWidget> Watched;
+  QPointer<QLabel> Label;
+  QPoint PressPosition;
+  bool Pressed = false;
+};
+
+#endif

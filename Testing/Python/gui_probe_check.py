@@ -1,0 +1,46 @@
+"""GUI test of Probe, part 3 (run by test_gui.sh with the state file and paraview's exit
+status): the click in the volume view probed the voxel seen at that pixel (the top voxel
+of the column nearest to it), with its own ReducedCoordinates, and the marker moved there
+in the domain view."""
+import json
+import sys
+
+path, rc = sys.argv[1], int(sys.argv[2])
+fails = []
+
+
+def check(ok, msg):
+    print(("ok   " if ok else "FAIL ") + msg)
+    if not ok:
+        fails.append(msg)
+    return ok
+
+
+def close(a, b):
+    return a is not None and b is not None and all(abs(x - y) < 1e-6 for x, y in zip(a, b))
+
+
+check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+try:
+    events = json.load(open(path))["events"]
+except Exception as e:  # noqa: BLE001
+    events = []
+    check(False, "state file %s readable (%s)" % (path, e))
+probes = [e for e in events if e["event"] == "probe"]
+if check(len(probes) == 1, "the click in the volume view probed once (%d)" % len(probes)):
+    p = probes[0]
+    check(p["point_id"] == p["expected_id"],
+          "... the voxel seen at pixel %s of the %s view: id %s (expected %s)"
+          % (p["pixel"], p["view_size"], p["point_id"], p["expected_id"]))
+    check(close(p["coordinates"], p["expected_coordinates"]),
+          "... its ReducedCoordinates %s" % p["coordinates"])
+    check(close(p["marker"], p["expected_coordinates"]),
+          "... the marker in the domain view at them (%s)" % p["marker"])
+brushes = [e for e in events if e["event"] == "brush"]
+for b in brushes:
+    check(b["expected"] and b["count"] == len(b["expected"]) and
+          b["highlighted"] == b["expected"],
+          "Brush Selection: the %d voxels of the selected domain points highlighted (%d)"
+          % (len(b["expected"]), b["count"]))
+print("gui_probe: %d failed" % len(fails))
+sys.exit(1 if fails else 0)
