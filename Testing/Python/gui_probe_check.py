@@ -1,7 +1,8 @@
 """GUI test of Probe, part 3 (run by test_gui.sh with the state file and paraview's exit
 status): the click in the volume view probed the voxel seen at that pixel (the top voxel
 of the column nearest to it), with its own ReducedCoordinates, and the marker moved there
-in the domain view."""
+in the domain view; a rubber band (Select Points Through) in the domain view, then Brush
+Selection, highlighted exactly the voxels of the selected domain points."""
 import json
 import sys
 
@@ -37,6 +38,8 @@ if check(len(probes) == 1, "the click in the volume view probed once (%d)" % len
     check(close(p["marker"], p["expected_coordinates"]),
           "... the marker in the domain view at them (%s)" % p["marker"])
 brushes = [e for e in events if e["event"] == "brush"]
+check(len(brushes) == 1, "Brush Selection after the rubber band called brush once (%d)"
+      % len(brushes))
 for b in brushes:
     check(b["expected"] and b["count"] == len(b["expected"]) and
           b["highlighted"] == b["expected"],

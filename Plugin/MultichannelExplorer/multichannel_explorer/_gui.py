@@ -7,7 +7,7 @@ The helpers are called through the package (``multichannel_explorer.probe_at_pix
 so GUI tests can wrap them there.
 """
 
-from ._common import _simple, _warn
+from ._common import _same_proxy, _simple, _warn
 
 text = ""
 
@@ -47,14 +47,28 @@ def probe(x, y):
     return text
 
 
+def _selected_domain():
+    """The ReducedDomain whose points are selected: the active source if it is one, else
+    any with a selection (a rubber band also selects the widget spheres and markers, and
+    one of those may have become the active source)."""
+    simple = _simple()
+    active = simple.GetActiveSource()
+    domains = [p for p in simple.GetSources().values()
+               if p.SMProxy.GetXMLName() == "ReducedDomain"]
+    selected = [p for p in domains if p.SMProxy.GetSelectionInput(0) is not None]
+    for proxy in selected:
+        if _same_proxy(proxy, active):
+            return proxy
+    return selected[0] if selected else active
+
+
 def brush():
-    """brush() of the active source's selection in the reduced domain."""
+    """brush() of the points selected in the reduced domain."""
     global text
     import multichannel_explorer as mce
 
-    simple = _simple()
     try:
-        count = mce.brush(simple.GetActiveSource())
+        count = mce.brush(_selected_domain())
         text = "Brushed %d voxel%s" % (count, "" if count == 1 else "s")
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
         text = "Brush: %s" % error
