@@ -4,10 +4,12 @@
 #include "pqMultichannelProbe.h"
 
 #include "pqActiveObjects.h"
+#include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
 #include "pqPVApplicationCore.h"
 #include "pqPythonManager.h"
 #include "pqRenderView.h"
+#include "pqServerManagerModel.h"
 #include "vtkPythonInterpreter.h"
 
 #include <QAction>
@@ -46,34 +48,53 @@ pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
     this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
   QObject::connect(
     this->BrushAction, &QAction::triggered, this, &pqMultichannelProbe::onBrush);
-  QObject::connect(&pqActiveObjects::instance(), &pqActiveObjects::viewChanged, this,
-    &pqMultichannelProbe::watchView);
+  // Views made while probing are watched too.
+  QObject::connect(pqApplicationCore::instance()->getServerManagerModel(),
+    &pqServerManagerModel::viewAdded, this, &pqMultichannelProbe::watchView);
 }
 
 //-----------------------------------------------------------------------------
 void pqMultichannelProbe::onProbeToggled(bool on)
 {
-  this->watchView(on ? pqActiveObjects::instance().activeView() : nullptr);
-  if (!on && this->Label)
+  for (QWidget* widget : this->Watched)
+  {
+    if (widget)
+    {
+      widget->removeEventFilter(this);
+    }
+  }
+  this->Watched.clear();
+  if (on)
+  {
+    this->watchAllViews();
+  }
+  else if (this->Label)
   {
     this->Label->hide();
   }
 }
 
 //-----------------------------------------------------------------------------
+void pqMultichannelProbe::watchAllViews()
+{
+  // Every render view: the volume view and the domain view can both be probed, and the
+  // first click in either probes (it also makes that view the active one).
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  for (pqRenderView* view : model->findItems<pqRenderView*>())
+  {
+    this->watchView(view);
+  }
+}
+
+//-----------------------------------------------------------------------------
 void pqMultichannelProbe::watchView(pqView* view)
 {
-  // Only the active render view is probed: the one the user last clicked in.
-  if (this->Watched)
-  {
-    this->Watched->removeEventFilter(this);
-    this->Watched = nullptr;
-  }
   pqRenderView* renderView = qobject_cast<pqRenderView*>(view);
-  if (this->ProbeAction->isChecked() && renderView && renderView->widget())
+  QWidget* widget = renderView ? renderView->widget() : nullptr;
+  if (this->ProbeAction->isChecked() && widget && !this->Watched.contains(widget))
   {
-    this->Watched = renderView->widget();
-    this->Watched->installEventFilter(this);
+    widget->installEventFilter(this);
+    this->Watched.append(widget);
   }
 }
 
@@ -81,7 +102,8 @@ void pqMultichannelProbe::watchView(pqView* view)
 bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
 {
   // Never consumes the event: a drag still turns the camera, a click also probes.
-  if (watched == this->Watched &&
+  QWidget* widget = qobject_cast<QWidget*>(watched);
+  if (widget && this->Watched.contains(widget) &&
     (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease))
   {
     QMouseEvent* mouse = static_cast<QMouseEvent*>(event);
@@ -95,8 +117,8 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
       this->Pressed = false;
       if ((mouse->pos() - this->PressPosition).manhattanLength() <= 3)
       {
-        // VTK display coordinates: device pixels, origin at the bottom left.
-        QWidget* widget = this->Watched;
+        // VTK display coordinates: device pixels, origin at the bottom left. The press
+        // made this view the active one, which the helper probes.
         const double ratio = widget->devicePixelRatioF();
         const int x = static_cast<int>(mouse->pos().x() * ratio);
         const int y = static_cast<int>((widget->height() - 1 - mouse->pos().y()) * ratio);

@@ -2,6 +2,7 @@
 #ifndef pqMultichannelProbe_h
 #define pqMultichannelProbe_h
 
+#include <QList>
 #include <QObject>
 #include <QPoint>
 #include <QPointer>
@@ -17,10 +18,12 @@ class pqView;
  * (multichannel_explorer.picking / brushing), so the GUI and scripts share one
  * implementation:
  * - "Probe" (a toggle): while on, a left click (press and release without a drag, so the
- *   camera still turns on a drag) in the active render view runs probe_at_pixel on the
- *   pixel: the voxel seen there through the "Gaussian TF Volume" display, marked in the
- *   dual-domain view. Its values appear in a small label over the view (top left,
- *   object name "MultichannelProbeLabel") until the next probe or the toggle goes off.
+ *   camera still turns on a drag) in a render view probes the pixel: in the volume view
+ *   probe_at_pixel (the voxel seen there through the "Gaussian TF Volume" display), in
+ *   the domain view probe_domain_at_pixel (the voxel of the cloud point there); the voxel
+ *   is marked in both views. Its values appear in a small label over the view (top
+ *   left, object name "MultichannelProbeLabel") until the next probe or the toggle goes
+ *   off. The click also makes the view active (ParaView's own handling of the press).
  * - "Brush Selection": brush(GetActiveSource()): the points selected in the domain view
  *   (ParaView's rubber band, e.g. Select Points Through) highlighted as voxels in the
  *   volume view; the count appears in the same label.
@@ -42,6 +45,7 @@ private Q_SLOTS:
   void onProbeToggled(bool on);
   void onBrush();
   void watchView(pqView* view);
+  void watchAllViews();
 
 private:
   Q_DISABLE_COPY(pqMultichannelProbe)
@@ -52,7 +56,7 @@ private:
 
   QAction* ProbeAction;
   QAction* BrushAction;
-  QPointer<QWidget> Watched;
+  QList<QPointer<QWidget>> Watched;
   QPointer<QLabel> Label;
   QPoint PressPosition;
   bool Pressed = false;

@@ -1,7 +1,7 @@
 """GUI test of Probe, part 3 (run by test_gui.sh with the state file and paraview's exit
 status): the click in the volume view probed the voxel seen at that pixel (the top voxel
 of the column nearest to it), with its own ReducedCoordinates, and the marker moved there
-in the domain view; a rubber band (Select Points Through) in the domain view, then Brush
+in the domain view; a click on a domain point probed that point's voxel; a rubber band (Select Points Through) in the domain view, then Brush
 Selection, highlighted exactly the voxels of the selected domain points."""
 import json
 import sys
@@ -37,6 +37,16 @@ if check(len(probes) == 1, "the click in the volume view probed once (%d)" % len
           "... its ReducedCoordinates %s" % p["coordinates"])
     check(close(p["marker"], p["expected_coordinates"]),
           "... the marker in the domain view at them (%s)" % p["marker"])
+domain = [e for e in events if e["event"] == "probe_domain"]
+if check(len(domain) == 1, "the click in the domain view probed once (%d)" % len(domain)):
+    d = domain[0]
+    check(d["expected_id"] is not None and d["point_id"] == d["expected_id"],
+          "... the voxel of the cloud point at pixel %s: id %s (expected %s)"
+          % (d["pixel"], d["point_id"], d["expected_id"]))
+    check(close(d["marker"], d["coordinates"]) and probes and
+          d["point_id"] != probes[0]["point_id"],
+          "... another voxel than the volume's click, the marker moved to its coordinates %s"
+          % d["coordinates"])
 brushes = [e for e in events if e["event"] == "brush"]
 check(len(brushes) == 1, "Brush Selection after the rubber band called brush once (%d)"
       % len(brushes))

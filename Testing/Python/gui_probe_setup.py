@@ -5,7 +5,8 @@ volume view, selects domain points with a rubber band and clicks Brush Selection
 A synthetic volume whose ReducedCoordinates are known (0.1 x, 0.1 y, 0.1 z of the voxel
 position) is shown as a Gaussian TF Volume (one widget opaque everywhere) beside its dual
 domain, the volume view looking down -z in parallel projection: the click at the view's
-centre must probe the top voxel of the centre column. probe_at_pixel and brush are wrapped
+centre must probe the top voxel of the centre column, a click on a point of the domain
+cloud that point's voxel. probe_at_pixel and brush are wrapped
 (the package-level names the buttons call) to record what they returned, the expected
 answers computed here from the data, and a screenshot of the whole window (xwd) a moment
 later, once the label is shown."""
@@ -88,6 +89,34 @@ def probe_at_pixel(v, x, y, *args, **kwargs):
     return hit
 
 
+_probe_domain_at_pixel = mce.probe_domain_at_pixel
+
+
+def probe_domain_at_pixel(v, x, y, *args, **kwargs):
+    hit = _probe_domain_at_pixel(v, x, y, *args, **kwargs)
+    # Expected: of the cloud points within 3 pixels of (x, y), the nearest the camera (+z).
+    cloud = servermanager.Fetch(dual.filter)
+    ids = cloud.GetPointData().GetArray("VoxelId")
+    ren = v.GetRenderer()
+    near = []
+    for p in range(cloud.GetNumberOfPoints()):
+        ren.SetWorldPoint(*(list(cloud.GetPoint(p)) + [1.0]))
+        ren.WorldToDisplay()
+        px, py, _ = ren.GetDisplayPoint()
+        if max(abs(px - x), abs(py - y)) <= 3:
+            near.append(p)
+    front = max(near, key=lambda p: cloud.GetPoint(p)[2]) if near else None
+    marker = FindSource(mce.PROBE_MARKER)
+    state["events"].append({
+        "event": "probe_domain", "pixel": [x, y], "point_id": hit.point_id if hit else None,
+        "expected_id": int(ids.GetValue(front)) if front is not None else None,
+        "coordinates": list(hit.coordinates) if hit else None,
+        "marker": [float(c) for c in marker.Center] if marker else None})
+    save()
+    whole_window("gui_probe_domain_window.png")
+    return hit
+
+
 def brush(*args, **kwargs):
     count = _brush(*args, **kwargs)
     # Expected: the VoxelIds of the domain points in ParaView's selection of ReducedDomain.
@@ -110,4 +139,5 @@ def brush(*args, **kwargs):
 
 
 mce.probe_at_pixel, mce.brush = probe_at_pixel, brush
+mce.probe_domain_at_pixel = probe_domain_at_pixel
 save()

@@ -7,7 +7,8 @@
     domain view sits at its coordinates and is moved, not duplicated; add_widget_at
     appends one widget there with a palette colour no widget has (the palette equals the
     core's: compared with auto_widgets' seeded colours); probe_at_pixel finds the voxel
-    projected to a pixel; brush() by VoxelIds, by a box (expected set from the volume's
+    projected to a pixel and probe_domain_at_pixel the voxel of the cloud point seen at a
+    pixel of the domain view; brush() by VoxelIds, by a box (expected set from the volume's
     arrays) and by ParaView's selection of the domain cloud (SelectIDs, and a frustum
     rubber band SelectPointsThrough in the domain view = a box in reduced coordinates).
 (2) The real brain (Colin27 T1 + AAL + Brodmann -> 6D features -> Isomap, reference 2000,
@@ -190,6 +191,21 @@ got = highlighted_ids()
 C.check(len(rubber) > 10 and count == len(got) and got == rubber,
         "brush after a rubber band in the domain view: %d voxels, the %d whose points' "
         "pixels are in the rectangle (%d differ)" % (count, len(rubber), len(got ^ rubber)))
+# Probe in the domain view: the cloud point seen at a pixel (nearest the camera of those
+# within 5 pixels of it) -> its voxel.
+target = 123
+px, py = G.project(dual.domain_view, cloud.GetPoint(target))
+near = [p for p in range(cloud.GetNumberOfPoints())
+        if max(abs(a - b) for a, b in zip(G.project(dual.domain_view, cloud.GetPoint(p)),
+                                          (px, py))) <= 3]
+front = max(near, key=lambda p: cloud.GetPoint(p)[2])  # camera on +z
+from_domain = mce.probe_domain_at_pixel(dual.domain_view, px, py)
+C.check(from_domain is not None and from_domain.point_id == int(voxel_id.GetValue(front)) and
+        close(from_domain.coordinates, rc.GetTuple3(from_domain.point_id)),
+        "probe_domain_at_pixel: the voxel of the front cloud point at that pixel (%s, expected "
+        "%d)" % (from_domain and from_domain.point_id, int(voxel_id.GetValue(front))))
+C.check(mce.probe_domain_at_pixel(dual.domain_view, 1, 1) is None,
+        "probe_domain_at_pixel on empty background: None")
 simple.SaveScreenshot(os.path.join(out, "brush_synthetic_volume.png"), view,
                       ImageResolution=[500, 400])
 simple.ClearSelection(dual.filter)

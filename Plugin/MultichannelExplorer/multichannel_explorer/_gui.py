@@ -38,9 +38,15 @@ def probe(x, y):
     import multichannel_explorer as mce
 
     simple = _simple()
+    view = simple.GetActiveView()
     try:
-        hit = mce.probe_at_pixel(simple.GetActiveView(), x, y)
+        if mce.picking._gaussian_tf_in(view) is None and mce.picking._domain_in(view):
+            hit = mce.probe_domain_at_pixel(view, x, y)  # a click in the domain view
+        else:
+            hit = mce.probe_at_pixel(view, x, y)
         text = describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
+    except ValueError as error:  # nothing to probe in this view: the label says so
+        text = "Probe: %s" % error
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
         text = "Probe: %s" % error
         _warn(text)
@@ -70,6 +76,8 @@ def brush():
     try:
         count = mce.brush(_selected_domain())
         text = "Brushed %d voxel%s" % (count, "" if count == 1 else "s")
+    except ValueError as error:  # nothing selected: the label says so
+        text = "Brush: %s" % error
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
         text = "Brush: %s" % error
         _warn(text)

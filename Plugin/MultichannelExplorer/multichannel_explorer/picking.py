@@ -1,4 +1,5 @@
-"""Picking: the voxel under a pixel of the volume view, for the GUI's Probe toggle.
+"""Picking: the voxel under a pixel of the volume view, or of the domain view (the voxel
+of the domain point there), for the GUI's Probe toggle.
 
 A volume has no surface to pick, so the pixel's ray (from the view's camera, computed
 here, so it works in any session) is sampled through the volume on the server (Plot Over
@@ -9,7 +10,7 @@ through that pixel has accumulated.
 
 import math
 
-from ._voxels import _Grid
+from ._voxels import _Grid, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
                                 _widget_values)
@@ -17,6 +18,7 @@ from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
 __all__ = [
     "pixel_ray",
     "probe_at_pixel",
+    "probe_domain_at_pixel",
 ]
 
 
@@ -139,4 +141,48 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     result = probe(display, position=point, **probe_args)
     result.ray = (origin, direction)
     result.depth = math.sqrt(sum((a - b) ** 2 for a, b in zip(point, origin)))
+    return result
+
+
+def _domain_in(view):
+    """The ReducedDomain whose cloud (port 0) is visible in `view`, or None."""
+    from paraview import simple
+
+    for proxy in simple.GetSources().values():
+        if proxy.SMProxy.GetXMLName() == "ReducedDomain" and view in _views_showing(proxy, 0):
+            return proxy
+    return None
+
+
+def probe_domain_at_pixel(view, x, y, domain=None, tolerance=5, **probe_args):
+    """probe() of the voxel whose point of the reduced-domain cloud is seen at display
+    pixel (x, y) of the domain view: of the cloud's points within `tolerance` pixels of
+    the pixel's ray, the one nearest the camera. `domain`: the ReducedDomain filter
+    (default: the one shown in `view`). None when no point is that close."""
+    from paraview import servermanager
+
+    domain = domain or _domain_in(view)
+    if domain is None:
+        raise ValueError("no reduced domain (ReducedDomain) visible in this view")
+    origin, direction = pixel_ray(view, x, y)
+    height = max(int(view.ViewSize[1]), 1)
+    if int(view.CameraParallelProjection):
+        per_pixel = lambda t: 2.0 * float(view.CameraParallelScale) / height  # noqa: E731
+    else:
+        half = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
+        per_pixel = lambda t: 2.0 * half * t / height  # noqa: E731
+    cloud = servermanager.Fetch(domain)
+    ids = cloud.GetPointData().GetArray("VoxelId")
+    best, best_t = None, None
+    for p in range(cloud.GetNumberOfPoints()):
+        d = [a - b for a, b in zip(cloud.GetPoint(p), origin)]
+        t = sum(a * b for a, b in zip(d, direction))
+        off2 = sum(a * a for a in d) - t * t
+        if t > 0 and off2 <= (tolerance * per_pixel(t)) ** 2 and (best_t is None or t < best_t):
+            best, best_t = p, t
+    if best is None:
+        return None
+    probe_args.setdefault("domain_view", view)
+    result = probe(domain.Input, int(ids.GetValue(best)), **probe_args)
+    result.domain_point = best
     return result
