@@ -154,6 +154,12 @@ simple.SaveScreenshot(os.path.join(out, "probe_synthetic_volume.png"), view,
 ids = [pid, 5, 77, 400]
 C.check(mce.brush(display, voxel_ids=ids) == 4 and highlighted_ids() == B.set(ids),
         "brush(voxel_ids): those 4 voxels highlighted")
+try:
+    mce.brush(display, voxel_ids=[3, full.GetNumberOfPoints()])
+    C.check(False, "brush(voxel id outside the volume): an error")
+except ValueError as error:
+    C.check(highlighted_ids() == B.set(ids), "brush(voxel id outside): %s; highlight kept"
+            % error)
 box = (0.3, 0.9, 0.5, 4.0, -1.0, 1.0)
 fg = pd.GetArray("Foreground")
 in_box = B.set(p for p in range(full.GetNumberOfPoints()) if fg.GetValue(p) and

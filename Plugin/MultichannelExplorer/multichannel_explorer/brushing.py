@@ -109,6 +109,11 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
                              "makes one); pass voxel_ids instead")
         ids = _ids_in_box(domain, box) if box is not None else _ids_selected(domain, selection)
     ids = sorted(set(ids))
+    count = source.GetDataInformation().GetNumberOfPoints()
+    outside = [v for v in ids if not 0 <= v < count]
+    if outside:  # an ID selection would drop them silently and the count would lie
+        raise ValueError("brush: voxel ids %s outside the volume's %d voxels"
+                         % (outside[:5], count))
 
     extract = simple.FindSource(BRUSHED_VOXELS)
     if extract is not None and not _same_proxy(extract.Input, source):
