@@ -1,5 +1,5 @@
 // Toolbar "Multichannel Explorer": Best Viewpoint, Follow Best Viewpoint, Seed Widgets
-// (and pqMultichannelProbe's Probe and Brush Selection).
+// (and pqMultichannelProbe's Probe, Add Widget Here and Brush Selection).
 #ifndef pqBestViewpointActions_h
 #define pqBestViewpointActions_h
 

@@ -35,6 +35,15 @@ pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
   this->ProbeAction->setStatusTip(this->ProbeAction->toolTip());
   group->addAction(this->ProbeAction);
 
+  this->AddWidgetAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/AddWidget.svg"), "Add Widget Here", group);
+  this->AddWidgetAction->setObjectName("actionMultichannelAddWidget");
+  this->AddWidgetAction->setToolTip(
+    "Add Widget Here: a new Gaussian widget at the reduced coordinates of the last probed "
+    "voxel (a palette colour no widget has, sigma 5% of the coordinates' range)");
+  this->AddWidgetAction->setStatusTip(this->AddWidgetAction->toolTip());
+  group->addAction(this->AddWidgetAction);
+
   this->BrushAction =
     new QAction(QIcon(":/MultichannelExplorer/Icons/Brush.svg"), "Brush Selection", group);
   this->BrushAction->setObjectName("actionMultichannelBrush");
@@ -48,6 +57,8 @@ pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
     this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
   QObject::connect(
     this->BrushAction, &QAction::triggered, this, &pqMultichannelProbe::onBrush);
+  QObject::connect(
+    this->AddWidgetAction, &QAction::triggered, this, &pqMultichannelProbe::onAddWidget);
   // Views made while probing are watched too.
   QObject::connect(pqApplicationCore::instance()->getServerManagerModel(),
     &pqServerManagerModel::viewAdded, this, &pqMultichannelProbe::watchView);
@@ -139,6 +150,18 @@ void pqMultichannelProbe::onBrush()
 {
   const QString text = this->runPython("import multichannel_explorer._gui\n"
                                        "multichannel_explorer._gui.brush()\n");
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (view && view->widget())
+  {
+    this->showText(view->widget(), text);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onAddWidget()
+{
+  const QString text = this->runPython("import multichannel_explorer._gui\n"
+                                       "multichannel_explorer._gui.add_widget()\n");
   pqView* view = pqActiveObjects::instance().activeView();
   if (view && view->widget())
   {

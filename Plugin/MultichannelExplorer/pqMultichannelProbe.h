@@ -1,4 +1,4 @@
-// Toolbar "Multichannel Explorer": Probe (a toggle) and Brush Selection.
+// Toolbar "Multichannel Explorer": Probe (a toggle), Add Widget Here and Brush Selection.
 #ifndef pqMultichannelProbe_h
 #define pqMultichannelProbe_h
 
@@ -24,6 +24,8 @@ class pqView;
  *   is marked in both views. Its values appear in a small label over the view (top
  *   left, object name "MultichannelProbeLabel") until the next probe or the toggle goes
  *   off. The click also makes the view active (ParaView's own handling of the press).
+ * - "Add Widget Here": add_widget_at the last probed voxel's reduced coordinates (a
+ *   palette colour no widget has, sigma 5% of the coordinates' range, opacity 0.5).
  * - "Brush Selection": brush(GetActiveSource()): the points selected in the domain view
  *   (ParaView's rubber band, e.g. Select Points Through) highlighted as voxels in the
  *   volume view; the count appears in the same label.
@@ -34,7 +36,7 @@ class pqMultichannelProbe : public QObject
   typedef QObject Superclass;
 
 public:
-  // Adds the two actions to `group` (the toolbar's action group), which owns this object.
+  // Adds the three actions to `group` (the toolbar's action group), which owns this object.
   pqMultichannelProbe(QActionGroup* group);
   ~pqMultichannelProbe() override = default;
 
@@ -44,6 +46,7 @@ protected:
 private Q_SLOTS:
   void onProbeToggled(bool on);
   void onBrush();
+  void onAddWidget();
   void watchView(pqView* view);
   void watchAllViews();
 
@@ -55,6 +58,7 @@ private:
   void showText(QWidget* viewWidget, const QString& text);
 
   QAction* ProbeAction;
+  QAction* AddWidgetAction;
   QAction* BrushAction;
   QList<QPointer<QWidget>> Watched;
   QPointer<QLabel> Label;

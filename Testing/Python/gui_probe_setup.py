@@ -117,6 +117,21 @@ def probe_domain_at_pixel(v, x, y, *args, **kwargs):
     return hit
 
 
+_add_widget_at = mce.add_widget_at
+
+
+def add_widget_at(target, coords, *args, **kwargs):
+    before = [float(v) for v in target.GaussianWidgets]
+    widget = _add_widget_at(target, coords, *args, **kwargs)
+    state["events"].append({
+        "event": "add_widget", "before": before, "widget": list(widget),
+        "after": [float(v) for v in display.GaussianWidgets],
+        "coordinates": list(coords["coordinates"] if isinstance(coords, dict) else coords),
+        "palette": [mce.palette_color(i) for i in range(16)]})
+    save()
+    return widget
+
+
 def brush(*args, **kwargs):
     count = _brush(*args, **kwargs)
     # Expected: the VoxelIds of the domain points in ParaView's selection of ReducedDomain.
@@ -139,5 +154,5 @@ def brush(*args, **kwargs):
 
 
 mce.probe_at_pixel, mce.brush = probe_at_pixel, brush
-mce.probe_domain_at_pixel = probe_domain_at_pixel
+mce.probe_domain_at_pixel, mce.add_widget_at = probe_domain_at_pixel, add_widget_at
 save()

@@ -1,4 +1,4 @@
-"""What the GUI's Probe toggle and Brush Selection button run (pqMultichannelProbe.cxx):
+"""What the GUI's Probe toggle, Add Widget Here and Brush Selection buttons run (pqMultichannelProbe.cxx):
 the helpers on the active view / source, and the text the label over the view shows,
 left in ``text`` for the C++ side to read. Errors become that text too (and a warning in
 Output Messages), so a click never fails silently.
@@ -10,6 +10,7 @@ so GUI tests can wrap them there.
 from ._common import _same_proxy, _simple, _warn
 
 text = ""
+last_hit = None  # the last probe's result: "Add Widget Here" puts a widget there
 
 
 def _numbers(values, limit=6):
@@ -34,7 +35,7 @@ def describe(hit):
 
 def probe(x, y):
     """Probe of display pixel (x, y) of the active view."""
-    global text
+    global text, last_hit
     import multichannel_explorer as mce
 
     simple = _simple()
@@ -45,6 +46,7 @@ def probe(x, y):
         else:
             hit = mce.probe_at_pixel(view, x, y)
         text = describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
+        last_hit = hit if hit is not None else last_hit
     except ValueError as error:  # nothing to probe in this view: the label says so
         text = "Probe: %s" % error
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
@@ -80,5 +82,25 @@ def brush():
         text = "Brush: %s" % error
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
         text = "Brush: %s" % error
+        _warn(text)
+    return text
+
+
+def add_widget():
+    """add_widget_at() the last probed voxel's coordinates."""
+    global text
+    import multichannel_explorer as mce
+
+    try:
+        if last_hit is None or last_hit.display is None:
+            raise ValueError("probe a voxel of a \"Gaussian TF Volume\" first")
+        widget = mce.add_widget_at(last_hit.display, last_hit)
+        count = len(last_hit.display.GaussianWidgets) // 8
+        text = "Widget %d added at (%s), sigma %.3g" % (count, _numbers(widget[:3]), widget[3])
+        _simple().Render()
+    except ValueError as error:
+        text = "Add Widget Here: %s" % error
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "Add Widget Here: %s" % error
         _warn(text)
     return text

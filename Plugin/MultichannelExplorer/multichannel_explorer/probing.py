@@ -9,7 +9,8 @@ import numbers
 from ._common import _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
-from .transfer_function import _coordinates_name, _source_and_display, _widget_values
+from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
+                                _widget_values)
 from .viewpoint import ViewpointResult
 
 __all__ = [
@@ -95,7 +96,8 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
     numbers, not all ints; or pass `position=`): the nearest voxel. Returns a dict (also
     with attribute access): index, point_id, position (world), coordinates (the voxel's
     ReducedCoordinates, or the display's coordinate array), channels ({name: value(s)}),
-    features, foreground (None without a Foreground array), values (every point array).
+    features, foreground (None without a Foreground array), values (every point array),
+    display (the volume's "Gaussian TF Volume" display, if any: for add_widget_at).
 
     With `mark` and a domain view (`domain_view`, else the view show_dual_domain made
     for this volume), a sphere named PROBE_MARKER moves to the coordinates there (z = 0
@@ -107,6 +109,9 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
         print(hit.coordinates, hit.channels, hit.foreground)
     """
     source, display = _source_and_display(target, view)
+    if display is None:  # e.g. probed from the domain view: the volume's display elsewhere
+        display = next((d for d in (_gaussian_tf_display(source, v)
+                                    for v in _views_showing(source)) if d is not None), None)
     if voxel is None and position is None:
         raise ValueError("probe needs a voxel: (i, j, k), a point id or a world position")
     grid = _Grid(source)
@@ -124,7 +129,7 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
                   if k not in _NOT_CHANNELS and k != name},
         features=list(values["Features"]) if "Features" in values else None,
         foreground=int(foreground[0]) if foreground is not None else None,
-        values=values, marker=None, domain_view=None)
+        values=values, marker=None, domain_view=None, display=display)
     if not mark:
         return result
 
