@@ -2,6 +2,7 @@
 
 #include "pqActiveObjects.h"
 #include "pqCoreUtilities.h"
+#include "pqMultichannelProbe.h"
 #include "pqPVApplicationCore.h"
 #include "pqPipelineSource.h"
 #include "pqPythonManager.h"
@@ -43,6 +44,7 @@ pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
     "of the active \"Gaussian TF Volume\" display (a starting point to edit)");
   this->SeedWidgetsAction->setStatusTip(this->SeedWidgetsAction->toolTip());
   this->addAction(this->SeedWidgetsAction);
+  new pqMultichannelProbe(this); // Probe, Add Widget Here, Brush Selection, in this toolbar
   this->setExclusive(false);
 
   QObject::connect(

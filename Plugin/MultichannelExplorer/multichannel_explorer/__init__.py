@@ -31,6 +31,12 @@ The package, one module per capability (every public name is also here, at the t
     reduction           reduce_multichannel
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
+    probing             probe, add_widget_at, palette_color, PROBE_MARKER
+    picking             probe_at_pixel, probe_domain_at_pixel, pixel_ray (the voxel
+                        under a pixel of the volume or domain view: the GUI's Probe)
+    brushing            brush, BRUSHED_VOXELS
+    _voxels             private: the volume's grid, one voxel's values, views of a source
+    _gui                private: what the GUI's Probe and Brush Selection run, their text
     _common             private helpers shared by the others (paraview.simple on
                         demand, warnings, proxy look-ups, property observers)
 
@@ -40,8 +46,11 @@ GUI tests do for the functions the toolbar buttons call) changes what callers of
 """
 
 from . import _common, images
+from .brushing import BRUSHED_VOXELS, brush
 from .dual_domain import reduced_domain_filter, show_dual_domain
 from .images import image_entropy, image_statistics
+from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
+from .probing import PROBE_MARKER, add_widget_at, palette_color, probe
 from .reduction import reduce_multichannel
 from .seeding import auto_widgets
 from .transfer_function import GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
@@ -69,4 +78,13 @@ __all__ = [
     "turn_camera",
     "GAUSSIAN_TF_REPRESENTATION",
     "show_gaussian_tf",
+    "probe",
+    "add_widget_at",
+    "palette_color",
+    "PROBE_MARKER",
+    "probe_at_pixel",
+    "probe_domain_at_pixel",
+    "pixel_ray",
+    "brush",
+    "BRUSHED_VOXELS",
 ]

@@ -1,0 +1,106 @@
+"""What the GUI's Probe toggle, Add Widget Here and Brush Selection buttons run (pqMultichannelProbe.cxx):
+the helpers on the active view / source, and the text the label over the view shows,
+left in ``text`` for the C++ side to read. Errors become that text too (and a warning in
+Output Messages), so a click never fails silently.
+
+The helpers are called through the package (``multichannel_explorer.probe_at_pixel``),
+so GUI tests can wrap them there.
+"""
+
+from ._common import _same_proxy, _simple, _warn
+
+text = ""
+last_hit = None  # the last probe's result: "Add Widget Here" puts a widget there
+
+
+def _numbers(values, limit=6):
+    shown = ", ".join("%.4g" % v for v in list(values)[:limit])
+    return shown + (", ..." if len(values) > limit else "")
+
+
+def describe(hit):
+    """The label's text for a probe() result."""
+    lines = ["Voxel (%d, %d, %d)   id %d" % (tuple(hit.index) + (hit.point_id,)),
+             "position     (%s)" % _numbers(hit.position),
+             "coordinates  (%s)" % _numbers(hit.coordinates)]
+    if hit.foreground is not None:
+        lines.append("foreground   %d" % hit.foreground)
+    for name, value in sorted(hit.channels.items()):
+        shown = _numbers(value) if isinstance(value, list) else "%.6g" % value
+        lines.append("%-12s %s" % (name[:12], shown))
+    if hit.features is not None:
+        lines.append("features     %s" % _numbers(hit.features))
+    return "\n".join(lines)
+
+
+def probe(x, y):
+    """Probe of display pixel (x, y) of the active view."""
+    global text, last_hit
+    import multichannel_explorer as mce
+
+    simple = _simple()
+    view = simple.GetActiveView()
+    try:
+        if mce.picking._gaussian_tf_in(view) is None and mce.picking._domain_in(view):
+            hit = mce.probe_domain_at_pixel(view, x, y)  # a click in the domain view
+        else:
+            hit = mce.probe_at_pixel(view, x, y)
+        text = describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
+        last_hit = hit if hit is not None else last_hit
+    except ValueError as error:  # nothing to probe in this view: the label says so
+        text = "Probe: %s" % error
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "Probe: %s" % error
+        _warn(text)
+    return text
+
+
+def _selected_domain():
+    """The ReducedDomain whose points are selected: the active source if it is one, else
+    any with a selection (a rubber band also selects the widget spheres and markers, and
+    one of those may have become the active source)."""
+    simple = _simple()
+    active = simple.GetActiveSource()
+    domains = [p for p in simple.GetSources().values()
+               if p.SMProxy.GetXMLName() == "ReducedDomain"]
+    selected = [p for p in domains if p.SMProxy.GetSelectionInput(0) is not None]
+    for proxy in selected:
+        if _same_proxy(proxy, active):
+            return proxy
+    return selected[0] if selected else active
+
+
+def brush():
+    """brush() of the points selected in the reduced domain."""
+    global text
+    import multichannel_explorer as mce
+
+    try:
+        count = mce.brush(_selected_domain())
+        text = "Brushed %d voxel%s" % (count, "" if count == 1 else "s")
+    except ValueError as error:  # nothing selected: the label says so
+        text = "Brush: %s" % error
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "Brush: %s" % error
+        _warn(text)
+    return text
+
+
+def add_widget():
+    """add_widget_at() the last probed voxel's coordinates."""
+    global text
+    import multichannel_explorer as mce
+
+    try:
+        if last_hit is None or last_hit.display is None:
+            raise ValueError("probe a voxel of a \"Gaussian TF Volume\" first")
+        widget = mce.add_widget_at(last_hit.display, last_hit)
+        count = len(last_hit.display.GaussianWidgets) // 8
+        text = "Widget %d added at (%s), sigma %.3g" % (count, _numbers(widget[:3]), widget[3])
+        _simple().Render()
+    except ValueError as error:
+        text = "Add Widget Here: %s" % error
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "Add Widget Here: %s" % error
+        _warn(text)
+    return text

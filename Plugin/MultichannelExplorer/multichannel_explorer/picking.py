@@ -1,0 +1,188 @@
+"""Picking: the voxel under a pixel of the volume view, or of the domain view (the voxel
+of the domain point there), for the GUI's Probe toggle.
+
+A volume has no surface to pick, so the pixel's ray (from the view's camera, computed
+here, so it works in any session) is sampled through the volume on the server (Plot Over
+Line, interpolated) and the widgets' opacity is composited along it as the ray caster
+does; the picked voxel is the one nearest the depth where half of the opacity seen
+through that pixel has accumulated.
+"""
+
+import math
+
+from ._voxels import _Grid, _views_showing
+from .probing import probe
+from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
+                                _widget_values)
+
+__all__ = [
+    "pixel_ray",
+    "probe_at_pixel",
+    "probe_domain_at_pixel",
+]
+
+
+def _unit(v):
+    n = math.sqrt(sum(x * x for x in v)) or 1.0
+    return [x / n for x in v]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def pixel_ray(view, x, y):
+    """(origin, unit direction) of the ray through display pixel (x, y) of `view`
+    (origin at the bottom left, as VTK's display coordinates), from the camera
+    properties: perspective (vertical view angle) or parallel projection."""
+    position = [float(v) for v in view.CameraPosition]
+    focal = [float(v) for v in view.CameraFocalPoint]
+    forward = _unit([f - p for f, p in zip(focal, position)])
+    right = _unit(_cross(forward, [float(v) for v in view.CameraViewUp]))
+    up = _cross(right, forward)
+    width, height = [max(int(v), 1) for v in view.ViewSize]
+    # Pixel centres in normalised device coordinates [-1, 1].
+    u = 2.0 * (x + 0.5) / width - 1.0
+    v = 2.0 * (y + 0.5) / height - 1.0
+    aspect = float(width) / height
+    if int(view.CameraParallelProjection):
+        scale = float(view.CameraParallelScale)
+        origin = [p + u * scale * aspect * r + v * scale * w
+                  for p, r, w in zip(position, right, up)]
+        return origin, forward
+    half = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
+    direction = _unit([f + u * half * aspect * r + v * half * w
+                       for f, r, w in zip(forward, right, up)])
+    return position, direction
+
+
+def _clip_to_box(origin, direction, bounds):
+    """(t_enter, t_exit) of the ray in the axis-aligned box, or None (slab method)."""
+    t0, t1 = 0.0, float("inf")
+    for a in range(3):
+        lo, hi = bounds[2 * a], bounds[2 * a + 1]
+        if abs(direction[a]) < 1e-12:
+            if not lo <= origin[a] <= hi:
+                return None
+            continue
+        ta, tb = sorted(((lo - origin[a]) / direction[a], (hi - origin[a]) / direction[a]))
+        t0, t1 = max(t0, ta), min(t1, tb)
+    return (t0, t1) if t0 <= t1 else None
+
+
+def _widget_alpha(widgets, c):
+    """1 - prod(1 - a_i exp(-|c - mu_i|^2 / (2 sigma_i^2))): the representation's
+    opacity of reduced coordinates c."""
+    keep = 1.0
+    for w in range(0, len(widgets) - 7, 8):
+        cx, cy, cz, s, _, _, _, a = widgets[w:w + 8]
+        d2 = sum((x - m) ** 2 for x, m in zip(c, (cx, cy, cz)))
+        keep *= 1.0 - min(max(a, 0.0), 1.0) * math.exp(-d2 / (2.0 * s * s))
+    return 1.0 - keep
+
+
+def _gaussian_tf_in(view):
+    for rep in view.Representations:
+        try:
+            if rep.Visibility and rep.Representation == GAUSSIAN_TF_REPRESENTATION:
+                return rep
+        except AttributeError:
+            continue
+    return None
+
+
+def probe_at_pixel(view, x, y, display=None, **probe_args):
+    """probe() of the voxel seen at display pixel (x, y) of `view` through `display` (a
+    "Gaussian TF Volume" display; default the first visible one in the view). None when
+    the ray misses the volume or sees nothing (no opacity along it). The result also
+    has `ray` (origin, direction) and `depth` (distance from the ray origin)."""
+    from paraview import servermanager
+
+    display = display or _gaussian_tf_in(view)
+    if display is None:
+        raise ValueError("no \"Gaussian TF Volume\" display visible in this view")
+    source = display.Input
+    grid = _Grid(source)
+    origin, direction = pixel_ray(view, x, y)
+    hit = _clip_to_box(origin, direction, grid.bounds())
+    if hit is None:
+        return None
+    t0, t1 = hit
+    step = 0.5 * min(grid.spacing)
+    samples = max(2, int(math.ceil((t1 - t0) / step)))
+    line = servermanager.filters.PlotOverLine(Input=source)
+    line.Point1 = [o + t0 * d for o, d in zip(origin, direction)]
+    line.Point2 = [o + t1 * d for o, d in zip(origin, direction)]
+    line.SamplingPattern = "Sample Uniformly"
+    line.Resolution = samples
+    polyline = servermanager.Fetch(line)
+    pd = polyline.GetPointData()
+    coords = pd.GetArray(_coordinates_name(display))
+    valid = pd.GetArray("vtkValidPointMask")
+    mask = pd.GetArray("Foreground")
+    widgets = _widget_values(display)
+    unit = float(display.ScalarOpacityUnitDistance) or 1.0
+    seg = (t1 - t0) / samples
+    # Composite front to back, as the ray caster does (opacity per unit distance).
+    keep, opacities = 1.0, []
+    for p in range(polyline.GetNumberOfPoints()):
+        alpha = 0.0
+        if (valid is None or valid.GetTuple1(p)) and (mask is None or mask.GetTuple1(p) >= 0.5):
+            c = list(coords.GetTuple(p)) + [0.0]
+            alpha = 1.0 - (1.0 - _widget_alpha(widgets, c[:3])) ** (seg / unit)
+        keep *= 1.0 - alpha
+        opacities.append(1.0 - keep)
+    seen = opacities[-1] if opacities else 0.0
+    if seen < 1e-3:  # nothing visible along this ray
+        return None
+    pick = next(p for p, o in enumerate(opacities) if o >= 0.5 * seen)
+    point = list(polyline.GetPoint(pick))
+    probe_args.setdefault("view", view)
+    result = probe(display, position=point, **probe_args)
+    result.ray = (origin, direction)
+    result.depth = math.sqrt(sum((a - b) ** 2 for a, b in zip(point, origin)))
+    return result
+
+
+def _domain_in(view):
+    """The ReducedDomain whose cloud (port 0) is visible in `view`, or None."""
+    from paraview import simple
+
+    for proxy in simple.GetSources().values():
+        if proxy.SMProxy.GetXMLName() == "ReducedDomain" and view in _views_showing(proxy, 0):
+            return proxy
+    return None
+
+
+def probe_domain_at_pixel(view, x, y, domain=None, tolerance=5, **probe_args):
+    """probe() of the voxel whose point of the reduced-domain cloud is seen at display
+    pixel (x, y) of the domain view: of the cloud's points within `tolerance` pixels of
+    the pixel's ray, the one nearest the camera. `domain`: the ReducedDomain filter
+    (default: the one shown in `view`). None when no point is that close."""
+    from paraview import servermanager
+
+    domain = domain or _domain_in(view)
+    if domain is None:
+        raise ValueError("no reduced domain (ReducedDomain) visible in this view")
+    origin, direction = pixel_ray(view, x, y)
+    height = max(int(view.ViewSize[1]), 1)
+    if int(view.CameraParallelProjection):
+        per_pixel = lambda t: 2.0 * float(view.CameraParallelScale) / height  # noqa: E731
+    else:
+        half = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
+        per_pixel = lambda t: 2.0 * half * t / height  # noqa: E731
+    cloud = servermanager.Fetch(domain)
+    ids = cloud.GetPointData().GetArray("VoxelId")
+    best, best_t = None, None
+    for p in range(cloud.GetNumberOfPoints()):
+        d = [a - b for a, b in zip(cloud.GetPoint(p), origin)]
+        t = sum(a * b for a, b in zip(d, direction))
+        off2 = sum(a * a for a in d) - t * t
+        if t > 0 and off2 <= (tolerance * per_pixel(t)) ** 2 and (best_t is None or t < best_t):
+            best, best_t = p, t
+    if best is None:
+        return None
+    probe_args.setdefault("domain_view", view)
+    result = probe(domain.Input, int(ids.GetValue(best)), **probe_args)
+    result.domain_point = best
+    return result

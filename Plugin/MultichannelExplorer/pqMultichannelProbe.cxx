@@ -1,0 +1,222 @@
+// Python.h must come before the standard headers (it sets feature macros).
+#include "vtkPython.h"
+
+#include "pqMultichannelProbe.h"
+
+#include "pqActiveObjects.h"
+#include "pqApplicationCore.h"
+#include "pqCoreUtilities.h"
+#include "pqPVApplicationCore.h"
+#include "pqPythonManager.h"
+#include "pqRenderView.h"
+#include "pqServerManagerModel.h"
+#include "vtkPythonInterpreter.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QEvent>
+#include <QIcon>
+#include <QLabel>
+#include <QMessageBox>
+#include <QMouseEvent>
+#include <QWidget>
+
+//-----------------------------------------------------------------------------
+pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
+  : Superclass(group)
+{
+  this->ProbeAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/Probe.svg"), "Probe", group);
+  this->ProbeAction->setObjectName("actionMultichannelProbe");
+  this->ProbeAction->setCheckable(true);
+  this->ProbeAction->setToolTip(
+    "Probe: while on, click a voxel in the \"Gaussian TF Volume\" view to read its reduced "
+    "coordinates, channels and features, and mark it in the reduced domain");
+  this->ProbeAction->setStatusTip(this->ProbeAction->toolTip());
+  group->addAction(this->ProbeAction);
+
+  this->AddWidgetAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/AddWidget.svg"), "Add Widget Here", group);
+  this->AddWidgetAction->setObjectName("actionMultichannelAddWidget");
+  this->AddWidgetAction->setToolTip(
+    "Add Widget Here: a new Gaussian widget at the reduced coordinates of the last probed "
+    "voxel (a palette colour no widget has, sigma 5% of the coordinates' range)");
+  this->AddWidgetAction->setStatusTip(this->AddWidgetAction->toolTip());
+  group->addAction(this->AddWidgetAction);
+
+  this->BrushAction =
+    new QAction(QIcon(":/MultichannelExplorer/Icons/Brush.svg"), "Brush Selection", group);
+  this->BrushAction->setObjectName("actionMultichannelBrush");
+  this->BrushAction->setToolTip(
+    "Brush Selection: highlight in the volume view the voxels of the points selected in the "
+    "reduced domain (select them first, e.g. with Select Points Through in the domain view)");
+  this->BrushAction->setStatusTip(this->BrushAction->toolTip());
+  group->addAction(this->BrushAction);
+
+  QObject::connect(
+    this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
+  QObject::connect(
+    this->BrushAction, &QAction::triggered, this, &pqMultichannelProbe::onBrush);
+  QObject::connect(
+    this->AddWidgetAction, &QAction::triggered, this, &pqMultichannelProbe::onAddWidget);
+  // Views made while probing are watched too.
+  QObject::connect(pqApplicationCore::instance()->getServerManagerModel(),
+    &pqServerManagerModel::viewAdded, this, &pqMultichannelProbe::watchView);
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onProbeToggled(bool on)
+{
+  for (QWidget* widget : this->Watched)
+  {
+    if (widget)
+    {
+      widget->removeEventFilter(this);
+    }
+  }
+  this->Watched.clear();
+  if (on)
+  {
+    this->watchAllViews();
+  }
+  else if (this->Label)
+  {
+    this->Label->hide();
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::watchAllViews()
+{
+  // Every render view: the volume view and the domain view can both be probed, and the
+  // first click in either probes (it also makes that view the active one).
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  for (pqRenderView* view : model->findItems<pqRenderView*>())
+  {
+    this->watchView(view);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::watchView(pqView* view)
+{
+  pqRenderView* renderView = qobject_cast<pqRenderView*>(view);
+  QWidget* widget = renderView ? renderView->widget() : nullptr;
+  if (this->ProbeAction->isChecked() && widget && !this->Watched.contains(widget))
+  {
+    widget->installEventFilter(this);
+    this->Watched.append(widget);
+  }
+}
+
+//-----------------------------------------------------------------------------
+bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
+{
+  // Never consumes the event: a drag still turns the camera, a click also probes.
+  QWidget* widget = qobject_cast<QWidget*>(watched);
+  if (widget && this->Watched.contains(widget) &&
+    (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease))
+  {
+    QMouseEvent* mouse = static_cast<QMouseEvent*>(event);
+    if (mouse->button() == Qt::LeftButton && event->type() == QEvent::MouseButtonPress)
+    {
+      this->PressPosition = mouse->pos();
+      this->Pressed = true;
+    }
+    else if (mouse->button() == Qt::LeftButton && this->Pressed)
+    {
+      this->Pressed = false;
+      if ((mouse->pos() - this->PressPosition).manhattanLength() <= 3)
+      {
+        // VTK display coordinates: device pixels, origin at the bottom left. The press
+        // made this view the active one, which the helper probes.
+        const double ratio = widget->devicePixelRatioF();
+        const int x = static_cast<int>(mouse->pos().x() * ratio);
+        const int y = static_cast<int>((widget->height() - 1 - mouse->pos().y()) * ratio);
+        const QString text = this->runPython(
+          QString("import multichannel_explorer._gui\n"
+                  "multichannel_explorer._gui.probe(%1, %2)\n")
+            .arg(x)
+            .arg(y));
+        this->showText(widget, text);
+      }
+    }
+  }
+  return Superclass::eventFilter(watched, event);
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onBrush()
+{
+  const QString text = this->runPython("import multichannel_explorer._gui\n"
+                                       "multichannel_explorer._gui.brush()\n");
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (view && view->widget())
+  {
+    this->showText(view->widget(), text);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::onAddWidget()
+{
+  const QString text = this->runPython("import multichannel_explorer._gui\n"
+                                       "multichannel_explorer._gui.add_widget()\n");
+  pqView* view = pqActiveObjects::instance().activeView();
+  if (view && view->widget())
+  {
+    this->showText(view->widget(), text);
+  }
+}
+
+//-----------------------------------------------------------------------------
+QString pqMultichannelProbe::runPython(const QString& code)
+{
+  pqPVApplicationCore* core = pqPVApplicationCore::instance();
+  pqPythonManager* python = core ? core->pythonManager() : nullptr;
+  if (!python)
+  {
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Probe",
+      "Probing needs ParaView's Python support, which is not available.");
+    return QString();
+  }
+  // executeCode reports errors in the Output Messages window, as the other buttons do.
+  python->executeCode(code.toUtf8());
+  vtkPythonInterpreter::Initialize();
+  vtkPythonScopeGilEnsurer gil;
+  QString result;
+  PyObject* module = PyImport_ImportModule("multichannel_explorer._gui");
+  PyObject* text = module ? PyObject_GetAttrString(module, "text") : nullptr;
+  if (text && PyUnicode_Check(text))
+  {
+    result = QString::fromUtf8(PyUnicode_AsUTF8(text));
+  }
+  Py_XDECREF(text);
+  Py_XDECREF(module);
+  PyErr_Clear();
+  return result;
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
+{
+  if (!this->Label || this->Label->parentWidget() != viewWidget)
+  {
+    delete this->Label;
+    this->Label = new QLabel(viewWidget);
+    this->Label->setObjectName("MultichannelProbeLabel");
+    this->Label->setStyleSheet("QLabel { background: rgba(20, 20, 20, 200); color: white; "
+                               "padding: 6px; font-family: monospace; }");
+    this->Label->setAttribute(Qt::WA_TransparentForMouseEvents);
+  }
+  if (text.isEmpty())
+  {
+    this->Label->hide();
+    return;
+  }
+  this->Label->setText(text);
+  this->Label->adjustSize();
+  this->Label->move(8, 8);
+  this->Label->show();
+  this->Label->raise();
+}

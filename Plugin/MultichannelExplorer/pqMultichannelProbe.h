@@ -1,0 +1,69 @@
+// Toolbar "Multichannel Explorer": Probe (a toggle), Add Widget Here and Brush Selection.
+#ifndef pqMultichannelProbe_h
+#define pqMultichannelProbe_h
+
+#include <QList>
+#include <QObject>
+#include <QPoint>
+#include <QPointer>
+
+class QAction;
+class QActionGroup;
+class QLabel;
+class QWidget;
+class pqView;
+
+/**
+ * Links the volume and its reduced domain from the GUI through the plugin's Python helpers
+ * (multichannel_explorer.picking / brushing), so the GUI and scripts share one
+ * implementation:
+ * - "Probe" (a toggle): while on, a left click (press and release without a drag, so the
+ *   camera still turns on a drag) in a render view probes the pixel: in the volume view
+ *   probe_at_pixel (the voxel seen there through the "Gaussian TF Volume" display), in
+ *   the domain view probe_domain_at_pixel (the voxel of the cloud point there); the voxel
+ *   is marked in both views. Its values appear in a small label over the view (top
+ *   left, object name "MultichannelProbeLabel") until the next probe or the toggle goes
+ *   off. The click also makes the view active (ParaView's own handling of the press).
+ * - "Add Widget Here": add_widget_at the last probed voxel's reduced coordinates (a
+ *   palette colour no widget has, sigma 5% of the coordinates' range, opacity 0.5).
+ * - "Brush Selection": brush(GetActiveSource()): the points selected in the domain view
+ *   (ParaView's rubber band, e.g. Select Points Through) highlighted as voxels in the
+ *   volume view; the count appears in the same label.
+ */
+class pqMultichannelProbe : public QObject
+{
+  Q_OBJECT
+  typedef QObject Superclass;
+
+public:
+  // Adds the three actions to `group` (the toolbar's action group), which owns this object.
+  pqMultichannelProbe(QActionGroup* group);
+  ~pqMultichannelProbe() override = default;
+
+protected:
+  bool eventFilter(QObject* watched, QEvent* event) override;
+
+private Q_SLOTS:
+  void onProbeToggled(bool on);
+  void onBrush();
+  void onAddWidget();
+  void watchView(pqView* view);
+  void watchAllViews();
+
+private:
+  Q_DISABLE_COPY(pqMultichannelProbe)
+  // Runs `code` in ParaView's Python, then returns the text the helper left in
+  // multichannel_explorer._gui.text (empty when Python is missing).
+  QString runPython(const QString& code);
+  void showText(QWidget* viewWidget, const QString& text);
+
+  QAction* ProbeAction;
+  QAction* AddWidgetAction;
+  QAction* BrushAction;
+  QList<QPointer<QWidget>> Watched;
+  QPointer<QLabel> Label;
+  QPoint PressPosition;
+  bool Pressed = false;
+};
+
+#endif
