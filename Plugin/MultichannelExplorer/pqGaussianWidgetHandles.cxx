@@ -59,10 +59,39 @@ pqGaussianWidgetHandles::pqGaussianWidgetHandles(
     this->PropertyTag =
       pqCoreUtilities::connect(prop, vtkCommand::ModifiedEvent, this, SLOT(updateHandles()));
   }
+  if (vtkSMProperty* mode = viewProxy->GetProperty("InteractionMode"))
+  {
+    this->InteractionModeTag = pqCoreUtilities::connect(
+      mode, vtkCommand::ModifiedEvent, this, SLOT(updateInteractivity()));
+  }
   QObject::connect(pqGaussianWidgetSelection::instance(),
     &pqGaussianWidgetSelection::selectionChanged, this,
     &pqGaussianWidgetHandles::highlightSelection);
   this->updateHandles();
+}
+
+//-----------------------------------------------------------------------------
+bool pqGaussianWidgetHandles::handlesTakeEvents() const
+{
+  vtkSMProxy* viewProxy = this->DomainView ? this->DomainView->getProxy() : nullptr;
+  if (!viewProxy || !viewProxy->GetProperty("InteractionMode"))
+  {
+    return true;
+  }
+  const int mode = vtkSMPropertyHelper(viewProxy, "InteractionMode").GetAsInt();
+  return mode != vtkPVRenderView::INTERACTION_MODE_SELECTION &&
+    mode != vtkPVRenderView::INTERACTION_MODE_ZOOM &&
+    mode != vtkPVRenderView::INTERACTION_MODE_POLYGON;
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetHandles::updateInteractivity()
+{
+  const bool take = this->handlesTakeEvents();
+  for (auto& widget : this->Widgets)
+  {
+    widget->SetProcessEvents(take ? 1 : 0);
+  }
 }
 
 //-----------------------------------------------------------------------------
@@ -202,6 +231,7 @@ void pqGaussianWidgetHandles::updateHandles()
   {
     widget->SetEnabled(1);
   }
+  this->updateInteractivity();
   this->highlightSelection();
 }
 
@@ -293,7 +323,7 @@ void pqGaussianWidgetHandles::onEndInteraction(vtkObject* caller, unsigned long,
 //-----------------------------------------------------------------------------
 bool pqGaussianWidgetHandles::onWheel(vtkObject*, unsigned long event, void*)
 {
-  if (!this->Interactor || this->Dragged >= 0)
+  if (!this->Interactor || this->Dragged >= 0 || !this->handlesTakeEvents())
   {
     return false;
   }

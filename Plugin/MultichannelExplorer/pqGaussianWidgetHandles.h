@@ -54,9 +54,13 @@ private Q_SLOTS:
   // GaussianWidgets changed: move, resize and recolour the handles (or rebuild them when
   // the number of widgets changed). Ignored while this object writes the property itself.
   void updateHandles();
+  // Handles take no mouse events while the view is in a selection (or zoom-to-box) mode:
+  // a rubber band started over a large sphere must select, not drag the widget.
+  void updateInteractivity();
   void highlightSelection();
 
 private:
+  bool handlesTakeEvents() const;
   Q_DISABLE_COPY(pqGaussianWidgetHandles)
 
   vtkSMProxy* proxy() const;
@@ -83,6 +87,7 @@ private:
   unsigned long WheelForwardTag = 0;
   unsigned long WheelBackwardTag = 0;
   unsigned long PropertyTag = 0;
+  unsigned long InteractionModeTag = 0;
   bool Writing = false; // this object is setting GaussianWidgets
   int Dragged = -1;     // handle being dragged, -1: none
 };
