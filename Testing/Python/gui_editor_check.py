@@ -1,0 +1,59 @@
+"""GUI test of the Gaussian widget editor, part 3 (run by test_gui.sh with the state file
+and paraview's exit status): each edit of gui_editor_click.xml reached GaussianWidgets at
+once, as one change, with the expected values; hiding wrote opacity 0 and remembered the
+opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before the hide."""
+import json
+import sys
+
+path, rc = sys.argv[1], int(sys.argv[2])
+fails = []
+
+
+def check(ok, msg):
+    print(("ok   " if ok else "FAIL ") + msg)
+    if not ok:
+        fails.append(msg)
+    return ok
+
+
+def close(a, b, tol=1e-9):
+    return len(a) == len(b) and all(abs(x - y) <= tol for x, y in zip(a, b))
+
+
+FIRST = [0, 0, 0, 4, 1, 0.4, 0.1, 0.8]
+# Add: at the domain centre (0, 0, 0), sigma a tenth of the 40-wide domain, opacity 0.5,
+# the editor's second palette colour (ColorBrewer Set1 blue).
+added = [0, 0, 0, 4, 0.216, 0.494, 0.722, 0.5]
+steps = [("add", added)]
+red = added[:4] + [1, 0, 0] + added[7:]
+steps.append(("colour", red))
+sigma = red[:3] + [2.5] + red[4:]
+steps.append(("sigma", sigma))
+opacity = sigma[:7] + [0.7]
+steps.append(("opacity", opacity))
+moved = [5] + opacity[1:]
+steps.append(("centre x", moved))
+hidden = moved[:7] + [0]
+steps.append(("hide", hidden))
+steps.append(("undo", moved))
+
+check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+try:
+    recorded = json.load(open(path))
+except Exception as e:  # noqa: BLE001
+    recorded = {"states": [], "hidden": []}
+    check(False, "state file %s readable (%s)" % (path, e))
+states, hidden_states = recorded["states"], recorded["hidden"]
+print("recorded %d changes of GaussianWidgets, %d of GaussianWidgetsHidden"
+      % (len(states), len(hidden_states)))
+for i, s in enumerate(states):
+    print("  %d: %s" % (i, s))
+check(len(states) == len(steps),
+      "%d edits, each one change of GaussianWidgets (%d)" % (len(steps), len(states)))
+for (name, widgets), s in zip(steps, states):
+    check(close(s, FIRST + widgets), "%s: GaussianWidgets = %s" % (name, FIRST + widgets))
+# Hiding remembers the opacity (-1: shown); undo forgets it again.
+check(hidden_states == [[-1, 0.7], []],
+      "GaussianWidgetsHidden: [-1, 0.7] on hide, [] after undo (%s)" % hidden_states)
+print("gui_editor: %d failed" % len(fails))
+sys.exit(1 if fails else 0)
