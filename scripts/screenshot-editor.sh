@@ -11,13 +11,14 @@ plugin="$build/lib/paraview-5.11/plugins/MultichannelExplorer"
 [ -f "$plugin/MultichannelExplorer.so" ] || { echo "no plugin in $plugin: build first" >&2; exit 1; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# The window fills the virtual screen; the crop below is the Properties dock in it.
+# The setup script sizes the window to 1600x1000 at the origin and widens the left docks;
+# the crop below (MCV_CROP overrides it) is the Properties panel in that layout.
 PV_PLUGIN_PATH="$plugin" MCV_OUTPUT_DIR="$tmp" MCV_EDITOR_SCREENSHOT="$tmp/screen.png" \
-  xvfb-run -a -s "-screen 0 1600x1000x24" timeout 150 paraview --dr -geometry 1600x1000+0+0 \
+  xvfb-run -a -s "-screen 0 1600x1000x24" timeout 150 paraview --dr -geometry 470x550+0+440 \
   --script="$repo/Testing/Python/gui_editor_setup.py" \
   --test-script="$repo/Testing/Python/gui_editor_click.xml" --exit || true
 [ -f "$tmp/screen.png" ] || { echo "no screenshot was taken" >&2; exit 1; }
 mkdir -p "$repo/docs/images"
-convert "$tmp/screen.png" -crop "${MCV_CROP:-CROP_TBD}" +repage -strip \
+convert "$tmp/screen.png" -crop "${MCV_CROP:-470x550+0+440}" +repage -strip \
   "$repo/docs/images/gui_editor.png"
 echo "wrote $repo/docs/images/gui_editor.png"

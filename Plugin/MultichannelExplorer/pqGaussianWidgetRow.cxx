@@ -58,6 +58,9 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   for (int axis = 0; axis < 3; ++axis)
   {
     this->Centre[axis] = this->newSpinBox(QString("c%1%2").arg(AxisNames[axis]).arg(index));
+    // No arrows: three boxes side by side fit the default dock width (wheel and
+    // keyboard still step them).
+    this->Centre[axis]->setButtonSymbols(QAbstractSpinBox::NoButtons);
     this->Centre[axis]->setToolTip(
       QString("Centre %1 in the reduced domain (range: the coordinates' bounds)")
         .arg(AxisNames[axis]));

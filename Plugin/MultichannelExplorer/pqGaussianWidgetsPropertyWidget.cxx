@@ -25,6 +25,7 @@
 #include <QHBoxLayout>
 #include <QLabel>
 #include <QMessageBox>
+#include <QPointer>
 #include <QPushButton>
 #include <QSpinBox>
 #include <QVBoxLayout>
@@ -453,11 +454,15 @@ void pqGaussianWidgetsPropertyWidget::seedWidgets()
             "del _display\n")
       .arg(QString(name).replace('\'', "\\'"))
       .arg(this->SeedCount->value());
+  // The helper creates a ReducedDomain filter and restores the active source: the
+  // Properties panel may rebuild its display section, deleting this editor meanwhile.
+  // Nothing of `this` is used after the call.
+  QPointer<pqDataRepresentation> repr = this->representation();
   {
     SCOPED_UNDO_SET("Seed Gaussian Widgets");
     python->executeCode(code.toUtf8());
   }
-  if (pqDataRepresentation* repr = this->representation())
+  if (repr)
   {
     repr->renderViewEventually();
   }

@@ -1,7 +1,8 @@
 """GUI test of the Gaussian widget editor, part 3 (run by test_gui.sh with the state file
 and paraview's exit status): each edit of gui_editor_click.xml reached GaussianWidgets at
 once, as one change, with the expected values; hiding wrote opacity 0 and remembered the
-opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before the hide."""
+opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before the hide; Seed
+from clusters set the 3 widgets auto_widgets returned."""
 import json
 import sys
 
@@ -24,18 +25,14 @@ FIRST = [0, 0, 0, 4, 1, 0.4, 0.1, 0.8]
 # Add: at the domain centre (0, 0, 0), sigma a tenth of the 40-wide domain, opacity 0.5,
 # the editor's second palette colour (ColorBrewer Set1 blue).
 added = [0, 0, 0, 4, 0.216, 0.494, 0.722, 0.5]
-steps = [("add", added)]
 red = added[:4] + [1, 0, 0] + added[7:]
-steps.append(("colour", red))
 sigma = red[:3] + [2.5] + red[4:]
-steps.append(("sigma", sigma))
 opacity = sigma[:7] + [0.7]
-steps.append(("opacity", opacity))
 moved = [5] + opacity[1:]
-steps.append(("centre x", moved))
 hidden = moved[:7] + [0]
-steps.append(("hide", hidden))
-steps.append(("undo", moved))
+steps = [("add", FIRST + added), ("colour", FIRST + red), ("sigma", FIRST + sigma),
+         ("opacity", FIRST + opacity), ("centre x", FIRST + moved), ("hide", FIRST + hidden),
+         ("undo", FIRST + moved)]
 
 check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
 try:
@@ -48,10 +45,17 @@ print("recorded %d changes of GaussianWidgets, %d of GaussianWidgetsHidden"
       % (len(states), len(hidden_states)))
 for i, s in enumerate(states):
     print("  %d: %s" % (i, s))
-check(len(states) == len(steps),
-      "%d edits, each one change of GaussianWidgets (%d)" % (len(steps), len(states)))
-for (name, widgets), s in zip(steps, states):
-    check(close(s, FIRST + widgets), "%s: GaussianWidgets = %s" % (name, FIRST + widgets))
+check(len(states) >= len(steps) + 1,
+      "%d editor edits, each one change of GaussianWidgets, then the seed (%d changes)"
+      % (len(steps), len(states)))
+for (name, expected), s in zip(steps, states):
+    check(close(s, expected), "%s: GaussianWidgets = %s" % (name, expected))
+# Seed from clusters: the widgets auto_widgets returned replace all the others (Python
+# sets the property in two changes: its new length, then the values).
+seeded = recorded.get("seeded") or []
+check(len(seeded) == 24, "the seed button called auto_widgets for 3 widgets")
+check(len(states) > len(steps) and close(states[-1], seeded),
+      "seed: GaussianWidgets = the 3 seeded widgets")
 # Hiding remembers the opacity (-1: shown); undo forgets it again.
 check(hidden_states == [[-1, 0.7], []],
       "GaussianWidgetsHidden: [-1, 0.7] on hide, [] after undo (%s)" % hidden_states)

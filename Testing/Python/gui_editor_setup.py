@@ -16,8 +16,9 @@ out = os.environ.get("MCV_OUTPUT_DIR", ".")
 os.makedirs(out, exist_ok=True)
 state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_editor_state.json")
 screenshot = os.environ.get("MCV_EDITOR_SCREENSHOT") or os.path.join(out, "gui_editor.png")
-# The click script makes this many edits; the screenshot follows the last one.
-EDITS = 7
+# The click script's edits change GaussianWidgets this many times (the last two: Seed from
+# clusters, set from Python); the screenshot follows the last one.
+EDITS = 9
 
 wavelet = Wavelet(WholeExtent=[-20, 20, -20, 20, -20, 20])
 coords = Calculator(Input=wavelet, Function="coords", ResultArrayName="ReducedCoordinates",
@@ -38,10 +39,25 @@ def save():
         json.dump(state, f, indent=1)
 
 
+# Without a window manager, -geometry is not always honoured: the window is placed and
+# sized here (1600x1000 at the origin), then the left docks are widened by dragging their
+# edge (x = 294 in that layout) so that the Properties panel shows the editor unclipped.
+SCREENSHOT = """
+window=$(xdotool search --onlyvisible --name ParaView 2>/dev/null | head -n 1)
+if [ -n "$window" ]; then
+  xdotool windowmove "$window" 0 0 windowsize "$window" 1600 1000
+  sleep 1
+  xdotool mousemove 294 300 sleep 0.3 mousedown 1 sleep 0.3 mousemove 320 300 sleep 0.3 \\
+    mousemove 400 300 sleep 0.3 mousemove 470 300 sleep 0.3 mouseup 1
+  sleep 2
+fi
+xwd -root -silent | convert xwd:- '%s'
+"""
+
+
 def take_screenshot():
     # In the background: the GUI repaints while the click script waits (process_events).
-    subprocess.Popen("sleep 2; xwd -root -silent | convert xwd:- '%s'" % screenshot,
-                     shell=True)
+    subprocess.Popen("sleep 1;" + SCREENSHOT % screenshot, shell=True)
 
 
 def record(*unused):
@@ -56,6 +72,18 @@ def record_hidden(*unused):
     save()
 
 
+# The seed button runs auto_widgets through ParaView's Python: record what it returned.
+_auto = mce.auto_widgets
+
+
+def auto(*args, **kwargs):
+    seeded = _auto(*args, **kwargs)
+    state["seeded"] = [float(v) for v in seeded]
+    save()
+    return seeded
+
+
+mce.auto_widgets = auto
 display.SMProxy.GetProperty("GaussianWidgets").AddObserver("ModifiedEvent", record)
 display.SMProxy.GetProperty("GaussianWidgetsHidden").AddObserver("ModifiedEvent", record_hidden)
 save()
