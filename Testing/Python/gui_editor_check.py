@@ -1,8 +1,9 @@
 """GUI test of the Gaussian widget editor, part 3 (run by test_gui.sh with the state file
 and paraview's exit status): each edit of gui_editor_click.xml reached GaussianWidgets at
-once, as one change, with the expected values; hiding wrote opacity 0 and remembered the
-opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before the hide; Seed
-from clusters set the 3 widgets auto_widgets returned."""
+once, as one change, with the expected values (duplicate appends a copy of the selected
+widget and selects it, remove takes the selected one away); hiding wrote opacity 0 and
+remembered the opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before
+the hide; Seed from clusters set the 3 widgets auto_widgets returned."""
 import json
 import sys
 
@@ -31,7 +32,9 @@ opacity = sigma[:7] + [0.7]
 moved = [5] + opacity[1:]
 hidden = moved[:7] + [0]
 steps = [("add", FIRST + added), ("colour", FIRST + red), ("sigma", FIRST + sigma),
-         ("opacity", FIRST + opacity), ("centre x", FIRST + moved), ("hide", FIRST + hidden),
+         ("opacity", FIRST + opacity), ("centre x", FIRST + moved),
+         ("duplicate", FIRST + moved + moved), ("remove the copy", FIRST + moved),
+         ("hide", FIRST + hidden),
          ("undo", FIRST + moved)]
 
 check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)

@@ -18,7 +18,7 @@ state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_editor_st
 screenshot = os.environ.get("MCV_EDITOR_SCREENSHOT") or os.path.join(out, "gui_editor.png")
 # The click script's edits change GaussianWidgets this many times (the last two: Seed from
 # clusters, set from Python); the screenshot follows the last one.
-EDITS = 9
+EDITS = 11
 
 wavelet = Wavelet(WholeExtent=[-20, 20, -20, 20, -20, 20])
 coords = Calculator(Input=wavelet, Function="coords", ResultArrayName="ReducedCoordinates",
