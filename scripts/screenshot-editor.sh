@@ -8,7 +8,10 @@ set -eu
 repo="$(cd "$(dirname "$0")/.." && pwd)"
 build="${MCV_BUILD_DIR:-$repo/build}"
 plugin="$build/lib/paraview-5.11/plugins/MultichannelExplorer"
-[ -f "$plugin/MultichannelExplorer.so" ] || { echo "no plugin in $plugin: build first" >&2; exit 1; }
+if [ ! -f "$plugin/MultichannelExplorer.so" ]; then
+  echo "no plugin in $plugin: build first" >&2
+  exit 1
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # The setup script sizes the window to 1600x1000 at the origin and widens the left docks;

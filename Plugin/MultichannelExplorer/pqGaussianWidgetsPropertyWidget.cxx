@@ -133,7 +133,21 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
 }
 
 //-----------------------------------------------------------------------------
-pqGaussianWidgetsPropertyWidget::~pqGaussianWidgetsPropertyWidget() = default;
+pqGaussianWidgetsPropertyWidget::~pqGaussianWidgetsPropertyWidget()
+{
+  this->endDrag();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::endDrag()
+{
+  // Closes the undo set a slider press opened, whatever ends the drag.
+  if (this->Dragging)
+  {
+    this->Dragging = false;
+    END_UNDO_SET();
+  }
+}
 
 //-----------------------------------------------------------------------------
 pqDataRepresentation* pqGaussianWidgetsPropertyWidget::representation() const
@@ -259,9 +273,8 @@ void pqGaussianWidgetsPropertyWidget::rebuildRows()
     delete row;
   }
   this->Rows.clear();
-  const double span = std::max({ this->Ranges[0][1] - this->Ranges[0][0],
-    this->Ranges[1][1] - this->Ranges[1][0], this->Ranges[2][1] - this->Ranges[2][0] });
-  const double step = span > 0 ? span / 100.0 : 0.01;
+  this->endDrag(); // its slider is gone
+  const double step = this->step();
   for (size_t i = 0; i < this->Widgets.size(); ++i)
   {
     auto* row = new pqGaussianWidgetRow(static_cast<int>(i), this);
@@ -282,8 +295,8 @@ void pqGaussianWidgetsPropertyWidget::rebuildRows()
             : field == pqGaussianWidgetRow::SIGMA ? "Gaussian Widget Sigma"
                                                    : "Move Gaussian Widget");
       });
-    QObject::connect(
-      row, &pqGaussianWidgetRow::colourEdited, this, [this](int index, double r, double g, double b) {
+    QObject::connect(row, &pqGaussianWidgetRow::colourEdited, this,
+      [this](int index, double r, double g, double b) {
         this->Widgets[index][4] = r;
         this->Widgets[index][5] = g;
         this->Widgets[index][6] = b;
@@ -296,9 +309,15 @@ void pqGaussianWidgetsPropertyWidget::rebuildRows()
       this->writeProperties(on ? "Show Gaussian Widget" : "Hide Gaussian Widget");
     });
     // A slider drag renders live but is one undo step (undo sets nest).
-    QObject::connect(row, &pqGaussianWidgetRow::dragStarted, this,
-      []() { BEGIN_UNDO_SET("Gaussian Widget Opacity"); });
-    QObject::connect(row, &pqGaussianWidgetRow::dragFinished, this, []() { END_UNDO_SET(); });
+    QObject::connect(row, &pqGaussianWidgetRow::dragStarted, this, [this]() {
+      if (!this->Dragging)
+      {
+        this->Dragging = true;
+        BEGIN_UNDO_SET("Gaussian Widget Opacity");
+      }
+    });
+    QObject::connect(
+      row, &pqGaussianWidgetRow::dragFinished, this, &pqGaussianWidgetsPropertyWidget::endDrag);
   }
 }
 
@@ -314,22 +333,38 @@ void pqGaussianWidgetsPropertyWidget::updateRanges()
   vtkPVArrayInformation* array = (info && name)
     ? info->GetPointDataInformation()->GetArrayInformation(name)
     : nullptr;
-  if (array && array->GetNumberOfComponents() >= 2)
+  if (!array || array->GetNumberOfComponents() < 2)
   {
-    this->Dimensions = std::min(3, array->GetNumberOfComponents());
-    for (int axis = 0; axis < 3; ++axis)
-    {
-      if (axis < this->Dimensions)
-      {
-        array->GetComponentRange(axis, this->Ranges[axis]);
-      }
-      else
-      {
-        this->Ranges[axis][0] = this->Ranges[axis][1] = 0.0;
-      }
-    }
+    return; // keep the last ranges
   }
-  this->rebuildRows();
+  int dimensions = std::min(3, array->GetNumberOfComponents());
+  double ranges[3][2] = { { 0, 0 }, { 0, 0 }, { 0, 0 } };
+  for (int axis = 0; axis < dimensions; ++axis)
+  {
+    array->GetComponentRange(axis, ranges[axis]);
+  }
+  // Data updates come with renders (every edit): only a real change touches the rows,
+  // which are then kept (a slider being dragged must survive).
+  if (dimensions == this->Dimensions && std::equal(&ranges[0][0], &ranges[0][0] + 6,
+                                           &this->Ranges[0][0]))
+  {
+    return;
+  }
+  this->Dimensions = dimensions;
+  std::copy(&ranges[0][0], &ranges[0][0] + 6, &this->Ranges[0][0]);
+  for (pqGaussianWidgetRow* row : this->Rows)
+  {
+    row->setCentreRanges(this->Ranges, this->Dimensions, this->step());
+  }
+}
+
+//-----------------------------------------------------------------------------
+double pqGaussianWidgetsPropertyWidget::step() const
+{
+  // A hundredth of the domain's extent.
+  const double span = std::max({ this->Ranges[0][1] - this->Ranges[0][0],
+    this->Ranges[1][1] - this->Ranges[1][0], this->Ranges[2][1] - this->Ranges[2][0] });
+  return span > 0 ? span / 100.0 : 0.01;
 }
 
 //-----------------------------------------------------------------------------

@@ -51,6 +51,7 @@ private Q_SLOTS:
   void duplicateWidget();
   void removeWidget();
   void seedWidgets();
+  void endDrag();
 
 private:
   typedef std::array<double, 8> Widget;
@@ -60,6 +61,7 @@ private:
   void rebuildRows();
   void select(int index);
   void updateButtons();
+  double step() const;
   bool ownsRepresentation(vtkSMProxy* representation) const;
   pqDataRepresentation* representation() const;
 
@@ -67,6 +69,7 @@ private:
   std::vector<bool> Shown;
   int Selected = -1;
   bool Writing = false;
+  bool Dragging = false; // an opacity slider is pressed: its edits are one undo set
   bool Invalid = false; // GaussianWidgets is not a multiple of 8 long: not editable here
   int Dimensions = 3;
   double Ranges[3][2] = { { -1, 1 }, { -1, 1 }, { -1, 1 } };
