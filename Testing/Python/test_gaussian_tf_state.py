@@ -1,7 +1,8 @@
 """A ParaView state (.pvsm) with a "Gaussian TF Volume" display saves and loads back.
 
 SaveState, ResetSession, LoadState: the display comes back with the same representation
-type, GaussianWidgets (every value), CoordinateArray and GaussianBlendMode, and renders
+type, GaussianWidgets (every value), GaussianWidgetsHidden (the GUI editor's hidden
+widgets), CoordinateArray and GaussianBlendMode, and renders
 the same colours (red and green at the widgets' pixels) as before the reset.
 """
 import os
@@ -19,7 +20,9 @@ C = T.Checker("test_gaussian_tf_state")
 N = 24
 WIDGETS = [0.25, 0.5, 0.5, 0.08, 1, 0, 0, 0.9,
            0.75, 0.5, 0.5, 0.125, 0, 1, 0, 1,
-           0.5, 0.9, 0.1, 0.05, 0.2, 0.4, 0.6, 0.5]
+           0.5, 0.9, 0.1, 0.05, 0.2, 0.4, 0.6, 0]
+# The third widget hidden in the editor: opacity 0 drawn, 0.5 remembered.
+HIDDEN = [-1, -1, 0.5]
 state = G.output_path("gaussian_tf_state.pvsm")
 
 wavelet = simple.Wavelet(WholeExtent=[0, N - 1, 0, N - 1, 0, N - 1])
@@ -28,6 +31,7 @@ calc = simple.Calculator(Input=wavelet, ResultArrayName="ReducedCoordinates",
 simple.RenameSource("coords", calc)
 view = G.black_view()
 display = mce.show_gaussian_tf(calc, view, widgets=WIDGETS, blend="Maximum Intensity")
+display.GaussianWidgetsHidden = HIDDEN
 G.look_down_z(view, [0, N - 1] * 3)
 red_px = G.project(view, [0.25 * (N - 1), 0.5 * (N - 1), 0.5 * (N - 1)])
 green_px = G.project(view, [0.75 * (N - 1), 0.5 * (N - 1), 0.5 * (N - 1)])
@@ -63,6 +67,8 @@ print("loaded: %s %s %s %s" % (display.Representation, values, display.Coordinat
 C.check(display.Representation == "Gaussian TF Volume", "representation type restored")
 C.check(len(values) == len(WIDGETS) and all(abs(a - b) < 1e-12 for a, b in zip(values, WIDGETS)),
         "GaussianWidgets restored exactly (%d values)" % len(values))
+hidden = [float(v) for v in display.GaussianWidgetsHidden]
+C.check(hidden == HIDDEN, "GaussianWidgetsHidden restored exactly (%s)" % hidden)
 C.check(display.CoordinateArray == "ReducedCoordinates", "CoordinateArray restored")
 C.check(display.GaussianBlendMode == "Maximum Intensity", "GaussianBlendMode restored")
 

@@ -1,0 +1,504 @@
+#include "pqGaussianWidgetsPropertyWidget.h"
+
+#include "pqGaussianWidgetRow.h"
+#include "pqGaussianWidgetSelection.h"
+
+#include "pqApplicationCore.h"
+#include "pqCoreUtilities.h"
+#include "pqDataRepresentation.h"
+#include "pqPVApplicationCore.h"
+#include "pqPythonManager.h"
+#include "pqServerManagerModel.h"
+#include "pqUndoStack.h"
+#include "vtkCommand.h"
+#include "vtkEventQtSlotConnect.h"
+#include "vtkPVArrayInformation.h"
+#include "vtkPVDataInformation.h"
+#include "vtkPVDataSetAttributesInformation.h"
+#include "vtkSMProperty.h"
+#include "vtkSMPropertyHelper.h"
+#include "vtkSMProxy.h"
+#include "vtkSMSessionProxyManager.h"
+#include "vtkSMTrace.h"
+
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QMessageBox>
+#include <QPointer>
+#include <QPushButton>
+#include <QSpinBox>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+
+namespace
+{
+const char* HiddenProperty = "GaussianWidgetsHidden";
+
+// Colours of new widgets, in turn (ColorBrewer Set1, as auto_widgets seeds them).
+const double Palette[][3] = { { 0.894, 0.102, 0.110 }, { 0.216, 0.494, 0.722 },
+  { 0.302, 0.686, 0.290 }, { 0.596, 0.306, 0.639 }, { 1.0, 0.498, 0.0 },
+  { 1.0, 1.0, 0.2 }, { 0.651, 0.337, 0.157 }, { 0.969, 0.506, 0.749 } };
+const int PaletteSize = sizeof(Palette) / sizeof(Palette[0]);
+}
+
+//-----------------------------------------------------------------------------
+pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
+  vtkSMProxy* smproxy, vtkSMProperty* smproperty, QWidget* parentWidget)
+  : Superclass(smproxy, parentWidget)
+{
+  this->setObjectName("GaussianWidgetsEditor");
+  this->setProperty(smproperty);
+  this->setShowLabel(false);
+
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->setSpacing(4);
+  auto* title = new QLabel("<b>Gaussian Widgets</b>", this);
+  layout->addWidget(title);
+  this->Message = new QLabel(this);
+  this->Message->setObjectName("message");
+  this->Message->setWordWrap(true);
+  this->Message->hide();
+  layout->addWidget(this->Message);
+  this->RowsLayout = new QVBoxLayout();
+  this->RowsLayout->setSpacing(2);
+  layout->addLayout(this->RowsLayout);
+
+  auto newButton = [this](const char* name, const QString& text, const QString& tip) {
+    auto* button = new QPushButton(text, this);
+    button->setObjectName(name);
+    button->setToolTip(tip);
+    return button;
+  };
+  this->AddButton = newButton("addWidget", "Add", "Add a widget at the centre of the domain");
+  this->DuplicateButton =
+    newButton("duplicateWidget", "Duplicate", "Add a copy of the selected widget");
+  this->RemoveButton = newButton("removeWidget", "Remove", "Remove the selected widget");
+  this->SeedButton = newButton("seedWidgets", "Seed from clusters",
+    "Replace the widgets by widgets at the k-means clusters of the reduced domain "
+    "(multichannel_explorer.auto_widgets, as the toolbar's Seed Gaussian Widgets)");
+  this->SeedCount = new QSpinBox(this);
+  this->SeedCount->setObjectName("seedCount");
+  this->SeedCount->setRange(1, 64);
+  this->SeedCount->setValue(4);
+  this->SeedCount->setToolTip("How many widgets Seed from clusters makes");
+
+  auto* buttons = new QGridLayout();
+  buttons->addWidget(this->AddButton, 0, 0);
+  buttons->addWidget(this->DuplicateButton, 0, 1);
+  buttons->addWidget(this->RemoveButton, 0, 2);
+  buttons->addWidget(this->SeedButton, 1, 0, 1, 2);
+  buttons->addWidget(this->SeedCount, 1, 2);
+  layout->addLayout(buttons);
+
+  QObject::connect(this->AddButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::addWidget);
+  QObject::connect(this->DuplicateButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::duplicateWidget);
+  QObject::connect(this->RemoveButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::removeWidget);
+  QObject::connect(this->SeedButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::seedWidgets);
+
+  // Any change of the properties, whoever made it, is shown.
+  this->Connections->Connect(
+    smproperty, vtkCommand::ModifiedEvent, this, SLOT(readProperties()));
+  if (vtkSMProperty* hidden = smproxy->GetProperty(HiddenProperty))
+  {
+    this->Connections->Connect(hidden, vtkCommand::ModifiedEvent, this, SLOT(readProperties()));
+  }
+  if (vtkSMProperty* coordinates = smproxy->GetProperty("CoordinateArray"))
+  {
+    this->Connections->Connect(
+      coordinates, vtkCommand::ModifiedEvent, this, SLOT(updateRanges()));
+  }
+  if (pqDataRepresentation* repr = this->representation())
+  {
+    QObject::connect(repr, &pqDataRepresentation::dataUpdated, this,
+      &pqGaussianWidgetsPropertyWidget::updateRanges);
+  }
+  pqGaussianWidgetSelection* selection = pqGaussianWidgetSelection::instance();
+  QObject::connect(selection, &pqGaussianWidgetSelection::selectionChanged, this,
+    &pqGaussianWidgetsPropertyWidget::onSelectionChanged);
+
+  this->updateRanges();
+  this->readProperties();
+  if (this->ownsRepresentation(selection->representation()))
+  {
+    this->onSelectionChanged(selection->representation(), selection->index());
+  }
+}
+
+//-----------------------------------------------------------------------------
+pqGaussianWidgetsPropertyWidget::~pqGaussianWidgetsPropertyWidget()
+{
+  this->endDrag();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::endDrag()
+{
+  // Closes the undo set a slider press opened, whatever ends the drag.
+  if (this->Dragging)
+  {
+    this->Dragging = false;
+    END_UNDO_SET();
+  }
+}
+
+//-----------------------------------------------------------------------------
+pqDataRepresentation* pqGaussianWidgetsPropertyWidget::representation() const
+{
+  pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
+  return model->findItem<pqDataRepresentation*>(this->proxy());
+}
+
+//-----------------------------------------------------------------------------
+bool pqGaussianWidgetsPropertyWidget::ownsRepresentation(vtkSMProxy* representation) const
+{
+  // The handles may name the display (what this editor edits) or its Gaussian TF
+  // sub-representation, which owns the property.
+  return representation &&
+    (representation == this->proxy() || representation == this->property()->GetParent());
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::readProperties()
+{
+  if (this->Writing)
+  {
+    return;
+  }
+  vtkSMPropertyHelper flatHelper(this->property());
+  const std::vector<double> flat = flatHelper.GetArray<double>();
+  std::vector<double> hidden;
+  if (vtkSMProperty* hiddenProperty = this->proxy()->GetProperty(HiddenProperty))
+  {
+    hidden = vtkSMPropertyHelper(hiddenProperty).GetArray<double>();
+  }
+
+  this->Invalid = flat.size() % 8 != 0;
+  this->Message->setVisible(this->Invalid);
+  if (this->Invalid)
+  {
+    this->Message->setText(QString("GaussianWidgets holds %1 numbers, not 8 per widget: "
+                                   "correct it from Python to edit it here.")
+                             .arg(flat.size()));
+  }
+  const size_t count = this->Invalid ? 0 : flat.size() / 8;
+  // A hidden-list that does not match (a script changed the widgets) is ignored, and so
+  // is the mark of a widget a script gave an opacity again.
+  const bool hiddenMatches = hidden.size() == count;
+  const size_t before = this->Widgets.size();
+  this->Widgets.resize(count);
+  this->Shown.assign(count, true);
+  for (size_t i = 0; i < count; ++i)
+  {
+    std::copy(flat.begin() + 8 * i, flat.begin() + 8 * i + 8, this->Widgets[i].begin());
+    if (hiddenMatches && hidden[i] >= 0 && this->Widgets[i][7] == 0)
+    {
+      this->Shown[i] = false;
+      this->Widgets[i][7] = hidden[i];
+    }
+  }
+  if (count != before || this->Rows.size() != static_cast<int>(count))
+  {
+    this->rebuildRows();
+  }
+  else
+  {
+    for (size_t i = 0; i < count; ++i)
+    {
+      this->Rows[static_cast<int>(i)]->setValues(this->Widgets[i].data(), this->Shown[i]);
+    }
+  }
+  if (this->Selected >= static_cast<int>(count))
+  {
+    this->select(static_cast<int>(count) - 1);
+  }
+  this->updateButtons();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::writeProperties(const QString& label)
+{
+  std::vector<double> flat;
+  std::vector<double> hidden;
+  bool anyHidden = false;
+  for (size_t i = 0; i < this->Widgets.size(); ++i)
+  {
+    Widget w = this->Widgets[i];
+    hidden.push_back(this->Shown[i] ? -1.0 : w[7]);
+    anyHidden = anyHidden || !this->Shown[i];
+    if (!this->Shown[i])
+    {
+      w[7] = 0.0;
+    }
+    flat.insert(flat.end(), w.begin(), w.end());
+  }
+  if (!anyHidden)
+  {
+    hidden.clear(); // every widget shown: nothing to remember
+  }
+
+  this->Writing = true;
+  {
+    SCOPED_UNDO_SET(label);
+    SM_SCOPED_TRACE(PropertiesModified).arg("proxy", this->proxy());
+    // The hidden list first: whoever watches GaussianWidgets sees both current.
+    if (vtkSMProperty* hiddenProperty = this->proxy()->GetProperty(HiddenProperty))
+    {
+      vtkSMPropertyHelper(hiddenProperty)
+        .Set(hidden.data(), static_cast<unsigned int>(hidden.size()));
+    }
+    vtkSMPropertyHelper(this->property()).Set(flat.data(), static_cast<unsigned int>(flat.size()));
+    this->proxy()->UpdateVTKObjects();
+  }
+  this->Writing = false;
+  if (pqDataRepresentation* repr = this->representation())
+  {
+    repr->renderViewEventually();
+  }
+  this->updateButtons();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::rebuildRows()
+{
+  for (pqGaussianWidgetRow* row : this->Rows)
+  {
+    delete row;
+  }
+  this->Rows.clear();
+  this->endDrag(); // its slider is gone
+  const double step = this->step();
+  for (size_t i = 0; i < this->Widgets.size(); ++i)
+  {
+    auto* row = new pqGaussianWidgetRow(static_cast<int>(i), this);
+    row->setCentreRanges(this->Ranges, this->Dimensions, step);
+    row->setValues(this->Widgets[i].data(), this->Shown[i]);
+    row->setHighlighted(static_cast<int>(i) == this->Selected);
+    this->RowsLayout->addWidget(row);
+    this->Rows.append(row);
+
+    QObject::connect(row, &pqGaussianWidgetRow::activated, this,
+      [this](int index) { this->select(index); });
+    QObject::connect(
+      row, &pqGaussianWidgetRow::valueEdited, this, [this](int index, int field, double value) {
+        this->Widgets[index][field] = value;
+        this->select(index);
+        this->writeProperties(
+          field == pqGaussianWidgetRow::OPACITY ? "Gaussian Widget Opacity"
+            : field == pqGaussianWidgetRow::SIGMA ? "Gaussian Widget Sigma"
+                                                   : "Move Gaussian Widget");
+      });
+    QObject::connect(row, &pqGaussianWidgetRow::colourEdited, this,
+      [this](int index, double r, double g, double b) {
+        this->Widgets[index][4] = r;
+        this->Widgets[index][5] = g;
+        this->Widgets[index][6] = b;
+        this->select(index);
+        this->writeProperties("Gaussian Widget Colour");
+      });
+    QObject::connect(row, &pqGaussianWidgetRow::visibilityEdited, this, [this](int index, bool on) {
+      this->Shown[index] = on;
+      this->select(index);
+      this->writeProperties(on ? "Show Gaussian Widget" : "Hide Gaussian Widget");
+    });
+    // A slider drag renders live but is one undo step (undo sets nest).
+    QObject::connect(row, &pqGaussianWidgetRow::dragStarted, this, [this]() {
+      if (!this->Dragging)
+      {
+        this->Dragging = true;
+        BEGIN_UNDO_SET("Gaussian Widget Opacity");
+      }
+    });
+    QObject::connect(
+      row, &pqGaussianWidgetRow::dragFinished, this, &pqGaussianWidgetsPropertyWidget::endDrag);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::updateRanges()
+{
+  // The centre spin boxes span the bounds of the coordinate array on the input.
+  pqDataRepresentation* repr = this->representation();
+  vtkPVDataInformation* info = repr ? repr->getInputDataInformation() : nullptr;
+  const char* name = this->proxy()->GetProperty("CoordinateArray")
+    ? vtkSMPropertyHelper(this->proxy(), "CoordinateArray").GetAsString()
+    : nullptr;
+  vtkPVArrayInformation* array = (info && name)
+    ? info->GetPointDataInformation()->GetArrayInformation(name)
+    : nullptr;
+  if (!array || array->GetNumberOfComponents() < 2)
+  {
+    return; // keep the last ranges
+  }
+  int dimensions = std::min(3, array->GetNumberOfComponents());
+  double ranges[3][2] = { { 0, 0 }, { 0, 0 }, { 0, 0 } };
+  for (int axis = 0; axis < dimensions; ++axis)
+  {
+    array->GetComponentRange(axis, ranges[axis]);
+  }
+  // Data updates come with renders (every edit): only a real change touches the rows,
+  // which are then kept (a slider being dragged must survive).
+  if (dimensions == this->Dimensions && std::equal(&ranges[0][0], &ranges[0][0] + 6,
+                                           &this->Ranges[0][0]))
+  {
+    return;
+  }
+  this->Dimensions = dimensions;
+  std::copy(&ranges[0][0], &ranges[0][0] + 6, &this->Ranges[0][0]);
+  for (pqGaussianWidgetRow* row : this->Rows)
+  {
+    row->setCentreRanges(this->Ranges, this->Dimensions, this->step());
+  }
+}
+
+//-----------------------------------------------------------------------------
+double pqGaussianWidgetsPropertyWidget::step() const
+{
+  // A hundredth of the domain's extent.
+  const double span = std::max({ this->Ranges[0][1] - this->Ranges[0][0],
+    this->Ranges[1][1] - this->Ranges[1][0], this->Ranges[2][1] - this->Ranges[2][0] });
+  return span > 0 ? span / 100.0 : 0.01;
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::select(int index)
+{
+  if (index != this->Selected)
+  {
+    this->Selected = index;
+    for (int i = 0; i < this->Rows.size(); ++i)
+    {
+      this->Rows[i]->setHighlighted(i == index);
+    }
+    this->updateButtons();
+  }
+  pqGaussianWidgetSelection::instance()->select(this->proxy(), index);
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::onSelectionChanged(vtkSMProxy* representation, int index)
+{
+  // Another part (a handle in the domain view) selected a widget: highlight its row.
+  const int selected =
+    this->ownsRepresentation(representation) && index < static_cast<int>(this->Widgets.size())
+    ? index
+    : -1;
+  if (selected == this->Selected)
+  {
+    return;
+  }
+  this->Selected = selected;
+  for (int i = 0; i < this->Rows.size(); ++i)
+  {
+    this->Rows[i]->setHighlighted(i == selected);
+  }
+  this->updateButtons();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::updateButtons()
+{
+  const bool selected = this->Selected >= 0 && !this->Invalid;
+  this->AddButton->setEnabled(!this->Invalid);
+  this->DuplicateButton->setEnabled(selected);
+  this->RemoveButton->setEnabled(selected);
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::addWidget()
+{
+  // At the centre of the domain, a tenth of its extent wide, the next palette colour.
+  Widget w;
+  double span = 0.0;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    w[axis] = axis < this->Dimensions ? 0.5 * (this->Ranges[axis][0] + this->Ranges[axis][1])
+                                      : 0.0;
+    span = std::max(span, this->Ranges[axis][1] - this->Ranges[axis][0]);
+  }
+  w[3] = span > 0 ? span / 10.0 : 1.0;
+  const double* colour = Palette[this->Widgets.size() % PaletteSize];
+  std::copy(colour, colour + 3, w.begin() + 4);
+  w[7] = 0.5;
+  this->Widgets.push_back(w);
+  this->Shown.push_back(true);
+  this->rebuildRows();
+  this->writeProperties("Add Gaussian Widget");
+  this->select(static_cast<int>(this->Widgets.size()) - 1);
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::duplicateWidget()
+{
+  if (this->Selected < 0 || this->Selected >= static_cast<int>(this->Widgets.size()))
+  {
+    return;
+  }
+  this->Widgets.push_back(this->Widgets[this->Selected]);
+  this->Shown.push_back(this->Shown[this->Selected]);
+  this->rebuildRows();
+  this->writeProperties("Duplicate Gaussian Widget");
+  this->select(static_cast<int>(this->Widgets.size()) - 1);
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::removeWidget()
+{
+  const int index = this->Selected;
+  if (index < 0 || index >= static_cast<int>(this->Widgets.size()))
+  {
+    return;
+  }
+  this->Widgets.erase(this->Widgets.begin() + index);
+  this->Shown.erase(this->Shown.begin() + index);
+  this->Selected = -1;
+  this->rebuildRows();
+  this->writeProperties("Remove Gaussian Widget");
+  this->select(std::min(index, static_cast<int>(this->Widgets.size()) - 1));
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::seedWidgets()
+{
+  // The same helper as the toolbar's Seed Gaussian Widgets, on this display; its
+  // widgets replace these (one undo step; errors go to the Output Messages).
+  pqPythonManager* python =
+    pqPVApplicationCore::instance() ? pqPVApplicationCore::instance()->pythonManager() : nullptr;
+  vtkSMSessionProxyManager* pxm = this->proxy()->GetSessionProxyManager();
+  const char* name = pxm ? pxm->GetProxyName("representations", this->proxy()) : nullptr;
+  if (!python || !name)
+  {
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Seed from clusters",
+      "Seeding needs ParaView's Python support and a registered display.");
+    return;
+  }
+  const QString code =
+    QString("from paraview import servermanager as _sm\n"
+            "import multichannel_explorer as _mce\n"
+            "_display = _sm._getPyProxy(_sm.ProxyManager().SMProxyManager.GetProxy("
+            "'representations', '%1'))\n"
+            "_mce.auto_widgets(_display, %2)\n"
+            "_display.GaussianWidgetsHidden = []\n"
+            "del _display\n")
+      .arg(QString(name).replace('\'', "\\'"))
+      .arg(this->SeedCount->value());
+  // The helper creates a ReducedDomain filter and restores the active source: the
+  // Properties panel may rebuild its display section, deleting this editor meanwhile.
+  // Nothing of `this` is used after the call.
+  QPointer<pqDataRepresentation> repr = this->representation();
+  {
+    SCOPED_UNDO_SET("Seed Gaussian Widgets");
+    python->executeCode(code.toUtf8());
+  }
+  if (repr)
+  {
+    repr->renderViewEventually();
+  }
+}
