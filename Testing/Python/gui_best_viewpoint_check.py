@@ -1,12 +1,11 @@
 """GUI test, part 3 (run by test_gui.sh with the state file and paraview's exit status):
 what the "Best Viewpoint" button did."""
-import json, math, sys
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
+import json
+import math
+
+from gui_checks import arguments, check, fails, finish  # noqa: F401
+
+path, rc = arguments()
 check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
 try:
     s = json.load(open(path))
@@ -26,5 +25,4 @@ if s.get("called"):
     check(abs(abs(sum(x * y for x, y in zip(s["direction"], s["best"]))) - 1) < 1e-9,
           "the chosen direction is +-BestViewDirection")
     check(s["camera_position"] != s["before"], "the camera moved")
-print("test_gui: %d failed" % len(fails))
-sys.exit(1 if fails else 0)
+finish("test_gui")

@@ -5,17 +5,10 @@ widget and selects it, remove takes the selected one away); hiding wrote opacity
 remembered the opacity in GaussianWidgetsHidden; Edit > Undo restored the widgets before
 the hide; Seed from clusters set the 3 widgets auto_widgets returned."""
 import json
-import sys
 
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
+from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
 
-
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
-    return ok
+path, rc = arguments()
 
 
 def close(a, b, tol=1e-9):
@@ -62,5 +55,4 @@ check(len(states) > len(steps) and close(states[-1], seeded),
 # Hiding remembers the opacity (-1: shown); undo forgets it again.
 check(hidden_states == [[-1, 0.7], []],
       "GaussianWidgetsHidden: [-1, 0.7] on hide, [] after undo (%s)" % hidden_states)
-print("gui_editor: %d failed" % len(fails))
-sys.exit(1 if fails else 0)
+finish("gui_editor")

@@ -5,17 +5,10 @@ the follower turned the camera to the new widgets' best view, computed from thei
 opacity, in several small rendered steps (the helper's animation)."""
 import json
 import math
-import sys
 
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
+from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
 
-
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
-    return ok  # the "..." checks below run only when this one passed
+path, rc = arguments()
 
 
 def cosine(a, b):
@@ -64,5 +57,4 @@ if check(len(seed) == 1, "the seed button called auto_widgets"):
     check(cosine(s["camera"], s["best"]) > 0.99999,
           "... and the camera turned to it (cos %.6f)" % cosine(s["camera"], s["best"]))
     check_animation(s["before"], s.get("path", []))
-print("gui_follow: %d failed" % len(fails))
-sys.exit(1 if fails else 0)
+finish("gui_follow")

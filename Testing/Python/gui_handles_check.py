@@ -10,18 +10,11 @@ sigma + |motion| per move upwards); each drag is one undo set; the GaussianWidge
 property changed at every mouse move (the volume recolours while dragging)."""
 import json
 import os
-import sys
 
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
+from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
+
+path, rc = arguments()
 TOL = 1e-3  # domain units; a pixel is ~0.05 here
-
-
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
-    return ok
 
 
 def close(a, b, tol=TOL):
@@ -100,5 +93,4 @@ check(final is not None and close(final, initial, 1e-12),
 shot = state.get("screenshot")
 check(bool(shot) and os.path.exists(shot) and os.path.getsize(shot) > 10000,
       "whole-window screenshot after the drags: %s" % shot)
-print("gui_handles: %d failed" % len(fails))
-sys.exit(1 if fails else 0)
+finish("gui_handles")

@@ -5,17 +5,10 @@ in the domain view; a click on a domain point probed that point's voxel; Add Wid
 put a widget there with an unused palette colour; a rubber band (Select Points Through) in the domain view, then Brush
 Selection, highlighted exactly the voxels of the selected domain points."""
 import json
-import sys
 
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
+from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
 
-
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
-    return ok
+path, rc = arguments()
 
 
 def close(a, b):
@@ -66,5 +59,4 @@ for b in brushes:
           b["highlighted"] == b["expected"],
           "Brush Selection: the %d voxels of the selected domain points highlighted (%d)"
           % (len(b["expected"]), b["count"]))
-print("gui_probe: %d failed" % len(fails))
-sys.exit(1 if fails else 0)
+finish("gui_probe")

@@ -3,17 +3,10 @@ file and paraview's exit status): the chain ran in the GUI with Device Auto, and
 warning or error reached ParaView's output window (so the Output Messages window never
 opened)."""
 import json
-import sys
 
-path, rc = sys.argv[1], int(sys.argv[2])
-fails = []
+from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
 
-
-def check(ok, msg):
-    print(("ok   " if ok else "FAIL ") + msg)
-    if not ok:
-        fails.append(msg)
-    return ok
+path, rc = arguments()
 
 
 try:
@@ -29,4 +22,4 @@ check(state.get("output_window", "").startswith("pq") or state.get("output_windo
       "observing ParaView's output window (%s)" % state.get("output_window"))
 check(state.get("messages") == [], "no warning or error reached the output window: %s"
       % state.get("messages"))
-sys.exit(1 if fails else 0)
+finish("gui_quiet")
