@@ -2,7 +2,9 @@
 
 #include "pqGaussianWidgetSelection.h"
 
+#include "pqActiveObjects.h"
 #include "pqCoreUtilities.h"
+#include "pqPipelineSource.h"
 #include "pqDataRepresentation.h"
 #include "pqRenderView.h"
 #include "pqUndoStack.h"
@@ -318,6 +320,21 @@ void pqGaussianWidgetHandles::onEndInteraction(vtkObject* caller, unsigned long,
   this->writeBack(index);
   this->Dragged = -1;
   END_UNDO_SET();
+  this->showEditorOfDisplay();
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetHandles::showEditorOfDisplay()
+{
+  // A click in the domain view makes it the active view, and the Properties panel then
+  // shows the (absent) display of the source there: hand the panel back to the volume's
+  // view and source, so the widget editor shows the grabbed widget's row highlighted.
+  pqView* volumeView = this->Display ? this->Display->getView() : nullptr;
+  if (volumeView && pqActiveObjects::instance().activeView() != volumeView)
+  {
+    pqActiveObjects::instance().setActiveView(volumeView);
+    pqActiveObjects::instance().setActiveSource(this->Display->getInput());
+  }
 }
 
 //-----------------------------------------------------------------------------

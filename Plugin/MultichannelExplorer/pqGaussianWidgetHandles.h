@@ -61,6 +61,7 @@ private Q_SLOTS:
 
 private:
   bool handlesTakeEvents() const;
+  void showEditorOfDisplay();
   Q_DISABLE_COPY(pqGaussianWidgetHandles)
 
   vtkSMProxy* proxy() const;
