@@ -296,6 +296,7 @@ void pqGaussianWidgetHandles::onStartInteraction(vtkObject* caller, unsigned lon
   BEGIN_UNDO_SET(QString(scaling ? "Resize Gaussian Widget %1" : "Move Gaussian Widget %1")
                    .arg(index + 1));
   this->Dragged = index;
+  this->Moved = false;
   pqGaussianWidgetSelection::instance()->select(this->proxy(), index);
 }
 
@@ -306,6 +307,7 @@ void pqGaussianWidgetHandles::onInteraction(vtkObject* caller, unsigned long, vo
   if (index >= 0 && index == this->Dragged)
   {
     this->writeBack(index);
+    this->Moved = true;
   }
 }
 
@@ -320,7 +322,12 @@ void pqGaussianWidgetHandles::onEndInteraction(vtkObject* caller, unsigned long,
   this->writeBack(index);
   this->Dragged = -1;
   END_UNDO_SET();
-  this->showEditorOfDisplay();
+  if (this->Moved)
+  {
+    // Only after a real drag: a plain click (e.g. a probe in the domain view) keeps the
+    // view it was made in.
+    this->showEditorOfDisplay();
+  }
 }
 
 //-----------------------------------------------------------------------------

@@ -89,6 +89,7 @@ private:
   unsigned long WheelBackwardTag = 0;
   unsigned long PropertyTag = 0;
   unsigned long InteractionModeTag = 0;
+  bool Moved = false; // the handle in hand moved since it was grabbed
   bool Writing = false; // this object is setting GaussianWidgets
   int Dragged = -1;     // handle being dragged, -1: none
 };
