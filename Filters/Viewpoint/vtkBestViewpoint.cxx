@@ -107,6 +107,13 @@ mcv::OpacityFunction toCoreFunction(vtkPiecewiseFunction* pf)
       f.x[i] = std::nextafter(f.x[i - 1], std::numeric_limits<double>::infinity());
     }
   }
+  if (f.x.size() == 1)
+  {
+    // One node: ParaView draws that opacity everywhere (the node's value, clamped beyond
+    // it), where the core reads a lone node as a step; a second, equal node says so.
+    f.x.push_back(std::nextafter(f.x[0], std::numeric_limits<double>::infinity()));
+    f.alpha.push_back(f.alpha[0]);
+  }
   if (!pf->GetClamping())
   {
     const double eps = 1e-9 * std::max(1.0, std::abs(f.x.back() - f.x.front()));

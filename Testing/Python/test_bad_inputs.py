@@ -90,6 +90,14 @@ Delete(bvp)
 
 # ---- missing array name ---------------------------------------------------------------
 wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+# An opacity function with one node: ParaView draws it as that opacity everywhere, so the
+# opacity volume is constant and there is no view (read as a step it found corners).
+one_node = CreatePiecewiseFunction(Points=[150.0, 0.5, 0.5, 0.0])
+bvp, msgs, res = run("one-node opacity function", wavelet, OpacityFunction=one_node)
+C.check(res["ViewValid"] == 0 and msgs.any_warning("is constant"),
+        "one-node opacity function: constant opacity, as ParaView draws it (no view, a warning)")
+Delete(bvp)
+
 bvp, msgs, res = run("missing array", wavelet, Channels=["NoSuchArray"])
 C.check(msgs.any_error("NoSuchArray", "RTData"),
         "missing array: error names the array and the available ones")
