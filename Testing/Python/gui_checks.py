@@ -1,6 +1,7 @@
 """What every gui_NAME_check.py shares (plain python3, run by test_gui.sh with the state
 file and paraview's exit status): the arguments, check() that prints and collects a
 failure, and finish() that prints the count and exits 1 on any failure."""
+import json
 import sys
 
 fails = []
@@ -16,6 +17,18 @@ def check(ok, msg):
     if not ok:
         fails.append(msg)
     return ok  # the "..." checks that follow a check run only when it passed
+
+
+def recorded_events(path, rc):
+    """Checks paraview's exit status and returns the events its setup script recorded into
+    the state file (a failed check when the file cannot be read)."""
+    check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+    try:
+        with open(path) as f:
+            return json.load(f)["events"]
+    except Exception as e:  # noqa: BLE001
+        check(False, "state file %s readable (%s)" % (path, e))
+        return []
 
 
 def finish(name):

@@ -3,10 +3,9 @@ with the state file and paraview's exit status): the toggle started following (c
 along the widgets' plane normal, z), the seed button set 4 widgets on the display, and
 the follower turned the camera to the new widgets' best view, computed from their
 opacity, in several small rendered steps (the helper's animation)."""
-import json
 import math
 
-from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
+from gui_checks import arguments, check, fails, finish, recorded_events  # noqa: E402,F401
 
 path, rc = arguments()
 
@@ -35,12 +34,7 @@ def check_animation(before, path):
               "%.2f deg)" % (total, max(moving), max(ups)))
 
 
-check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
-try:
-    events = json.load(open(path))["events"]
-except Exception as e:  # noqa: BLE001
-    events = []
-    check(False, "state file %s readable (%s)" % (path, e))
+events = recorded_events(path, rc)
 follow = [e for e in events if e["event"] == "follow"]
 seed = [e for e in events if e["event"] == "seed"]
 if check(len(follow) == 1 and follow[0]["best"], "the toggle called follow_best_viewpoint"):

@@ -4,9 +4,8 @@ of the column nearest to it), with its own ReducedCoordinates, and the marker mo
 in the domain view; a click on a domain point probed that point's voxel; Add Widget Here
 put a widget there with an unused palette colour; a rubber band (Select Points Through) in the domain view, then Brush
 Selection, highlighted exactly the voxels of the selected domain points."""
-import json
 
-from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
+from gui_checks import arguments, check, fails, finish, recorded_events  # noqa: E402,F401
 
 path, rc = arguments()
 
@@ -15,12 +14,7 @@ def close(a, b):
     return a is not None and b is not None and all(abs(x - y) < 1e-6 for x, y in zip(a, b))
 
 
-check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
-try:
-    events = json.load(open(path))["events"]
-except Exception as e:  # noqa: BLE001
-    events = []
-    check(False, "state file %s readable (%s)" % (path, e))
+events = recorded_events(path, rc)
 probes = [e for e in events if e["event"] == "probe"]
 if check(len(probes) == 1, "the click in the volume view probed once (%d)" % len(probes)):
     p = probes[0]

@@ -21,6 +21,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import mcv_testing as T  # noqa: E402
+import gaussian_tf_testing as G  # noqa: E402
 
 mce = T.load_plugin(globals())
 C = T.Checker("test_main_job")
@@ -174,14 +175,7 @@ def foreground_silhouette(camera):
                                            FeatureSet="6D")
     surface = simple.Contour(Input=features, ContourBy=["POINTS", "Foreground"],
                              Isosurfaces=[0.5])
-    view = simple.CreateView("RenderView")
-    view.ViewSize = camera["size"]
-    view.OrientationAxesVisibility = 0
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
-    view.Background = [0, 0, 0]
+    view = G.black_view(camera["size"])
     display = simple.Show(surface, view)
     simple.ColorBy(display, None)
     display.AmbientColor = display.DiffuseColor = [1, 1, 1]
