@@ -21,6 +21,16 @@ for ranks in 2 3; do
   OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np $ranks "$pvbatch" --mpi \
     "$here/mpi_parallel_check.py" --compare "$out" || exit 1
 done
+# More processes than the volume splits in (2 x 2 x 2 voxels on 2 and 4 processes): a
+# process that owns no voxel takes part with nothing, and the result is one process's.
+thin="${MCV_OUTPUT_DIR:-/tmp}/mpi_thin_reference"
+rm -rf "$thin"
+sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_parallel_check.py" --thin --reference "$thin" || exit 1
+for ranks in 2 4; do
+  echo "== $ranks processes, 2 x 2 x 2 voxels"
+  OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np $ranks "$pvbatch" --mpi \
+    "$here/mpi_parallel_check.py" --thin --compare "$thin" || exit 1
+done
 # Counts over the whole volume (NaN/Inf voxels), one process and split: a synthetic volume.
 sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_nonfinite_check.py" || exit 1
 echo "== 3 processes, NaN/Inf voxels"

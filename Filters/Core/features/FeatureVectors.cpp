@@ -762,10 +762,6 @@ std::string checkArguments(const std::vector<ChannelView>& channels, const Image
     return "the output buffer is " + std::to_string(out.rows) + " x " +
       std::to_string(out.cols) + ", expected " + std::to_string(n) + " x " + std::to_string(F);
   }
-  if (isPartialBlock(options.piece, grid) && options.piece.ownedCount() == 0)
-  {
-    return "this process owns no voxel of its block";
-  }
   return "";
 }
 } // namespace
