@@ -249,4 +249,28 @@ if arr is not None:
     C.check(int(f.GetPropertyValue("NumberOfNonFiniteVoxels")) == 3,
             "NumberOfNonFiniteVoxels = 3")
 
+# Finite values so large that some raw features overflow float32 (RTData x 1e36, up to
+# 2.8e38: the squares inside the gradient magnitude overflow). A warning names the
+# columns and says what to do; the columns that fit are the unscaled volume's (z-scores
+# do not depend on the scale), so the overflow shifts no other voxel or column.
+wavelet = Wavelet(WholeExtent=[0, 15, 0, 15, 0, 15])
+scaled = Calculator(Input=wavelet, ResultArrayName="big", Function="RTData*1e36",
+                    ResultArrayType="Float")
+f, msgs = run("values near 1e38", scaled, Channels=["big"], FeatureSet="24D", Device="CPU",
+              MaskBackground=0)
+plain, _ = run("the same values unscaled", wavelet, Channels=["RTData"], FeatureSet="24D",
+               Device="CPU", MaskBackground=0)
+_, big = features_of(f)
+_, ref = features_of(plain)
+C.check(not msgs.errors and msgs.any_warning("overflow float32", "big.gradMag", "rescale"),
+        "values near 1e38: a warning names the overflowing column (big.gradMag) and says "
+        "to rescale the channel")
+if big is not None and ref is not None:
+    C.check(B.all(math.isfinite(x) for x in memoryview(big).cast("B").cast("f")),
+            "values near 1e38: every feature finite")
+    for c in (0, 1, 2, 3):  # intensity and gradient: within float32
+        worst = B.max(B.abs(x - y) for x, y in zip(column_values(big, c), column_values(ref, c)))
+        C.check(worst < 1e-3, "values near 1e38: %s equals the unscaled volume's (worst "
+                "difference %.1e)" % (FEATURES_24[c], worst))
+
 C.finish()

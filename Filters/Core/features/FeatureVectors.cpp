@@ -646,11 +646,14 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   report(options, 0.9);
   normalizationFromStats(options.normalization, volume.columns, result);
   result.nonFiniteVoxels = static_cast<std::size_t>(volume.badVoxels);
+  // Raw features that overflow float32 (finite input, e.g. values near 1e38): per column.
+  std::vector<std::size_t> overflowPerColumn(volume.columns.count.size(), 0);
   std::size_t overflow = 0;
   const double validRows = volume.voxels - volume.badVoxels;
   for (std::size_t c = 0; c < volume.columns.count.size(); ++c)
   {
-    overflow += static_cast<std::size_t>(validRows - volume.columns.count[c]);
+    overflowPerColumn[c] = static_cast<std::size_t>(validRows - volume.columns.count[c]);
+    overflow += overflowPerColumn[c];
   }
   // The output is zeroed on non-finite voxels only (ghost and shared voxels get values).
   if (partial && !backend.setMask(maskPtr, error))
@@ -690,8 +693,21 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   }
   if (overflow > 0)
   {
-    result.warnings.push_back(std::to_string(overflow) +
-      " feature value(s) overflow float32 (input values too large): set to 0.");
+    std::ostringstream os;
+    os << overflow << " feature value(s) overflow float32 and are set to 0 (";
+    bool first = true;
+    for (std::size_t c = 0; c < overflowPerColumn.size(); ++c)
+    {
+      if (overflowPerColumn[c] > 0)
+      {
+        os << (first ? "" : ", ") << result.names[c] << ": " << overflowPerColumn[c];
+        first = false;
+      }
+    }
+    os << "); the other voxels' normalisation leaves them out. The channel's values are too "
+          "large for float32 features: rescale the channel (e.g. a Calculator multiplying "
+          "it by 1e-30) and apply again.";
+    result.warnings.push_back(os.str());
   }
   if (!result.constantColumns.empty())
   {
