@@ -319,7 +319,49 @@ bool vtkBestViewpoint::ComputeChannelOpacity(vtkImageData* image, const mcv::Ima
     vtkWarningMacro(<< this->NumberOfNonFiniteVoxels
                     << " voxel(s) hold NaN/Inf in the selected channels: they were given opacity 0.");
   }
+  this->WarnIfFewVisibleVoxels(grid, block, opacity, userFunction.empty(), channelNames, lows, highs);
   return true;
+}
+
+//------------------------------------------------------------------------------
+// A few extreme values (one 3e38 voxel in a [0, 1] volume) stretch the default ramp so far
+// that nothing else gets any opacity, and those voxels alone decide the view: say so.
+void vtkBestViewpoint::WarnIfFewVisibleVoxels(const mcv::ImageGrid& grid,
+  const mcv::GridPiece& block, const std::vector<float>& opacity, bool defaultRamps,
+  const std::vector<std::string>& channelNames, const std::vector<double>& lows,
+  const std::vector<double>& highs)
+{
+  const double fewVoxels = 27; // one 3x3x3 neighbourhood
+  const double wholeVolume = static_cast<double>(block.wholeDims[0]) * block.wholeDims[1] *
+    block.wholeDims[2];
+  std::vector<double> visible{ static_cast<double>(
+    mcv::countOwnedAtLeast(opacity.data(), grid, block, 0.01f)) };
+  if (const mcv::Communicator* comm = this->GetCommunicator())
+  {
+    comm->sum(visible);
+  }
+  if (visible[0] == 0 || visible[0] >= fewVoxels || wholeVolume < 100 * fewVoxels)
+  {
+    return;
+  }
+  std::ostringstream os;
+  os << "Only " << visible[0] << " of " << wholeVolume
+     << " voxels have an opacity of 1% or more: they alone decide the view. ";
+  if (defaultRamps)
+  {
+    os << "The opacity ramps span each channel's whole range (";
+    for (std::size_t c = 0; c < channelNames.size(); ++c)
+    {
+      os << (c ? ", " : "") << channelNames[c] << ": " << lows[c] << " to " << highs[c];
+    }
+    os << "); if a few extreme values set that range, give an OpacityFunction over the "
+          "values of interest (or clip the channel).";
+  }
+  else
+  {
+    os << "If that is not intended, check the OpacityFunction against the channels' values.";
+  }
+  vtkWarningMacro(<< os.str());
 }
 
 //------------------------------------------------------------------------------

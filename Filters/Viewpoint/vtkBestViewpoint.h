@@ -42,6 +42,7 @@
 #include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
+#include <string> // for std::string
 #include <vector> // for std::vector
 
 class vtkImageData;
@@ -208,6 +209,12 @@ protected:
     const mcv::GridPiece& block, std::vector<float>& opacity);
   bool ComputeWidgetOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
     const mcv::GridPiece& block, std::vector<float>& opacity);
+  // A warning when fewer than 27 voxels of the volume get 1% opacity (lows/highs: the
+  // channels' ranges that the default ramps span, when defaultRamps).
+  void WarnIfFewVisibleVoxels(const mcv::ImageGrid& grid, const mcv::GridPiece& block,
+    const std::vector<float>& opacity, bool defaultRamps,
+    const std::vector<std::string>& channelNames, const std::vector<double>& lows,
+    const std::vector<double>& highs);
 
   vtkPiecewiseFunction* OpacityFunction = nullptr;
   int NumberOfInterestPoints = 2048;

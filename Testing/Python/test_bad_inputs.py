@@ -3,7 +3,8 @@
 The filter's own messages are caught with vtkCommand Error/Warning observers on its
 server-side object (pvbatch runs a built-in session, so that object is in-process).
 Cases: not image data, no point array, a missing array name, an empty extent, a single
-slice (2D: its normal is the answer), NaN/Inf voxels, NumberOfInterestPoints <= 0, a
+slice (2D: its normal is the answer), NaN/Inf voxels, one extreme voxel (3e38) that alone
+decides the view, NumberOfInterestPoints <= 0, a
 constant volume, and broken .den files for the reader.
 """
 import math
@@ -149,6 +150,23 @@ C.check(int(bvp.GetPropertyValue("NumberOfNonFiniteVoxels")) == 3, "NaN/Inf voxe
 C.check(res["ViewValid"] == 1 and B.abs(B.abs(res["BestViewDirection"][2]) - 1) < 1e-3,
         "NaN/Inf voxels: view along the blob plane's normal %s" % res["BestViewDirection"])
 Delete(bvp)
+
+# ---- one extreme voxel: 3e38 in a [0, 1] volume stretches the default ramp so that only it
+# is visible and it alone decides the view: a warning says so and what to do. Without it, the
+# same blobs give no such warning.
+blob_field = """
+v = 0.0
+for (cx, cy) in ((6, 6), (6, 17), (17, 6), (17, 17), (12, 12)):
+    v += math.exp(-((i - cx) ** 2 + (j - cy) ** 2 + (k - 12) ** 2) / 3.0)
+"""
+for label, extra, warned in (("one 3e38 voxel", "if (i, j, k) == (3, 20, 5):\n    v = 3e38\n", True),
+                             ("no extreme voxel", "", False)):
+    bvp, msgs, res = run(label, image_source((24, 24, 24), blob_field + extra))
+    C.check(not msgs.errors and msgs.any_warning("Only 1 of", "alone decide the view",
+                                                  "OpacityFunction") == warned,
+            "%s: %s" % (label, "a warning says it alone decides the view and to set an "
+                        "OpacityFunction" if warned else "no few-visible-voxels warning"))
+    Delete(bvp)
 
 # ---- constant volume: warning, no direction, no NaN ----------------------------------------
 const = image_source((16, 16, 16), "v = 7.0")

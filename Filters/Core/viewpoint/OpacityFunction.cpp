@@ -163,4 +163,24 @@ std::size_t countNonFiniteVoxels(
   return total;
 }
 
+std::size_t countOwnedAtLeast(
+  const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold)
+{
+  const std::int64_t dx = block.dims[0], dy = block.dims[1];
+  std::size_t total = 0;
+#pragma omp parallel for reduction(+ : total) schedule(static)
+  for (int k = piece.ownedLo[2]; k <= piece.ownedHi[2]; ++k)
+  {
+    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
+    {
+      const float* row = opacity + (k * dy + j) * dx;
+      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
+      {
+        total += row[i] >= threshold ? 1 : 0;
+      }
+    }
+  }
+  return total;
+}
+
 } // namespace mcv

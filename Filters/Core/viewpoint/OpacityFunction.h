@@ -37,4 +37,9 @@ std::size_t accumulateOpacity(
 std::size_t countNonFiniteVoxels(
   const std::vector<ChannelView>& channels, const ImageGrid& block, const GridPiece& piece);
 
+// The voxels of a block that its process owns and whose opacity is at least `threshold`
+// (summed over processes, each voxel of the volume counts once).
+std::size_t countOwnedAtLeast(
+  const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold);
+
 } // namespace mcv
