@@ -11,6 +11,7 @@ import argparse
 import os
 import sys
 
+from paraview import simple
 from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -26,7 +27,7 @@ os.makedirs(args.output, exist_ok=True)
 mce = load_plugin(args.plugin)
 
 # 1. Three channels -> 6D feature vectors -> a 3D domain (PCA: the quickest reduction).
-volume = AppendAttributes(Input=[OpenDataFile(p) for p in paths])
+volume = simple.MergeChannels(Input=[OpenDataFile(p) for p in paths])
 features, reduction = mce.reduce_multichannel(volume, method="PCA", features="6D",
                                               ReferenceSampleSize=5000)
 

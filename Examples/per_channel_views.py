@@ -33,7 +33,7 @@ os.makedirs(args.output, exist_ok=True)
 mce = load_plugin(args.plugin)
 
 # The channels on one grid: one point array each.
-volume = AppendAttributes(Input=[OpenDataFile(p) for p in args.channels])
+volume = simple.MergeChannels(Input=[OpenDataFile(p) for p in args.channels])
 volume.UpdatePipeline()
 names = volume.PointData.keys()  # one array per file, in file order
 labels = [os.path.basename(p).split(".")[0] for p in args.channels]

@@ -89,7 +89,7 @@ def timed(name, function):
 
 # 1. Channels on one grid, and their feature vectors.
 readers = [OpenDataFile(p) for p in args.channels]
-volume = AppendAttributes(Input=readers) if len(readers) > 1 else readers[0]
+volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
 timed("read", volume.UpdatePipeline)
 features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
                                        Device=args.device)
