@@ -282,10 +282,10 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   // Byte alpha -> opacity: the identity (two points, so that the ray caster's opacity table
   // stays small over the 16-bit range of the per-sample texture). VTK's ray caster corrects
   // the opacity of dependent (RGBA) components for the sample distance s with the unit
-  // distance u of the last component, 1 - (1 - alpha)^(s/u) in double precision, but
-  // ParaView sets only the first one's: UpdateMapperParameters copies it there, so per
-  // voxel and per sample both accumulate opacity alpha over a length u, at any spacing
-  // (a ramp carrying 1/u itself lost every opacity to float rounding at u ~ 1e9).
+  // distance u of the last component, 1 - (1 - alpha)^(s/u), but ParaView sets only the
+  // first one's: UpdateMapperParameters copies it there, so per voxel and per sample both
+  // accumulate opacity alpha over a length u, at any spacing (a ramp carrying 1/u itself
+  // rounded every opacity of the float table to 0 at u ~ 1e9).
   vtkNew<vtkPiecewiseFunction> AlphaRamp;
   vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
   std::string ShaderKey;                          // blend mode and jitter of the replacements

@@ -195,6 +195,7 @@ tf.widgets-10000   | 10 000 widgets, per sample       | TF  | error "at most 64"
                    |                                  |     | nothing drawn
 tf.widgets-10000-v | 10 000 widgets, per voxel        | TF  | ok: drawn as the 2 visible widgets
 tf.toggle          | widgets red <-> green, 10 times  | TF  | ok: each picture = a fresh display's
+tf.polydata        | a Sphere (polydata)              | TF  | not offered (image data only)
 rdr.nifti-4d       | 4D NIfTI written by              | RDR | ok: 3 components (TimeAsVector),
                    | vtkNIFTIImageWriter              |     | values kept
 rdr.nifti-4d-first | the same, TimeAsVector 0         | RDR | ok: 1 component, the first volume
@@ -786,6 +787,16 @@ def toggle_tf(changes=10):
     return runner
 
 
+def offered_for(row):
+    """Whether "Gaussian TF Volume" is among the representations of row.source's display."""
+    view = G.black_view(SHOT_SIZE)
+    display = simple.Show(source(row.source), view)
+    available = list(display.GetProperty("Representation").Available)
+    simple.Delete(view)
+    return Outcome([], [], [], {}, False, [], offered="Gaussian TF Volume" in available,
+                   available=available)
+
+
 def no_mismatch(o):
     return not o.mismatches, "every change = a fresh one %s" % (o.mismatches[:2] or "")
 
@@ -1167,6 +1178,8 @@ ROWS = [
                                               "Classification": "Per voxel"}, "ok", (),
         all_of(drawn, pixel_is("red", 0), pixel_is("green", 1))),
     Row("tf.toggle", "TF", "coords", runner=toggle_tf(), check=no_mismatch),
+    Row("tf.polydata", "TF", "sphere", runner=offered_for,
+        check=lambda o: (not o.offered, "not among a Sphere's representations %s" % o.available)),
 ] + nifti_rows() + den_rows()
 
 # Expected outcomes another change delivers (issue 19, items owned elsewhere): not asserted.
