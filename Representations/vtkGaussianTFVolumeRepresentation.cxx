@@ -1,6 +1,7 @@
 #include "vtkGaussianTFVolumeRepresentation.h"
 
 #include "CoordinateTexture.h"           // mcv core (Filters/Core)
+#include "ImageGrid.h"                   // mcv core: the spacing check
 #include "GaussianTransferFunction.h"    // mcv core (Filters/Core)
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
 #include "mcvGaussianTFShader.h"
@@ -73,6 +74,28 @@ std::vector<vtkImageData*> imagePieces(vtkDataObject* data)
     return vtkCompositeDataSet::GetDataSets<vtkImageData>(data);
   }
   return {};
+}
+
+// "" when every piece has a positive spacing; else what is wrong. VTK's ray caster draws
+// nothing for a zero or negative spacing (ParaView's Volume representation neither): an
+// error says so instead of a blank picture.
+std::string spacingError(const std::vector<vtkImageData*>& pieces)
+{
+  for (vtkImageData* piece : pieces)
+  {
+    mcv::ImageGrid grid;
+    piece->GetSpacing(grid.spacing.data());
+    const std::string problem = grid.spacingProblem();
+    if (!problem.empty())
+    {
+      const bool negative = grid.spacing[0] < 0 || grid.spacing[1] < 0 || grid.spacing[2] < 0;
+      return "Nothing is drawn: " + problem +
+        (negative ? "; VTK's ray caster draws nothing for a negative spacing, Resample To Image "
+                    "gives the same volume a positive one."
+                  : ".");
+    }
+  }
+  return std::string();
 }
 
 bool isOwnArray(const char* name)
@@ -256,36 +279,19 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   std::vector<float> Converted;             // non-float32 coordinates as float32
   std::vector<std::uint8_t> ConvertedMask;  // a non-uint8 mask as bytes
 
-  // Byte alpha -> opacity. VTK's ray caster corrects the opacity table of dependent
-  // components for the sample distance as if the unit distance were 1 (seen with ParaView
-  // 5.11: the Scalar Opacity Unit Distance changes nothing), so the ramp carries the unit
-  // distance u itself: alpha -> 1 - (1 - alpha)^(1/u), one point per byte value. Per voxel
-  // and per sample then both accumulate opacity alpha over a length u.
+  // Byte alpha -> opacity: the identity (two points, so that the ray caster's opacity table
+  // stays small over the 16-bit range of the per-sample texture). VTK's ray caster corrects
+  // the opacity of dependent (RGBA) components for the sample distance s with the unit
+  // distance u of the last component, 1 - (1 - alpha)^(s/u), but ParaView sets only the
+  // first one's: UpdateMapperParameters copies it there, so per voxel and per sample both
+  // accumulate opacity alpha over a length u, at any spacing (a ramp carrying 1/u itself
+  // rounded every opacity of the float table to 0 at u ~ 1e9).
   vtkNew<vtkPiecewiseFunction> AlphaRamp;
-  double AlphaRampUnitDistance = 0;
   vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
   std::string ShaderKey;                          // blend mode and jitter of the replacements
   bool HadWidgets = false;          // the last list checked had widgets
   bool RenderModeReported = false; // the error about a render mode without the GPU ray caster
 
-  void UpdateAlphaRamp(double unitDistance)
-  {
-    if (unitDistance == this->AlphaRampUnitDistance)
-    {
-      return;
-    }
-    this->AlphaRamp->RemoveAllPoints();
-    // u = 1 is the identity: two points, so that the ray caster's opacity table stays small
-    // over the 16-bit range of the per-sample texture (one point per byte value would ask
-    // for a 65536-entry table there).
-    const int step = unitDistance == 1.0 ? 255 : 1;
-    for (int byte = 0; byte <= 255; byte += step)
-    {
-      const double alpha = byte / 255.0;
-      this->AlphaRamp->AddPoint(byte, 1.0 - std::pow(1.0 - alpha, 1.0 / unitDistance));
-    }
-    this->AlphaRampUnitDistance = unitDistance;
-  }
 };
 
 vtkStandardNewMacro(vtkGaussianTFVolumeRepresentation);
@@ -296,6 +302,8 @@ vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
 {
   // ParaView's multi-block mapper, plus passing our shader property to the rendered volume.
   this->VolumeMapper = vtkSmartPointer<vtkGaussianTFVolumeMapper>::New();
+  this->Internals->AlphaRamp->AddPoint(0.0, 0.0);
+  this->Internals->AlphaRamp->AddPoint(255.0, 1.0);
 }
 
 //------------------------------------------------------------------------------
@@ -499,6 +507,12 @@ bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
   {
     return false; // nothing delivered here (a rank without data): nothing to draw
   }
+  const std::string badSpacing = spacingError(pieces);
+  if (!badSpacing.empty())
+  {
+    vtkErrorMacro(<< badSpacing);
+    return false;
+  }
 
   const mcv::WidgetList widgets =
     mcv::parseGaussianWidgets(internals.WidgetValues.Data(), internals.WidgetValues.Size());
@@ -599,8 +613,13 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
   }
   internals.ComputeTime.Modified();
   internals.Valid = false;
-  if (pieces.empty())
+  const std::string badSpacing = spacingError(pieces);
+  if (pieces.empty() || !badSpacing.empty())
   {
+    if (!badSpacing.empty())
+    {
+      vtkErrorMacro(<< badSpacing);
+    }
     internals.TextureInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
     return false;
   }
@@ -715,10 +734,15 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
   auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
   const bool gpuRayCaster = this->GPURayCasterRequested();
   const bool perSample = gpuRayCaster && this->Classification == PER_SAMPLE;
-  // The widgets' opacity is accumulated over the volume's Scalar Opacity Unit Distance.
-  const double unitDistance = std::max(1e-6, this->Property->GetScalarOpacityUnitDistance());
+  // The widgets' opacity is accumulated over the volume's Scalar Opacity Unit Distance
+  // (ParaView's default: the cell diagonal, so 10 nm voxels in metres look like 1 mm ones).
+  const double opacityUnit = this->Property->GetScalarOpacityUnitDistance();
+  const double unitDistance = opacityUnit > 0 && std::isfinite(opacityUnit) ? opacityUnit : 1.0;
+  for (int c = 1; c < 4; ++c) // per voxel: VTK reads the last component's (see AlphaRamp)
+  {
+    this->Property->SetScalarOpacityUnitDistance(c, unitDistance);
+  }
   const bool mip = this->GaussianBlendMode == vtkVolumeMapper::MAXIMUM_INTENSITY_BLEND;
-  internals.UpdateAlphaRamp(perSample || mip ? 1.0 : unitDistance); // MIP: no correction
   if (perSample)
   {
     this->UpdatePerSample();

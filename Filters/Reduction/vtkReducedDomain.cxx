@@ -250,20 +250,30 @@ int vtkReducedDomain::RequestMultichannelData(
   }
   std::vector<bool> eligible(static_cast<std::size_t>(n));
   std::size_t eligibleCount = 0;
+  std::size_t nonFinite = 0; // foreground points left out for NaN/Inf coordinates
   for (vtkIdType i = 0; i < n; ++i)
   {
     bool ok = !foreground || foreground->GetValue(i) != 0;
+    const bool considered = ok;
     for (int c = 0; c < dims && ok; ++c)
     {
       ok = std::isfinite(coordinates->GetComponent(i, c));
     }
     eligible[static_cast<std::size_t>(i)] = ok;
     eligibleCount += ok ? 1 : 0;
+    nonFinite += considered && !ok ? 1 : 0;
   }
   if (eligibleCount == 0)
   {
     vtkErrorMacro(<< (foreground ? "No foreground point" : "No point") << " has finite reduced coordinates.");
     return 0;
+  }
+  if (nonFinite > 0)
+  {
+    // Holes in the domain are said, as BestViewpoint says them for the volume.
+    vtkWarningMacro(<< nonFinite << " point(s) have NaN/Inf in the coordinates '"
+                    << (coordinates->GetName() ? coordinates->GetName() : "")
+                    << "': they are left out of the domain (and drawn transparent in the volume).");
   }
   this->UpdateProgress(0.2);
   // Settings that cannot be honoured are errors, not silent changes.
@@ -434,14 +444,28 @@ int vtkReducedDomain::RequestMultichannelData(
     }
     // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
     options.weights = multiplicity.data();
-    const mcv::WidgetSeeding seeding = mcv::seedGaussianWidgets(
+    // One distinct point is one cluster, the one SkipLargestCluster leaves out: the domain
+    // is still a valid output, only the suggestion is empty.
+    const bool onlyBackground = options.skipLargest && multiplicity.size() < 2;
+    const mcv::WidgetSeeding seeding = onlyBackground ? mcv::WidgetSeeding()
+                                                      : mcv::seedGaussianWidgets(
       { distinct.data(), distinct.size() / static_cast<std::size_t>(dims), dims }, options);
     if (!seeding.ok())
     {
       vtkErrorMacro(<< seeding.error);
+      domain->Initialize(); // an error leaves no output behind
+      widgetOutput->Initialize();
+      this->Internals->SeededWidgets->Reset();
       return 0;
     }
-    if (static_cast<int>(seeding.widgets.size()) < this->SeedWidgetCount)
+    if (onlyBackground)
+    {
+      vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, none seeded: the sample has "
+                      << "only 1 distinct reduced coordinate, the largest cluster, which "
+                      << "SkipLargestCluster leaves out as the background; turn SkipLargestCluster "
+                      << "off to seed a widget there.");
+    }
+    else if (static_cast<int>(seeding.widgets.size()) < this->SeedWidgetCount)
     {
       vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, " << seeding.widgets.size()
                       << " seeded: the sample has only " << distinct.size() / dims

@@ -11,6 +11,7 @@
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
 #include "vtkMatrix3x3.h"
+#include "vtkNew.h"
 #include "vtkObjectFactory.h"
 #include "vtkPiecewiseFunction.h"
 #include "vtkPointData.h"
@@ -508,8 +509,26 @@ int vtkBestViewpoint::RequestMultichannelData(
   double spacing[3], origin[3];
   image->GetSpacing(spacing);
   image->GetOrigin(origin);
-  vtkMatrix3x3* direction = image->GetDirectionMatrix();
-  const bool oriented = direction && !direction->IsIdentity();
+  // A negative spacing runs its axis backwards (VTK allows it): the same voxels as a
+  // positive spacing with that axis of the direction matrix negated, which the oriented
+  // path below handles (the Harris response does not depend on an axis' sign).
+  vtkNew<vtkMatrix3x3> direction;
+  if (image->GetDirectionMatrix())
+  {
+    direction->DeepCopy(image->GetDirectionMatrix());
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (spacing[a] < 0)
+    {
+      spacing[a] = -spacing[a];
+      for (int r = 0; r < 3; ++r)
+      {
+        direction->SetElement(r, a, -direction->GetElement(r, a));
+      }
+    }
+  }
+  const bool oriented = !direction->IsIdentity();
   for (int a = 0; a < 3; ++a)
   {
     grid.spacing[a] = spacing[a];
@@ -597,15 +616,12 @@ int vtkBestViewpoint::RequestMultichannelData(
       this->ViewCenter[a] = center[a];
     }
   }
-  else
+  else if (result.warnings.empty())
   {
-    const std::string message =
-      view.message.empty() ? std::string("no view direction could be found") : view.message;
-    if (std::find(result.warnings.begin(), result.warnings.end(), message) ==
-      result.warnings.end())
-    {
-      vtkWarningMacro(<< message);
-    }
+    // The core says why there is no view among its warnings (reported above); a second,
+    // vaguer line would only repeat it.
+    vtkWarningMacro(<< (view.message.empty() ? std::string("no view direction could be found")
+                                             : view.message));
   }
 
   // ---- Output: interest points (piece 0 only) and field data ----------------------------

@@ -108,8 +108,18 @@ TEST(BackgroundMask, AllBackgroundWarnsAndKeepsTheMask)
   EXPECT_EQ(mask({ view(flat, mcv::ScalarType::UInt8) }, grid(2, 2, 2), 0.0, r), std::vector<unsigned char>(8, 0));
   EXPECT_EQ(r.backgroundVoxels, 8u);
   ASSERT_EQ(r.warnings.size(), 1u);
-  EXPECT_NE(r.warnings[0].find("lower BackgroundThreshold or turn off MaskBackground"), std::string::npos)
-    << r.warnings[0];
+  // A constant channel has no range to lower a threshold in: only MaskBackground helps.
+  EXPECT_NE(r.warnings[0].find("every channel is constant"), std::string::npos) << r.warnings[0];
+  EXPECT_NE(r.warnings[0].find("turn off MaskBackground"), std::string::npos) << r.warnings[0];
+  EXPECT_EQ(r.warnings[0].find("lower BackgroundThreshold"), std::string::npos) << r.warnings[0];
+
+  // A channel that varies, with the cut at its maximum: lowering the threshold helps.
+  const std::vector<float> ramp = { 0, 1, 2, 3, 4, 5, 6, 7 };
+  mcv::BackgroundMaskResult top;
+  EXPECT_EQ(mask({ view(ramp, mcv::ScalarType::Float32) }, grid(2, 2, 2), 1.0, top), std::vector<unsigned char>(8, 0));
+  ASSERT_EQ(top.warnings.size(), 1u);
+  EXPECT_NE(top.warnings[0].find("lower BackgroundThreshold or turn off MaskBackground"), std::string::npos)
+    << top.warnings[0];
 }
 
 TEST(BackgroundMask, BadArguments)

@@ -245,7 +245,11 @@ TEST(BestViewpoint, BadInputGivesErrors)
   EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), line, cpuOptions()).ok());
   mcv::ImageGrid flat = g;
   flat.spacing[1] = 0.0;
-  EXPECT_FALSE(mcv::computeBestViewpoint(I.data(), flat, cpuOptions()).ok());
+  const mcv::BestViewpointResult noSpacing = mcv::computeBestViewpoint(I.data(), flat, cpuOptions());
+  EXPECT_FALSE(noSpacing.ok());
+  // Which axis, and where a user fixes it.
+  EXPECT_NE(noSpacing.error.find("axis 1 (y)"), std::string::npos) << noSpacing.error;
+  EXPECT_NE(noSpacing.error.find("DataSpacing"), std::string::npos) << noSpacing.error;
 }
 
 TEST(BestViewpoint, GpuRequestWithoutGpuFallsBackWithWarning)

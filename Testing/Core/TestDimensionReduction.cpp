@@ -396,6 +396,23 @@ TEST(DimensionReduction, BadInputsGiveClearErrors)
   ok.method = mcv::ReductionMethod::LLE;
   r = run(m.matrix(), ok);
   EXPECT_NE(r.error.find("NumberOfNeighbors"), std::string::npos) << r.error;
+  // A reference sample too small for the embedding: said about ReferenceSampleSize, not the data.
+  for (std::size_t size : { 1, 3 })
+  {
+    mcv::ReductionOptions os = cpu(mcv::ReductionMethod::PCA, 2);
+    os.referenceSampleSize = size;
+    r = run(m.matrix(), os);
+    EXPECT_NE(r.error.find("ReferenceSampleSize (" + std::to_string(size) + ") is too small"), std::string::npos)
+      << r.error;
+  }
+  // Fewer landmarks than landmark LLE needs: raised, with a warning (as Isomap does).
+  mcv::ReductionOptions ol = o;
+  ol.method = mcv::ReductionMethod::LLE;
+  ol.numberOfLandmarks = 1;
+  ol.referenceSampleSize = m.n;
+  r = run(m.matrix(), ol);
+  EXPECT_TRUE(r.ok()) << r.error;
+  EXPECT_TRUE(hasWarning(r, "LLE: 1 landmarks asked for, 13 used"));
   // M > rows: all rows, with a warning.
   mcv::ReductionOptions om = o;
   om.referenceSampleSize = 100000;

@@ -2,8 +2,11 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <sstream>
+#include <string>
 
 namespace mcv
 {
@@ -35,6 +38,25 @@ struct ImageGrid
 
   // Number of axes with more than one voxel (3 for a volume, 2 for a single slice).
   int extendedAxes() const { return (dims[0] > 1) + (dims[1] > 1) + (dims[2] > 1); }
+
+  // "" when every axis has a positive, finite spacing; else which axis does not and what
+  // to do (shared by the filters that work in world units, so they say it alike).
+  std::string spacingProblem() const
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      if (!(spacing[a] > 0.0) || !std::isfinite(spacing[a]))
+      {
+        std::ostringstream msg;
+        msg << "the voxel spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+            << ") is not positive along axis " << a << " (" << "xyz"[a]
+            << "): every axis needs a positive, finite spacing; give the volume one (the "
+               "reader's DataSpacing, or the spacing in the file's header)";
+        return msg.str();
+      }
+    }
+    return std::string();
+  }
 };
 
 } // namespace mcv

@@ -159,7 +159,19 @@ bool computeBackgroundMask(const std::vector<ChannelView>& channels, const Image
   }
   result.voxels = static_cast<std::size_t>(counts[0]);
   result.backgroundVoxels = static_cast<std::size_t>(counts[1]);
-  if (result.voxels > 0 && result.backgroundVoxels == result.voxels)
+  bool anyRange = false; // a channel with a range to set a threshold in
+  for (std::size_t c = 0; c < result.channelMin.size(); ++c)
+  {
+    anyRange = anyRange || result.channelMax[c] > result.channelMin[c];
+  }
+  if (result.voxels > 0 && result.backgroundVoxels == result.voxels && !anyRange)
+  {
+    // Lowering BackgroundThreshold cannot help there: say what can.
+    result.warnings.push_back("Every voxel is background: every channel is constant (or holds no "
+                              "finite value), so no voxel rises above its minimum. The Foreground "
+                              "array is all 0; turn off MaskBackground to keep every voxel.");
+  }
+  else if (result.voxels > 0 && result.backgroundVoxels == result.voxels)
   {
     result.warnings.push_back("Every voxel is background (no channel rises above BackgroundThreshold = " +
       std::to_string(options.threshold) +

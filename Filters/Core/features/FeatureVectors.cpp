@@ -745,12 +745,9 @@ std::string checkArguments(const std::vector<ChannelView>& channels, const Image
   {
     return "the input volume is empty (no voxels)";
   }
-  for (int a = 0; a < 3; ++a)
+  if (!grid.spacingProblem().empty())
   {
-    if (!(grid.spacing[a] > 0.0) || !std::isfinite(grid.spacing[a]))
-    {
-      return "the voxel spacing must be positive along every axis";
-    }
+    return grid.spacingProblem();
   }
   for (std::size_t c = 0; c < channels.size(); ++c)
   {

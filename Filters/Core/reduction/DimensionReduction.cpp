@@ -592,6 +592,13 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   {
     return fail("ReferenceSampleSize must be at least 1.");
   }
+  // Said before sampling: the setting, not the data, is what cannot be fitted.
+  if (options.referenceSampleSize < static_cast<std::size_t>(d) + 2)
+  {
+    return fail("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
+      ") is too small: a " + std::to_string(d) + "D embedding is fitted on at least " + std::to_string(d + 2) +
+      " reference points; raise ReferenceSampleSize (or lower OutputDimension).");
+  }
   result.outputDimension = d;
   report("Checking features", 0.0);
 

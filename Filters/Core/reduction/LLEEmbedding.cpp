@@ -240,6 +240,13 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
 
   // Landmarks: enough for the Lanczos step (2 nev + 1 vectors), fewer than the points.
   const int landmarks = std::max(options.numberOfLandmarks, 2 * (d + 4) + 1);
+  if (options.numberOfLandmarks > 0 && landmarks != options.numberOfLandmarks)
+  {
+    // Said, as Isomap says its own minimum: otherwise 1, 2 or 15 landmarks look alike.
+    e.warnings.push_back("LLE: " + std::to_string(options.numberOfLandmarks) + " landmarks asked for, " +
+      (landmarks < n ? std::to_string(landmarks) + " used" : "exact LLE on the " + std::to_string(n) + " reference points") +
+      " (at least 2(d+4)+1 = " + std::to_string(landmarks) + " for a " + std::to_string(d) + "D embedding).");
+  }
   LLEBottomEigen bottom;
   if (options.numberOfLandmarks > 0 && landmarks < n)
   {

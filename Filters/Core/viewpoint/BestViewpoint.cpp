@@ -255,12 +255,9 @@ std::string checkArguments(
   {
     return "the input volume is empty (no voxels)";
   }
-  for (int a = 0; a < 3; ++a)
+  if (!grid.spacingProblem().empty())
   {
-    if (!(grid.spacing[a] > 0.0))
-    {
-      return "the voxel spacing must be positive along every axis";
-    }
+    return grid.spacingProblem();
   }
   if (wholeGrid(grid, options.piece).extendedAxes() < 2)
   {

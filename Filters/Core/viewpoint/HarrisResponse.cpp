@@ -39,15 +39,15 @@ const char* checkHarrisParameters(const HarrisParameters& params)
 {
   if (!(params.sigma > 0.0) || !std::isfinite(params.sigma))
   {
-    return "GaussianSigma must be a positive number";
+    return "GaussianSigma must be a positive, finite number of voxels (the default is 1.5)";
   }
   if (params.kernelWidth < 1 || params.kernelWidth % 2 == 0 || params.kernelWidth > 31)
   {
-    return "KernelWidth must be odd, between 1 and 31";
+    return "KernelWidth must be odd, between 1 and 31 taps (the default is 5)";
   }
   if (!std::isfinite(params.k) || params.k < 0.0)
   {
-    return "HarrisK must be a finite number >= 0";
+    return "HarrisK must be a finite number >= 0 (the default is 0.004)";
   }
   return "";
 }
