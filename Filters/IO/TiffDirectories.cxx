@@ -201,6 +201,7 @@ std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& 
       }
       p.DataBytes += counts[s];
     }
+    p.DataOffsets = offsets;
     pages.push_back(p);
     next = file.Number(entries.data() + count * entryBytes, offsetBytes);
   }

@@ -22,6 +22,7 @@ struct TiffPage
   int SampleFormat = 1; // 1 unsigned, 2 signed, 3 float
   int Compression = 1;  // 1 none
   std::uint64_t DataBytes = 0; // the strips' (or tiles') byte counts, summed
+  std::vector<std::uint64_t> DataOffsets; // where each strip (or tile) starts
   int PageCount = 0;           // the total of the PageNumber tag (0 when absent)
 };
 

@@ -70,7 +70,7 @@ bool sameKind(const mcv::TiffPage& a, const mcv::TiffPage& b)
 }
 
 // "" when the pages of one file can be the slices of a volume; else what is wrong.
-std::string checkPages(const std::vector<mcv::TiffPage>& pages)
+std::string checkPages(const std::string& name, const std::vector<mcv::TiffPage>& pages)
 {
   const mcv::TiffPage& first = pages[0];
   std::ostringstream msg;
@@ -105,10 +105,31 @@ std::string checkPages(const std::vector<mcv::TiffPage>& pages)
           << pixels(first) << " (the pages of a volume must match)";
       return msg.str();
     }
-    if (pages[i].Compression == 1 && static_cast<double>(pages[i].DataBytes) < bytes)
+    // Deflate strips are decompressed whole: libtiff stops once it has a strip's pixels and
+    // never sees the checksum at the end of a corrupt stream.
+    double held = static_cast<double>(pages[i].DataBytes);
+    const bool deflate = pages[i].Compression == 8 || pages[i].Compression == 32946;
+    if (deflate)
     {
-      msg << "is truncated: page " << i + 1 << " holds " << pages[i].DataBytes
-          << " bytes of pixels, its " << pixels(first) << " need " << bytes;
+      held = 0;
+      for (std::uint64_t offset : pages[i].DataOffsets)
+      {
+        std::string error;
+        const std::int64_t n = mcv::inflatedBytes(
+          name, static_cast<std::int64_t>(offset), mcv::Compression::ZlibOrGzip, error);
+        if (n < 0)
+        {
+          msg << "has a Deflate strip on page " << i + 1 << " at byte " << offset << " that "
+              << error;
+          return msg.str();
+        }
+        held += static_cast<double>(n);
+      }
+    }
+    if ((pages[i].Compression == 1 || deflate) && held < bytes) // other codecs: unknown
+    {
+      msg << "is truncated: page " << i + 1 << " holds " << held << " bytes of pixels, its "
+          << pixels(first) << " need " << bytes;
       return msg.str();
     }
   }
@@ -196,7 +217,7 @@ std::string vtkCheckedTIFFReader::CheckFiles()
     std::string problem = mcv::readTiffDirectories(files[i], pages);
     if (problem.empty())
     {
-      problem = checkPages(pages);
+      problem = checkPages(files[i], pages);
     }
     if (problem.empty() && i > 0 && !sameKind(pages[0], first))
     {
