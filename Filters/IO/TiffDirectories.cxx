@@ -103,6 +103,21 @@ bool entryValues(TiffFile& file, const unsigned char* entry, std::vector<std::ui
 } // namespace
 
 //------------------------------------------------------------------------------
+bool startsLikeTiff(const std::string& name)
+{
+  TiffFile file(name);
+  unsigned char head[4] = {};
+  if (!file.Opened() || !file.Read(0, 4, head))
+  {
+    return false;
+  }
+  file.BigEndian = head[0] == 'M';
+  const std::uint64_t magic = file.Number(head + 2, 2);
+  return ((head[0] == 'I' && head[1] == 'I') || (head[0] == 'M' && head[1] == 'M')) &&
+    (magic == 42 || magic == 43);
+}
+
+//------------------------------------------------------------------------------
 std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& pages)
 {
   pages.clear();
@@ -112,18 +127,16 @@ std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& 
     return "cannot be opened";
   }
   unsigned char head[16] = {};
-  const bool read = file.Read(0, 8, head);
-  file.BigEndian = head[0] == 'M';
-  const std::uint64_t magic = file.Number(head + 2, 2);
-  if (!read || !((head[0] == 'I' && head[1] == 'I') || (head[0] == 'M' && head[1] == 'M')) ||
-    (magic != 42 && magic != 43))
+  if (!startsLikeTiff(name))
   {
     return "is not a TIFF file (it does not start with a TIFF header)";
   }
-  file.Big = magic == 43;
-  if (file.Big && !file.Read(0, 16, head))
+  file.Read(0, 4, head);
+  file.BigEndian = head[0] == 'M';
+  file.Big = file.Number(head + 2, 2) == 43;
+  if (!file.Read(0, file.Big ? 16 : 8, head))
   {
-    return "is truncated: its BigTIFF header is cut short";
+    return "is truncated: its TIFF header is cut short";
   }
   const int offsetBytes = file.Big ? 8 : 4;
   const int entryBytes = file.Big ? 20 : 12;

@@ -26,6 +26,9 @@ struct TiffPage
   int PageCount = 0;           // the total of the PageNumber tag (0 when absent)
 };
 
+// True when the file starts with a TIFF or BigTIFF header (either byte order).
+bool startsLikeTiff(const std::string& name);
+
 // Reads every page directory of the file into `pages`. "" on success; else what is wrong
 // with the file: "is not a TIFF file ...", "is truncated: the directory of page 91 starts at
 // byte ..., beyond its end (... bytes)", "is truncated: the image data of page 1 ends at

@@ -174,7 +174,15 @@ int vtkCheckedTIFFReader::CanReadFile(const char* name)
       return 0;
     }
   }
-  return this->Superclass::CanReadFile(name);
+  if (this->Superclass::CanReadFile(name))
+  {
+    return 1;
+  }
+  // A TIFF that libtiff cannot open because it is cut or broken is taken too, so that the
+  // error says why (ParaView would only say "no reader found"); other TIFFs that libtiff
+  // cannot read are left to the next reader (GDAL).
+  std::vector<mcv::TiffPage> pages;
+  return mcv::startsLikeTiff(name) && !mcv::readTiffDirectories(name, pages).empty() ? 1 : 0;
 }
 
 //------------------------------------------------------------------------------

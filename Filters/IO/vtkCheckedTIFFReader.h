@@ -46,8 +46,9 @@ public:
   ///@}
 
   /**
-   * As vtkTIFFReader, but OME-TIFF files (.ome.tif, .ome.tiff) are left to ParaView's OME
-   * TIFF reader, which knows their channels and time steps.
+   * As vtkTIFFReader, and also a TIFF that is cut or broken (its error then says why); but
+   * OME-TIFF files (.ome.tif, .ome.tiff) are left to ParaView's OME TIFF reader, which
+   * knows their channels and time steps.
    */
   int CanReadFile(VTK_FILEPATH const char* name) override;
 
