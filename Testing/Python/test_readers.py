@@ -163,19 +163,9 @@ for name, packbits in (("ch2.tif", False), ("ch2_packbits.tif", True)):
     writer.SetFileName(path(name))
     writer.Write()
 ext = den.GetExtent()
-for stack in ("stack", "stack_cut", "stack_random", "stack_size"):
-    os.makedirs(path(stack))
-for k in range(ext[4], ext[5] + 1):
-    voi = vtkExtractVOI()
-    voi.SetInputData(den)
-    voi.SetVOI(ext[0], ext[1], ext[2], ext[3], k, k)
-    writer = vtkTIFFWriter()
-    writer.SetInputConnection(voi.GetOutputPort())
-    writer.SetFileName(path("stack/slice_%03d.tif" % k))
-    writer.Write()
-    for stack in ("stack_cut", "stack_random", "stack_size"):
-        shutil.copy(path("stack/slice_%03d.tif" % k), path(stack))
-stack_files = [path("stack/slice_%03d.tif" % k) for k in range(ext[4], ext[5] + 1)]
+stack_files = T.write_tiff_stack(den, path("stack"))
+for stack in ("stack_cut", "stack_random", "stack_size"):
+    shutil.copytree(path("stack"), path(stack))
 slice_bytes = content("stack/slice_042.tif")
 write("stack_cut/slice_042.tif", slice_bytes[:len(slice_bytes) // 2])
 write("stack_random/slice_042.tif", bytes(random.getrandbits(8) for _ in slice_bytes))

@@ -62,20 +62,11 @@ simple.SaveData(os.path.join(inp, "ch2_half.vti"), proxy=half, DataMode="Binary"
 simple.SaveData(os.path.join(inp, "aal.mhd"), proxy=simple.OpenDataFile(aal))
 den_reader = simple.OpenDataFile(den)
 den_reader.UpdatePipeline()
-from vtkmodules.vtkImagingCore import vtkExtractVOI  # noqa: E402
 from vtkmodules.vtkIOImage import vtkTIFFWriter  # noqa: E402
 
-# One 2D TIFF per slice (vtkTIFFWriter writes a 3D input as one multi-page file).
+# One 2D TIFF per slice.
 den_image = den_reader.GetClientSideObject().GetOutputDataObject(0)
-ext = den_image.GetExtent()
-for k in range(ext[4], ext[5] + 1):
-    voi = vtkExtractVOI()
-    voi.SetInputData(den_image)
-    voi.SetVOI(ext[0], ext[1], ext[2], ext[3], k, k)
-    tiff = vtkTIFFWriter()
-    tiff.SetInputConnection(voi.GetOutputPort())
-    tiff.SetFileName(os.path.join(inp, "brainsmall_tiff", "slice_%03d.tif" % k))
-    tiff.Write()
+T.write_tiff_stack(den_image, os.path.join(inp, "brainsmall_tiff"))
 n_slices = len([f for f in os.listdir(os.path.join(inp, "brainsmall_tiff"))
                 if f.endswith(".tif")])
 checker.check(n_slices == 84, "TIFF stack written: %d slices of brainsmall" % n_slices)
