@@ -146,9 +146,9 @@ class VolumeError(Exception):
 
 
 class _ReaderErrors(list):
-    """The error messages of VTK objects from its creation on (through ParaView's output
-    window), as "<message>": the "ERROR: In file, line N / Class (0x...):" prefix and the
-    pipeline's follow-ups ("... returned failure for request") left out."""
+    """The error messages of VTK objects from its creation until stop() (through ParaView's
+    output window), as "<message>": the "ERROR: In file, line N / Class (0x...):" prefix
+    and the pipeline's follow-ups ("... returned failure for request") left out."""
 
     def __init__(self):
         list.__init__(self)
@@ -164,12 +164,17 @@ class _ReaderErrors(list):
                 self.append((message or source).strip())
 
         self._callback = on_error  # kept alive with the list
-        vtkOutputWindow.GetInstance().AddObserver("ErrorEvent", on_error)
+        self._tag = vtkOutputWindow.GetInstance().AddObserver("ErrorEvent", on_error)
+
+    def stop(self):
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        vtkOutputWindow.GetInstance().RemoveObserver(self._tag)
 
 
-def _open_volume(simple, spec):
+def _read(simple, spec):
+    """The reader of the volume, updated."""
     files = spec["files"]
-    errors = _ReaderErrors()
     if spec["format"] == "TIFF stack":
         reader = simple.CheckedTIFFReader(FileNames=files)  # slices of one volume, in order
     else:
@@ -181,6 +186,15 @@ def _open_volume(simple, spec):
         if reader is None:
             raise VolumeError("ParaView has no reader for this file")
     reader.UpdatePipeline()
+    return reader
+
+
+def _open_volume(simple, spec):
+    errors = _ReaderErrors()  # the reader's reason when it refuses the file
+    try:
+        reader = _read(simple, spec)
+    finally:
+        errors.stop()
     data = reader.GetClientSideObject().GetOutputDataObject(0)
     if data is None or not data.IsA("vtkImageData"):
         raise VolumeError("the reader gave %s, not image data"
