@@ -12,8 +12,10 @@ volume under --input (searched recursively) it renders a thumbnail from the best
   OUTPUT/thumbnails/*.png   one per volume
   OUTPUT/records/*.json     one per volume (what resuming looks at)
 
-Volumes: NIfTI (.nii, .nii.gz) and VolPack (.den) through the plugin's readers; VTK image
-data (.vti), MetaImage (.mhd with its .raw, .mha) and TIFF through ParaView's readers.
+Volumes: NIfTI (.nii, .nii.gz), VolPack (.den), MetaImage (.mhd with its .raw, .mha) and
+TIFF through the plugin's readers, which read a file whole or refuse it with the reason
+(a truncated or corrupt file is an error entry that says why); VTK image data (.vti)
+through ParaView's reader.
 TIFF files of one folder whose names differ only in a trailing number (slice_000.tif,
 slice_001.tif, ...) are one volume (a stack); any other .tif is a volume of its own.
 Other files (.raw, .txt, ...) are ignored.
@@ -143,11 +145,38 @@ class VolumeError(Exception):
     pass
 
 
-def _open_volume(simple, spec):
+class _ReaderErrors(list):
+    """The error messages of VTK objects from its creation until stop() (through ParaView's
+    output window), as "<message>": the "ERROR: In file, line N / Class (0x...):" prefix
+    and the pipeline's follow-ups ("... returned failure for request") left out."""
+
+    def __init__(self):
+        list.__init__(self)
+        from vtkmodules.util.misc import calldata_type
+        from vtkmodules.util.vtkConstants import VTK_STRING
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        @calldata_type(VTK_STRING)
+        def on_error(caller, event, text):
+            lines = str(text).strip().splitlines()
+            source, _, message = (lines[1] if len(lines) > 1 else lines[0]).partition("): ")
+            if not source.split(" ")[0].endswith(("Pipeline", "Executive")):
+                self.append((message or source).strip())
+
+        self._callback = on_error  # kept alive with the list
+        self._tag = vtkOutputWindow.GetInstance().AddObserver("ErrorEvent", on_error)
+
+    def stop(self):
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        vtkOutputWindow.GetInstance().RemoveObserver(self._tag)
+
+
+def _read(simple, spec):
+    """The reader of the volume, updated."""
     files = spec["files"]
     if spec["format"] == "TIFF stack":
-        reader = simple.TIFFSeriesReader(FileNames=files)
-        reader.ReadAsImageStack = 1  # slices of one volume, not time steps
+        reader = simple.CheckedTIFFReader(FileNames=files)  # slices of one volume, in order
     else:
         try:
             reader = simple.OpenDataFile(files[0])
@@ -157,12 +186,22 @@ def _open_volume(simple, spec):
         if reader is None:
             raise VolumeError("ParaView has no reader for this file")
     reader.UpdatePipeline()
+    return reader
+
+
+def _open_volume(simple, spec):
+    errors = _ReaderErrors()  # the reader's reason when it refuses the file
+    try:
+        reader = _read(simple, spec)
+    finally:
+        errors.stop()
     data = reader.GetClientSideObject().GetOutputDataObject(0)
     if data is None or not data.IsA("vtkImageData"):
         raise VolumeError("the reader gave %s, not image data"
                           % (data.GetClassName() if data is not None else "nothing"))
     if data.GetNumberOfPoints() < 2:
-        raise VolumeError("the reader produced no voxels (unreadable or corrupt file)")
+        raise VolumeError("the reader produced no voxels: %s" % (
+            errors[0] if errors else "unreadable or corrupt file"))
     scalars = data.GetPointData().GetScalars()
     if scalars is None and data.GetPointData().GetNumberOfArrays() > 0:
         scalars = data.GetPointData().GetArray(0)

@@ -1,19 +1,14 @@
 #include "vtkCheckedNIFTIImageReader.h"
 
-#include "MemoryBudget.h" // mcv core (Filters/Core/common): the memory this process may use
+#include "CheckedReading.h"
 
-#include "vtkImageData.h"
-#include "vtkInformation.h"
-#include "vtkInformationVector.h"
 #include "vtkNIFTIImageHeader.h"
 #include "vtkObjectFactory.h"
-#include "vtk_zlib.h"
 
-#include <cmath>
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <sstream>
-#include <vector>
 
 vtkStandardNewMacro(vtkCheckedNIFTIImageReader);
 
@@ -44,36 +39,6 @@ std::string dataFileOf(const std::string& name)
   return name;
 }
 
-// Bytes of the file once decompressed (plain files: their size); -1 with `error` set when
-// the gzip stream is corrupt or ends early. Reading the whole stream is the only way to
-// know: a truncated stream has no trailer to trust.
-std::int64_t uncompressedBytes(const std::string& name, std::string& error)
-{
-  gzFile file = gzopen(name.c_str(), "rb");
-  if (!file)
-  {
-    error = "cannot be opened";
-    return -1;
-  }
-  std::vector<char> buffer(1 << 20);
-  std::int64_t total = 0;
-  int n = 0;
-  while ((n = gzread(file, buffer.data(), static_cast<unsigned>(buffer.size()))) > 0)
-  {
-    total += n;
-  }
-  int code = Z_OK;
-  const char* message = gzerror(file, &code);
-  if (n < 0 || (code != Z_OK && code != Z_STREAM_END))
-  {
-    error = std::string("is not a complete gzip stream (") + (message ? message : "error") +
-      " after " + std::to_string(total) + " decompressed bytes)";
-    gzclose(file);
-    return -1;
-  }
-  gzclose(file);
-  return total;
-}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -103,15 +68,15 @@ std::string vtkCheckedNIFTIImageReader::CheckHeaderAgainstFile()
     }
     voxels *= static_cast<double>(header->GetDim(i));
   }
+  double spacing[3] = { 1, 1, 1 };
   for (int i = 1; i <= std::min<vtkTypeInt64>(rank, 3); ++i)
   {
-    const double spacing = header->GetPixDim(i);
-    if (!std::isfinite(spacing) || spacing == 0)
-    {
-      msg << "has spacing " << spacing << " along axis " << i
-          << " in its header (pixdim must be finite and non-zero)";
-      return msg.str();
-    }
+    spacing[i - 1] = header->GetPixDim(i);
+  }
+  std::string problem = mcv::checkSpacing(spacing, 3, "pixdim in its header");
+  if (!problem.empty())
+  {
+    return problem;
   }
   const int bitsPerVoxel = header->GetBitPix();
   if (bitsPerVoxel <= 0 || bitsPerVoxel % 8 != 0)
@@ -120,66 +85,49 @@ std::string vtkCheckedNIFTIImageReader::CheckHeaderAgainstFile()
         << "), which cannot be read";
     return msg.str();
   }
-  const double dataBytes = voxels * (bitsPerVoxel / 8);
   const std::string dataFile = dataFileOf(this->GetFileName() ? this->GetFileName() : "");
-  const double offset =
-    dataFile == this->GetFileName() ? static_cast<double>(header->GetVoxOffset()) : 0.0;
+  const bool single = dataFile == this->GetFileName();
+  const double offset = single ? static_cast<double>(header->GetVoxOffset()) : 0.0;
 
-  // Memory first: a header of 32767^3 must not get as far as the allocation.
-  const double available = static_cast<double>(mcv::availableMemoryBytes());
-  if (dataBytes > available)
-  {
-    msg.precision(3);
-    msg << "needs " << dataBytes / double(1 << 30) << " GiB for its "
-        << static_cast<std::int64_t>(voxels) << " voxels, but only "
-        << available / double(1 << 30) << " GiB is available";
-    return msg.str();
-  }
+  // The file before the memory: a header of 32767^3 over a small file is a truncated file,
+  // not a request for 128 TiB. Counting does not allocate the volume.
   std::string error;
-  const std::int64_t present = uncompressedBytes(dataFile, error);
+  const std::int64_t present =
+    mcv::inflatedBytes(dataFile, 0, mcv::Compression::GzipOrPlain, error);
   if (present < 0)
   {
-    return (dataFile == this->GetFileName() ? "" : "its data file '" + dataFile + "' ") + error;
+    return (single ? "" : "has a data file '" + dataFile + "' that ") + error;
   }
-  if (static_cast<double>(present) < offset + dataBytes)
-  {
-    msg << "is truncated: its header promises " << static_cast<std::int64_t>(offset + dataBytes)
-        << " bytes (" << static_cast<std::int64_t>(voxels) << " voxels of " << bitsPerVoxel / 8
-        << " bytes from offset " << static_cast<std::int64_t>(offset) << "), the file holds "
-        << present;
-    return msg.str();
-  }
-  return "";
+  const bool gzipped = endsWith(dataFile, ".gz") || endsWith(dataFile, ".GZ");
+  problem = mcv::checkPresent(voxels, bitsPerVoxel / 8, offset, present,
+    (single ? std::string("the file") : "its data file '" + dataFile + "'") +
+      (gzipped ? " holds, once decompressed," : " holds"));
+  return problem.empty() ? mcv::checkFitsInMemory(voxels, bitsPerVoxel / 8) : problem;
 }
 
 //------------------------------------------------------------------------------
 int vtkCheckedNIFTIImageReader::RequestInformation(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  this->Refused = true;
-  if (!this->Superclass::RequestInformation(request, inputVector, outputVector))
-  {
-    return 0;
-  }
-  const std::string problem = this->CheckHeaderAgainstFile();
-  if (!problem.empty())
-  {
-    vtkErrorMacro(<< "NIfTI file '" << (this->GetFileName() ? this->GetFileName() : "")
-                  << "' " << problem << ". Nothing is read.");
-    return 0;
-  }
-  this->Refused = false;
-  return 1;
+  // The header is parsed by the superclass; the checks then compare it with the file.
+  this->Refused = !mcv::checkedRequestInformation(this, outputVector, this->Describe(), [&] {
+    return this->Superclass::RequestInformation(request, inputVector, outputVector)
+      ? this->CheckHeaderAgainstFile()
+      : std::string("cannot be read");
+  });
+  return this->Refused ? 0 : 1;
 }
 
 //------------------------------------------------------------------------------
 int vtkCheckedNIFTIImageReader::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  if (this->Refused)
-  {
-    vtkImageData::GetData(outputVector)->Initialize(); // no zero-filled or stale volume
-    return 0;
-  }
-  return this->Superclass::RequestData(request, inputVector, outputVector);
+  return mcv::checkedRequestData(this, outputVector, this->Describe(), this->Refused,
+    [&] { return this->Superclass::RequestData(request, inputVector, outputVector); });
+}
+
+//------------------------------------------------------------------------------
+std::string vtkCheckedNIFTIImageReader::Describe()
+{
+  return std::string("NIfTI file '") + (this->GetFileName() ? this->GetFileName() : "") + "'";
 }

@@ -10,8 +10,8 @@
  * spacing; the data bytes the header promises present in the file (.nii, .hdr/.img: the
  * file size; .nii.gz/.img.gz: the whole gzip stream decompressed and counted, so a
  * truncated or corrupt stream is caught too); the volume within the memory this process
- * may use. Any failure is an error that names the file and the problem, and the output
- * stays empty.
+ * may use. Any failure, and any error the superclass reports while reading, is an error
+ * that names the file and the problem, and the output stays empty (CheckedReading.h).
  */
 #ifndef vtkCheckedNIFTIImageReader_h
 #define vtkCheckedNIFTIImageReader_h
@@ -42,6 +42,8 @@ private:
 
   // "" when the header and the file agree; else what is wrong, in one sentence.
   std::string CheckHeaderAgainstFile();
+  // "NIfTI file '<name>'", the start of every error.
+  std::string Describe();
 
   bool Refused = false;
 };

@@ -136,8 +136,16 @@ vtkVolPackDenReader::~vtkVolPackDenReader()
 //------------------------------------------------------------------------------
 int vtkVolPackDenReader::CanReadFile(const char* fileName)
 {
-  DenHeader header;
-  return readHeader(fileName, header).empty() ? 1 : 0;
+  // The version field says whether this is a .den file. Whether it is whole is for
+  // RequestInformation to say, with the reason: refused here, a truncated file would only
+  // get ParaView's "no reader found".
+  unsigned char version[2];
+  vtksys::ifstream in(fileName ? fileName : "", std::ios::in | std::ios::binary);
+  if (!fileName || !in.read(reinterpret_cast<char*>(version), 2))
+  {
+    return 0;
+  }
+  return (version[0] == 1 && version[1] == 0) || (version[0] == 0 && version[1] == 1) ? 1 : 0;
 }
 
 //------------------------------------------------------------------------------

@@ -51,7 +51,10 @@ public:
   vtkGetStringMacro(ScalarArrayName);
   ///@}
 
-  /** 1 when `fileName` has a valid .den header whose size matches the file, else 0. */
+  /**
+   * 1 when `fileName` starts as a .den file (its version field), else 0; the rest of the
+   * header and the size are checked when it is read, and an error says what is wrong.
+   */
   int CanReadFile(VTK_FILEPATH const char* fileName);
 
   /** Dimensions read from the header by the last RequestInformation. */

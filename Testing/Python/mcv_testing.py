@@ -136,6 +136,27 @@ class Messages(object):
         return any(all(w.lower() in e.lower() for w in words) for e in self.warnings)
 
 
+def write_tiff_stack(image, folder, pattern="slice_%03d.tif"):
+    """Writes each z slice of a vtkImageData as a 2D TIFF file in `folder` (vtkTIFFWriter
+    writes a 3D input as one multi-page file instead); returns the paths in slice order."""
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    from vtkmodules.vtkIOImage import vtkTIFFWriter
+
+    os.makedirs(folder, exist_ok=True)
+    ext = image.GetExtent()
+    paths = []
+    for k in range(ext[4], ext[5] + 1):
+        voi = vtkExtractVOI()
+        voi.SetInputData(image)
+        voi.SetVOI(ext[0], ext[1], ext[2], ext[3], k, k)
+        writer = vtkTIFFWriter()
+        writer.SetInputConnection(voi.GetOutputPort())
+        writer.SetFileName(os.path.join(folder, pattern % k))
+        writer.Write()
+        paths.append(writer.GetFileName())
+    return paths
+
+
 def norm(v):
     return math.sqrt(sum(x * x for x in v))
 

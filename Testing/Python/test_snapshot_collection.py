@@ -3,16 +3,21 @@
 The folder holds the fetched volumes as they are (Colin27 ch2.nii.gz, brainsmall.den, the
 4D diffusion volume small_64D.nii), conversions of real volumes written here with
 ParaView/VTK writers (ch2 at half resolution as .vti, the AAL atlas as .mhd/.raw,
-brainsmall as a stack of 2D TIFF slices), one corrupt .nii.gz and one file that is no
-volume. Checks: the index (HTML + JSON), a non-blank thumbnail and a unit best direction
-for every good volume, an error entry for the corrupt one while the others succeed, a
-second run that skips everything and is fast, --force NAME redoing one volume, a lost
-record redone on resume, and --timeout turning a too-slow volume into an error entry.
+brainsmall as a stack of 2D TIFF slices), broken files of every format (issue 19
+section 5): a gzip-of-text .nii.gz, ch2.nii.gz cut inside its gzip stream, brainsmall.den
+cut to half, ch2 as .mhd/.raw with the .raw cut, ch2 as a multi-page TIFF cut to half,
+and random bytes named .nii, .den, .mhd and .tif; and one file that is no volume. Checks:
+the index (HTML + JSON), a non-blank thumbnail and a unit best direction for every good
+volume, an error entry with its reason (in index.json and index.html) and no thumbnail for
+every broken one while the others succeed, a second run that skips everything and is
+fast, --force NAME redoing one volume, a lost record redone on resume, and --timeout
+turning a too-slow volume into an error entry.
 """
 import gzip
 import html
 import json
 import os
+import random
 import re
 import shutil
 import subprocess
@@ -57,20 +62,11 @@ simple.SaveData(os.path.join(inp, "ch2_half.vti"), proxy=half, DataMode="Binary"
 simple.SaveData(os.path.join(inp, "aal.mhd"), proxy=simple.OpenDataFile(aal))
 den_reader = simple.OpenDataFile(den)
 den_reader.UpdatePipeline()
-from vtkmodules.vtkImagingCore import vtkExtractVOI  # noqa: E402
 from vtkmodules.vtkIOImage import vtkTIFFWriter  # noqa: E402
 
-# One 2D TIFF per slice (vtkTIFFWriter writes a 3D input as one multi-page file).
+# One 2D TIFF per slice.
 den_image = den_reader.GetClientSideObject().GetOutputDataObject(0)
-ext = den_image.GetExtent()
-for k in range(ext[4], ext[5] + 1):
-    voi = vtkExtractVOI()
-    voi.SetInputData(den_image)
-    voi.SetVOI(ext[0], ext[1], ext[2], ext[3], k, k)
-    tiff = vtkTIFFWriter()
-    tiff.SetInputConnection(voi.GetOutputPort())
-    tiff.SetFileName(os.path.join(inp, "brainsmall_tiff", "slice_%03d.tif" % k))
-    tiff.Write()
+T.write_tiff_stack(den_image, os.path.join(inp, "brainsmall_tiff"))
 n_slices = len([f for f in os.listdir(os.path.join(inp, "brainsmall_tiff"))
                 if f.endswith(".tif")])
 checker.check(n_slices == 84, "TIFF stack written: %d slices of brainsmall" % n_slices)
@@ -100,11 +96,44 @@ tail_writer.SetDataModeToBinary()
 tail_writer.SetFileName(os.path.join(inp, "ch2_bright_tail.vti"))
 tail_writer.Write()
 
-# A corrupt volume (gzip of text, named like NIfTI) and a file that is no volume.
+# Broken volumes: a gzip of text named like NIfTI, cut copies of the real volumes in each
+# format, random bytes under each extension; and a file that is no volume.
 with gzip.open(os.path.join(inp, "corrupt.nii.gz"), "wb") as f:
     f.write(b"this is not a NIfTI header " * 40)
 with open(os.path.join(inp, "README.txt"), "w") as f:
     f.write("not a volume\n")
+
+
+def cut_copy(source, name, fraction=0.5):
+    with open(source, "rb") as f:
+        data = f.read()
+    with open(os.path.join(inp, name), "wb") as f:
+        f.write(data[:int(len(data) * fraction)])
+
+
+from vtkmodules.vtkIOImage import vtkMetaImageWriter  # noqa: E402
+
+scratch = os.path.join(work, "scratch")
+os.makedirs(scratch)
+cut_copy(ch2, "cut_ch2.nii.gz")
+cut_copy(den, "cut_brainsmall.den")
+ch2_image = ch2_reader.GetClientSideObject().GetOutputDataObject(0)
+mhd_writer = vtkMetaImageWriter()
+mhd_writer.SetInputData(ch2_image)
+mhd_writer.SetCompression(False)
+mhd_writer.SetFileName(os.path.join(inp, "cut_ch2.mhd"))
+mhd_writer.SetRAWFileName(os.path.join(inp, "cut_ch2.raw"))
+mhd_writer.Write()
+cut_copy(os.path.join(inp, "cut_ch2.raw"), "cut_ch2.raw")
+tiff = vtkTIFFWriter()
+tiff.SetInputData(ch2_image)
+tiff.SetFileName(os.path.join(scratch, "ch2_pages.tif"))
+tiff.Write()
+cut_copy(os.path.join(scratch, "ch2_pages.tif"), "cut_ch2.tif")
+noise = random.Random(19)
+for ext in (".nii", ".den", ".mhd", ".tif"):
+    with open(os.path.join(inp, "random" + ext), "wb") as f:
+        f.write(bytes(noise.getrandbits(8) for _ in range(100000)))
 
 GOOD = {  # name in the index -> (dimensions, components)
     "ch2.nii.gz": ([181, 217, 181], 1),
@@ -115,7 +144,17 @@ GOOD = {  # name in the index -> (dimensions, components)
     os.path.join("brainsmall_tiff", "slice_*.tif"): ([128, 128, 84], 1),
     "small_64D.nii": ([10, 10, 10], 65),
 }
-CORRUPT = "corrupt.nii.gz"
+BROKEN = {  # name in the index -> words its error must hold (the reason)
+    "corrupt.nii.gz": ["no reader accepts this file", "corrupt or not a volume"],
+    "cut_ch2.nii.gz": ["cut_ch2.nii.gz", "not a complete gzip stream"],
+    "cut_brainsmall.den": ["cut_brainsmall.den", "truncated", "1376256 voxels"],
+    "cut_ch2.mhd": ["cut_ch2.raw", "truncated", "promises 7109137 bytes"],
+    "cut_ch2.tif": ["cut_ch2.tif", "truncated", "directory of page"],
+    "random.nii": ["no reader accepts this file", "random.nii"],
+    "random.den": ["no reader accepts this file", "random.den"],
+    "random.mhd": ["no reader accepts this file", "random.mhd"],
+    "random.tif": ["no reader accepts this file", "random.tif"],
+}
 env = dict(os.environ)
 
 
@@ -146,7 +185,7 @@ def mtimes():
 
 # 1. First run: every volume processed.
 proc, first_time = run()
-total = len(GOOD) + 1
+total = len(GOOD) + len(BROKEN)
 checker.check(proc.returncode == 0, "first run exits 0 (rc %d)" % proc.returncode)
 checker.check("%d of %d volumes succeeded" % (len(GOOD), total) in proc.stdout,
               "summary says %d of %d volumes succeeded" % (len(GOOD), total))
@@ -157,8 +196,8 @@ checker.check(len(bars) == total and bars[-1][0] == "#" * 20 and bars[-1][1:3] =
 checker.check(os.path.exists(os.path.join(out, "index.html")) and
               os.path.exists(os.path.join(out, "index.json")), "index.html and index.json")
 index = load_index()
-checker.check(sorted(index) == sorted(list(GOOD) + [CORRUPT]),
-              "the index lists exactly the volumes (README.txt and aal.raw ignored): %s"
+checker.check(sorted(index) == sorted(list(GOOD) + list(BROKEN)),
+              "the index lists exactly the volumes (README.txt and the .raw files ignored): %s"
               % sorted(index))
 with open(os.path.join(out, "index.html")) as f:
     page = f.read()
@@ -215,11 +254,14 @@ if a and b:
                   "(%.2f deg apart; %.1f deg unmirrored)"
                   % (T.angle_deg(mirrored, b, unsigned=True), T.angle_deg(a, b, unsigned=True)))
 
-bad = index.get(CORRUPT, {})
-checker.check(bad.get("status") == "error" and bad.get("error") and "thumbnail" not in bad,
-              "corrupt file: error entry '%s' %s, no thumbnail" % (bad.get("error"),
-                                                                   bad.get("messages")))
-checker.check(html.escape(bad.get("error", "\0")) in page, "corrupt file: its error text in index.html")
+for name, words in sorted(BROKEN.items()):
+    bad = index.get(name, {})
+    error = bad.get("error", "")
+    checker.check(bad.get("status") == "error" and "thumbnail" not in bad and
+                  all(w.lower() in error.lower() for w in words),
+                  "%s: an error entry with its reason (%s): '%s', no thumbnail"
+                  % (name, words, error))
+    checker.check(error and html.escape(error) in page, "%s: its error text in index.html" % name)
 
 # 2. Second run: everything skipped, nothing rewritten, fast.
 before = mtimes()

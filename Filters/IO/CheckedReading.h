@@ -1,0 +1,66 @@
+// What the checked readers of this module (vtkCheckedNIFTIImageReader,
+// vtkCheckedMetaImageReader, vtkCheckedTIFFReader) share: the size and memory checks they
+// make before anything is allocated, and the way they refuse a file: one error that names
+// the file and the problem, and an empty output (never a zero-filled or stale volume).
+#ifndef CheckedReading_h
+#define CheckedReading_h
+
+#include <cstdint>    // for std::int64_t
+#include <functional> // for std::function
+#include <string>     // for std::string
+
+class vtkAlgorithm;
+class vtkInformationVector;
+
+namespace mcv
+{
+
+// Size of the file in bytes; -1 when it cannot be opened.
+std::int64_t fileBytes(const std::string& name);
+
+// Bytes of the gzip or zlib stream that starts at `offset` of the file, once decompressed
+// (gzip members one after the other are counted together, as gzread reads them). Reading
+// the whole stream is the only way to know: a truncated stream has no trailer to trust.
+// -1 with `error` set when the file cannot be opened or the stream is corrupt or ends early.
+// ZlibOrGzip: a stream must be there (MetaImage's CompressedData). GzipOrPlain: as gzopen
+// reads (and vtkNIFTIImageReader with it): gzip when the file starts so, else plain bytes.
+enum class Compression
+{
+  ZlibOrGzip,
+  GzipOrPlain
+};
+std::int64_t inflatedBytes(
+  const std::string& name, std::int64_t offset, Compression expected, std::string& error);
+
+// "" when each of the `n` spacings is finite and non-zero; else, e.g., "has spacing nan along
+// axis 1 (ElementSpacing in its header must be finite and non-zero)", `field` naming
+// where the spacing comes from.
+std::string checkSpacing(const double* spacing, int n, const std::string& field);
+
+// "" when `present` bytes hold the `voxels` (of `bytesPerVoxel` bytes each, from byte
+// `offset` on) that a header promises; else "is truncated: its header promises N bytes (V
+// voxels of B bytes from offset O), <holder> P", holder being e.g. "the file holds".
+std::string checkPresent(double voxels, double bytesPerVoxel, double offset, std::int64_t present,
+  const std::string& holder);
+
+// "" when the volume fits in the memory this process may still use (MemoryBudget); else
+// "needs 6.8 GiB for its N voxels, but only 1.2 GiB is available".
+std::string checkFitsInMemory(double voxels, double bytesPerVoxel);
+
+// RequestInformation of a checked reader. `readHeader` runs the reader's own
+// RequestInformation and its checks (in the order the reader needs) and returns the problem
+// found, "" if none; an error that the reader reports meanwhile is a problem too. A problem
+// is reported as "<what> <problem>. Nothing is read." and the output emptied. Returns 1 when
+// the file may be read.
+int checkedRequestInformation(vtkAlgorithm* reader, vtkInformationVector* outputVector,
+  const std::string& what, const std::function<std::string()>& readHeader);
+
+// RequestData of a checked reader: nothing when the header was `refused`; else `readData`
+// (the reader's own RequestData), and an error that the reader reports while reading (a
+// corrupt strip, a read that failed) refuses the whole volume. Returns 1 when it was read.
+int checkedRequestData(vtkAlgorithm* reader, vtkInformationVector* outputVector,
+  const std::string& what, bool refused, const std::function<int()>& readData);
+
+} // namespace mcv
+
+#endif

@@ -1,0 +1,54 @@
+/**
+ * @class   vtkCheckedMetaImageReader
+ * @brief   VTK's MetaImage reader (.mhd/.raw, .mha) that reads a file whole or refuses it.
+ *
+ * vtkMetaImageReader (ParaView 5.11) delivers a .raw shorter than its header says, or a
+ * truncated compressed stream, as the full volume padded with zeros and without a word;
+ * a missing .raw as a zero-filled volume (with an error); a spacing of 0 as it is; a
+ * header it cannot parse (spacing NaN, unknown ElementType, NDims 7) as one voxel; and it
+ * aborts the process on a negative or huge DimSize. Before anything is allocated, this
+ * subclass reads the header itself and checks it against the data file and the machine:
+ * NDims 1 to 3, DimSize of NDims integers >= 1, finite non-zero ElementSpacing, a known
+ * ElementType, every data file (LOCAL, a file name, LIST or a %d pattern) present and
+ * holding the bytes the header promises (compressed data: the zlib stream decompressed and
+ * counted), and the volume within the memory this process may use. Any failure, and any
+ * error the superclass reports while reading, is an error that names the file and the
+ * problem, and the output stays empty (CheckedReading.h). ASCII data (BinaryData = False)
+ * is not counted against its file.
+ */
+#ifndef vtkCheckedMetaImageReader_h
+#define vtkCheckedMetaImageReader_h
+
+#include "mcvIOVolPackModule.h" // for export macro
+#include "vtkMetaImageReader.h"
+
+#include <string> // for std::string
+
+class MCVIOVOLPACK_EXPORT vtkCheckedMetaImageReader : public vtkMetaImageReader
+{
+public:
+  static vtkCheckedMetaImageReader* New();
+  vtkTypeMacro(vtkCheckedMetaImageReader, vtkMetaImageReader);
+
+protected:
+  vtkCheckedMetaImageReader() = default;
+  ~vtkCheckedMetaImageReader() override = default;
+
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+private:
+  vtkCheckedMetaImageReader(const vtkCheckedMetaImageReader&) = delete;
+  void operator=(const vtkCheckedMetaImageReader&) = delete;
+
+  // "" when the header and its data files agree; else what is wrong, in one sentence.
+  std::string CheckHeaderAgainstFile();
+  // "MetaImage file '<name>'", the start of every error.
+  std::string Describe();
+
+  bool Refused = false;
+};
+
+#endif

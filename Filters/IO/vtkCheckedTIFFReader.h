@@ -1,0 +1,79 @@
+/**
+ * @class   vtkCheckedTIFFReader
+ * @brief   VTK's TIFF reader that reads a multi-page file or a stack of files whole or
+ *          refuses it.
+ *
+ * vtkTIFFReader (ParaView 5.11) reads a cut multi-page file as a smaller volume of the
+ * pages before the cut, without a word; a page whose strips end beyond the file as a
+ * volume of whatever its buffer held (with an error); a slice of a stack that is cut, of
+ * random bytes or of another size as a black or wrong slice of the stack; and it aborts the
+ * process on pages too large for memory. Before anything is allocated, this subclass walks
+ * the page directories of every file itself (TiffDirectories.h) and checks: a TIFF header;
+ * every directory and every strip or tile inside the file; as many pages as the PageNumber
+ * tags count; pages of at least 1 x 1 pixels and 8, 16 or 32 bits per sample; all pages
+ * (and all files of a stack) of one size and type; uncompressed pages holding all their
+ * pixels; a finite, non-zero spacing; the volume within the memory this process may use.
+ * Any failure, and any error the superclass reports while reading (a corrupt compressed
+ * strip), is an error that names the file and the problem, and the output stays empty
+ * (CheckedReading.h).
+ *
+ * One file: its pages are the slices (as vtkTIFFReader reads them). Several files
+ * (AddFileName, the FileNames property in ParaView): one slice each, in the order given,
+ * as ParaView's TIFF Series Reader with ReadAsImageStack.
+ */
+#ifndef vtkCheckedTIFFReader_h
+#define vtkCheckedTIFFReader_h
+
+#include "mcvIOVolPackModule.h" // for export macro
+#include "vtkTIFFReader.h"
+
+#include <string> // for std::string
+#include <vector> // for std::vector
+
+class MCVIOVOLPACK_EXPORT vtkCheckedTIFFReader : public vtkTIFFReader
+{
+public:
+  static vtkCheckedTIFFReader* New();
+  vtkTypeMacro(vtkCheckedTIFFReader, vtkTIFFReader);
+
+  ///@{
+  /**
+   * The files to read: one multi-page file, or the 2D slices of a stack in order (ParaView
+   * sets them one by one through its repeatable FileNames property).
+   */
+  void AddFileName(VTK_FILEPATH const char* name);
+  void RemoveAllFileNames();
+  ///@}
+
+  /**
+   * As vtkTIFFReader, and also a TIFF that is cut or broken (its error then says why); but
+   * OME-TIFF files (.ome.tif, .ome.tiff) are left to ParaView's OME TIFF reader, which
+   * knows their channels and time steps.
+   */
+  int CanReadFile(VTK_FILEPATH const char* name) override;
+
+protected:
+  vtkCheckedTIFFReader() = default;
+  ~vtkCheckedTIFFReader() override = default;
+
+  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+private:
+  vtkCheckedTIFFReader(const vtkCheckedTIFFReader&) = delete;
+  void operator=(const vtkCheckedTIFFReader&) = delete;
+
+  // The files named by FileName or FileNames.
+  std::vector<std::string> Files();
+  // "" when every file holds what its directories promise; else what is wrong.
+  std::string CheckFiles();
+  // "TIFF file '<name>'" or "TIFF stack of N files", the start of every error.
+  std::string Describe();
+
+  std::vector<std::string> Stack;
+  bool Refused = false;
+};
+
+#endif
