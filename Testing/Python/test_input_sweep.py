@@ -5,7 +5,7 @@ input is odd); never a crash, a hang (CTest's timeout), NaN in an output array o
 silently wrong picture. Every row also checks that no array the filter wrote holds NaN/Inf.
 
 Filters: BV BestViewpoint, MF MultichannelFeatures, DR DimensionReduction, RD ReducedDomain,
-TF the "Gaussian TF Volume" representation, RDR the NIfTI / VolPack .den readers.
+MC MergeChannels, TF the "Gaussian TF Volume" representation, RDR the NIfTI / VolPack .den readers.
 Volumes are small and synthetic (a known answer is the point); the real brainsmall.den where
 the unit of the spacing matters. "blobs": 20^3, five Gaussian blobs on the plane z = 10 (best
 view along z); "coords": 16^3 whose ReducedCoordinates are the voxel position / 15;
@@ -58,6 +58,9 @@ bv.N-huge          | NumberOfInterestPoints 10^6 >    | BV  | warning "fewer tha
                    | 8000 voxels                      |     | view along z
 bv.sigma-0         | GaussianSigma 0                  | BV  | error "GaussianSigma", "1.5"; empty
 bv.sigma-neg       | GaussianSigma -1                 | BV  | error "GaussianSigma", "1.5"; empty
+bv.3e38            | blobs + one 3e38 voxel           | BV  | warning "Only 1 of 8000 voxels ...
+                   |                                  |     | alone decide the view ... set an
+                   |                                  |     | OpacityFunction"
 bv.sigma-tiny      | GaussianSigma 1e-9               | BV  | warning "no voxel has a positive
                    |                                  |     | Harris response"
 bv.kernel-even     | KernelWidth 4                    | BV  | error "KernelWidth", "odd"; empty
@@ -88,6 +91,9 @@ mf.spacing-0       | spacing (0, 1, 1)                | MF  | error "spacing", "
 mf.spacing-neg     | spacing (-1, -1, -1)             | MF  | ok: the features of spacing 1
 mf.spacing-1e-9    | spacing 1e-9 (z-scored)          | MF  | ok: the features of spacing 1
 mf.spacing-1e9     | spacing 1e9                      | MF  | ok: the features of spacing 1
+mf.values-1e36     | ramp x 1e36 (finite; squares     | MF  | warning "overflow float32" naming
+                   | overflow float32)                |     | the columns (values.variance ...),
+                   |                                  |     | "rescale the channel"; no NaN
 mf.polydata        | a Sphere                         | MF  | error "not image data"; empty
 mf.no-channel      | two arrays, Channels []          | MF  | ok: 4 features (= Channels [a, b])
 mf.int8            | ramp as int8                     | MF  | ok: the features of the same values
@@ -101,6 +107,10 @@ mf.double          | ramp as float64                  | MF  | ok: the features o
 mf.nifti-4d        | 4D NIfTI (3 time points),        | MF  | ok: 6 features <array>_0.intensity
                    | TimeAsVector                     |     | ...
 mf.toggle          | FeatureSet 6D <-> 24D, 10 times  | MF  | ok: each = a fresh filter's
+mc.grids           | MergeChannels of blobs (20^3)    | MC  | error "not on one grid" naming input
+                   | and ramp (10^3)                  |     | 2 (10 x 10 x 10) and input 1 (20 x 20
+                   |                                  |     | x 20), "Resample"; empty
+mc.same-grid       | MergeChannels of two 20^3 vols   | MC  | ok: both arrays, 8000 points
 dr.ref-0           | ReferenceSampleSize 0            | DR  | error "ReferenceSampleSize",
                    |                                  |     | "positive"; empty
 dr.ref-1           | ReferenceSampleSize 1            | DR  | error "ReferenceSampleSize (1)",
@@ -227,17 +237,14 @@ test_features (Custom with nothing selected, GPU fallback), test_widget_viewpoin
 coordinates in BestViewpoint), test_gaussian_tf_representation (missing / 1-component
 coordinate array, 65 widgets), test_nifti_reader (truncated / corrupt / impossible NIfTI).
 
+Also elsewhere: two MPI ranks on a volume with fewer slices than ranks (test_mpi.sh: a 2x2x2
+volume on 2 and 4 processes equals one process); an address-space limit (test_features).
+
 PENDING (expected outcomes another change delivers; listed in PENDING below, not asserted):
-pending.grids      | two channels on different grids  | MF  | error naming the channels whose grids
-                   |                                  |     | differ
-pending.mpi-slices | MF on 2 MPI ranks, fewer slices  | MF  | error with advice (fewer ranks / more
-                   | than ranks                       |     | slices)
-pending.overflow   | features overflowing float32     | MF  | a message naming the overflow, not
-                   | (spacing 1e-30)                  |     | NaN/Inf input
+pending.overflow   | ramp at spacing 1e-30: gradMag   | MF  | the features of spacing 1 (now the
+                   | squares overflow float32         |     | overflow warning, gradMag 0)
 pending.underflow  | spacing 1e30: gradMag squares    | MF  | the features of spacing 1 (now
                    | underflow                        |     | gradMag = 0, "constant")
-pending.3e38       | one 3e38 voxel in a [0, 1]       | BV  | warning that one value decides the
-                   | volume                           |     | opacity range
 """
 import math
 import os
@@ -261,8 +268,8 @@ ARRAY_TYPES = {"float": CC.vtkFloatArray, "double": CC.vtkDoubleArray,
                "int8": CC.vtkSignedCharArray, "uint16": CC.vtkUnsignedShortArray,
                "int16": CC.vtkShortArray, "int64": CC.vtkLongLongArray}
 FILTERS = {"BV": "BestViewpoint", "MF": "MultichannelFeatures", "DR": "DimensionReduction",
-           "RD": "ReducedDomain"}
-CLASSES = {"BV": "vtkBestViewpoint", "MF": "vtkMultichannelFeatures",
+           "RD": "ReducedDomain", "MC": "MergeChannels"}
+CLASSES = {"BV": "vtkBestViewpoint", "MF": "vtkMultichannelFeatures", "MC": "vtkMergeChannels",
            "DR": "vtkDimensionReduction", "RD": "vtkReducedDomain",
            "TF": "vtkGaussianTFVolumeRepresentation"}
 TMP = tempfile.mkdtemp(prefix="mcv_sweep_")
@@ -392,6 +399,9 @@ def make_volumes():
             blobs(i, j, k)))
         V["ramp-" + kind] = (lambda kind=kind: scalar((10, 10, 10), ramp, kind=kind))
     V["ramp"] = lambda: scalar((10, 10, 10), ramp)
+    V["ramp-1e36"] = lambda: scalar((10, 10, 10), lambda i, j, k, c: 1e36 * ramp(i, j, k))
+    V["blobs-3e38"] = lambda: scalar((20, 20, 20), lambda i, j, k, c: 3e38 if (i, j, k) == (
+        3, 17, 5) else blobs(i, j, k))
     V["ramp-naninf"] = lambda: scalar((10, 10, 10), lambda i, j, k, c: float("inf") if
                                        (i, j, k) == (9, 9, 9) else nan_if((i, j, k) == (1, 2, 3),
                                                                           ramp(i, j, k)))
@@ -513,6 +523,7 @@ READ_BACK = {
     "MF": ("NumberOfFeatures", "NumberOfNonFiniteVoxels"),
     "DR": ("EigenvalueSpectrum", "VarianceRetained", "Trustworthiness"),
     "RD": ("SeededWidgets",),
+    "MC": (),
 }
 
 
@@ -931,6 +942,13 @@ def widgets(values, extra=None):
     return props
 
 
+def merge_of(*keys):
+    """Runs MergeChannels on the volumes `keys` (the row's source is the first)."""
+    def runner(row):
+        return run_filter(row, simple.MergeChannels(Input=[source(k) for k in keys]))
+    return runner
+
+
 ROWS = [
     # BestViewpoint ----------------------------------------------------------------------------
     Row("bv.nan-inf", "BV", "blobs-naninf", BV_N, "warning", ("3 voxel(s) hold NaN/Inf",),
@@ -987,6 +1005,8 @@ ROWS = [
         ("fewer than the 1000000",), along(2, 1.0)),
     Row("bv.sigma-0", "BV", "blobs", {"GaussianSigma": 0.0}, "error", ("GaussianSigma", "1.5")),
     Row("bv.sigma-neg", "BV", "blobs", {"GaussianSigma": -1.0}, "error", ("GaussianSigma", "1.5")),
+    Row("bv.3e38", "BV", "blobs-3e38", BV_N, "warning",
+        ("Only 1 of 8000 voxels", "alone decide the view", "OpacityFunction")),
     Row("bv.sigma-tiny", "BV", "blobs", {"GaussianSigma": 1e-9}, "warning",
         ("no voxel has a positive Harris response", "GaussianSigma 1e-09"),
         cond(lambda o: not o.valid, "no view")),
@@ -1036,6 +1056,8 @@ ROWS = [
         same_values("Features", "mf.spacing-1")),
     Row("mf.spacing-1e9", "MF", "ramp-spacing-1e9", {"FeatureSet": "24D"}, "ok", (),
         same_values("Features", "mf.spacing-1")),
+    Row("mf.values-1e36", "MF", "ramp-1e36", {"FeatureSet": "24D"}, "warning",
+        ("overflow float32", "values.variance", "rescale the channel"), n_features(8)),
     Row("mf.polydata", "MF", "sphere", {}, "error", ("not image data",)),
     Row("mf.channels-ab", "MF", "two-arrays", {"Channels": ["a", "b"]}, "ok", (),
         all_of(n_features(4), keep_values("Features"))),
@@ -1049,6 +1071,14 @@ ROWS = [
     Row("mf.toggle", "MF", "ramp", runner=toggle("MF", "ramp", "FeatureSet", ["24D", "6D"],
                                                  rounded_values("Features")),
         check=no_mismatch),
+
+    # MergeChannels --------------------------------------------------------------------------------
+    Row("mc.grids", "MC", "blobs", runner=merge_of("blobs", "ramp"), expect="error",
+        words=("not on one grid", "input 2", "10 x 10 x 10", "input 1", "20 x 20 x 20",
+               "Resample")),
+    Row("mc.same-grid", "MC", "blobs", runner=merge_of("blobs", "blobs-double"),
+        check=cond(lambda o: o.outputs[0].GetPointData().GetNumberOfArrays() == 2 and
+                   o.outputs[0].GetNumberOfPoints() == 8000, "both arrays on the 20^3 grid")),
 
     # DimensionReduction --------------------------------------------------------------------------
     Row("dr.ref-0", "DR", "features", {"ReferenceSampleSize": 0}, "error",
@@ -1184,16 +1214,10 @@ ROWS = [
 
 # Expected outcomes another change delivers (issue 19, items owned elsewhere): not asserted.
 PENDING = [
-    ("pending.grids", "MF", "two channels on different grids (AppendAttributes)",
-     "error naming the channels whose grids differ, empty output"),
-    ("pending.mpi-slices", "MF", "2 MPI ranks, a volume of 1 slice",
-     "error advising fewer ranks or more slices"),
-    ("pending.overflow", "MF", "ramp at spacing 1e-30 (gradients overflow float32)",
-     "a message naming the float32 overflow and the spacing, not NaN/Inf input"),
+    ("pending.overflow", "MF", "ramp at spacing 1e-30 (squared gradients overflow float32)",
+     "the features of spacing 1 (today the overflow warning, gradMag 0)"),
     ("pending.underflow", "MF", "ramp at spacing 1e30 (squared gradients underflow float32)",
      "the features of spacing 1 (today gradMag is 0 and called a constant column)"),
-    ("pending.3e38", "BV", "one 3e38 voxel in a [0, 1] volume",
-     "warning that one value decides the opacity range"),
 ]
 
 
