@@ -1,5 +1,7 @@
 #include "vtkVolPackDenReader.h"
 
+#include "CheckedReading.h"
+
 #include "vtkDataObject.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -156,6 +158,19 @@ int vtkVolPackDenReader::FillOutputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+bool vtkVolPackDenReader::CheckSpacing()
+{
+  // The format stores no spacing: a bad one can only come from the property.
+  const std::string problem =
+    mcv::checkSpacing(this->DataSpacing, 3, "the DataSpacing property");
+  if (!problem.empty())
+  {
+    vtkErrorMacro("'" << this->FileName << "' " << problem << ".");
+  }
+  return problem.empty();
+}
+
+//------------------------------------------------------------------------------
 int vtkVolPackDenReader::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -199,6 +214,11 @@ int vtkVolPackDenReader::RequestData(
   if (!problem.empty())
   {
     vtkErrorMacro(<< problem << ".");
+    return 0;
+  }
+  if (!this->CheckSpacing())
+  {
+    output->Initialize();
     return 0;
   }
   vtksys::ifstream in(this->FileName, std::ios::in | std::ios::binary);

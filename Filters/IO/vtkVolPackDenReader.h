@@ -75,6 +75,9 @@ protected:
   int Dimensions[3] = { 0, 0, 0 };
 
 private:
+  // False (with an error naming the file) when DataSpacing is zero or not finite.
+  bool CheckSpacing();
+
   vtkVolPackDenReader(const vtkVolPackDenReader&) = delete;
   void operator=(const vtkVolPackDenReader&) = delete;
 };

@@ -217,8 +217,8 @@ bv.nifti-4d        | the 4D NIfTI, 3 channels         | BV  | ok: a view (the ma
                    |                                  |     | opacities)
 rdr.den-spacing    | brainsmall.den at spacing 1e-9,  | BV  | ok: the direction at spacing 1 (real
                    | 1e-12, 1e9                       |     | brain)
-rdr.den-spacing-0  | brainsmall.den, DataSpacing (0,  | RDR | error "spacing"; empty
-                   | 1, 1)                            |     |
+rdr.den-spacing-0  | brainsmall.den, DataSpacing (0,  | RDR | error naming the file, "spacing 0
+                   | 1, 1)                            |     | along axis 1", DataSpacing; empty
 
 Fixed with this sweep (before -> now): bv.spacing-neg (an error -> the view of the world
 positions); bv.spacing-0, mf.spacing-0 ("must be positive" -> names the axis and DataSpacing);
@@ -910,19 +910,15 @@ def den_rows():
                        reference_valid=valid)
 
     def zero_runner(row):
-        # The reader takes DataSpacing as given (its own checks are another change): the
-        # filter downstream says what is wrong and where to fix it.
-        _sources["den-spacing-0"] = simple.VolPackDenReader(FileName=path,
-                                                            DataSpacing=[0.0, 1.0, 1.0])
-        return run_filter(row)
+        return run_reader(path, "VolPackDenReader", DataSpacing=[0.0, 1.0, 1.0])
 
     return [
         Row("rdr.den-spacing", "BV", None, runner=spacing_runner,
             check=lambda o: (o.reference_valid == 1 and B.max(o.angles) < 0.5,
                              "spacing 1e-9, 1e-12, 1e9: %s deg from spacing 1" %
                              ["%.3f" % a for a in o.angles])),
-        Row("rdr.den-spacing-0", "BV", "den-spacing-0", runner=zero_runner, expect="error",
-            words=("spacing", "axis 0", "DataSpacing")),
+        Row("rdr.den-spacing-0", "RDR", None, runner=zero_runner, expect="error",
+            words=("brainsmall.den", "spacing 0 along axis 1", "DataSpacing")),
     ]
 
 
