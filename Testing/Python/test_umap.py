@@ -24,10 +24,7 @@ from paraview.simple import *  # noqa: E402,F401,F403
 mce = T.load_plugin(globals())
 C = T.Checker("test_umap")
 
-t1 = OpenDataFile(T.data_file("ch2.nii.gz"))
-aal = OpenDataFile(T.data_file("aal.nii.gz"))
-brodmann = OpenDataFile(T.data_file("brodmann.nii.gz"))
-merged = AppendAttributes(Input=[t1, aal, brodmann])
+merged = T.brain_channels()
 features = simple.MultichannelFeatures(Input=merged)
 features.Channels = merged.PointData.keys()
 features.FeatureSet = "24D"

@@ -6,8 +6,6 @@
 #include "UMAPLayout.h"
 #include "UMAPSpectral.h"
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -53,17 +51,6 @@ void scaleStart(RowMatrixF& Y, bool spectral, std::uint64_t seed)
       Y.col(c) = (Y.col(c).array() - lo) * (10.f / range);
     }
   }
-}
-
-// Centred, rotated to principal axes (largest spread first), signs fixed.
-RowMatrixF principalAxes(const RowMatrixF& Y)
-{
-  Eigen::MatrixXd P = Y.cast<double>();
-  P.rowwise() -= P.colwise().mean();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P.transpose() * P);
-  P = P * eig.eigenvectors().rowwise().reverse();
-  fixColumnSigns(P);
-  return P.cast<float>();
 }
 } // namespace
 
@@ -162,7 +149,9 @@ Embedding fitUMAP(const RowMatrixF& X, const UMAPOptions& o)
   report("UMAP: layout", 0.2);
   optimizeLayout(graph, lo, Y);
 
-  e.coordinates = principalAxes(Y);
+  Eigen::MatrixXd axes = Y.cast<double>();
+  toPrincipalAxes(axes);
+  e.coordinates = axes.cast<float>();
   report("UMAP: done", 1.0);
   return e;
 }
