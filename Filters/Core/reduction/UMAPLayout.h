@@ -9,14 +9,21 @@
 //    linearly to 0 over the epochs.
 //
 // Deterministic in parallel, and the same for every thread count: the vertices are split
-// into kLayoutBlocks seeded blocks and the edges grouped by the pair of blocks they join.
-// An epoch runs kLayoutBlocks rounds; a round is a set of pairs that share no block (a
-// round-robin tournament, plus one round of the within-block pairs), so its pairs run in
-// parallel without touching the same vertex, each in a fixed edge order with its own
-// random stream (seed, epoch, pair). The negative samples read the positions as they were
-// at the start of the epoch (a copy): a repelling vertex may be moved by another pair in
-// the same round. This differs from umap-learn's sequential pass only in the order of the
-// updates and in that staleness (at most one epoch), both within the noise of SGD.
+// into kLayoutBlocks seeded blocks (stored block by block) and the edges grouped by the
+// pair of blocks they join. An epoch runs kLayoutBlocks rounds; a round is a set of pairs
+// that share no block (a round-robin tournament, plus one round of the within-block pairs),
+// so its pairs run in parallel without touching the same vertex, each in a fixed (seeded)
+// edge order with its own random stream (seed, epoch, pair). A thread waits only for the
+// two blocks of its next pair to finish the round before, and for the others at the end of
+// an epoch. The negative samples read the positions as they were at the start of the
+// epoch (a copy): a repelling vertex may be moved by another pair in the same round.
+//
+// Differences from umap-learn's sequential pass, all within the noise of SGD (the
+// trustworthiness of the result matches: docs/benchmarks.md): the order of the updates;
+// that staleness (at most one epoch); the negative samples of one positive sample are all
+// evaluated at the head's position after the attraction and their pushes applied together
+// (umap-learn moves the head after each one); and the two gradient coefficients come from a
+// table of the squared distance (relative error < 4e-4, UMAPLayout.cpp) instead of powf.
 //
 // optimizeLayout is the one function a GPU kernel would replace (same problem, same
 // options, the layout in place).
