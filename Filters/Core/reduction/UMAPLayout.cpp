@@ -13,6 +13,10 @@
 #include <numeric>
 #include <thread>
 
+#ifdef __SSE__
+#include <xmmintrin.h>
+#endif
+
 #ifdef _OPENMP
 #include <omp.h>
 #else
@@ -328,11 +332,17 @@ inline float squaredNorm(Vec4 v)
   return (s[0] + s[1]) + (s[2] + s[3]);
 }
 
+// umap-learn's clip of every gradient component to [-4, 4].
 inline Vec4 clip4(Vec4 v)
 {
+#ifdef __SSE__
+  // minps/maxps: the compiler keeps the selects below as compare-and-mask sequences.
+  return reinterpret_cast<Vec4>(_mm_min_ps(_mm_max_ps(reinterpret_cast<__m128>(v), _mm_set1_ps(-4.f)), _mm_set1_ps(4.f)));
+#else
   const Vec4 lo = { -4.f, -4.f, -4.f, -4.f }, hi = { 4.f, 4.f, 4.f, 4.f };
   v = v < lo ? lo : v;
   return v > hi ? hi : v;
+#endif
 }
 
 // One task's edges in one epoch: umap-learn's _optimize_layout_euclidean_single_epoch.
