@@ -446,11 +446,12 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
   const GradientTable gradient(o.a, o.b, o.gamma);
   float* const y = slots.data();
   float* const snapshot = start.data();
-  // Each thread takes the slots t, t + T, ... of every round; a task waits only for the two
-  // blocks it touches to finish the round before (every block is in one task per round),
-  // and the epochs are separated by one barrier (the snapshot). Both waits spin with a
-  // yield: on a loaded machine the thread being waited for may need this core.
+  // The threads take the epoch's tasks in order (round by round) from a shared counter; a
+  // task waits only for its two blocks to finish the round before (every block is in one
+  // task per round), and the epochs are separated by one barrier (the snapshot). Both waits
+  // spin with a yield: on a loaded machine the thread being waited for may need this core.
   std::array<std::atomic<long>, kLayoutBlocks> rounds{}; // rounds each block has finished
+  std::atomic<int> nextTask{ 0 };
   EpochBarrier barrier;
   for (int e0 = 0; e0 < o.epochs; e0 += kEpochsPerRegion)
   {
@@ -463,29 +464,26 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
         if (me == 0) // the positions this epoch's negative samples read
         {
           std::copy(y, y + n * kStride, snapshot);
+          nextTask.store(0, std::memory_order_relaxed);
         }
         barrier.wait(T);
         // umap-learn: epoch 0 at the initial rate, epoch e > 0 at alpha (1 - (e - 1) / epochs).
         const Step p{ static_cast<float>(o.initialAlpha * (epoch == 0 ? 1.0 : 1.0 - double(epoch - 1) / o.epochs)),
           n, epoch, o.seed, &gradient, coincidentPush };
-        for (int round = 0; round < kLayoutBlocks; ++round)
+        for (int task = nextTask.fetch_add(1); task < kTasks; task = nextTask.fetch_add(1))
         {
-          const long before = static_cast<long>(epoch) * kLayoutBlocks + round;
-          for (int slot = me; slot < kPairsPerRound; slot += T)
+          const long before = static_cast<long>(epoch) * kLayoutBlocks + task / kPairsPerRound;
+          for (const int b : s.blocks[task])
           {
-            const int task = round * kPairsPerRound + slot;
-            for (const int b : s.blocks[task])
+            while (rounds[b].load(std::memory_order_acquire) < before)
             {
-              while (rounds[b].load(std::memory_order_acquire) < before)
-              {
-                std::this_thread::yield();
-              }
+              std::this_thread::yield();
             }
-            runTask(s, task, p, y, snapshot);
-            for (const int b : s.blocks[task])
-            {
-              rounds[b].store(before + 1, std::memory_order_release);
-            }
+          }
+          runTask(s, task, p, y, snapshot);
+          for (const int b : s.blocks[task])
+          {
+            rounds[b].store(before + 1, std::memory_order_release);
           }
         }
         barrier.wait(T);
