@@ -207,23 +207,14 @@ Schedule makeSchedule(const FuzzyGraph& g, double negativeSampleRate, std::uint6
   s.head.resize(E);
   s.tail.resize(E);
   s.epochsPerSample.resize(E);
-  // Within a task the edges come in a seeded random order: consecutive edges then rarely
-  // share a vertex, so the core overlaps their updates (in row order every edge of a head
-  // waits for the previous one's: 2.5x slower).
   std::vector<std::uint32_t> head(E);
   for (std::size_t i = 0; i < n; ++i)
   {
     std::fill(head.begin() + static_cast<std::ptrdiff_t>(g.start[i]), head.begin() + static_cast<std::ptrdiff_t>(g.start[i + 1]),
       static_cast<std::uint32_t>(i));
   }
-  std::vector<std::uint32_t> edgeOrder(E);
-  std::iota(edgeOrder.begin(), edgeOrder.end(), 0u);
-  for (std::size_t e = E; e > 1; --e)
-  {
-    std::swap(edgeOrder[e - 1], edgeOrder[uniformIndex(state, e)]);
-  }
   std::vector<std::size_t> fill(s.taskStart.begin(), s.taskStart.end() - 1);
-  for (const std::uint32_t e : edgeOrder)
+  for (std::size_t e = 0; e < E; ++e) // row order within a task
   {
     const std::size_t at = fill[static_cast<std::size_t>(edgeTask[e])]++;
     s.head[at] = s.slot[head[e]];
@@ -245,8 +236,8 @@ Schedule makeSchedule(const FuzzyGraph& g, double negativeSampleRate, std::uint6
 //   attraction -2ab d2^(b-1) / (1 + a d2^b),   repulsion 2 gamma b / ((0.001 + d2)(1 + a d2^b)),
 // tabulated on a grid of 2^kMantissaBits points per octave of d2 (computed in double) and
 // interpolated linearly: relative error < 4e-4 for any a, b of MinimumDistance in [0, 1].
-// A lookup is a few integer operations and one L1 load where powf and a division took
-// ~100 cycles of latency on every update's dependency chain (the layout ran 4x slower).
+// A lookup is a few integer operations and one load where powf and a division took ~100
+// cycles of latency on every update's dependency chain (the layout ran 3x slower).
 // d2 is clamped to [2^kMinOctave, 2^kMaxOctave): below, points coincide to 1e-4 (the
 // coefficient times the difference vanishes either way); above, they are 1000 apart, which
 // a layout never is.
@@ -300,7 +291,7 @@ private:
 
 // A position as 4 floats (2D and 3D layouts leave the unused lanes at 0): one SSE register
 // on x86-64 (GCC/Clang vector extension, portable), so a difference, a clip or an update
-// is one instruction instead of one per axis (the layout ran 1.5x slower per axis).
+// is one instruction instead of one per axis (the layout ran 1.3x slower per axis).
 using Vec4 = float __attribute__((vector_size(16)));
 constexpr int kStride = 4;
 
@@ -354,7 +345,8 @@ void runTask(Schedule& s, int task, const Step& p, float* Y, const float* start)
   const double epoch = p.epoch;
   const Vec4 alpha = { p.alpha, p.alpha, p.alpha, p.alpha };
   // The edges due this epoch first, without a branch: an edge is due with probability
-  // w / max w, a branch the CPU mispredicts, flushing the updates in flight (2.7x slower).
+  // w / max w, a branch the CPU mispredicts, flushing the updates in flight (the
+  // attractions alone ran 1.4x slower).
   const std::size_t first = s.taskStart[task], count = s.taskStart[task + 1] - first;
   due.resize(count);
   std::size_t m = 0;

@@ -12,8 +12,8 @@
 // into kLayoutBlocks seeded blocks (stored block by block) and the edges grouped by the
 // pair of blocks they join. An epoch runs kLayoutBlocks rounds; a round is a set of pairs
 // that share no block (a round-robin tournament, plus one round of the within-block pairs),
-// so its pairs run in parallel without touching the same vertex, each in a fixed (seeded)
-// edge order with its own random stream (seed, epoch, pair). A thread waits only for the
+// so its pairs run in parallel without touching the same vertex, each in a fixed edge
+// order with its own random stream (seed, epoch, pair). A thread waits only for the
 // two blocks of its next pair to finish the round before, and for the others at the end of
 // an epoch. The negative samples read the positions as they were at the start of the
 // epoch (a copy): a repelling vertex may be moved by another pair in the same round.
