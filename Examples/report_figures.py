@@ -1,5 +1,5 @@
 """The main job's figures (Examples/transfer_function.py): the eigenvalue spectrum of the
-reduction, and the reduced domains of PCA, Isomap and LLE side by side.
+reduction, and the reduced domains of PCA, Isomap, LLE and UMAP side by side.
 
 Drawn with matplotlib (Agg, no display): ParaView's chart views cannot colour some bars of
 one series differently, and matplotlib renders the same under pvbatch as anywhere else.
@@ -50,6 +50,11 @@ def _spectrum_text(method, values, kept, variance_retained):
         title = ("LLE: the %d smallest non-trivial eigenvalues of (I-W)$^T$(I-W)\n"
                  "no variance spectrum (LLE keeps the bottom eigenvectors)" % len(values))
         return title, "eigenvalue", list(values)
+    if method == "UMAP":
+        title = ("UMAP: the %d normalised-Laplacian eigenvalues of its spectral start\n"
+                 "no variance spectrum (the layout is optimised from there)" % len(values)
+                 if values else "UMAP: random start (its neighbour graph is in pieces)\nno spectrum")
+        return title, "eigenvalue", list(values)
     positive = sum(v for v in values if v > 0)
     negative = sum(1 for v in values if v < 0)
     shown = min(len(values), SPECTRUM_BARS)
@@ -94,7 +99,7 @@ def spectrum_figure(path, method, values, kept, variance_retained, size=(900, 56
 
 def _panel_title(name, variance_retained, trustworthiness):
     variance = ("variance retained %.1f%%" % (100.0 * variance_retained)
-                if name != "LLE" else "variance retained: n/a")
+                if name not in ("LLE", "UMAP") else "variance retained: n/a")
     trust = ("trustworthiness %.3f" % trustworthiness if math.isfinite(trustworthiness)
              else "trustworthiness n/a")
     return "%s\n%s, %s" % (name, variance, trust)
@@ -110,12 +115,14 @@ def point_colours(rgba, opacity, threshold=0.1):
 GREY = (190, 190, 190)
 
 
-def methods_figure(path, panels, caption, size=(1500, 600)):
+def methods_figure(path, panels, caption, size=None):
     """One scatter plot per method (dimensions 1 and 2 of its reduced domain) of the same
-    sampled voxels in the same colours. `panels`: dicts with name, x, y, colours (RGB
-    0..255 per point), variance_retained, trustworthiness. Grey voxels (no widget) are
-    drawn first so the coloured ones stay on top."""
+    sampled voxels in the same colours, 500 x 600 pixels each unless `size` says. `panels`:
+    dicts with name, x, y, colours (RGB 0..255 per point), variance_retained,
+    trustworthiness. Grey voxels (no widget) are drawn first so the coloured ones stay on
+    top."""
     plt = _pyplot()
+    size = size or (500 * len(panels), 600)
     fig, axes = plt.subplots(1, len(panels), figsize=(size[0] / 100.0, size[1] / 100.0),
                              dpi=100)
     for ax, panel in zip(axes, panels):

@@ -14,13 +14,15 @@ AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh.
 writes into the output folder best.png, worst.png, dual_domain.png (volume and reduced
 domain side by side), domain.png, spectrum.png (bar chart of the leading eigenvalues, the
 kept ones highlighted, the variance retained in the title), methods.png (the reduced
-domains of PCA, Isomap and LLE side by side, see --no-methods) and report.json (timings
+domains of PCA, Isomap, LLE and UMAP side by side, see --no-methods) and report.json (timings
 per stage, variance retained, trustworthiness, view directions, eigenvalues, the figures),
 then prints a summary and the folder.
 
-methods.png: the three methods are fitted on the same reference sample (same size, K, L
-and seed) of a coarser grid, every --methods-stride-th voxel per axis of the features
-(placing all voxels three more times would cost more than the whole job); the same
+--method UMAP reduces with UMAP instead (K = --umap-neighbors, 15).
+
+methods.png: the four methods are fitted on the same reference sample (same size, K, L
+and seed; UMAP with its own K) of a coarser grid, every --methods-stride-th voxel per axis of the features
+(placing all voxels four more times would cost more than the whole job); the same
 --methods-sample voxels are drawn in each, coloured by the main domain's widgets.
 """
 import argparse
@@ -46,10 +48,12 @@ parser.add_argument("--channels", nargs="+", metavar="VOLUME",
                          "AAL, Brodmann)")
 parser.add_argument("--output", default=os.path.join("output", "transfer_function"))
 parser.add_argument("--features", default="24D", choices=["6D", "24D"])
-parser.add_argument("--method", default="Isomap", choices=["PCA", "Isomap", "LLE"])
+parser.add_argument("--method", default="Isomap", choices=["PCA", "Isomap", "LLE", "UMAP"])
 parser.add_argument("--reference-size", type=int, default=10000,
                     help="voxels the embedding is fitted on (default 10000)")
 parser.add_argument("--neighbors", type=int, default=10, help="K of Isomap/LLE")
+parser.add_argument("--umap-neighbors", type=int, default=15,
+                    help="K of UMAP (default 15: see DimensionReduction's NumberOfNeighbors)")
 parser.add_argument("--landmarks", type=int, default=500, help="L of landmark Isomap")
 parser.add_argument("--widgets", type=int, default=4, help="number of seeded widgets")
 parser.add_argument("--widget-opacity", type=float, default=0.5)
@@ -59,7 +63,7 @@ parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
 parser.add_argument("--plugin", default=None, help="MultichannelExplorer.so to load")
 parser.add_argument("--no-methods", dest="methods", action="store_false",
-                    help="skip methods.png (PCA, Isomap and LLE side by side)")
+                    help="skip methods.png (PCA, Isomap, LLE and UMAP side by side)")
 parser.add_argument("--methods-stride", type=int, default=3,
                     help="methods.png: every N-th voxel per axis is reduced (default 3)")
 parser.add_argument("--methods-sample", type=int, default=20000,
@@ -95,10 +99,14 @@ features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
                                        Device=args.device)
 timed("features", features.UpdatePipeline)
 
+def neighbors(method):
+    return args.umap_neighbors if method == "UMAP" else args.neighbors
+
+
 # 2. The reduced domain.
 reduction = simple.DimensionReduction(
     Input=features, Method=args.method, OutputDimension=3,
-    ReferenceSampleSize=args.reference_size, NumberOfNeighbors=args.neighbors,
+    ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(args.method),
     NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
 reduction.Features = ["POINTS", "Features"]
 timed("reduction", reduction.UpdatePipeline)
@@ -165,7 +173,7 @@ def reduce_coarse(method, coarse_features):
     the coarse grid; returns the proxy, updated."""
     other = simple.DimensionReduction(
         Input=coarse_features, Method=method, OutputDimension=3,
-        ReferenceSampleSize=args.reference_size, NumberOfNeighbors=args.neighbors,
+        ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(method),
         NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
     other.Features = ["POINTS", "Features"]
     other.UpdatePipeline()
@@ -174,7 +182,7 @@ def reduce_coarse(method, coarse_features):
 
 
 def method_panels():
-    """The same sampled voxels of the coarse grid in the domains of PCA, Isomap and LLE,
+    """The same sampled voxels of the coarse grid in the domains of PCA, Isomap, LLE and UMAP,
     each coloured as the main domain's widgets colour it (ReducedDomain's RGBA and
     WidgetOpacity on the main domain's coordinates of those voxels)."""
     coarse_features = coarse(features)
@@ -185,7 +193,7 @@ def method_panels():
     colours = report_figures.point_colours(fetch_array(shown, "RGBA").tolist(),
                                            fetch_array(shown, "WidgetOpacity").tolist())
     panels = []
-    for method in ("PCA", "Isomap", "LLE"):
+    for method in ("PCA", "Isomap", "LLE", "UMAP"):
         start = time.time()
         other = reduce_coarse(method, coarse_features)
         xyz = fetch_array(other, "ReducedCoordinates")[voxels]
@@ -203,11 +211,11 @@ methods = None
 if args.methods:
     panels, grid, drawn = timed("methods", method_panels)
     caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
-               "reference sample (seed=%d, K=%d, L=%d); the same %d voxels drawn at "
+               "reference sample (seed=%d, K=%d, UMAP's K=%d, L=%d); the same %d voxels drawn at "
                "dimensions 1-2, in the colour of the %s domain's widget that selects them "
                "(opacity at least 0.1; the others grey)"
                % (args.features, _every(args.methods_stride), grid, args.reference_size,
-                  args.seed, args.neighbors, args.landmarks, drawn, args.method))
+                  args.seed, args.neighbors, args.umap_neighbors, args.landmarks, drawn, args.method))
     report_figures.methods_figure(os.path.join(args.output, "methods.png"), panels, caption)
     methods = {p["name"]: {k: p[k] for k in ("variance_retained", "trustworthiness",
                                              "seconds")} for p in panels}
@@ -246,7 +254,7 @@ with open(os.path.join(args.output, "report.json"), "w") as f:
     json.dump(report, f, indent=2)
 
 fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
-variance_text = ("n/a (LLE has no variance spectrum)" if args.method == "LLE"
+variance_text = ("n/a (%s has no variance spectrum)" % args.method if args.method in ("LLE", "UMAP")
                  else "%.3f" % report["variance_retained"])
 print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
       % (report["voxels"], args.features, args.method, variance_text,

@@ -34,9 +34,10 @@ packages=(
   # The main job's spectrum.png and methods.png (Examples/report_figures.py).
   python3-matplotlib
   # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), Isomap's
-  # Dijkstras (Boost.Graph, header-only, in libboost-dev), and scikit-learn as the
-  # reference the comparison script measures against.
-  libnanoflann-dev libspectra-dev libboost-dev python3-sklearn
+  # Dijkstras (Boost.Graph, header-only, in libboost-dev), and scikit-learn and umap-learn
+  # (UMAP's peer; pulls pynndescent and numba) as the references the comparison script
+  # measures against (benchmarks only: no test needs them).
+  libnanoflann-dev libspectra-dev libboost-dev python3-sklearn umap-learn
 )
 # Never libvtk9-dev: it pulls python3-vtk9, which conflicts with python3-paraview.
 

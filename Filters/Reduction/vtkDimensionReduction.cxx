@@ -51,6 +51,8 @@ const char* methodName(int method)
       return "Isomap";
     case vtkDimensionReduction::LLE:
       return "LLE";
+    case vtkDimensionReduction::UMAP:
+      return "UMAP";
     default:
       return "unknown";
   }
@@ -283,6 +285,8 @@ int vtkDimensionReduction::RequestMultichannelData(
   options.outputDimension = this->OutputDimension;
   options.numberOfNeighbors = this->NumberOfNeighbors;
   options.numberOfLandmarks = this->NumberOfLandmarks;
+  options.minimumDistance = this->MinimumDistance;
+  options.numberOfEpochs = this->NumberOfEpochs;
   options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
   options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
   options.device = this->GetRequestedDevice();
@@ -374,7 +378,8 @@ int vtkDimensionReduction::RequestMultichannelData(
       positiveSum += v;
     }
   }
-  const bool fractions = this->Method != LLE && positiveSum > 0;
+  // LLE's and UMAP's eigenvalues are not variances.
+  const bool fractions = this->Method != LLE && this->Method != UMAP && positiveSum > 0;
   const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
   vtkNew<vtkIntArray> indexColumn;
   indexColumn->SetName("index");
@@ -428,6 +433,8 @@ void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "OutputDimension: " << this->OutputDimension << "\n";
   os << indent << "NumberOfNeighbors: " << this->NumberOfNeighbors << "\n";
   os << indent << "NumberOfLandmarks: " << this->NumberOfLandmarks << "\n";
+  os << indent << "MinimumDistance: " << this->MinimumDistance << "\n";
+  os << indent << "NumberOfEpochs: " << this->NumberOfEpochs << "\n";
   os << indent << "ReferenceSampleSize: " << this->ReferenceSampleSize << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
   os << indent << "VarianceRetained: " << this->VarianceRetained << "\n";

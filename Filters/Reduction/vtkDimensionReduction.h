@@ -1,6 +1,6 @@
 /**
  * @class   vtkDimensionReduction
- * @brief   reduces per-voxel feature vectors to a 2D/3D domain (PCA, Isomap, LLE).
+ * @brief   reduces per-voxel feature vectors to a 2D/3D domain (PCA, Isomap, LLE, UMAP).
  *
  * Input: a vtkImageData whose point data holds a multi-component array of feature
  * vectors, one tuple per voxel (the `Features` array of MultichannelFeatures by default;
@@ -26,7 +26,7 @@
  * `DeviceUsed`.
  * Output port 1: a vtkTable `Spectrum` with columns `index` (1-based), `value` and
  * `fraction` (value / sum of the positive values of the spectrum, PCA and Isomap; LLE's
- * eigenvalues are not variances: its fraction column is 0).
+ * and UMAP's eigenvalues are not variances: their fraction column is 0).
  *
  * Errors (vtkErrorMacro, the filter fails, outputs stay empty): input not image data,
  * empty extent, no feature array selected or present, a non-numeric array, a single
@@ -67,12 +67,13 @@ public:
   {
     PCA = 0,
     ISOMAP = 1,
-    LLE = 2
+    LLE = 2,
+    UMAP = 3
   };
 
   ///@{
-  /** PCA (default), ISOMAP (landmark Isomap) or LLE. */
-  vtkSetClampMacro(Method, int, PCA, LLE);
+  /** PCA (default), ISOMAP (landmark Isomap), LLE or UMAP. */
+  vtkSetClampMacro(Method, int, PCA, UMAP);
   vtkGetMacro(Method, int);
   ///@}
 
@@ -98,6 +99,18 @@ public:
    */
   vtkSetMacro(NumberOfLandmarks, int);
   vtkGetMacro(NumberOfLandmarks, int);
+  ///@}
+
+  ///@{
+  /** UMAP: minimum distance of the layout (umap-learn's min_dist), in [0, 1]; default 0.1. */
+  vtkSetMacro(MinimumDistance, double);
+  vtkGetMacro(MinimumDistance, double);
+  ///@}
+
+  ///@{
+  /** UMAP: SGD epochs; 0 (default): 500 up to 10000 reference points, 200 beyond. */
+  vtkSetMacro(NumberOfEpochs, int);
+  vtkGetMacro(NumberOfEpochs, int);
   ///@}
 
   ///@{
@@ -148,6 +161,8 @@ protected:
   int OutputDimension = 3;
   int NumberOfNeighbors = 50;
   int NumberOfLandmarks = 500;
+  double MinimumDistance = 0.1;
+  int NumberOfEpochs = 0;
   vtkIdType ReferenceSampleSize = 10000;
   int RandomSeed = 0;
 

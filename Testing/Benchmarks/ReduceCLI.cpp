@@ -1,8 +1,9 @@
 // mcvReduceCLI: the dimension-reduction core on a raw float32 matrix, for the comparison
 // with scikit-learn (compare_sklearn.py) and the whole-volume benchmark.
 //
-//   mcvReduceCLI --input features.f32 --rows N --cols D [--method pca|isomap|lle]
+//   mcvReduceCLI --input features.f32 --rows N --cols D [--method pca|isomap|lle|umap]
 //                [--dim 3] [--neighbors 50] [--landmarks 500] [--reference 10000]
+//                [--min-dist 0.1] [--epochs 0]
 //                [--seed 0] [--trust-sample 2000] [--output embedding.f32] [--json out.json]
 //                [--repeat 1] [--repeat-below 2]
 //
@@ -64,8 +65,9 @@ std::string jsonNumber(double v)
 int usage(const char* why)
 {
   std::cerr << "mcvReduceCLI: " << why << "\n"
-            << "usage: mcvReduceCLI --input F --rows N --cols D [--method pca|isomap|lle] [--dim 3]\n"
+            << "usage: mcvReduceCLI --input F --rows N --cols D [--method pca|isomap|lle|umap] [--dim 3]\n"
                "       [--neighbors 50] [--landmarks 500] [--reference 10000] [--seed 0]\n"
+               "       [--min-dist 0.1] [--epochs 0 (UMAP: automatic)]\n"
                "       [--trust-sample 2000] [--output F] [--json F] [--repeat 1] [--repeat-below 2]\n";
   return 2;
 }
@@ -100,10 +102,13 @@ int main(int argc, char** argv)
   const std::string method = a.count("method") ? a["method"] : "pca";
   o.method = method == "isomap" ? mcv::ReductionMethod::Isomap
     : method == "lle"           ? mcv::ReductionMethod::LLE
+    : method == "umap"          ? mcv::ReductionMethod::UMAP
                                 : mcv::ReductionMethod::PCA;
   o.outputDimension = a.count("dim") ? std::stoi(a["dim"]) : 3;
   o.numberOfNeighbors = a.count("neighbors") ? std::stoi(a["neighbors"]) : 50;
   o.numberOfLandmarks = a.count("landmarks") ? std::stoi(a["landmarks"]) : 500;
+  o.minimumDistance = a.count("min-dist") ? std::stod(a["min-dist"]) : 0.1;
+  o.numberOfEpochs = a.count("epochs") ? std::stoi(a["epochs"]) : 0;
   o.referenceSampleSize = a.count("reference") ? std::stoull(a["reference"]) : 10000;
   o.randomSeed = a.count("seed") ? std::stoull(a["seed"]) : 0;
   o.trustworthinessSample = a.count("trust-sample") ? std::stoull(a["trust-sample"]) : 2000;

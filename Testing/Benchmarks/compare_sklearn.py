@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Our dimension reduction (mcvReduceCLI) side by side with scikit-learn, on feature vectors
+"""Our dimension reduction (mcvReduceCLI) side by side with scikit-learn (and umap-learn for
+--methods umap), on feature vectors
 of the real 3-channel brain: Colin27 ch2 + AAL + Brodmann (mricron-data, fetched into
 <repo>/.cache/volumes by the setup script).
 
@@ -20,11 +21,21 @@ does not. Short runs are noisy on a shared machine: compare the speed-up column,
 repeat a subset (--methods lle --sets 6D --sizes 2000) to see the spread.
 
 Our LLE is locally linear landmarks (Filters/Core/reduction/LLELandmarks.h); --landmarks >= N gives
-exact LLE. Prints one row per set, method and N (our time, scikit-learn's, speed-up, both
+exact LLE.
+
+UMAP's peer is umap-learn (Debian package umap-learn 0.5.3, numba): K = --umap-neighbors (15)
+for ours, n_neighbors = K + 1 for umap-learn (it counts the point itself), both with their
+defaults otherwise (min_dist 0.1, 500 epochs up to 10000 points); umap-learn without a
+random_state (its parallel, fastest layout on all cores; fixing one makes it serial). Its
+fit is timed after a warm-up fit on 500 points in this process, so numba's compilation is
+not counted; the fastest-of rule above applies to it too.
+
+Prints one row per set, method and N (our time, the peer's, speed-up, both
 trustworthiness values and their difference) and writes <workdir>/compare_sklearn.json.
 
   /usr/bin/python3 Testing/Benchmarks/compare_sklearn.py --cli build-dr/Testing/Benchmarks/mcvReduceCLI
   ... --whole-volume      # also: Isomap fit on 10000 + out-of-sample to every voxel (CPU)
+  ... --methods umap      # UMAP against umap-learn (docs/benchmarks.md, section on UMAP)
 
 Latest table, its commit and machine, and earlier runs: docs/benchmarks.md.
 """
@@ -146,10 +157,29 @@ def run_ours(cli, X, method, k, landmarks, workdir, tag, seed=0, repeat_below=0.
     return Y, info["total_ms"] / 1000.0, info
 
 
+_umap_warm = False
+
+
+def run_umap_learn(X, k):
+    """umap-learn's fit_transform with n_neighbors = k + 1 (it counts the point itself)."""
+    global _umap_warm
+    import umap
+
+    if not _umap_warm:  # numba compiles on the first fit: not the method's cost
+        umap.UMAP(n_neighbors=k + 1, n_components=3).fit_transform(X[:500])
+        _umap_warm = True
+    model = umap.UMAP(n_neighbors=k + 1, n_components=3)
+    t = time.perf_counter()
+    Y = model.fit_transform(X)
+    return Y, time.perf_counter() - t
+
+
 def run_sklearn(X, method, k):
     from sklearn.decomposition import PCA
     from sklearn.manifold import Isomap, LocallyLinearEmbedding
 
+    if method == "umap":
+        return run_umap_learn(X, k)
     X = X.astype(np.float64)
     if method == "pca":
         model = PCA(n_components=3)
@@ -183,6 +213,8 @@ def main():
     ap.add_argument("--methods", default="pca,isomap,lle")
     ap.add_argument("--sets", default="6D,24D")
     ap.add_argument("--neighbors", type=int, default=10, help="K for both sides (Isomap, LLE)")
+    ap.add_argument("--umap-neighbors", type=int, default=15,
+                    help="K of UMAP (ours; umap-learn's n_neighbors is K + 1)")
     ap.add_argument("--landmarks", type=int, default=500)
     ap.add_argument("--trust-sample", type=int, default=2000)
     ap.add_argument("--whole-volume", action="store_true",
@@ -204,10 +236,11 @@ def main():
     from sklearn.manifold import trustworthiness
 
     rows = []
-    header = (f"{'set':>4} {'method':>7} {'N':>6} | {'ours s':>8} {'sklearn s':>9} {'speed-up':>8} | "
-              f"{'T ours':>7} {'T sklearn':>9} {'dT':>7}")
-    print(f"\nK = {args.neighbors} (Isomap, LLE), L = {args.landmarks} landmarks (ours), 3 output dimensions, "
-          f"trustworthiness k = 10 on {args.trust_sample} of the N points\n")
+    header = (f"{'set':>4} {'method':>7} {'N':>6} | {'ours s':>8} {'peer s':>9} {'speed-up':>8} | "
+              f"{'T ours':>7} {'T peer':>9} {'dT':>7}")
+    print(f"\nK = {args.neighbors} (Isomap, LLE), K = {args.umap_neighbors} (UMAP), L = {args.landmarks} landmarks "
+          f"(ours), 3 output dimensions, trustworthiness k = 10 on {args.trust_sample} of the N points; "
+          f"peer: scikit-learn, umap-learn for umap\n")
     print(header)
     print("-" * len(header), flush=True)
     for fs in args.sets.split(","):
@@ -216,13 +249,14 @@ def main():
             X = distinct_sample(X_all, n, seed=n)
             sub = np.random.default_rng(1).choice(n, size=min(n, args.trust_sample), replace=False)
             for method in args.methods.split(","):
-                Y, t_ours, info = run_ours(args.cli, X, method, args.neighbors, args.landmarks, args.workdir,
+                k = args.umap_neighbors if method == "umap" else args.neighbors
+                Y, t_ours, info = run_ours(args.cli, X, method, k, args.landmarks, args.workdir,
                                            f"{fs}_{method}_{n}", args.seed, args.repeat_below)
                 tw_ours = trustworthiness(X[sub], Y[sub], n_neighbors=10)
                 if args.no_sklearn:
                     t_sk, tw_sk = float("nan"), float("nan")
                 else:
-                    Ys, t_sk = best_of(args.repeat_below, lambda: run_sklearn(X, method, args.neighbors))
+                    Ys, t_sk = best_of(args.repeat_below, lambda: run_sklearn(X, method, k))
                     tw_sk = trustworthiness(X[sub], Ys[sub], n_neighbors=10)
                 line = (f"{fs:>4} {method:>7} {n:>6} | {t_ours:8.3f} {t_sk:9.3f} {t_sk / t_ours:7.1f}x | "
                         f"{tw_ours:7.4f} {tw_sk:9.4f} {tw_ours - tw_sk:+7.4f}")

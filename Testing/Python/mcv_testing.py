@@ -62,6 +62,15 @@ def load_plugin(ns):
     return multichannel_explorer
 
 
+def brain_channels():
+    """The real 3-channel brain (Colin27 T1 ch2 + the AAL and Brodmann atlases) on one grid:
+    AppendAttributes of the three readers (not updated)."""
+    from paraview.simple import AppendAttributes, OpenDataFile
+
+    return AppendAttributes(Input=[OpenDataFile(data_file(n))
+                                   for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")])
+
+
 class Checker(object):
     """Collects failed checks; finish() prints a summary and exits."""
 

@@ -7,7 +7,7 @@ valid best direction perpendicular to the worst one), that every image is writte
 not blank, that the best-view image shows the seeded widgets' colours: pixels whose
 colour is near a widget's hue, for at least two widgets; that spectrum.png has its bars
 (along the row just above the axis: as many runs of the kept bars' colour as eigenvalues
-kept, of the other colour as the others shown) and that methods.png has three panels of
+kept, of the other colour as the others shown) and that methods.png has four panels of
 points, widget-coloured and grey; and that nothing glows around the head: every pixel of
 best.png outside the silhouette of the brain's foreground voxels (re-rendered here with
 best.png's camera as the Foreground = 0.5 surface, dilated by 4 pixels) is the view's
@@ -107,9 +107,9 @@ if C.check(figure.get("bars", 0) > figure.get("kept", 0) > 0,
             % (kept_bars, other_bars, bar_pixels))
 
 
-def panel_points(path, panels=3):
-    """Pixels of widget-coloured points (saturated) and of grey points (190) in each third
-    of methods.png."""
+def panel_points(path, panels):
+    """Pixels of widget-coloured points (saturated) and of grey points (190) in each of the
+    `panels` equal parts of methods.png."""
     pixels = rgb_pixels(path).astype(int)
     spread = pixels.max(axis=2) - pixels.min(axis=2)
     coloured = spread > 100
@@ -119,16 +119,16 @@ def panel_points(path, panels=3):
              int(grey[:, i * width:(i + 1) * width].sum())) for i in range(panels)]
 
 
-# methods.png: PCA, Isomap and LLE side by side, each panel with points in widget colours.
+# methods.png: PCA, Isomap, LLE and UMAP side by side, each panel with points in widget colours.
 methods = report.get("methods") or {}
-C.check(all(name in methods and 0.5 < methods[name]["trustworthiness"] <= 1.0
-            for name in ("PCA", "Isomap", "LLE")),
-        "report: trustworthiness of PCA, Isomap, LLE on the same sample %s"
-        % [round(methods.get(n, {}).get("trustworthiness", 0), 3) for n in ("PCA", "Isomap", "LLE")])
+names = ("PCA", "Isomap", "LLE", "UMAP")
+C.check(all(name in methods and 0.5 < methods[name]["trustworthiness"] <= 1.0 for name in names),
+        "report: trustworthiness of PCA, Isomap, LLE, UMAP on the same sample %s"
+        % [round(methods.get(n, {}).get("trustworthiness", 0), 3) for n in names])
 if os.path.exists(os.path.join(out, "methods.png")):
-    counts = panel_points(os.path.join(out, "methods.png"))
+    counts = panel_points(os.path.join(out, "methods.png"), len(names))
     C.check(all(c > 200 and g > 1000 for c, g in counts),
-            "methods.png: three panels with points, widget-coloured and grey (%s)" % counts)
+            "methods.png: four panels with points, widget-coloured and grey (%s)" % counts)
 
 
 def hue(rgb):

@@ -12,6 +12,7 @@
 #include "ReferenceSample.h"
 #include "SeededRandom.h"
 #include "Trustworthiness.h"
+#include "UMAPEmbedding.h"
 
 #include <algorithm>
 #include <array>
@@ -45,6 +46,8 @@ const char* methodName(ReductionMethod m)
       return "Isomap";
     case ReductionMethod::LLE:
       return "LLE";
+    case ReductionMethod::UMAP:
+      return "UMAP";
   }
   return "unknown";
 }
@@ -388,6 +391,18 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
       embedding = fitLLE(refX, lo);
       break;
     }
+    case ReductionMethod::UMAP:
+    {
+      UMAPOptions uo;
+      uo.outputDimension = d;
+      uo.numberOfNeighbors = options.numberOfNeighbors;
+      uo.minimumDistance = options.minimumDistance;
+      uo.numberOfEpochs = options.numberOfEpochs;
+      uo.seed = options.randomSeed;
+      uo.progress = progress;
+      embedding = fitUMAP(refX, uo);
+      break;
+    }
   }
   fit.ms = msSince(start);
   fit.warnings = std::move(embedding.warnings);
@@ -575,7 +590,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     return fail("OutputDimension must be 2 or 3 (got " + std::to_string(d) + ").");
   }
   if (options.method != ReductionMethod::PCA && options.method != ReductionMethod::Isomap &&
-    options.method != ReductionMethod::LLE)
+    options.method != ReductionMethod::LLE && options.method != ReductionMethod::UMAP)
   {
     return fail("Unknown reduction method " + std::to_string(static_cast<int>(options.method)) + ".");
   }

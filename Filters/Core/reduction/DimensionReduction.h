@@ -24,8 +24,9 @@ enum class ReductionMethod
 {
   PCA = 0,
   Isomap = 1, // landmark Isomap: kNN graph, shortest paths from L landmarks, landmark MDS
-  LLE = 2     // locally linear embedding: sparse (I-W)^T(I-W), smallest eigenvectors (on L
+  LLE = 2,    // locally linear embedding: sparse (I-W)^T(I-W), smallest eigenvectors (on L
               // landmarks by default: LLELandmarks.h)
+  UMAP = 3    // fuzzy simplicial set of the kNN graph, spectral start, SGD layout (UMAPEmbedding.h)
 };
 
 // n rows (voxels) x d columns (features), row-major, float32: the layout of a VTK
@@ -44,6 +45,8 @@ struct ReductionOptions
   int outputDimension = 3;              // 2 or 3
   int numberOfNeighbors = 50;           // K of the Isomap / LLE neighbourhood graph
   int numberOfLandmarks = 500;          // L of landmark Isomap and LLE (>= M: exact)
+  double minimumDistance = 0.1;         // UMAP: min_dist of the layout, in [0, 1]
+  int numberOfEpochs = 0;               // UMAP: SGD epochs; 0: 500 up to 10000 points, else 200
   std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
   Device device = Device::Auto;         // the out-of-sample step (touches every voxel)
@@ -85,7 +88,8 @@ struct ReductionResult
                                      // options.coordinatesOutput received them)
   int outputDimension = 0;
   std::vector<double> eigenvalues;   // spectrum, descending (PCA: covariance; Isomap: MDS;
-                                     // LLE: the smallest non-trivial eigenvalues, ascending)
+                                     // LLE: the smallest non-trivial eigenvalues, ascending;
+                                     // UMAP: its spectral start's Laplacian eigenvalues, ascending)
   double varianceRetained = 0.0;     // top-d eigenvalues / sum of positive ones (PCA, Isomap)
   double trustworthiness = 0.0;      // on a sample of the reference points, in [0,1];
                                      // NaN when not computed (trustworthinessSample 0,

@@ -30,4 +30,8 @@ struct Embedding
 // arbitrary sign, and the same data should give the same picture.
 void fixColumnSigns(Eigen::MatrixXd& columns);
 
+// Centres the n x d points and rotates them to their principal axes (largest spread first),
+// signs as fixColumnSigns: a rigid motion, so distances (and trustworthiness) stay.
+void toPrincipalAxes(Eigen::MatrixXd& points);
+
 } // namespace mcv

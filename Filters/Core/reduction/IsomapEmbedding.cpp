@@ -315,12 +315,7 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   sq.colwise() -= deltaMean;
   Eigen::MatrixXd Y = (-0.5 * (pinv * sq)).transpose(); // n x d
 
-  // Centre and rotate to principal axes.
-  Y.rowwise() -= Y.colwise().mean();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> axesEig(Y.transpose() * Y);
-  const Eigen::MatrixXd axes = axesEig.eigenvectors().rowwise().reverse();
-  Y = Y * axes;
-  fixColumnSigns(Y); // each axis points to the embedding's own largest coordinate
+  toPrincipalAxes(Y);
   e.coordinates = Y.cast<float>();
   report("Isomap: done", 1.0);
   return e;

@@ -21,6 +21,15 @@ void fixColumnSigns(Eigen::MatrixXd& columns)
   }
 }
 
+void toPrincipalAxes(Eigen::MatrixXd& Y)
+{
+  Y.rowwise() -= Y.colwise().mean();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> axesEig(Y.transpose() * Y);
+  const Eigen::MatrixXd axes = axesEig.eigenvectors().rowwise().reverse();
+  Y = Y * axes;
+  fixColumnSigns(Y); // each axis points to the embedding's own largest coordinate
+}
+
 Embedding fitPCA(const float* rows, std::size_t n, int dim, const std::vector<std::int64_t>& sampleIn,
   const std::vector<int>& columnsIn, int d, PCAModel* model)
 {
