@@ -27,6 +27,7 @@
 #pragma once
 
 #include "Communicator.h"
+#include "FeatureRows.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
 
@@ -97,6 +98,11 @@ struct ReferenceSample
 ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,
   const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options,
   const Communicator* comm);
+
+// The same, reading the features from `source` (rows: source.rows(), dim: source.cols()):
+// a pass over its blocks for the strata, gathers of the few rows it looks at otherwise.
+ReferenceSample drawReferenceSample(FeatureRows& source, const RowLayout& rows, const std::vector<int>& columns,
+  const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm);
 
 // Serial: `data` is n x dim row-major. Returns sorted row indices of distinct feature
 // vectors; when size >= n every distinct row is returned.
