@@ -19,6 +19,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <new>
 #include <numeric>
@@ -222,13 +223,19 @@ struct ColumnStats
 
 // One pass over the owned rows, block by block. Every combination is exact or a min/max, so
 // neither the threads, the blocks nor the split change the result.
-ColumnStats localStats(FeatureRows& f, const RowLayout& rows)
+// `progress` (optional) hears of each block, so that a long fused pass can be followed and
+// aborted.
+ColumnStats localStats(FeatureRows& f, const RowLayout& rows, const std::function<void(double)>& progress)
 {
   const int D = f.cols();
   ColumnStats total(D);
   const long long runs = static_cast<long long>(rows.runCount());
   for (std::size_t b = 0; b < f.blockCount(); ++b)
   {
+    if (progress && f.blockCount() > 1)
+    {
+      progress(static_cast<double>(b) / static_cast<double>(f.blockCount()));
+    }
     const std::size_t begin = f.blockBegin(b), end = f.blockBegin(b + 1);
     const float* block = f.block(b);
 #pragma omp parallel
@@ -637,7 +644,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
   // would leave holes in the output. The message says where the first one is.
   ColumnStats stats(cols);
-  error = runShared(comm, [&] { stats = localStats(features, rows); });
+  error = runShared(comm, [&] { stats = localStats(features, rows, [&](double f) { report("Column statistics", 0.03 * f); }); });
   if (!error.empty())
   {
     return fail(error);
@@ -709,6 +716,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   so.size = options.referenceSampleSize;
   so.seed = options.randomSeed;
   so.eligible = mask;
+  so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
   ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
   if (!sample.error.empty())
   {

@@ -312,6 +312,10 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
   // Block by block: the fused path computes each block's features once for this pass.
   for (std::size_t b = 0; b < source_.blockCount(); ++b)
   {
+    if (options_.progress && source_.blockCount() > 1)
+    {
+      options_.progress(static_cast<double>(b) / static_cast<double>(source_.blockCount()));
+    }
     const std::size_t begin = source_.blockBegin(b), end = source_.blockBegin(b + 1);
     const float* block = source_.block(b);
     forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {

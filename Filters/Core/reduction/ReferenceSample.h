@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <new>
 #include <string>
 #include <vector>
@@ -83,6 +84,9 @@ struct ReferenceSampleOptions
   // Optional, one byte per row of this process (RowLayout::size()): 0 = never drawn. Null:
   // every owned row may be drawn.
   const unsigned char* eligible = nullptr;
+  // Optional: the pass over the source's blocks (the strata) reports its fraction here, on
+  // the calling thread, before each block (FeatureRows with several blocks only).
+  std::function<void(double)> progress;
 };
 
 struct ReferenceSample
