@@ -5,9 +5,13 @@
 Default input: the real 3-channel brain of Debian's mricron-data (Colin27 T1 ch2 + the
 AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh.
 
- 1. per-voxel feature vectors (MultichannelFeatures, 24D by default);
- 2. reduced to 3D (DimensionReduction, landmark Isomap fitted on a reference sample,
-    every voxel placed out of sample);
+ 0. with --upsample F, the channels resampled by F along each axis (ParaView's own
+    trilinear ResampleToImage): the same brain as a larger volume (F = 2: 57 M voxels);
+ 1. per-voxel feature vectors (24D by default), 2. reduced to 3D (landmark Isomap fitted
+    on a reference sample, every voxel placed out of sample): by default in one
+    DimensionReduction on the channels (--chain fused: the features are computed a slab
+    at a time and never stored); --chain features runs MultichannelFeatures ->
+    DimensionReduction (the Features array in memory, 96 bytes per voxel at 24D);
  3. Gaussian widgets seeded at the k-means clusters of the reduced domain (auto_widgets);
  4. the volume rendered through those widgets ("Gaussian TF Volume" representation);
  5. the best viewpoint of what the widgets show (3D Harris + PCA of the widget opacity);
@@ -15,7 +19,8 @@ writes into the output folder best.png, worst.png, dual_domain.png (volume and r
 domain side by side), domain.png, spectrum.png (bar chart of the leading eigenvalues, the
 kept ones highlighted, the variance retained in the title), methods.png (the reduced
 domains of PCA, Isomap, LLE and UMAP side by side, see --no-methods) and report.json (timings
-per stage, variance retained, trustworthiness, view directions, eigenvalues, the figures),
+and peak resident memory per stage, variance retained, trustworthiness, view directions,
+eigenvalues, the figures),
 then prints a summary and the folder.
 
 --method UMAP reduces with UMAP instead (K = --umap-neighbors, 15).
@@ -28,6 +33,7 @@ and seed; UMAP with its own K) of a coarser grid, every --methods-stride-th voxe
 import argparse
 import json
 import os
+import resource
 import sys
 import time
 
@@ -48,6 +54,11 @@ parser.add_argument("--channels", nargs="+", metavar="VOLUME",
                          "AAL, Brodmann)")
 parser.add_argument("--output", default=os.path.join("output", "transfer_function"))
 parser.add_argument("--features", default="24D", choices=["6D", "24D"])
+parser.add_argument("--chain", default="fused", choices=["fused", "features"],
+                    help="fused: DimensionReduction on the channels (default); features: "
+                         "MultichannelFeatures -> DimensionReduction")
+parser.add_argument("--upsample", type=float, default=1.0, metavar="F",
+                    help="resample the channels by F along each axis first (trilinear)")
 parser.add_argument("--method", default="Isomap", choices=["PCA", "Isomap", "LLE", "UMAP"])
 parser.add_argument("--reference-size", type=int, default=10000,
                     help="voxels the embedding is fitted on (default 10000)")
@@ -75,6 +86,12 @@ for path in args.channels:
 os.makedirs(args.output, exist_ok=True)
 mce = load_plugin(args.plugin)
 stages = {}
+peak_gib = {}  # the process's peak resident memory at the end of each stage
+
+
+def peak_rss_gib():
+    """Peak resident memory of this process so far (ru_maxrss: KiB on Linux)."""
+    return round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0 ** 2, 3)
 
 
 def _every(n):
@@ -86,7 +103,8 @@ def timed(name, function):
     start = time.time()
     value = function()
     stages[name] = round(time.time() - start, 3)
-    print("%-22s %7.2f s" % (name, stages[name]))
+    peak_gib[name] = peak_rss_gib()
+    print("%-22s %7.2f s   peak RSS %.2f GiB" % (name, stages[name], peak_gib[name]))
     sys.stdout.flush()
     return value
 
@@ -95,9 +113,21 @@ def timed(name, function):
 readers = [OpenDataFile(p) for p in args.channels]
 volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
 timed("read", volume.UpdatePipeline)
-features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
-                                       Device=args.device)
-timed("features", features.UpdatePipeline)
+if args.upsample != 1.0:
+    # ParaView's own trilinear resampling (vtkProbeFilter) onto a grid F times finer.
+    extent = volume.GetDataInformation().GetExtent()
+    dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
+    volume = simple.ResampleToImage(
+        Input=volume, UseInputBounds=1,
+        SamplingDimensions=[max(1, int(round(d * args.upsample))) for d in dims])
+    timed("upsample", volume.UpdatePipeline)
+if args.chain == "features":
+    features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
+                                           Device=args.device)
+    timed("features", features.UpdatePipeline)
+    source, feature_set = features, "Use input array"
+else:
+    features, source, feature_set = volume, volume, args.features
 
 def neighbors(method):
     return args.umap_neighbors if method == "UMAP" else args.neighbors
@@ -105,10 +135,11 @@ def neighbors(method):
 
 # 2. The reduced domain.
 reduction = simple.DimensionReduction(
-    Input=features, Method=args.method, OutputDimension=3,
+    Input=source, FeatureSet=feature_set, Method=args.method, OutputDimension=3,
     ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(args.method),
     NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
-reduction.Features = ["POINTS", "Features"]
+if args.chain == "features":
+    reduction.Features = ["POINTS", "Features"]
 timed("reduction", reduction.UpdatePipeline)
 reduction.UpdatePropertyInformation()
 
@@ -172,10 +203,11 @@ def reduce_coarse(method, coarse_features):
     """The main reduction's settings (reference size, K, L, seed) with another method, on
     the coarse grid; returns the proxy, updated."""
     other = simple.DimensionReduction(
-        Input=coarse_features, Method=method, OutputDimension=3,
+        Input=coarse_features, FeatureSet=feature_set, Method=method, OutputDimension=3,
         ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(method),
         NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
-    other.Features = ["POINTS", "Features"]
+    if args.chain == "features":
+        other.Features = ["POINTS", "Features"]
     other.UpdatePipeline()
     other.UpdatePropertyInformation()
     return other
@@ -226,6 +258,8 @@ bvp = best.filter
 report = {
     "channels": [os.path.abspath(p) for p in args.channels],
     "voxels": volume.GetDataInformation().GetNumberOfPoints(),
+    "upsample": args.upsample,
+    "chain": args.chain,
     "features": args.features,
     "method": args.method,
     "reference_sample_size": args.reference_size,
@@ -242,6 +276,8 @@ report = {
     "viewpoint_stage_ms": dict(zip(("harris", "select", "pca", "total"),
                                    [float(x) for x in bvp.GetPropertyValue("StageTimings")])),
     "stage_seconds": stages,
+    "stage_peak_rss_gib": peak_gib,
+    "peak_rss_gib": peak_rss_gib(),
     "images": {k: os.path.abspath(os.path.join(args.output, k + ".png"))
                for k in ("best", "worst", "dual_domain", "domain", "spectrum")
                + (("methods",) if methods else ())},
@@ -259,6 +295,8 @@ variance_text = ("n/a (%s has no variance spectrum)" % args.method if args.metho
 print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
       % (report["voxels"], args.features, args.method, variance_text,
          report["trustworthiness"]))
+print("peak resident memory %.2f GiB (%s chain, upsample %g)"
+      % (report["peak_rss_gib"], args.chain, args.upsample))
 print("%d widgets seeded; best view %s, worst %s, view eigenvalues %s"
       % (len(report["widgets"]), fmt(best.direction), fmt(worst.direction),
          " ".join("%.3f" % e for e in best.eigenvalues)))

@@ -18,7 +18,10 @@
 #include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
+#include "BackgroundMask.h"
 #include "DimensionReduction.h"
+#include "FeatureBricks.h"
+#include "FeatureRows.h"
 #include "MemoryBudget.h"
 
 #include "../Common/mcvChannelArrays.h" // availableArrays
@@ -27,6 +30,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -36,10 +41,29 @@ vtkStandardNewMacro(vtkDimensionReduction);
 struct vtkDimensionReduction::vtkInternals
 {
   vtkNew<vtkDoubleArray> Spectrum;
+  // A float32 copy of a feature array of another type, for the length of one run.
+  vtkSmartPointer<vtkFloatArray> ConvertedFeatures;
 };
 
 namespace
 {
+
+const char* const kFeaturesName = "Features";
+const char* const kMaskName = "Foreground";
+const char* const kCoordinatesName = "ReducedCoordinates";
+
+const char* featureSetName(int set)
+{
+  switch (set)
+  {
+    case vtkDimensionReduction::FEATURES_6D:
+      return "6D";
+    case vtkDimensionReduction::FEATURES_CUSTOM:
+      return "Custom";
+    default:
+      return "24D";
+  }
+}
 
 const char* methodName(int method)
 {
@@ -185,7 +209,6 @@ int vtkDimensionReduction::RequestMultichannelData(
   const std::size_t count = grid.voxelCount();
   const mcv::vtkhelpers::PieceLayout& layout = this->GetPieceLayout();
 
-  // ---- The feature array -----------------------------------------------------------
   vtkPointData* pd = image->GetPointData();
   if (pd->GetNumberOfArrays() == 0)
   {
@@ -193,92 +216,38 @@ int vtkDimensionReduction::RequestMultichannelData(
                   "first, e.g. with the MultichannelFeatures filter (array 'Features').");
     return 0;
   }
-  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
-  const char* requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
-    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
-    : nullptr;
-  // ParaView leaves "0" in the property when the filter was made before its input had
-  // run (pvpython: DimensionReduction(Input=MultichannelFeatures(...))): no choice was made
-  // then, so the default array applies.
-  if ((!requested || !*requested || std::string(requested) == "0") && pd->GetArray("Features"))
-  {
-    requested = "Features";
-  }
-  if (!requested || !*requested)
-  {
-    vtkErrorMacro("No feature array selected: set the Features property to a point array "
-                  "of feature vectors (point arrays: "
-      << mcv::vtkhelpers::availableArrays(pd) << ").");
-    return 0;
-  }
-  const int association = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION())
-    ? arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION())
-    : vtkDataObject::FIELD_ASSOCIATION_POINTS;
-  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS &&
-    association != vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS)
-  {
-    vtkErrorMacro("Feature array '" << requested
-                                    << "' must be a point array (one feature vector per "
-                                       "voxel); convert cell data with Cell Data to Point Data.");
-    return 0;
-  }
-  vtkAbstractArray* abstractArray = pd->GetAbstractArray(requested);
-  if (!abstractArray)
-  {
-    vtkErrorMacro("No point array named '"
-      << requested << "' in the input (point arrays: " << mcv::vtkhelpers::availableArrays(pd)
-      << "). Compute feature vectors first, e.g. with the MultichannelFeatures filter.");
-    return 0;
-  }
-  vtkDataArray* features = vtkDataArray::SafeDownCast(abstractArray);
-  if (!features)
-  {
-    vtkErrorMacro("Feature array '" << requested << "' is not numeric ("
-                                    << abstractArray->GetClassName() << ").");
-    return 0;
-  }
-  const int components = features->GetNumberOfComponents();
-  if (components < 2)
-  {
-    vtkErrorMacro("Feature array '"
-      << requested << "' has " << components
-      << " component: nothing to reduce (DimensionReduction needs feature vectors of at least "
-         "2 components, e.g. the 6D or 24D set of MultichannelFeatures).");
-    return 0;
-  }
-  if (static_cast<std::size_t>(features->GetNumberOfTuples()) != count)
-  {
-    vtkErrorMacro("Feature array '" << requested << "' has " << features->GetNumberOfTuples()
-                                    << " tuples for " << count << " voxels.");
-    return 0;
-  }
 
-  const bool isFloat = features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout();
-  if (this->ReportError(
-        mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat)))
+  // ---- The rows: a feature array, or the features of the channels (fused) ---------------
+  const bool fromChannels = this->UsesChannels(pd);
+  const char* requested = nullptr;
+  std::string what;
+  vtkSmartPointer<vtkUnsignedCharArray> foreground;
+  std::unique_ptr<mcv::FeatureRows> rows;
+  if (fromChannels)
   {
-    return 0;
-  }
-
-  // float32 as the core reads it: the array's own memory when it is a contiguous float
-  // array, else one converted copy.
-  vtkSmartPointer<vtkFloatArray> converted;
-  const float* data = nullptr;
-  if (features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout())
-  {
-    data = static_cast<const float*>(features->GetVoidPointer(0));
+    what = std::string("the ") + featureSetName(this->FeatureSet) + " features of the channels";
+    // Collective from AllProcessesReady() on, which it calls.
+    rows = this->ChannelRows(image, grid, piece, foreground);
   }
   else
   {
-    converted = vtkSmartPointer<vtkFloatArray>::New();
-    converted->DeepCopy(features); // converts every numeric type to float32
-    data = converted->GetPointer(0);
+    rows = this->InputArrayRows(image, count, requested);
+    if (rows && !this->AllProcessesReady())
+    {
+      rows.reset();
+    }
+    what = std::string("'") + (requested ? requested : "") + "'";
   }
-
-  mcv::FeatureMatrix matrix;
-  matrix.data = data;
-  matrix.rows = count;
-  matrix.cols = components;
+  // A converted feature array lives as long as the run (rows point into it).
+  struct ReleaseCopy
+  {
+    vtkInternals& internals;
+    ~ReleaseCopy() { internals.ConvertedFeatures = nullptr; }
+  } releaseCopy{ *this->Internals };
+  if (!rows)
+  {
+    return 0;
+  }
 
   mcv::ReductionOptions options;
   options.method = static_cast<mcv::ReductionMethod>(this->Method);
@@ -290,8 +259,12 @@ int vtkDimensionReduction::RequestMultichannelData(
   options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
   options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
   options.device = this->GetRequestedDevice();
-  options.progress = this->StageProgressCallback();
-  options.sampleMask = this->ForegroundMask(pd, count);
+  options.sampleMask = fromChannels ? (foreground ? foreground->GetPointer(0) : nullptr)
+                                    : this->ForegroundMask(pd, count);
+  // The channels' features took the first tenth of the progress.
+  const std::function<void(const char*, double)> staged = this->StageProgressCallback();
+  const double first = fromChannels ? 0.1 : 0.0;
+  options.progress = [staged, first](const char* stage, double f) { staged(stage, first + (1 - first) * f); };
 
   if (layout.IsSplit())
   {
@@ -301,13 +274,9 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
 
   // ---- The core ----------------------------------------------------------------------
-  if (!this->AllProcessesReady())
-  {
-    return 0;
-  }
   // The output array, written by the core in place (no second coordinates buffer).
   vtkNew<vtkFloatArray> reduced;
-  reduced->SetName("ReducedCoordinates");
+  reduced->SetName(kCoordinatesName);
   reduced->SetNumberOfComponents(this->OutputDimension);
   for (int c = 0; c < this->OutputDimension; ++c)
   {
@@ -317,13 +286,12 @@ int vtkDimensionReduction::RequestMultichannelData(
   reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
   options.coordinatesOutput = reduced->GetPointer(0);
 
-  this->UpdateProgress(0.0);
-  const mcv::ReductionResult result = mcv::reduceDimension(matrix, options);
+  const mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
   this->SetProgressText(nullptr);
   this->ReportWarnings(result.warnings);
   if (!result.ok())
   {
-    vtkErrorMacro(<< methodName(this->Method) << " on '" << requested << "': " << result.error);
+    vtkErrorMacro(<< methodName(this->Method) << " on " << what << ": " << result.error);
     return 0;
   }
   if (result.outputDimension != this->OutputDimension)
@@ -351,6 +319,15 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
 
   output->ShallowCopy(image);
+  if (fromChannels)
+  {
+    // A mask from upstream would describe other channels or settings: ours, or none.
+    output->GetPointData()->RemoveArray(kMaskName);
+    if (foreground)
+    {
+      output->GetPointData()->AddArray(foreground);
+    }
+  }
   output->GetPointData()->AddArray(reduced);
   vtkFieldData* fd = output->GetFieldData();
   addFieldValue(fd, "Trustworthiness", this->Trustworthiness);
@@ -406,6 +383,221 @@ int vtkDimensionReduction::RequestMultichannelData(
 }
 
 //------------------------------------------------------------------------------
+bool vtkDimensionReduction::UsesChannels(vtkPointData* pd)
+{
+  switch (this->FeatureSet)
+  {
+    case FEATURES_INPUT_ARRAY:
+      return false;
+    case FEATURES_AUTOMATIC:
+      return pd->GetAbstractArray(kFeaturesName) == nullptr;
+    default:
+      return true;
+  }
+}
+
+//------------------------------------------------------------------------------
+std::vector<vtkDataArray*> vtkDimensionReduction::GetDefaultChannels(vtkPointData* pd)
+{
+  std::vector<vtkDataArray*> picked = this->Superclass::GetDefaultChannels(pd);
+  // Features, the mask and the coordinates of an earlier run are not channels.
+  auto isOutput = [](vtkDataArray* a) {
+    const std::string name = a->GetName() ? a->GetName() : "";
+    return name == kFeaturesName || name == kMaskName || name == kCoordinatesName;
+  };
+  picked.erase(std::remove_if(picked.begin(), picked.end(), isOutput), picked.end());
+  return picked;
+}
+
+//------------------------------------------------------------------------------
+std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::InputArrayRows(
+  vtkImageData* image, std::size_t count, const char*& requested)
+{
+  vtkPointData* pd = image->GetPointData();
+  vtkInformation* arrayInfo = this->GetInputArrayInformation(0);
+  requested = arrayInfo && arrayInfo->Has(vtkDataObject::FIELD_NAME())
+    ? arrayInfo->Get(vtkDataObject::FIELD_NAME())
+    : nullptr;
+  // ParaView leaves "0" in the property when the filter was made before its input had
+  // run (pvpython: DimensionReduction(Input=MultichannelFeatures(...))): no choice was made
+  // then, so the default array applies.
+  if ((!requested || !*requested || std::string(requested) == "0") && pd->GetArray(kFeaturesName))
+  {
+    requested = kFeaturesName;
+  }
+  if (!requested || !*requested)
+  {
+    vtkErrorMacro("No feature array selected: set the Features property to a point array "
+                  "of feature vectors (point arrays: "
+      << mcv::vtkhelpers::availableArrays(pd) << ").");
+    return nullptr;
+  }
+  const int association = arrayInfo->Has(vtkDataObject::FIELD_ASSOCIATION())
+    ? arrayInfo->Get(vtkDataObject::FIELD_ASSOCIATION())
+    : vtkDataObject::FIELD_ASSOCIATION_POINTS;
+  if (association != vtkDataObject::FIELD_ASSOCIATION_POINTS &&
+    association != vtkDataObject::FIELD_ASSOCIATION_POINTS_THEN_CELLS)
+  {
+    vtkErrorMacro("Feature array '" << requested
+                                    << "' must be a point array (one feature vector per "
+                                       "voxel); convert cell data with Cell Data to Point Data.");
+    return nullptr;
+  }
+  vtkAbstractArray* abstractArray = pd->GetAbstractArray(requested);
+  if (!abstractArray)
+  {
+    vtkErrorMacro("No point array named '"
+      << requested << "' in the input (point arrays: " << mcv::vtkhelpers::availableArrays(pd)
+      << "). Compute feature vectors first, e.g. with the MultichannelFeatures filter.");
+    return nullptr;
+  }
+  vtkDataArray* features = vtkDataArray::SafeDownCast(abstractArray);
+  if (!features)
+  {
+    vtkErrorMacro("Feature array '" << requested << "' is not numeric ("
+                                    << abstractArray->GetClassName() << ").");
+    return nullptr;
+  }
+  const int components = features->GetNumberOfComponents();
+  if (components < 2)
+  {
+    vtkErrorMacro("Feature array '"
+      << requested << "' has " << components
+      << " component: nothing to reduce (DimensionReduction needs feature vectors of at least "
+         "2 components, e.g. the 6D or 24D set of MultichannelFeatures).");
+    return nullptr;
+  }
+  if (static_cast<std::size_t>(features->GetNumberOfTuples()) != count)
+  {
+    vtkErrorMacro("Feature array '" << requested << "' has " << features->GetNumberOfTuples()
+                                    << " tuples for " << count << " voxels.");
+    return nullptr;
+  }
+
+  const bool isFloat = features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout();
+  if (this->ReportError(
+        mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat)))
+  {
+    return nullptr;
+  }
+
+  // float32 as the core reads it: the array's own memory when it is a contiguous float
+  // array, else one converted copy.
+  const float* data = nullptr;
+  if (isFloat)
+  {
+    data = static_cast<const float*>(features->GetVoidPointer(0));
+  }
+  else
+  {
+    auto converted = vtkSmartPointer<vtkFloatArray>::New();
+    converted->DeepCopy(features); // converts every numeric type to float32
+    data = converted->GetPointer(0);
+    this->Internals->ConvertedFeatures = converted;
+  }
+  return std::unique_ptr<mcv::FeatureRows>(new mcv::MatrixRows(data, count, components));
+}
+
+//------------------------------------------------------------------------------
+std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageData* image, mcv::ImageGrid grid,
+  const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground)
+{
+  const std::size_t count = grid.voxelCount();
+  // Gradients in world units along the grid's axes, as MultichannelFeatures computes them.
+  double spacing[3];
+  image->GetSpacing(spacing);
+  for (int a = 0; a < 3; ++a)
+  {
+    grid.spacing[a] = std::abs(spacing[a]);
+  }
+  mcv::vtkhelpers::ChannelArrays channels;
+  if (!this->SelectChannels(image, count, channels))
+  {
+    return nullptr;
+  }
+  mcv::FeatureOptions options;
+  options.preset = static_cast<mcv::FeaturePreset>(
+    this->FeatureSet <= FEATURES_CUSTOM ? this->FeatureSet : FEATURES_24D);
+  options.custom.intensity = this->Intensity;
+  options.custom.gradient = this->Gradient;
+  options.custom.gradientMagnitude = this->GradientMagnitude;
+  options.custom.laplacian = this->Laplacian;
+  options.custom.localMean = this->LocalMean;
+  options.custom.localVariance = this->LocalVariance;
+  options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
+  options.channelNames = channels.names;
+  options.communicator = this->GetCommunicator();
+  options.piece = piece;
+  options.progress = this->ProgressCallback(0.0, 0.1);
+  const int F = mcv::featureCount(channels.views.size(), options);
+  if (F <= 0)
+  {
+    vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
+                  "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
+                  "LocalVariance) is off.");
+    return nullptr;
+  }
+  const std::size_t slab =
+    mcv::FeatureBricks::workingBytes(grid, F, mcv::FeatureBricks::kDefaultSlabBytes);
+  if (this->ReportError(mcv::checkFusedReductionMemory(count, F, this->OutputDimension, slab)))
+  {
+    return nullptr;
+  }
+  if (this->MaskBackground)
+  {
+    foreground = vtkSmartPointer<vtkUnsignedCharArray>::New();
+    foreground->SetName(kMaskName);
+    foreground->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  }
+  if (!this->AllProcessesReady())
+  {
+    return nullptr;
+  }
+  // The statistics pass over the slabs (collective), then the mask (collective).
+  std::unique_ptr<mcv::FeatureBricks> bricks(new mcv::FeatureBricks(channels.views, grid, options));
+  mcv::FeatureResult prepared;
+  bricks->prepare(prepared);
+  this->ReportWarnings(prepared.warnings);
+  if (!prepared.ok())
+  {
+    vtkErrorMacro("Features of the channels: " << prepared.error);
+    return nullptr;
+  }
+  if (foreground)
+  {
+    mcv::BackgroundMaskOptions maskOptions;
+    maskOptions.threshold = this->BackgroundThreshold;
+    maskOptions.communicator = options.communicator;
+    maskOptions.piece = piece;
+    mcv::BackgroundMaskResult mask;
+    const bool ok = mcv::computeBackgroundMask(channels.views, grid, maskOptions, foreground->GetPointer(0), mask);
+    this->ReportWarnings(mask.warnings);
+    if (!ok)
+    {
+      vtkErrorMacro("Background mask: " << mask.error);
+      return nullptr;
+    }
+  }
+  // The channel arrays are the input's own (or kept by `channels`, which ends here): a
+  // converted channel would dangle, so keep every converted copy with the rows.
+  struct Rows final : mcv::FeatureRows
+  {
+    std::unique_ptr<mcv::FeatureBricks> bricks;
+    mcv::vtkhelpers::ChannelArrays channels;
+    std::size_t rows() const override { return bricks->rows(); }
+    int cols() const override { return bricks->cols(); }
+    std::size_t blockCount() const override { return bricks->blockCount(); }
+    std::size_t blockBegin(std::size_t b) const override { return bricks->blockBegin(b); }
+    const float* block(std::size_t b) override { return bricks->block(b); }
+    void gather(const std::size_t* index, std::size_t n, float* out) override { bricks->gather(index, n, out); }
+  };
+  std::unique_ptr<Rows> out(new Rows);
+  out->bricks = std::move(bricks);
+  out->channels = std::move(channels);
+  return std::unique_ptr<mcv::FeatureRows>(out.release());
+}
+
+//------------------------------------------------------------------------------
 const unsigned char* vtkDimensionReduction::ForegroundMask(vtkPointData* pd, std::size_t count)
 {
   vtkAbstractArray* array = pd->GetAbstractArray("Foreground");
@@ -429,6 +621,8 @@ const unsigned char* vtkDimensionReduction::ForegroundMask(vtkPointData* pd, std
 void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
+  os << indent << "FeatureSet: " << this->FeatureSet << "\n";
+  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
   os << indent << "Method: " << methodName(this->Method) << "\n";
   os << indent << "OutputDimension: " << this->OutputDimension << "\n";
   os << indent << "NumberOfNeighbors: " << this->NumberOfNeighbors << "\n";

@@ -2,11 +2,28 @@
  * @class   vtkDimensionReduction
  * @brief   reduces per-voxel feature vectors to a 2D/3D domain (PCA, Isomap, LLE, UMAP).
  *
- * Input: a vtkImageData whose point data holds a multi-component array of feature
+ * Input: a vtkImageData whose point data holds either a multi-component array of feature
  * vectors, one tuple per voxel (the `Features` array of MultichannelFeatures by default;
  * select another with SetInputArrayToProcess(0, 0, 0, POINTS, name), the `Features`
- * property in ParaView). A contiguous float32 array is handed to the core without a copy;
- * any other numeric type is converted to float32 once.
+ * property in ParaView), or the channels themselves (the fused path). A contiguous
+ * float32 array is handed to the core without a copy; any other numeric type is converted
+ * to float32 once.
+ *
+ * FeatureSet says which: FEATURES_AUTOMATIC (default) reduces the input's `Features` array
+ * when it has one, else computes the 24D set from the channels; FEATURES_INPUT_ARRAY always
+ * the selected array (as before the fused path existed); FEATURES_6D, FEATURES_24D and
+ * FEATURES_CUSTOM (with the Intensity ... LocalVariance toggles) compute that set from the
+ * channels (the `Channels` property; none named: every numeric point array but
+ * `Features`, `Foreground`, `ReducedCoordinates` and ParaView's own), with Normalization,
+ * MaskBackground and BackgroundThreshold as in MultichannelFeatures. The fused path never
+ * stores the features: mcv::FeatureBricks computes them a slab of z slices at a time (with
+ * a ghost slice each side) for the normalisation statistics, the column statistics and
+ * strata of the sample, and the placement; the reference sample's voxels are computed
+ * alone. The result equals MultichannelFeatures -> DimensionReduction with the same
+ * settings (to rounding in the normalisation's offsets and scales); the memory is the
+ * coordinates, two bytes per voxel and one slab. Progress is reported per slab and an
+ * abort stops between slabs with empty outputs. The output then holds ReducedCoordinates
+ * and, with MaskBackground, the `Foreground` mask it computed, but no `Features`.
  *
  * The work is done by mcv::reduceDimension (Filters/Core, no VTK): the embedding is fitted
  * on a reference sample of ReferenceSampleSize voxels (a value >= the number of voxels
@@ -53,8 +70,22 @@
 #include <cstddef> // for std::size_t
 #include <memory>  // for std::unique_ptr
 
+class vtkDataArray;
 class vtkDoubleArray;
 class vtkPointData;
+class vtkUnsignedCharArray;
+
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+#include <vector>            // for std::vector
+
+#ifndef __VTK_WRAP__
+namespace mcv
+{
+class FeatureRows;
+struct GridPiece;
+struct ImageGrid;
+}
+#endif
 
 class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkMultichannelAlgorithm
 {
@@ -62,6 +93,66 @@ public:
   static vtkDimensionReduction* New();
   vtkTypeMacro(vtkDimensionReduction, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  enum FeatureSetType
+  {
+    FEATURES_6D = 0,
+    FEATURES_24D = 1,
+    FEATURES_CUSTOM = 2,
+    FEATURES_INPUT_ARRAY = 3,
+    FEATURES_AUTOMATIC = 4
+  };
+
+  enum NormalizationType
+  {
+    ZSCORE = 0,
+    MINMAX = 1,
+    NONE = 2
+  };
+
+  ///@{
+  /**
+   * Where the feature vectors come from: FEATURES_AUTOMATIC (default: the `Features` array
+   * when the input has one, else FEATURES_24D), FEATURES_INPUT_ARRAY (the selected array),
+   * or a set computed from the channels (FEATURES_6D, FEATURES_24D, FEATURES_CUSTOM).
+   */
+  vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_AUTOMATIC);
+  vtkGetMacro(FeatureSet, int);
+  ///@}
+
+  ///@{
+  /** The features of FEATURES_CUSTOM, as in MultichannelFeatures. */
+  vtkSetMacro(Intensity, bool);
+  vtkGetMacro(Intensity, bool);
+  vtkSetMacro(Gradient, bool);
+  vtkGetMacro(Gradient, bool);
+  vtkSetMacro(GradientMagnitude, bool);
+  vtkGetMacro(GradientMagnitude, bool);
+  vtkSetMacro(Laplacian, bool);
+  vtkGetMacro(Laplacian, bool);
+  vtkSetMacro(LocalMean, bool);
+  vtkGetMacro(LocalMean, bool);
+  vtkSetMacro(LocalVariance, bool);
+  vtkGetMacro(LocalVariance, bool);
+  ///@}
+
+  ///@{
+  /** Normalisation of computed features: ZSCORE (default), MINMAX or NONE. */
+  vtkSetClampMacro(Normalization, int, ZSCORE, NONE);
+  vtkGetMacro(Normalization, int);
+  ///@}
+
+  ///@{
+  /**
+   * Computed features: mark the background in a `Foreground` array and draw the sample
+   * from the foreground (default on); BackgroundThreshold as in MultichannelFeatures.
+   */
+  vtkSetMacro(MaskBackground, bool);
+  vtkGetMacro(MaskBackground, bool);
+  vtkBooleanMacro(MaskBackground, bool);
+  vtkSetClampMacro(BackgroundThreshold, double, 0.0, 1.0);
+  vtkGetMacro(BackgroundThreshold, double);
+  ///@}
 
   enum MethodType
   {
@@ -152,10 +243,24 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestMultichannelData(
     vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  // Split runs: no ghost layers, every voxel is placed on its own.
-  int GetSplitGhostLayers() override { return 0; }
+  // Split runs: one ghost layer, the reach of the features computed from the channels (a
+  // Features array needs none; its ghost voxels are placed and cropped away).
+  int GetSplitGhostLayers() override { return 1; }
+  // Every numeric point array but the suite's outputs and ParaView's own.
+  std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd) override;
 
   void ResetResults();
+
+  int FeatureSet = FEATURES_AUTOMATIC;
+  bool Intensity = true;
+  bool Gradient = false;
+  bool GradientMagnitude = true;
+  bool Laplacian = false;
+  bool LocalMean = false;
+  bool LocalVariance = false;
+  int Normalization = ZSCORE;
+  bool MaskBackground = true;
+  double BackgroundThreshold = 0.0;
 
   int Method = PCA;
   int OutputDimension = 3;
@@ -179,6 +284,18 @@ private:
   // The input's `Foreground` mask (uint8, one per voxel) as the core reads it; nullptr when
   // there is none or it is not such a mask (warning).
   const unsigned char* ForegroundMask(vtkPointData* pd, std::size_t count);
+
+#ifndef __VTK_WRAP__
+  // The rows the core reads: the selected feature array (nullptr after an error), or, on
+  // the fused path, the features computed from the channels a slab at a time (prepared:
+  // their statistics are known) with the Foreground mask in `foreground` (MaskBackground).
+  // Collective in a split run from AllProcessesReady() on, which they call.
+  std::unique_ptr<mcv::FeatureRows> InputArrayRows(vtkImageData* image, std::size_t count, const char*& name);
+  std::unique_ptr<mcv::FeatureRows> ChannelRows(vtkImageData* image, mcv::ImageGrid grid, const mcv::GridPiece& piece,
+    vtkSmartPointer<vtkUnsignedCharArray>& foreground);
+  // True when this run computes the features from the channels.
+  bool UsesChannels(vtkPointData* pd);
+#endif
 
   struct vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

@@ -1,9 +1,10 @@
-// Best viewpoint, features and the background mask split over processes (threads standing in for MPI ranks) give
+// Best viewpoint, features (whole blocks, and slab by slab: FeatureBricks) and the background mask split over processes (threads standing in for MPI ranks) give
 // what one process gives for the whole volume: the property the MPI-parallel filters rely
 // on. Pieces are cut like vtkExtentTranslator's block mode (neighbouring pieces share one
 // boundary layer) and padded with ghost layers.
 #include "BackgroundMask.h"
 #include "BestViewpoint.h"
+#include "FeatureBricks.h"
 #include "FeatureVectors.h"
 #include "ThreadCommunicator.h"
 
@@ -206,6 +207,7 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
     }
     return v;
   };
+  for (bool slabs : { false, true })
   for (mcv::FeatureNormalization norm : { mcv::FeatureNormalization::ZScore, mcv::FeatureNormalization::MinMax })
   {
     mcv::FeatureOptions options;
@@ -230,8 +232,25 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
       o.communicator = &comm;
       o.piece = b.piece;
       std::vector<float> out(b.grid.voxelCount() * F);
-      mcv::computeFeatures(views(local), b.grid, o, { out.data(), b.grid.voxelCount(), F },
-        results[static_cast<std::size_t>(rank)]);
+      if (slabs)
+      {
+        // Slabs of 2 z slices of the block, with the statistics of the whole volume.
+        mcv::FeatureBricks bricks(views(local), b.grid, o, 2 * b.grid.dims[0] * b.grid.dims[1] * F * sizeof(float));
+        if (bricks.prepare(results[static_cast<std::size_t>(rank)]))
+        {
+          for (std::size_t s = 0; s < bricks.blockCount(); ++s)
+          {
+            const float* rows = bricks.block(s);
+            std::copy(rows, rows + (bricks.blockBegin(s + 1) - bricks.blockBegin(s)) * F,
+              out.begin() + static_cast<std::ptrdiff_t>(bricks.blockBegin(s) * F));
+          }
+        }
+      }
+      else
+      {
+        mcv::computeFeatures(views(local), b.grid, o, { out.data(), b.grid.voxelCount(), F },
+          results[static_cast<std::size_t>(rank)]);
+      }
       Extent inBlock;
       for (int a = 0; a < 6; ++a)
       {
@@ -253,7 +272,7 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
       {
         worst = std::max(worst, std::abs(double(got[i]) - expected[i]));
       }
-      EXPECT_LT(worst, 1e-5) << "rank " << r << " normalisation " << int(norm);
+      EXPECT_LT(worst, 1e-5) << "rank " << r << " normalisation " << int(norm) << " slabs " << slabs;
       for (std::size_t c = 0; c < serial.columnOffset.size(); ++c)
       {
         EXPECT_NEAR(res.columnOffset[c], serial.columnOffset[c], 1e-9 * (1 + std::abs(serial.columnOffset[c])));

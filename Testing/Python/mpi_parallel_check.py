@@ -10,7 +10,10 @@ Run twice on the real 3-channel brain (Colin27 ch2 + AAL + Brodmann):
       across processes): checks the view direction within 0.5 degrees, the features, the
       background mask (Foreground: from the channels' global ranges; the reference sample
       is drawn from its foreground) and the reduced coordinates of every voxel equal to the
-      reference (float tolerance; the mask exactly), and prints the times of each stage.
+      reference (float tolerance; the mask exactly), and prints the times of each stage;
+      the same for DimensionReduction on the channels (the fused path: each process
+      computes its piece's features a slab at a time and places its own voxels), whose
+      one-process coordinates also equal the chain's.
 With --thin, a 2 x 2 x 2 synthetic volume instead (PCA): more processes than the volume
 splits in, so some own no voxel and must take part with nothing.
 Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
@@ -60,6 +63,7 @@ def timed(proxy):
 
 # The arrays compared, with their array module type codes (float32, uint8).
 COMPARED = (("Features", "f"), ("Foreground", "B"), ("ReducedCoordinates", "f"))
+FUSED_COMPARED = (("Foreground", "B"), ("ReducedCoordinates", "f"))
 
 
 def values_of(vtk_array, typecode="f"):
@@ -112,8 +116,13 @@ def main():
     for key, value in (THIN_REDUCTION if args.thin else REDUCTION).items():
         setattr(reduction, key, value)
     timings["reduction"] = timed(reduction)
+    fused = DimensionReduction(Input=sub, FeatureSet="24D")
+    messages.append(T.Messages(fused))
+    for key, value in (THIN_REDUCTION if args.thin else REDUCTION).items():
+        setattr(fused, key, value)
+    timings["fused reduction"] = timed(fused)
     errors = [e for m in messages for e in m.errors]
-    C.check(not errors, "no error from the features or the reduction %s" % errors)
+    C.check(not errors, "no error from the features or the reductions %s" % errors)
 
     if args.reference:
         assert R == 1, "the reference run is one process"
@@ -128,6 +137,16 @@ def main():
         for name, code in COMPARED:
             with open(os.path.join(args.reference, name + ".values"), "wb") as f:
                 values_of(image.GetPointData().GetArray(name), code).tofile(f)
+        fused_image = fused.GetClientSideObject().GetOutputDataObject(0)
+        for name, code in FUSED_COMPARED:
+            with open(os.path.join(args.reference, "fused_" + name + ".values"), "wb") as f:
+                values_of(fused_image.GetPointData().GetArray(name), code).tofile(f)
+        chain = values_of(image.GetPointData().GetArray("ReducedCoordinates"))
+        own = values_of(fused_image.GetPointData().GetArray("ReducedCoordinates"))
+        span = max(chain) - min(chain)
+        worst = max(abs(a - b) for a, b in zip(chain, own))
+        C.check(len(own) == len(chain) and worst <= 1e-5 * span,
+                "fused coordinates equal the chain's (worst %.2e of a range %.3g)" % (worst, span))
         mask = values_of(image.GetPointData().GetArray("Foreground"), "B")
         C.check(args.thin or 0 < sum(mask) < len(mask), "the mask has background and foreground (%d of %d "
                 "voxels foreground)" % (sum(mask), len(mask)))
@@ -144,17 +163,28 @@ def main():
 
     # Every process's piece, brought to the first one, placed by its extent.
     dims = ref["dims"]
+    compare_pieces(C, reduction, R, dims, COMPARED, args.compare, "")
+    compare_pieces(C, fused, R, dims, FUSED_COMPARED, args.compare, "fused_")
+    print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
+    print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
+                                                for kv in ref["timings"].items()))
+    C.finish_parallel()
+
+
+def compare_pieces(C, proxy, R, dims, compared, folder, prefix):
+    """Every process's piece of `proxy`, brought to the first one and placed by its
+    extent, against the one-process arrays `compared` in `folder`."""
     total = dims[0] * dims[1] * dims[2]
-    pieces = [servermanager.Fetch(reduction, r) for r in range(R)]
-    print("piece extents: %s" % [tuple(p.GetExtent()) for p in pieces])
+    pieces = [servermanager.Fetch(proxy, r) for r in range(R)]
+    print("%s piece extents: %s" % (prefix, [tuple(p.GetExtent()) for p in pieces]))
     covered = set()
     for piece in pieces:
         covered.update(piece_indices(piece, dims))
-    C.check(len(covered) == total, "the %d pieces cover the %s volume (%d of %d voxels)"
-            % (R, dims, len(covered), total))
-    for name, code in COMPARED:
+    C.check(len(covered) == total, "%sthe %d pieces cover the %s volume (%d of %d voxels)"
+            % (prefix, R, dims, len(covered), total))
+    for name, code in compared:
         expected = array.array(code)
-        with open(os.path.join(args.compare, name + ".values"), "rb") as f:
+        with open(os.path.join(folder, prefix + name + ".values"), "rb") as f:
             expected.frombytes(f.read())
         span = max(expected) - min(expected)
         worst = 0.0
@@ -170,12 +200,8 @@ def main():
                 a = got[row * width:(row + 1) * width]
                 b = expected[v * width:(v + 1) * width]
                 worst = max(worst, max(abs(x - y) for x, y in zip(a, b)))
-        C.check(worst <= 1e-4 * span, "%s equal to one process on every voxel "
-                "(worst difference %.2e of a range %.3g)" % (name, worst, span))
-    print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
-    print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
-                                                for kv in ref["timings"].items()))
-    C.finish_parallel()
+        C.check(worst <= 1e-4 * span, "%s%s equal to one process on every voxel "
+                "(worst difference %.2e of a range %.3g)" % (prefix, name, worst, span))
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 """(h) The main job (Examples/transfer_function.py) on the real 3-channel brain, small
-settings (6D features, a 2000-voxel reference sample): features -> Isomap -> seeded
-widgets -> Gaussian TF Volume -> best viewpoint of the widgets' opacity.
+settings (6D features, a 2000-voxel reference sample): features -> Isomap (the fused
+DimensionReduction on the channels, the default chain) -> seeded widgets -> Gaussian TF
+Volume -> best viewpoint of the widgets' opacity.
 
-Checks the report (every stage timed, finite trustworthiness and variance retained, a
+Checks the report (every stage timed with its peak resident memory, finite trustworthiness and variance retained, a
 valid best direction perpendicular to the worst one), that every image is written and
 not blank, that the best-view image shows the seeded widgets' colours: pixels whose
 colour is near a widget's hue, for at least two widgets; that spectrum.png has its bars
@@ -49,9 +50,16 @@ if not C.check(os.path.exists(report_path), "report.json written"):
     C.finish()
 with open(report_path) as f:
     report = json.load(f)
-C.check(set(report["stage_seconds"]) >= {"read", "features", "reduction", "seed widgets",
+# The default chain is the fused one: the features are computed inside the reduction stage.
+C.check(report["chain"] == "fused" and "features" not in report["stage_seconds"] and
+        set(report["stage_seconds"]) >= {"read", "reduction", "seed widgets",
                                          "best viewpoint", "dual domain", "methods"},
         "report: every stage timed %s" % sorted(report["stage_seconds"]))
+C.check(set(report["stage_peak_rss_gib"]) == set(report["stage_seconds"]) and
+        0 < report["peak_rss_gib"] < 64 and
+        max(report["stage_peak_rss_gib"].values()) <= report["peak_rss_gib"],
+        "report: peak resident memory %.2f GiB, per stage %s"
+        % (report["peak_rss_gib"], report["stage_peak_rss_gib"]))
 C.check(0.0 < report["variance_retained"] <= 1.0 and 0.5 < report["trustworthiness"] <= 1.0,
         "report: variance retained %.3f, trustworthiness %.3f"
         % (report["variance_retained"], report["trustworthiness"]))

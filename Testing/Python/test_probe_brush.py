@@ -223,7 +223,7 @@ t1 = simple.OpenDataFile(T.data_file("ch2.nii.gz"))
 aal = simple.OpenDataFile(T.data_file("aal.nii.gz"))
 brodmann = simple.OpenDataFile(T.data_file("brodmann.nii.gz"))
 merged = simple.AppendAttributes(Input=[t1, aal, brodmann])
-feats, reduction = mce.reduce_multichannel(merged, "Isomap", "6D", output_dimension=3,
+feats, reduction = mce.reduce_multichannel(merged, "Isomap", "6D", output_dimension=3, keep_features=True,
                                            ReferenceSampleSize=2000, NumberOfLandmarks=200)
 reduction.UpdatePipeline()
 image = reduction.GetClientSideObject().GetOutputDataObject(0)  # pvbatch: the data itself

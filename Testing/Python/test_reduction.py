@@ -241,8 +241,15 @@ if hasattr(simple, "MultichannelFeatures"):
                                                        ReferenceSampleSize=3000)
     helper_red.UpdatePipeline()
     helper_coords = output_object(helper_red, 0).GetPointData().GetArray("ReducedCoordinates")
-    C.check(helper_coords is not None and helper_coords.GetNumberOfComponents() == 3,
-            "reduce_multichannel(volume, 'PCA', '6D'): MultichannelFeatures -> reduction")
+    C.check(helper_coords is not None and helper_coords.GetNumberOfComponents() == 3 and
+            helper_feats is helper_red,
+            "reduce_multichannel(volume, 'PCA', '6D'): one DimensionReduction (fused path)")
+    Delete(helper_red)
+    helper_feats, helper_red = mce.reduce_multichannel(merged, "PCA", "6D", 3, keep_features=True,
+                                                       ReferenceSampleSize=3000)
+    helper_red.UpdatePipeline()
+    C.check("Features" in helper_red.PointData.keys() and helper_feats is not helper_red,
+            "reduce_multichannel(..., keep_features=True): MultichannelFeatures -> reduction")
     Delete(helper_red)
     Delete(helper_feats)
 
@@ -299,6 +306,8 @@ def image_source(dims, components, value_expr, name="Features", array_type="vtkF
 
 def bad(label, source, error_words=None, warning_words=None, **props):
     source.UpdatePipeline()  # the Features domain needs the input's arrays
+    # The checks of a feature array (the channels' own path is test_fused_reduction's).
+    props.setdefault("FeatureSet", "Use input array")
     red = DimensionReduction(Input=source, **props)
     msgs = T.Messages(red)
     red.UpdatePipeline()
@@ -352,7 +361,7 @@ const_src = image_source((12, 10, 8), 4, "(7.0 if c == 2 else %s)" % smooth)
 bad("constant feature", const_src, warning_words=("constant",))
 int_src = image_source((12, 10, 8), 4, "int(10 * (%s))" % smooth, array_type="vtkShortArray")
 int_src.UpdatePipeline()
-red = DimensionReduction(Input=int_src)
+red = DimensionReduction(Input=int_src, FeatureSet="Use input array")
 msgs = T.Messages(red)
 red.UpdatePipeline()
 coords = output_object(red, 0).GetPointData().GetArray("ReducedCoordinates")

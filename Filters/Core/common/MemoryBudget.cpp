@@ -258,6 +258,13 @@ std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool 
   return addSat(coordinates, converted);
 }
 
+std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes)
+{
+  // Coordinates, the Foreground mask and the sample's stratum per row (one byte each).
+  const std::size_t coordinates = mulSat(mulSat(rows, columns(dimensions)), sizeof(float));
+  return addSat(addSat(coordinates, mulSat(rows, 2)), slabBytes);
+}
+
 std::size_t viewpointBytes(std::size_t voxels)
 {
   return mulSat(voxels, 2 * sizeof(float));
@@ -304,6 +311,14 @@ std::string checkReductionMemory(std::size_t rows, int features, int dimensions,
   }
   return checkMemory(reductionBytes(rows, features, dimensions, inputIsFloat), "DimensionReduction",
     forWhat, "");
+}
+
+std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes)
+{
+  return checkMemory(fusedReductionBytes(rows, dimensions, slabBytes), "DimensionReduction",
+    formatCount(rows) + " points x " + std::to_string(dimensions) + " coordinates (the " +
+      std::to_string(features) + " features computed a slab of " + formatBytes(slabBytes, true) + " at a time)",
+    "");
 }
 
 std::string checkViewpointMemory(std::size_t voxels)

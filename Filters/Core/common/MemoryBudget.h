@@ -32,6 +32,10 @@ std::size_t featureBytes(std::size_t voxels, int features);
 // DimensionReduction: the rows x dimensions float coordinates, plus a float copy of the
 // rows x features input when it is not float already.
 std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool inputIsFloat);
+// DimensionReduction on the channels (the fused path): the coordinates, one byte per row for
+// the Foreground mask and one for the sample's strata, and the working memory of one slab
+// of features (FeatureBricks::workingBytes); no rows x features array.
+std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes);
 // BestViewpoint: the opacity and the Harris response, one float each per voxel.
 std::size_t viewpointBytes(std::size_t voxels);
 
@@ -43,9 +47,10 @@ std::string checkMemory(std::size_t bytesNeeded, const char* what);
 std::string checkMemory(std::size_t bytesNeeded, const char* what, const std::string& forWhat,
   const std::string& advice);
 
-// The checks of the three filters (their estimate, their wording).
+// The checks of the filters (their estimate, their wording).
 std::string checkFeatureMemory(std::size_t voxels, int features);
 std::string checkReductionMemory(std::size_t rows, int features, int dimensions, bool inputIsFloat);
+std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes);
 std::string checkViewpointMemory(std::size_t voxels);
 
 } // namespace mcv

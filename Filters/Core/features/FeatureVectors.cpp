@@ -72,6 +72,28 @@ std::vector<std::string> featureNames(
   return names;
 }
 
+namespace
+{
+const char* normalizationName(FeatureNormalization n)
+{
+  switch (n)
+  {
+    case FeatureNormalization::ZScore:
+      return "ZScore";
+    case FeatureNormalization::MinMax:
+      return "MinMax";
+    case FeatureNormalization::None:
+      return "None";
+  }
+  return "?";
+}
+// True when the grid is one process's block of a larger volume (or holds ghost voxels).
+bool isPartialBlock(const GridPiece& piece, const ImageGrid& grid)
+{
+  return piece.wholeDims[0] > 0 && !piece.isWhole(grid);
+}
+} // namespace
+
 namespace detail
 {
 
@@ -344,37 +366,8 @@ void applyNormalizationCPU(const FeatureOutput& out, const unsigned char* mask,
   }
 }
 
-} // namespace detail
-
-namespace
-{
-
-using Clock = std::chrono::steady_clock;
-
-void report(const FeatureOptions& options, double fraction)
-{
-  if (options.progress)
-  {
-    options.progress(std::min(1.0, std::max(0.0, fraction)));
-  }
-}
-
-const char* normalizationName(FeatureNormalization n)
-{
-  switch (n)
-  {
-    case FeatureNormalization::ZScore:
-      return "ZScore";
-    case FeatureNormalization::MinMax:
-      return "MinMax";
-    case FeatureNormalization::None:
-      return "None";
-  }
-  return "?";
-}
-
 // Offsets and scales from the statistics; constant columns get scale 0.
-void normalizationFromStats(FeatureNormalization norm, const detail::ColumnStats& stats,
+void normalizationFromStats(FeatureNormalization norm, const ColumnStats& stats,
   FeatureResult& result)
 {
   const std::size_t F = stats.count.size();
@@ -412,6 +405,208 @@ void normalizationFromStats(FeatureNormalization norm, const detail::ColumnStats
     result.columnScale[c] = scale;
   }
 }
+
+ColumnStats mergeStats(const std::vector<ColumnStats>& parts)
+{
+  ColumnStats total;
+  total.reset(parts.empty() ? 0 : static_cast<int>(parts.front().count.size()));
+  for (const ColumnStats& p : parts)
+  {
+    for (std::size_t c = 0; c < total.count.size(); ++c)
+    {
+      total.count[c] += p.count[c];
+      total.sum[c] += p.sum[c];
+      total.min[c] = std::min(total.min[c], p.min[c]);
+      total.max[c] = std::max(total.max[c], p.max[c]);
+    }
+  }
+  // Chan's pairwise formula: each part's deviations about its own mean, plus its count
+  // times its mean's squared distance to the total mean.
+  for (const ColumnStats& p : parts)
+  {
+    for (std::size_t c = 0; c < total.count.size(); ++c)
+    {
+      if (p.count[c] > 0)
+      {
+        const double d = p.sum[c] / p.count[c] - total.sum[c] / total.count[c];
+        total.sqdev[c] += p.sqdev[c] + p.count[c] * d * d;
+      }
+    }
+  }
+  return total;
+}
+
+VolumeStats combineStats(const ColumnStats& local, const std::vector<double>& badPerChannel,
+  double badVoxels, double voxels, const Communicator* comm)
+{
+  VolumeStats total;
+  total.ready = true;
+  if (!isDistributed(comm))
+  {
+    total.columns = local;
+    total.badPerChannel = badPerChannel;
+    total.badVoxels = badVoxels;
+    total.voxels = voxels;
+    return total;
+  }
+  const std::size_t F = local.count.size(), C = badPerChannel.size();
+  std::vector<double> packed{ voxels, badVoxels };
+  packed.insert(packed.end(), badPerChannel.begin(), badPerChannel.end());
+  for (const std::vector<double>* column :
+    { &local.count, &local.sum, &local.min, &local.max, &local.sqdev })
+  {
+    packed.insert(packed.end(), column->begin(), column->end());
+  }
+  const std::vector<double> all = allGatherValues(*comm, packed);
+  const std::size_t stride = packed.size();
+  total.badPerChannel.assign(C, 0.0);
+  std::vector<ColumnStats> parts;
+  for (std::size_t r = 0; r * stride < all.size(); ++r)
+  {
+    const double* p = all.data() + r * stride;
+    total.voxels += p[0];
+    total.badVoxels += p[1];
+    for (std::size_t c = 0; c < C; ++c)
+    {
+      total.badPerChannel[c] += p[2 + c];
+    }
+    const double* column = p + 2 + C;
+    ColumnStats part;
+    for (std::vector<double>* to : { &part.count, &part.sum, &part.min, &part.max, &part.sqdev })
+    {
+      to->assign(column, column + F);
+      column += F;
+    }
+    parts.push_back(std::move(part));
+  }
+  total.columns = mergeStats(parts);
+  return total;
+}
+
+std::size_t overflowCount(const VolumeStats& volume)
+{
+  std::size_t overflow = 0;
+  const double validRows = volume.voxels - volume.badVoxels;
+  for (std::size_t c = 0; c < volume.columns.count.size(); ++c)
+  {
+    overflow += static_cast<std::size_t>(validRows - volume.columns.count[c]);
+  }
+  return overflow;
+}
+
+void addStatsWarnings(const VolumeStats& volume, const FeatureOptions& options, std::size_t overflow,
+  FeatureResult& result)
+{
+  if (volume.badVoxels > 0)
+  {
+    std::ostringstream os;
+    os << result.nonFiniteVoxels << " voxel(s) hold NaN/Inf in some channel (";
+    bool first = true;
+    for (std::size_t c = 0; c < options.channelNames.size(); ++c)
+    {
+      if (volume.badPerChannel[c] > 0)
+      {
+        os << (first ? "" : ", ") << options.channelNames[c] << ": "
+           << static_cast<std::size_t>(volume.badPerChannel[c]);
+        first = false;
+      }
+    }
+    os << "): their features are 0 and they are left out of the normalisation; as "
+          "neighbours they count as the centre voxel's value.";
+    result.warnings.push_back(os.str());
+  }
+  if (overflow > 0)
+  {
+    // Raw features that overflow float32 (finite input, e.g. values near 1e38): per column.
+    std::ostringstream os;
+    os << overflow << " feature value(s) overflow float32 and are set to 0 (";
+    const double validRows = volume.voxels - volume.badVoxels;
+    bool first = true;
+    for (std::size_t c = 0; c < volume.columns.count.size(); ++c)
+    {
+      const auto inColumn = static_cast<std::size_t>(validRows - volume.columns.count[c]);
+      if (inColumn > 0)
+      {
+        os << (first ? "" : ", ") << result.names[c] << ": " << inColumn;
+        first = false;
+      }
+    }
+    os << "); the other voxels' normalisation leaves them out. The channel's values are too "
+          "large for float32 features: rescale the channel (e.g. a Calculator multiplying "
+          "it by 1e-30) and apply again.";
+    result.warnings.push_back(os.str());
+  }
+  if (!result.constantColumns.empty())
+  {
+    std::ostringstream os;
+    os << result.constantColumns.size() << " feature column(s) are constant";
+    if (volume.badVoxels == volume.voxels)
+    {
+      os << " (no voxel is finite in every channel)";
+    }
+    os << " and are left at 0 under " << normalizationName(options.normalization)
+       << " normalisation: ";
+    for (std::size_t i = 0; i < result.constantColumns.size(); ++i)
+    {
+      os << (i ? ", " : "") << result.names[result.constantColumns[i]];
+    }
+    os << ".";
+    result.warnings.push_back(os.str());
+  }
+}
+
+std::string checkInput(const std::vector<ChannelView>& channels, const ImageGrid& grid,
+  const FeatureOptions& options)
+{
+  if (channels.empty())
+  {
+    return "no channel: the features need at least one channel";
+  }
+  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
+  {
+    return "the input volume is empty (no voxels)";
+  }
+  if (!grid.spacingProblem().empty())
+  {
+    return grid.spacingProblem();
+  }
+  for (std::size_t c = 0; c < channels.size(); ++c)
+  {
+    const ChannelView& ch = channels[c];
+    if (!ch.data || ch.numComponents < 1 || ch.component < 0 || ch.component >= ch.numComponents)
+    {
+      return "channel " + std::to_string(c + 1) + " has no data or an invalid component (" +
+        std::to_string(ch.component) + " of " + std::to_string(ch.numComponents) + ")";
+    }
+  }
+  if (!options.channelNames.empty() && options.channelNames.size() != channels.size())
+  {
+    return "got " + std::to_string(options.channelNames.size()) + " channel names for " +
+      std::to_string(channels.size()) + " channels";
+  }
+  const FeatureSelection sel = FeatureSelection::forPreset(options.preset, options.custom);
+  if (sel.perChannel() == 0)
+  {
+    return "no feature selected (FeatureSet Custom with every feature turned off)";
+  }
+  return "";
+}
+
+} // namespace detail
+
+namespace
+{
+
+using Clock = std::chrono::steady_clock;
+
+void report(const FeatureOptions& options, double fraction)
+{
+  if (options.progress)
+  {
+    options.progress(std::min(1.0, std::max(0.0, fraction)));
+  }
+}
+
 
 // The steps of the computation on one device; the GPU one throws nothing and reports
 // failure through `error`, after which the CPU one redoes everything.
@@ -466,11 +661,6 @@ struct GpuBackend
 };
 #endif
 
-// True when the grid is one process's block of a larger volume (or holds ghost voxels).
-bool isPartialBlock(const GridPiece& piece, const ImageGrid& grid)
-{
-  return piece.wholeDims[0] > 0 && !piece.isWhole(grid);
-}
 
 // 1 for the voxels of the block this process does not own (ghosts, shared boundary).
 std::vector<unsigned char> notOwnedMask(const GridPiece& piece, const ImageGrid& grid)
@@ -484,81 +674,11 @@ std::vector<unsigned char> notOwnedMask(const GridPiece& piece, const ImageGrid&
   return mask;
 }
 
-// Statistics of the whole volume: this block's when serial; when split over processes,
-// every process's owned voxels combined (Chan's pairwise formula for the squared
-// deviations). Kept across a GPU fallback, so that a GPU failure after the exchange redoes
-// only local work: a second exchange would leave the other processes waiting.
-struct VolumeStats
-{
-  bool ready = false;
-  detail::ColumnStats columns;
-  std::vector<double> badPerChannel;
-  double badVoxels = 0, voxels = 0;
-};
-
-VolumeStats combineStats(const detail::ColumnStats& local, const std::vector<double>& badPerChannel,
-  double badVoxels, double voxels, const Communicator* comm)
-{
-  VolumeStats total;
-  total.ready = true;
-  if (!isDistributed(comm))
-  {
-    total.columns = local;
-    total.badPerChannel = badPerChannel;
-    total.badVoxels = badVoxels;
-    total.voxels = voxels;
-    return total;
-  }
-  const std::size_t F = local.count.size(), C = badPerChannel.size();
-  std::vector<double> packed{ voxels, badVoxels };
-  packed.insert(packed.end(), badPerChannel.begin(), badPerChannel.end());
-  for (const std::vector<double>* column :
-    { &local.count, &local.sum, &local.min, &local.max, &local.sqdev })
-  {
-    packed.insert(packed.end(), column->begin(), column->end());
-  }
-  const std::vector<double> all = allGatherValues(*comm, packed);
-  const std::size_t stride = packed.size();
-  total.columns.reset(static_cast<int>(F));
-  total.badPerChannel.assign(C, 0.0);
-  for (std::size_t r = 0; r * stride < all.size(); ++r)
-  {
-    const double* p = all.data() + r * stride;
-    total.voxels += p[0];
-    total.badVoxels += p[1];
-    for (std::size_t c = 0; c < C; ++c)
-    {
-      total.badPerChannel[c] += p[2 + c];
-    }
-    const double* count = p + 2 + C;
-    for (std::size_t c = 0; c < F; ++c)
-    {
-      total.columns.count[c] += count[c];
-      total.columns.sum[c] += count[F + c];
-      total.columns.min[c] = std::min(total.columns.min[c], count[2 * F + c]);
-      total.columns.max[c] = std::max(total.columns.max[c], count[3 * F + c]);
-    }
-  }
-  for (std::size_t r = 0; r * stride < all.size(); ++r)
-  {
-    const double* count = all.data() + r * stride + 2 + C;
-    for (std::size_t c = 0; c < F; ++c)
-    {
-      if (count[c] > 0)
-      {
-        const double d = count[F + c] / count[c] - total.columns.sum[c] / total.columns.count[c];
-        total.columns.sqdev[c] += count[4 * F + c] + count[c] * d * d;
-      }
-    }
-  }
-  return total;
-}
-
 // Runs every step on `backend`. Returns false (with `error`) only on a backend failure.
 template <class Backend>
 bool run(Backend& backend, const std::vector<ChannelView>& channels, const ImageGrid& grid,
   const FeatureOptions& options, const FeatureSelection& sel, const FeatureOutput& out,
-  VolumeStats& volume, FeatureResult& result, std::string* error)
+  detail::VolumeStats& volume, FeatureResult& result, std::string* error)
 {
   const std::size_t n = grid.voxelCount();
   const int perChannel = sel.perChannel();
@@ -640,21 +760,13 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   if (!volume.ready)
   {
     const double voxels = static_cast<double>(partial ? options.piece.ownedCount() : n);
-    volume = combineStats(stats, badPerChannel, static_cast<double>(badVoxels), voxels,
+    volume = detail::combineStats(stats, badPerChannel, static_cast<double>(badVoxels), voxels,
       options.communicator);
   }
   report(options, 0.9);
-  normalizationFromStats(options.normalization, volume.columns, result);
+  detail::normalizationFromStats(options.normalization, volume.columns, result);
   result.nonFiniteVoxels = static_cast<std::size_t>(volume.badVoxels);
-  // Raw features that overflow float32 (finite input, e.g. values near 1e38): per column.
-  std::vector<std::size_t> overflowPerColumn(volume.columns.count.size(), 0);
-  std::size_t overflow = 0;
-  const double validRows = volume.voxels - volume.badVoxels;
-  for (std::size_t c = 0; c < volume.columns.count.size(); ++c)
-  {
-    overflowPerColumn[c] = static_cast<std::size_t>(validRows - volume.columns.count[c]);
-    overflow += overflowPerColumn[c];
-  }
+  const std::size_t overflow = detail::overflowCount(volume);
   // The output is zeroed on non-finite voxels only (ghost and shared voxels get values).
   if (partial && !backend.setMask(maskPtr, error))
   {
@@ -673,59 +785,7 @@ bool run(Backend& backend, const std::vector<ChannelView>& channels, const Image
   }
 
   // Warnings (only once the device has succeeded, so a fallback does not repeat them).
-  if (volume.badVoxels > 0)
-  {
-    std::ostringstream os;
-    os << result.nonFiniteVoxels << " voxel(s) hold NaN/Inf in some channel (";
-    bool first = true;
-    for (std::size_t c = 0; c < channels.size(); ++c)
-    {
-      if (volume.badPerChannel[c] > 0)
-      {
-        os << (first ? "" : ", ") << options.channelNames[c] << ": "
-           << static_cast<std::size_t>(volume.badPerChannel[c]);
-        first = false;
-      }
-    }
-    os << "): their features are 0 and they are left out of the normalisation; as "
-          "neighbours they count as the centre voxel's value.";
-    result.warnings.push_back(os.str());
-  }
-  if (overflow > 0)
-  {
-    std::ostringstream os;
-    os << overflow << " feature value(s) overflow float32 and are set to 0 (";
-    bool first = true;
-    for (std::size_t c = 0; c < overflowPerColumn.size(); ++c)
-    {
-      if (overflowPerColumn[c] > 0)
-      {
-        os << (first ? "" : ", ") << result.names[c] << ": " << overflowPerColumn[c];
-        first = false;
-      }
-    }
-    os << "); the other voxels' normalisation leaves them out. The channel's values are too "
-          "large for float32 features: rescale the channel (e.g. a Calculator multiplying "
-          "it by 1e-30) and apply again.";
-    result.warnings.push_back(os.str());
-  }
-  if (!result.constantColumns.empty())
-  {
-    std::ostringstream os;
-    os << result.constantColumns.size() << " feature column(s) are constant";
-    if (volume.badVoxels == volume.voxels)
-    {
-      os << " (no voxel is finite in every channel)";
-    }
-    os << " and are left at 0 under " << normalizationName(options.normalization)
-       << " normalisation: ";
-    for (std::size_t i = 0; i < result.constantColumns.size(); ++i)
-    {
-      os << (i ? ", " : "") << result.names[result.constantColumns[i]];
-    }
-    os << ".";
-    result.warnings.push_back(os.str());
-  }
+  detail::addStatsWarnings(volume, options, overflow, result);
   return true;
 }
 
@@ -737,36 +797,10 @@ namespace
 std::string checkArguments(const std::vector<ChannelView>& channels, const ImageGrid& grid,
   const FeatureOptions& options, const FeatureOutput& out)
 {
-  if (channels.empty())
+  const std::string error = detail::checkInput(channels, grid, options);
+  if (!error.empty())
   {
-    return "no channel: the features need at least one channel";
-  }
-  if (grid.dims[0] <= 0 || grid.dims[1] <= 0 || grid.dims[2] <= 0)
-  {
-    return "the input volume is empty (no voxels)";
-  }
-  if (!grid.spacingProblem().empty())
-  {
-    return grid.spacingProblem();
-  }
-  for (std::size_t c = 0; c < channels.size(); ++c)
-  {
-    const ChannelView& ch = channels[c];
-    if (!ch.data || ch.numComponents < 1 || ch.component < 0 || ch.component >= ch.numComponents)
-    {
-      return "channel " + std::to_string(c + 1) + " has no data or an invalid component (" +
-        std::to_string(ch.component) + " of " + std::to_string(ch.numComponents) + ")";
-    }
-  }
-  if (!options.channelNames.empty() && options.channelNames.size() != channels.size())
-  {
-    return "got " + std::to_string(options.channelNames.size()) + " channel names for " +
-      std::to_string(channels.size()) + " channels";
-  }
-  const FeatureSelection sel = FeatureSelection::forPreset(options.preset, options.custom);
-  if (sel.perChannel() == 0)
-  {
-    return "no feature selected (FeatureSet Custom with every feature turned off)";
+    return error;
   }
   const int F = featureCount(channels.size(), options);
   const std::size_t n = grid.voxelCount();
@@ -815,7 +849,7 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
     result.warnings.push_back(warning);
   }
   std::string error;
-  VolumeStats volume;
+  detail::VolumeStats volume;
 #ifdef MCV_HAS_CUDA
   if (result.deviceUsed == Device::GPU)
   {
@@ -841,7 +875,7 @@ bool computeFeatures(const std::vector<ChannelView>& channelsIn, const ImageGrid
   // would leave the other processes waiting).
   if (!isDistributed(options.communicator))
   {
-    volume = VolumeStats();
+    volume = detail::VolumeStats();
   }
   CpuBackend cpu{ out };
   run(cpu, channels, grid, options, sel, out, volume, result, &error);

@@ -167,6 +167,41 @@ void columnStatsCPU(
 // result is not finite.
 void applyNormalizationCPU(const FeatureOutput& out, const unsigned char* mask,
   const std::vector<double>& offset, const std::vector<double>& scale);
+
+// The checks of the channels, grid and options of computeFeatures; "" when usable.
+std::string checkInput(const std::vector<ChannelView>& channels, const ImageGrid& grid,
+  const FeatureOptions& options);
+
+// Statistics of the whole volume (every voxel counted once, whatever the split).
+struct VolumeStats
+{
+  bool ready = false;
+  ColumnStats columns;
+  std::vector<double> badPerChannel;
+  double badVoxels = 0, voxels = 0;
+};
+
+// The statistics of parts of the volume (slabs, processes) as one: sums, extremes, and the
+// squared deviations by Chan's pairwise formula.
+ColumnStats mergeStats(const std::vector<ColumnStats>& parts);
+
+// Collective: this process's statistics combined with every other process's (serial: as
+// they are).
+VolumeStats combineStats(const ColumnStats& local, const std::vector<double>& badPerChannel,
+  double badVoxels, double voxels, const Communicator* comm);
+
+// Offsets and scales of the normalisation (result.columnOffset/columnScale); constant
+// columns get scale 0 (result.constantColumns).
+void normalizationFromStats(
+  FeatureNormalization norm, const ColumnStats& stats, FeatureResult& result);
+
+// Raw feature values that overflowed float32 (finite voxels whose value is not counted).
+std::size_t overflowCount(const VolumeStats& volume);
+
+// The warnings of the statistics: non-finite voxels per channel, overflows, constant
+// columns (options.channelNames and result.names filled).
+void addStatsWarnings(const VolumeStats& volume, const FeatureOptions& options, std::size_t overflow,
+  FeatureResult& result);
 } // namespace detail
 
 } // namespace mcv

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstring>
 #include <exception>
+#include <functional>
 #include <limits>
 #include <new>
 #include <numeric>
@@ -66,21 +67,17 @@ std::string dimsText(const std::array<int, 3>& d)
 }
 
 // This process's rows against their description (local): an error when they do not fit.
-std::string checkRows(const FeatureMatrix& f, const ReductionOptions& o)
+std::string checkRows(const FeatureRows& f, const ReductionOptions& o)
 {
-  if (f.rows > 0 && f.data == nullptr)
-  {
-    return "The feature array has " + std::to_string(f.rows) + " rows but no data.";
-  }
   if (!hasGrid(o))
   {
     return {};
   }
   const GridPiece& p = o.piece;
   const ImageGrid& b = o.block;
-  if (b.voxelCount() != f.rows)
+  if (b.voxelCount() != f.rows())
   {
-    return "The block of " + dimsText(b.dims) + " voxels does not match the " + std::to_string(f.rows) +
+    return "The block of " + dimsText(b.dims) + " voxels does not match the " + std::to_string(f.rows()) +
       " feature rows.";
   }
   for (int a = 0; a < 3; ++a)
@@ -101,13 +98,13 @@ std::string checkRows(const FeatureMatrix& f, const ReductionOptions& o)
 
 // Collective: the processes must agree on the number of features and on the volume, or their
 // statistics would not add up. Empty when they do.
-std::string checkAgreement(const FeatureMatrix& f, const ReductionOptions& o, const Communicator* comm)
+std::string checkAgreement(const FeatureRows& f, const ReductionOptions& o, const Communicator* comm)
 {
   if (!isDistributed(comm))
   {
     return {};
   }
-  const std::vector<double> mine{ static_cast<double>(f.cols), hasGrid(o) ? 1.0 : 0.0,
+  const std::vector<double> mine{ static_cast<double>(f.cols()), hasGrid(o) ? 1.0 : 0.0,
     static_cast<double>(o.piece.wholeDims[0]), static_cast<double>(o.piece.wholeDims[1]),
     static_cast<double>(o.piece.wholeDims[2]), o.sampleMask ? 1.0 : 0.0 };
   std::vector<double> lowest = mine, highest = mine;
@@ -132,7 +129,7 @@ std::string checkAgreement(const FeatureMatrix& f, const ReductionOptions& o, co
 
 // The rows' layout. Plain rows of several processes follow one another in rank order
 // (collective then).
-RowLayout makeLayout(const FeatureMatrix& f, const ReductionOptions& o, const Communicator* comm)
+RowLayout makeLayout(const FeatureRows& f, const ReductionOptions& o, const Communicator* comm)
 {
   if (hasGrid(o))
   {
@@ -141,13 +138,13 @@ RowLayout makeLayout(const FeatureMatrix& f, const ReductionOptions& o, const Co
   std::int64_t first = 0;
   if (isDistributed(comm))
   {
-    const std::vector<std::uint64_t> rows = allGatherValues(*comm, std::vector<std::uint64_t>{ f.rows });
+    const std::vector<std::uint64_t> rows = allGatherValues(*comm, std::vector<std::uint64_t>{ f.rows() });
     for (int r = 0; r < comm->rank(); ++r)
     {
       first += static_cast<std::int64_t>(rows[static_cast<std::size_t>(r)]);
     }
   }
-  return RowLayout::plain(f.rows, first);
+  return RowLayout::plain(f.rows(), first);
 }
 
 // ---- Column statistics -----------------------------------------------------------------
@@ -227,13 +224,23 @@ struct ColumnStats
   }
 };
 
-// One pass over the owned rows. Every combination is exact or a min/max, so neither the
-// threads nor the split change the result.
-ColumnStats localStats(const FeatureMatrix& f, const RowLayout& rows)
+// One pass over the owned rows, block by block. Every combination is exact or a min/max, so
+// neither the threads, the blocks nor the split change the result.
+// `progress` (optional) hears of each block, so that a long fused pass can be followed and
+// aborted.
+ColumnStats localStats(FeatureRows& f, const RowLayout& rows, const std::function<void(double)>& progress)
 {
-  const int D = f.cols;
+  const int D = f.cols();
   ColumnStats total(D);
   const long long runs = static_cast<long long>(rows.runCount());
+  for (std::size_t b = 0; b < f.blockCount(); ++b)
+  {
+    if (progress && f.blockCount() > 1)
+    {
+      progress(static_cast<double>(b) / static_cast<double>(f.blockCount()));
+    }
+    const std::size_t begin = f.blockBegin(b), end = f.blockBegin(b + 1);
+    const float* block = f.block(b);
 #pragma omp parallel
   {
     ColumnStats mine(D);
@@ -243,7 +250,11 @@ ColumnStats localStats(const FeatureMatrix& f, const RowLayout& rows)
       const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
       for (std::size_t t = 0; t < run.count; ++t)
       {
-        const float* row = f.row(run.row + t);
+        if (run.row + t < begin || run.row + t >= end)
+        {
+          continue;
+        }
+        const float* row = block + (run.row + t - begin) * static_cast<std::size_t>(D);
         for (int c = 0; c < D; ++c)
         {
           const float v = row[c];
@@ -262,6 +273,7 @@ ColumnStats localStats(const FeatureMatrix& f, const RowLayout& rows)
     }
 #pragma omp critical(mcvColumnStats)
     total.merge(mine);
+  }
   }
   return total;
 }
@@ -562,7 +574,8 @@ Fit fitOnFirst(const RowMatrixF& refX, const ReductionOptions& options, const Co
 
 // ---- The whole ------------------------------------------------------------------------------
 
-ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& options)
+// `inputError`: what the caller found wrong with its rows (shared like the other checks).
+ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
 {
   const auto start = Clock::now();
   const Communicator* comm = options.communicator;
@@ -618,7 +631,7 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   report("Checking features", 0.0);
 
   // --- The rows of every process ----------------------------------------------------------
-  std::string error = sharedError(comm, checkRows(features, options));
+  std::string error = sharedError(comm, inputError.empty() ? checkRows(features, options) : inputError);
   if (error.empty())
   {
     error = checkAgreement(features, options, comm);
@@ -643,16 +656,17 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
     return fail("The processes own " + std::to_string(N) + " voxels of a volume of " +
       dimsText(options.piece.wholeDims) + ": every voxel must be owned by exactly one process.");
   }
-  if (features.cols < 2)
+  const int cols = features.cols();
+  if (cols < 2)
   {
-    return fail("The feature array has " + std::to_string(features.cols) +
+    return fail("The feature array has " + std::to_string(cols) +
       " component(s): nothing to reduce (at least 2 features are needed).");
   }
 
   // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
   // would leave holes in the output. The message says where the first one is.
-  ColumnStats stats(features.cols);
-  error = runShared(comm, [&] { stats = localStats(features, rows); });
+  ColumnStats stats(cols);
+  error = runShared(comm, [&] { stats = localStats(features, rows, [&](double f) { report("Column statistics", 0.03 * f); }); });
   if (!error.empty())
   {
     return fail(error);
@@ -662,13 +676,13 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   {
     const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
     return fail("The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
-      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / features.cols) +
-      ", component " + std::to_string(first % features.cols) + "; replace or mask them before reducing.");
+      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / cols) +
+      ", component " + std::to_string(first % cols) + "; replace or mask them before reducing.");
   }
   std::vector<int> used;
   std::vector<double> usedMean;
   std::string dropped;
-  for (int c = 0; c < features.cols; ++c)
+  for (int c = 0; c < cols; ++c)
   {
     const double range = stats.maximum[c] - stats.minimum[c];
     const double scale = std::max(std::abs(stats.maximum[c]), std::abs(stats.minimum[c]));
@@ -687,11 +701,11 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   }
   if (used.size() < 2)
   {
-    return fail("Only " + std::to_string(used.size()) + " of the " + std::to_string(features.cols) +
+    return fail("Only " + std::to_string(used.size()) + " of the " + std::to_string(cols) +
       " feature components vary: nothing to reduce.");
   }
   result.usedColumns = used;
-  const bool allColumns = static_cast<int>(used.size()) == features.cols;
+  const bool allColumns = static_cast<int>(used.size()) == cols;
   const std::vector<int> gatherColumns = allColumns ? std::vector<int>{} : used;
 
   std::string deviceWarning;
@@ -724,7 +738,8 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
   so.size = options.referenceSampleSize;
   so.seed = options.randomSeed;
   so.eligible = mask;
-  ReferenceSample sample = drawReferenceSample(features.data, features.cols, rows, used, usedMean, so, comm);
+  so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
+  ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
   if (!sample.error.empty())
   {
     return fail("Drawing the reference sample: " + sample.error);
@@ -766,49 +781,73 @@ ReductionResult reduce(const FeatureMatrix& features, const ReductionOptions& op
 
   // --- Every row of this process (local) -----------------------------------------------------
   const auto placeStart = Clock::now();
+  const std::size_t n = features.rows();
   float* coordinates = options.coordinatesOutput;
   if (!coordinates)
   {
-    result.coordinates.resize(features.rows * static_cast<std::size_t>(d));
+    result.coordinates.resize(n * static_cast<std::size_t>(d));
     coordinates = result.coordinates.data();
   }
-  if (options.method == ReductionMethod::PCA)
+  if (options.method == ReductionMethod::PCA && options.device == Device::GPU)
   {
-    report("PCA projection", 0.6);
-    if (options.device == Device::GPU)
-    {
-      result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
-    }
-    projectPCA(fit.pca, features.data, features.rows, features.cols, gatherColumns, coordinates);
+    result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
   }
-  else if (!isDistributed(comm) && !hasGrid(options) && M == features.rows)
+  if (options.method != ReductionMethod::PCA && !isDistributed(comm) && !hasGrid(options) && M == n)
   {
     // Every row is a reference point (M distinct indices of [0, rows) in order): its
     // embedding is the fit's, which the placement would return after a kNN search per row.
     std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates);
   }
-  else if (features.rows > 0)
+  else
   {
-    OutOfSampleOptions oo;
-    oo.device = device;
-    oo.progress = within(0.6, 0.95);
-    const OutOfSampleReport placed = placeOutOfSample(refX, fit.coordinates, features.data, features.rows,
-      features.cols, gatherColumns, coordinates, oo);
-    result.deviceUsed = placed.deviceUsed;
-    result.warnings.insert(result.warnings.end(), placed.warnings.begin(), placed.warnings.end());
+    // Block by block (one block for a matrix in memory; the fused path computes each
+    // block's features here): progress after each, so an abort stops between blocks.
+    const std::size_t blocks = features.blockCount();
+    const char* const stage = options.method == ReductionMethod::PCA ? "PCA projection" : "Out-of-sample placement";
+    for (std::size_t b = 0; b < blocks; ++b)
+    {
+      const std::size_t begin = features.blockBegin(b), count = features.blockBegin(b + 1) - begin;
+      const double lo = 0.6 + 0.35 * static_cast<double>(begin) / static_cast<double>(std::max<std::size_t>(1, n));
+      const double hi = 0.6 + 0.35 * static_cast<double>(begin + count) / static_cast<double>(std::max<std::size_t>(1, n));
+      report(stage, lo);
+      const float* rowsOfBlock = features.block(b);
+      float* out = coordinates + begin * static_cast<std::size_t>(d);
+      if (count == 0)
+      {
+        continue;
+      }
+      if (options.method == ReductionMethod::PCA)
+      {
+        projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
+        continue;
+      }
+      OutOfSampleOptions oo;
+      oo.device = device;
+      oo.progress = within(lo, hi);
+      const OutOfSampleReport placed =
+        placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols, gatherColumns, out, oo);
+      result.deviceUsed = placed.deviceUsed;
+      for (const std::string& w : placed.warnings)
+      {
+        if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end())
+        {
+          result.warnings.push_back(w); // once, not once per block
+        }
+      }
+    }
   }
   result.placeMs = msSince(placeStart);
   result.totalMs = msSince(start);
   report("Done", 1.0);
   return result;
 }
-} // namespace
 
-ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOptions& options)
+// reduce() with its failures (memory, exceptions) as errors.
+ReductionResult reduceGuarded(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
 {
   try
   {
-    return reduce(features, options);
+    return reduce(features, options, inputError);
   }
   catch (const std::bad_alloc&)
   {
@@ -822,6 +861,21 @@ ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOp
     r.error = std::string("Dimension reduction failed: ") + e.what();
     return r;
   }
+}
+} // namespace
+
+ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOptions& options)
+{
+  MatrixRows rows(features.data, features.rows, features.cols);
+  return reduceGuarded(rows, options,
+    features.rows > 0 && features.data == nullptr
+      ? "The feature array has " + std::to_string(features.rows) + " rows but no data."
+      : std::string());
+}
+
+ReductionResult reduceDimension(FeatureRows& features, const ReductionOptions& options)
+{
+  return reduceGuarded(features, options, {});
 }
 
 } // namespace mcv

@@ -8,6 +8,7 @@
 
 #include "Communicator.h"
 #include "Device.h"
+#include "FeatureRows.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
 
@@ -108,5 +109,11 @@ struct ReductionResult
 // processes: errors, warnings, the spectrum and trustworthiness are the same on all of them;
 // coordinates are each process's own rows.
 ReductionResult reduceDimension(const FeatureMatrix& features, const ReductionOptions& options);
+
+// The same on rows read block by block (FeatureRows.h): the fused path, whose features are
+// computed from the channels a block at a time (FeatureBricks.h) and never stored whole.
+// Statistics, strata and placement each walk the blocks once; the sample gathers its few
+// rows. Progress is reported between blocks of the placement.
+ReductionResult reduceDimension(FeatureRows& features, const ReductionOptions& options);
 
 } // namespace mcv

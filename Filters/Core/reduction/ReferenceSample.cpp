@@ -188,10 +188,10 @@ std::vector<T> collectOwned(const RowLayout& rows, const unsigned char* eligible
 class Sampler
 {
 public:
-  Sampler(const float* data, int dim, const RowLayout& rows, const std::vector<int>& columns,
+  Sampler(FeatureRows& source, const RowLayout& rows, const std::vector<int>& columns,
     const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm)
-    : data_(data)
-    , dim_(dim)
+    : source_(source)
+    , dim_(source.cols())
     , rows_(rows)
     , columns_(columns)
     , center_(center)
@@ -201,7 +201,7 @@ public:
   {
     if (columns_.empty())
     {
-      columns_.resize(static_cast<std::size_t>(dim));
+      columns_.resize(static_cast<std::size_t>(dim_));
       std::iota(columns_.begin(), columns_.end(), 0);
     }
     D_ = columns_.size();
@@ -213,20 +213,20 @@ public:
   ReferenceSample draw();
 
 private:
-  float norm(std::size_t row) const;
-  void copyVector(std::size_t row, float* out) const;
-  std::vector<float> edgeSubsample(double total) const;
+  float norm(const float* x, bool fullRow) const;
+  std::vector<float> usedVectors(const std::vector<std::size_t>& rows);
+  std::vector<float> edgeSubsample(double total);
   std::vector<float> strataEdges(std::vector<float> norms) const;
   std::vector<double> assignStrata(const std::vector<float>& edges);
   std::vector<std::size_t> firstWants(const std::vector<double>& mine, const std::vector<double>& all) const;
   void fill(const std::vector<std::size_t>& want);
   void collect(const std::vector<std::size_t>& which);
-  std::vector<Entry> distinctInKeyOrder(std::vector<Entry> found) const;
-  ReferenceSample everyDistinctVector() const;
-  std::vector<char> propose(const std::vector<std::size_t>& want) const;
+  std::vector<Entry> distinctInKeyOrder(std::vector<Entry> found);
+  ReferenceSample everyDistinctVector();
+  std::vector<char> propose(const std::vector<std::size_t>& want);
   bool decide(const std::vector<char>& all, std::vector<bool>& more, ReferenceSample& out) const;
 
-  const float* data_;
+  FeatureRows& source_;
   int dim_;
   const RowLayout& rows_;
   std::vector<int> columns_;
@@ -240,39 +240,55 @@ private:
   std::vector<LocalList> lists_;      // 0: every voxel; 1 + s: stratum s
 };
 
-float Sampler::norm(std::size_t row) const
+// The norm of the used, centred features: of a row of dim_ features, or of D_ used ones.
+float Sampler::norm(const float* x, bool fullRow) const
 {
-  const float* x = data_ + row * static_cast<std::size_t>(dim_);
   double s = 0;
   for (std::size_t k = 0; k < D_; ++k)
   {
-    const double v = x[columns_[k]] - (center_.empty() ? 0.0 : center_[k]);
+    const double v = x[fullRow ? static_cast<std::size_t>(columns_[k]) : k] - (center_.empty() ? 0.0 : center_[k]);
     s += v * v;
   }
   return static_cast<float>(std::sqrt(s));
 }
 
-void Sampler::copyVector(std::size_t row, float* out) const
+// The used features of `rows` (rows.size() x D_), gathered from the source in one call: for
+// the fused path that computes the features of just these voxels.
+std::vector<float> Sampler::usedVectors(const std::vector<std::size_t>& rows)
 {
-  const float* x = data_ + row * static_cast<std::size_t>(dim_);
-  for (std::size_t k = 0; k < D_; ++k)
+  std::vector<float> full(rows.size() * static_cast<std::size_t>(dim_));
+  source_.gather(rows.data(), rows.size(), full.data());
+  std::vector<float> used(rows.size() * D_);
+  for (std::size_t i = 0; i < rows.size(); ++i)
   {
-    out[k] = x[columns_[k]];
+    for (std::size_t k = 0; k < D_; ++k)
+    {
+      used[i * D_ + k] = full[i * static_cast<std::size_t>(dim_) + static_cast<std::size_t>(columns_[k])];
+    }
   }
+  return used;
 }
 
 // The norms of the voxels whose key is below a limit (about kEdgeSubsample voxels of all):
 // chosen by the keys alone, so every split measures the strata edges on the same voxels;
 // small enough to gather on every process.
-std::vector<float> Sampler::edgeSubsample(double total) const
+std::vector<float> Sampler::edgeSubsample(double total)
 {
   const std::uint64_t limit = keyLimit(kEdgeSubsample / total);
-  return collectOwned<float>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<float>& found) {
-    if (sampleKey(options_.seed, g) <= limit)
-    {
-      found.push_back(norm(row));
-    }
-  });
+  const std::vector<std::size_t> picked =
+    collectOwned<std::size_t>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<std::size_t>& found) {
+      if (sampleKey(options_.seed, g) <= limit)
+      {
+        found.push_back(row);
+      }
+    });
+  const std::vector<float> vectors = usedVectors(picked);
+  std::vector<float> norms(picked.size());
+  for (std::size_t i = 0; i < picked.size(); ++i)
+  {
+    norms[i] = norm(vectors.data() + i * D_, false);
+  }
+  return norms;
 }
 
 // Stratum edges at the quantiles 1/2, 3/4, 7/8, ... of the subsample's norms.
@@ -293,9 +309,23 @@ std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
 std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
 {
   stratum_.assign(rows_.size(), kNotOwned);
-  forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {
-    stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(row)) - edges.begin());
-  });
+  // Block by block: the fused path computes each block's features once for this pass.
+  for (std::size_t b = 0; b < source_.blockCount(); ++b)
+  {
+    if (options_.progress && source_.blockCount() > 1)
+    {
+      options_.progress(static_cast<double>(b) / static_cast<double>(source_.blockCount()));
+    }
+    const std::size_t begin = source_.blockBegin(b), end = source_.blockBegin(b + 1);
+    const float* block = source_.block(b);
+    forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {
+      if (row >= begin && row < end)
+      {
+        const float* x = block + (row - begin) * static_cast<std::size_t>(dim_);
+        stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
+      }
+    });
+  }
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
   for (std::uint8_t s : stratum_)
   {
@@ -396,14 +426,12 @@ void Sampler::collect(const std::vector<std::size_t>& which)
   }
 }
 
-std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found) const
+std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found)
 {
   std::sort(found.begin(), found.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
-  std::vector<float> vectors(found.size() * D_);
-  for (std::size_t i = 0; i < found.size(); ++i)
-  {
-    copyVector(found[i].row, vectors.data() + i * D_);
-  }
+  std::vector<std::size_t> rows(found.size());
+  std::transform(found.begin(), found.end(), rows.begin(), [](const Entry& e) { return e.row; });
+  const std::vector<float> vectors = usedVectors(rows);
   VectorSet distinct(vectors.data(), D_);
   std::vector<Entry> reps;
   for (std::size_t i = 0; i < found.size(); ++i)
@@ -418,26 +446,27 @@ std::vector<Entry> Sampler::distinctInKeyOrder(std::vector<Entry> found) const
 
 // Every distinct vector, each by its lowest-keyed voxel (as the stratified draw takes it when
 // it is asked for more than there are), in index order. On one process only.
-ReferenceSample Sampler::everyDistinctVector() const
+ReferenceSample Sampler::everyDistinctVector()
 {
   std::vector<Entry> reps = distinctInKeyOrder(collectOwned<Entry>(rows_, options_.eligible,
     [&](std::size_t row, std::int64_t g, std::vector<Entry>& out) { out.push_back({ sampleKey(options_.seed, g), g, row }); }));
   std::sort(reps.begin(), reps.end(), [](const Entry& a, const Entry& b) { return a.global < b.global; });
   ReferenceSample out;
   out.indices.resize(reps.size());
-  out.vectors.resize(reps.size() * D_);
+  std::vector<std::size_t> rows(reps.size());
   for (std::size_t i = 0; i < reps.size(); ++i)
   {
     out.indices[i] = reps[i].global;
-    copyVector(reps[i].row, out.vectors.data() + i * D_);
+    rows[i] = reps[i].row;
   }
+  out.vectors = usedVectors(rows);
   return out;
 }
 
 // This process's candidates: per list its first `want` distinct vectors, and a bound: every
 // vector of the list it did not propose has a larger key (kAllKeys: none is left). Bytes:
 // the bounds (one per list), the candidate count, the candidates (header, then features).
-std::vector<char> Sampler::propose(const std::vector<std::size_t>& want) const
+std::vector<char> Sampler::propose(const std::vector<std::size_t>& want)
 {
   std::vector<std::uint64_t> bounds(lists_.size(), kAllKeys);
   std::vector<Entry> chosen;
@@ -464,13 +493,15 @@ std::vector<char> Sampler::propose(const std::vector<std::size_t>& want) const
   at += bounds.size() * sizeof(std::uint64_t);
   std::memcpy(at, &count, sizeof count);
   at += sizeof count;
-  std::vector<float> features(D_);
-  for (const Entry& e : chosen)
+  std::vector<std::size_t> rows(chosen.size());
+  std::transform(chosen.begin(), chosen.end(), rows.begin(), [](const Entry& e) { return e.row; });
+  const std::vector<float> features = usedVectors(rows);
+  for (std::size_t i = 0; i < chosen.size(); ++i)
   {
+    const Entry& e = chosen[i];
     const CandidateHeader h{ e.global, e.key, stratum_[e.row], 0 };
-    copyVector(e.row, features.data());
     std::memcpy(at, &h, sizeof h);
-    std::memcpy(at + sizeof h, features.data(), D_ * sizeof(float));
+    std::memcpy(at + sizeof h, features.data() + i * D_, D_ * sizeof(float));
     at += recordBytes;
   }
   return bytes;
@@ -775,11 +806,18 @@ std::string sharedError(const Communicator* comm, const std::string& localError)
   return "A process failed.";
 }
 
+ReferenceSample drawReferenceSample(FeatureRows& source, const RowLayout& rows, const std::vector<int>& columns,
+  const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm)
+{
+  return Sampler(source, rows, columns, center, options, comm).draw();
+}
+
 ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,
   const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options,
   const Communicator* comm)
 {
-  return Sampler(data, dim, rows, columns, center, options, comm).draw();
+  MatrixRows source(data, rows.size(), dim);
+  return drawReferenceSample(source, rows, columns, center, options, comm);
 }
 
 std::vector<std::int64_t> drawReferenceSample(const float* data, std::size_t n, int dim,

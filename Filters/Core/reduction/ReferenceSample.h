@@ -27,12 +27,14 @@
 #pragma once
 
 #include "Communicator.h"
+#include "FeatureRows.h"
 #include "GridPiece.h"
 #include "ImageGrid.h"
 
 #include <cstddef>
 #include <cstdint>
 #include <exception>
+#include <functional>
 #include <new>
 #include <string>
 #include <vector>
@@ -82,6 +84,9 @@ struct ReferenceSampleOptions
   // Optional, one byte per row of this process (RowLayout::size()): 0 = never drawn. Null:
   // every owned row may be drawn.
   const unsigned char* eligible = nullptr;
+  // Optional: the pass over the source's blocks (the strata) reports its fraction here, on
+  // the calling thread, before each block (FeatureRows with several blocks only).
+  std::function<void(double)> progress;
 };
 
 struct ReferenceSample
@@ -97,6 +102,11 @@ struct ReferenceSample
 ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,
   const std::vector<int>& columns, const std::vector<double>& center, const ReferenceSampleOptions& options,
   const Communicator* comm);
+
+// The same, reading the features from `source` (rows: source.rows(), dim: source.cols()):
+// a pass over its blocks for the strata, gathers of the few rows it looks at otherwise.
+ReferenceSample drawReferenceSample(FeatureRows& source, const RowLayout& rows, const std::vector<int>& columns,
+  const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm);
 
 // Serial: `data` is n x dim row-major. Returns sorted row indices of distinct feature
 // vectors; when size >= n every distinct row is returned.

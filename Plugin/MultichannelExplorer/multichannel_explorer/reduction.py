@@ -1,5 +1,7 @@
-"""Dimension reduction of a multichannel volume: MultichannelFeatures followed by
-DimensionReduction (PCA, Isomap, LLE) to a 2D/3D domain of reduced coordinates.
+"""Dimension reduction of a multichannel volume to a 2D/3D domain of reduced coordinates:
+DimensionReduction on the channels (the fused path: features computed a slab at a time,
+never stored), or MultichannelFeatures followed by DimensionReduction when the features
+are wanted as an array.
 """
 
 from ._common import _filter
@@ -8,37 +10,55 @@ __all__ = [
     "reduce_multichannel",
 ]
 
+_PRESETS = ("6D", "24D", "Custom")
+
 
 def reduce_multichannel(source, method="Isomap", features="24D", output_dimension=3,
-                        **props):
+                        keep_features=False, **props):
     """Feature vectors of a multichannel volume reduced to a 2D/3D domain.
 
-    Builds ``MultichannelFeatures(Input=source, FeatureSet=features)`` followed by
-    ``DimensionReduction(Method=method, OutputDimension=output_dimension, **props)`` and
-    returns ``(features_proxy, reduction_proxy)``. ``features`` is a preset of
-    MultichannelFeatures ("6D", "24D") or the name of a point array of `source` that
-    already holds feature vectors (then no MultichannelFeatures filter is made and the
-    first proxy returned is `source`). ``props`` are further DimensionReduction
-    properties (NumberOfNeighbors, NumberOfLandmarks, ReferenceSampleSize, RandomSeed,
-    Device). MultichannelFeatures marks the background (its MaskBackground, on by
-    default), so the reduction is fitted on foreground voxels; ``feats.MaskBackground = 0``
-    fits on every voxel. Nothing is shown or updated; the reduced coordinates are the point array
-    ReducedCoordinates of the reduction's first output, its spectrum the second output::
+    Returns ``(features_proxy, reduction_proxy)``. ``features`` is a feature set ("6D",
+    "24D", "Custom") or the name of a point array of `source` that already holds feature
+    vectors (then the reduction reads that array and the first proxy returned is
+    `source`). For a feature set:
+
+    * by default (the fused path) one ``DimensionReduction(Input=source,
+      FeatureSet=features)`` computes the features from the channels a slab at a time and
+      never stores them (memory: the coordinates and one slab, not 4 bytes per feature per
+      voxel); it is returned twice, since it also plays the features filter's part (it has
+      its FeatureSet, Channels, Normalization, MaskBackground and BackgroundThreshold
+      properties);
+    * ``keep_features=True`` builds ``MultichannelFeatures(Input=source,
+      FeatureSet=features)`` followed by DimensionReduction, as before the fused path: the
+      Features array is then in the output (probing shows it). Same coordinates.
+
+    ``props`` are further DimensionReduction properties (NumberOfNeighbors,
+    NumberOfLandmarks, ReferenceSampleSize, RandomSeed, Device). The background is masked
+    (MaskBackground, on by default), so the reduction is fitted on foreground voxels;
+    ``feats.MaskBackground = 0`` fits on every voxel. Nothing is shown or updated; the
+    reduced coordinates are the point array ReducedCoordinates of the reduction's first
+    output, its spectrum the second output::
 
         feats, red = mce.reduce_multichannel(volume, "PCA", "6D", ReferenceSampleSize=5000)
         red.UpdatePipeline(); red.UpdatePropertyInformation()
         print(red.VarianceRetained, red.Trustworthiness)
     """
     dimension_reduction = _filter("DimensionReduction")
-    if features in ("6D", "24D", "Custom"):
-        feats = _filter("MultichannelFeatures")(Input=source)
-        feats.FeatureSet = features
-        array = "Features"
+    if features in _PRESETS and not keep_features:
+        reduction = dimension_reduction(Input=source)
+        reduction.FeatureSet = features
+        feats = reduction
     else:
-        feats = source
-        array = str(features)
-    reduction = dimension_reduction(Input=feats)
-    reduction.Features = ["POINTS", array]
+        if features in _PRESETS:
+            feats = _filter("MultichannelFeatures")(Input=source)
+            feats.FeatureSet = features
+            array = "Features"
+        else:
+            feats = source
+            array = str(features)
+        reduction = dimension_reduction(Input=feats)
+        reduction.FeatureSet = "Use input array"
+        reduction.Features = ["POINTS", array]
     reduction.Method = method
     reduction.OutputDimension = int(output_dimension)
     for name, value in props.items():

@@ -1,0 +1,275 @@
+#include "FeatureBricks.h"
+
+#include "TypedChannel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace mcv
+{
+
+namespace
+{
+std::size_t scalarBytes(ScalarType t)
+{
+  switch (t)
+  {
+    case ScalarType::Int8:
+    case ScalarType::UInt8:
+      return 1;
+    case ScalarType::Int16:
+    case ScalarType::UInt16:
+      return 2;
+    case ScalarType::Int32:
+    case ScalarType::UInt32:
+    case ScalarType::Float32:
+      return 4;
+    case ScalarType::Float64:
+      return 8;
+  }
+  return 0;
+}
+
+// The channel from voxel `first` on.
+ChannelView fromVoxel(ChannelView c, std::size_t first)
+{
+  c.data = static_cast<const char*>(c.data) +
+    first * static_cast<std::size_t>(c.numComponents) * scalarBytes(c.type);
+  return c;
+}
+
+inline int clampIndex(int i, int n)
+{
+  return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
+std::size_t sliceVoxels(const ImageGrid& g)
+{
+  return static_cast<std::size_t>(g.dims[0]) * static_cast<std::size_t>(g.dims[1]);
+}
+
+// Voxels gathered per batch: their 3x3x3 neighbourhoods (27 voxels each, F features) stay
+// a few MiB.
+constexpr std::size_t kGatherBatch = 4096;
+} // namespace
+
+FeatureBricks::FeatureBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid,
+  const FeatureOptions& options, std::size_t slabBytes)
+  : channels_(channels)
+  , grid_(grid)
+  , options_(options)
+  , selection_(FeatureSelection::forPreset(options.preset, options.custom))
+  , cols_(featureCount(channels.size(), options))
+  , slices_(slicesFor(grid, featureCount(channels.size(), options), slabBytes))
+{
+  if (options_.channelNames.empty())
+  {
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+    {
+      options_.channelNames.push_back("ch" + std::to_string(c + 1));
+    }
+  }
+}
+
+int FeatureBricks::slicesFor(const ImageGrid& grid, int features, std::size_t slabBytes)
+{
+  const std::size_t perSlice = sliceVoxels(grid) * static_cast<std::size_t>(std::max(1, features)) * sizeof(float);
+  const std::size_t slices = perSlice > 0 ? slabBytes / perSlice : 1;
+  return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(slices, static_cast<std::size_t>(std::max(1, grid.dims[2])))));
+}
+
+std::size_t FeatureBricks::workingBytes(const ImageGrid& grid, int features, std::size_t slabBytes)
+{
+  const std::size_t slices = static_cast<std::size_t>(slicesFor(grid, features, slabBytes));
+  const std::size_t withGhosts = (slices + 2) * sliceVoxels(grid);
+  // Features, one float channel and its non-finite mask over the slab with its ghosts; the
+  // row masks of the slab itself; the gathered neighbourhoods of a batch.
+  return withGhosts * (static_cast<std::size_t>(features) * sizeof(float) + sizeof(float) + 1) +
+    2 * slices * sliceVoxels(grid) + kGatherBatch * 27 * (static_cast<std::size_t>(features) + 1) * sizeof(float);
+}
+
+std::size_t FeatureBricks::workingBytes() const
+{
+  const std::size_t slabBytes = static_cast<std::size_t>(slices_) * sliceVoxels(grid_) *
+    static_cast<std::size_t>(std::max(1, cols_)) * sizeof(float);
+  return workingBytes(grid_, cols_, slabBytes);
+}
+
+std::size_t FeatureBricks::blockCount() const
+{
+  return grid_.voxelCount() == 0 ? 0 : static_cast<std::size_t>((grid_.dims[2] + slices_ - 1) / slices_);
+}
+
+std::size_t FeatureBricks::blockBegin(std::size_t b) const
+{
+  const std::size_t z = std::min(b * static_cast<std::size_t>(slices_), static_cast<std::size_t>(grid_.dims[2]));
+  return z * sliceVoxels(grid_);
+}
+
+float* FeatureBricks::rawSlab(int z0, int z1, std::vector<double>* badPerChannel)
+{
+  const int g0 = std::max(0, z0 - 1), g1 = std::min(grid_.dims[2], z1 + 1);
+  ImageGrid sub = grid_;
+  sub.dims[2] = g1 - g0;
+  const std::size_t nxy = sliceVoxels(grid_), n = sub.voxelCount();
+  const std::size_t first = static_cast<std::size_t>(z0 - g0) * nxy;
+  const std::size_t count = static_cast<std::size_t>(z1 - z0) * nxy;
+  features_.resize(n * static_cast<std::size_t>(cols_));
+  values_.resize(n);
+  bad_.assign(count, 0);
+  const FeatureOutput out{ features_.data(), n, cols_ };
+  const GridPiece piece = options_.piece.wholeDims[0] > 0 ? options_.piece : GridPiece::whole(grid_);
+  const int nx = grid_.dims[0];
+  for (std::size_t c = 0; c < channels_.size(); ++c)
+  {
+    channelBad_.assign(n, 0);
+    const std::size_t bad = detail::channelToFloat(
+      fromVoxel(channels_[c], static_cast<std::size_t>(g0) * nxy), n, values_.data(), channelBad_.data());
+    if (bad > 0)
+    {
+      for (std::size_t r = 0; r < count; ++r)
+      {
+        if (channelBad_[first + r])
+        {
+          bad_[r] = 1;
+          const int k = z0 + static_cast<int>(r / nxy), j = static_cast<int>((r % nxy) / nx), i = static_cast<int>(r % nx);
+          if (badPerChannel && piece.owns(i, j, k))
+          {
+            (*badPerChannel)[c] += 1;
+          }
+        }
+      }
+    }
+    detail::channelFeaturesCPU(values_.data(), bad > 0, sub, selection_, out, static_cast<int>(c) * selection_.perChannel());
+  }
+  return features_.data() + first * static_cast<std::size_t>(cols_);
+}
+
+bool FeatureBricks::prepare(FeatureResult& result)
+{
+  result = FeatureResult();
+  const Communicator* comm = options_.communicator;
+  result.error = detail::checkInput(channels_, grid_, options_);
+  if (!allTrue(comm, result.error.empty()))
+  {
+    if (result.error.empty())
+    {
+      result.error = "another process of the parallel run reported an error";
+    }
+    return false;
+  }
+  result.names = featureNames(options_.channelNames, selection_);
+  result.deviceUsed = Device::CPU;
+  const GridPiece piece = options_.piece.wholeDims[0] > 0 ? options_.piece : GridPiece::whole(grid_);
+  const bool zscore = options_.normalization == FeatureNormalization::ZScore;
+  const std::size_t nxy = sliceVoxels(grid_);
+  const int nx = grid_.dims[0];
+  std::vector<detail::ColumnStats> parts;
+  std::vector<double> badPerChannel(channels_.size(), 0.0);
+  double badVoxels = 0;
+  std::vector<unsigned char> statsMask;
+  const std::size_t blocks = blockCount();
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    if (options_.progress)
+    {
+      options_.progress(static_cast<double>(b) / static_cast<double>(blocks));
+    }
+    const int z0 = static_cast<int>(b) * slices_, z1 = std::min(grid_.dims[2], z0 + slices_);
+    float* rows = rawSlab(z0, z1, &badPerChannel);
+    const std::size_t count = static_cast<std::size_t>(z1 - z0) * nxy;
+    // The statistics count each owned, finite voxel once (as computeFeatures does).
+    statsMask.resize(count);
+    for (std::size_t r = 0; r < count; ++r)
+    {
+      const int k = z0 + static_cast<int>(r / nxy), j = static_cast<int>((r % nxy) / nx), i = static_cast<int>(r % nx);
+      const bool owned = piece.owns(i, j, k);
+      statsMask[r] = (!owned || bad_[r]) ? 1 : 0;
+      badVoxels += (owned && bad_[r]) ? 1.0 : 0.0;
+    }
+    parts.emplace_back();
+    detail::columnStatsCPU(FeatureOutput{ rows, count, cols_ }, statsMask.data(), zscore, parts.back());
+  }
+  const detail::VolumeStats volume = detail::combineStats(detail::mergeStats(parts), badPerChannel, badVoxels,
+    static_cast<double>(piece.ownedCount()), comm);
+  detail::normalizationFromStats(options_.normalization, volume.columns, result);
+  offset_ = result.columnOffset;
+  scale_ = result.columnScale;
+  result.nonFiniteVoxels = static_cast<std::size_t>(volume.badVoxels);
+  detail::addStatsWarnings(volume, options_, detail::overflowCount(volume), result);
+  if (options_.progress)
+  {
+    options_.progress(1.0);
+  }
+  return true;
+}
+
+const float* FeatureBricks::block(std::size_t b)
+{
+  const int z0 = static_cast<int>(b) * slices_, z1 = std::min(grid_.dims[2], z0 + slices_);
+  float* rows = rawSlab(z0, z1, nullptr);
+  const std::size_t count = static_cast<std::size_t>(z1 - z0) * sliceVoxels(grid_);
+  detail::applyNormalizationCPU(FeatureOutput{ rows, count, cols_ }, bad_.data(), offset_, scale_);
+  return rows;
+}
+
+void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
+{
+  const int nx = grid_.dims[0], ny = grid_.dims[1], nz = grid_.dims[2];
+  const std::size_t F = static_cast<std::size_t>(cols_);
+  std::vector<float> values, features;
+  std::vector<unsigned char> bad;
+  for (std::size_t at = 0; at < n; at += kGatherBatch)
+  {
+    const std::size_t m = std::min(kGatherBatch, n - at);
+    // The neighbourhoods side by side along x: voxel b's is x in [3b, 3b + 3), so its centre
+    // (3b + 1, 1, 1) sees only its own neighbours, border-replicated as in the volume.
+    ImageGrid tiny = grid_;
+    tiny.dims = { static_cast<int>(3 * m), 3, 3 };
+    const std::size_t tn = tiny.voxelCount(), row = 3 * m;
+    values.resize(tn);
+    features.resize(tn * F);
+    bad.assign(m, 0);
+    for (std::size_t c = 0; c < channels_.size(); ++c)
+    {
+      bool anyBad = false;
+      const ChannelView& view = channels_[c];
+      withTypedData(view, [&](const auto* data) {
+        for (std::size_t b = 0; b < m; ++b)
+        {
+          const std::int64_t v = static_cast<std::int64_t>(index[at + b]);
+          const int i = static_cast<int>(v % nx), j = static_cast<int>((v / nx) % ny), k = static_cast<int>(v / (static_cast<std::int64_t>(nx) * ny));
+          for (int dz = 0; dz < 3; ++dz)
+          {
+            for (int dy = 0; dy < 3; ++dy)
+            {
+              for (int dx = 0; dx < 3; ++dx)
+              {
+                const std::int64_t src = clampIndex(i + dx - 1, nx) +
+                  static_cast<std::int64_t>(nx) * (clampIndex(j + dy - 1, ny) + static_cast<std::int64_t>(ny) * clampIndex(k + dz - 1, nz));
+                const float x = static_cast<float>(data[src * view.numComponents + view.component]);
+                values[3 * b + static_cast<std::size_t>(dx) + row * static_cast<std::size_t>(dy + 3 * dz)] = x;
+                if (!std::isfinite(x))
+                {
+                  anyBad = true;
+                  bad[b] |= (dx == 1 && dy == 1 && dz == 1) ? 1 : 0;
+                }
+              }
+            }
+          }
+        }
+      });
+      detail::channelFeaturesCPU(values.data(), anyBad, tiny, selection_, FeatureOutput{ features.data(), tn, cols_ },
+        static_cast<int>(c) * selection_.perChannel());
+    }
+    for (std::size_t b = 0; b < m; ++b)
+    {
+      const float* centre = features.data() + (3 * b + 1 + row * 4) * F;
+      std::copy(centre, centre + F, out + (at + b) * F);
+    }
+    detail::applyNormalizationCPU(FeatureOutput{ out + at * F, m, cols_ }, bad.data(), offset_, scale_);
+  }
+}
+
+} // namespace mcv

@@ -1,0 +1,77 @@
+// The features of a volume a slab of z slices at a time, never stored whole: the fused
+// path of DimensionReduction (issue 20), where the 24 floats per voxel of the whole
+// Features array (5.5 GB at 57 M voxels) would not fit.
+//
+// A slab is computed from the channels with one ghost slice on each side (the reach of the
+// gradient, Laplacian and 3x3x3 stencils), so its raw features are those computeFeatures
+// gives for the whole volume, bit for bit. The normalisation's statistics come from a
+// first streaming pass over the slabs (per-slab sums and squared deviations in double,
+// combined by Chan's formula, then across processes as computeFeatures combines them), so
+// the offsets and scales agree with the whole-volume ones to ~1e-16 relative. The
+// features of single voxels (the reference sample's) are computed from their 3x3x3
+// neighbourhoods alone, with the same code and the same values.
+//
+// As FeatureRows (common/FeatureRows.h) the rows are the voxels of the grid passed in
+// (x fastest), normalised; blocks are slabs.
+#pragma once
+
+#include "ChannelView.h"
+#include "FeatureRows.h"
+#include "FeatureVectors.h"
+#include "ImageGrid.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace mcv
+{
+
+class FeatureBricks final : public FeatureRows
+{
+public:
+  // `options` as for computeFeatures (Device is ignored: the CPU computes; communicator
+  // and piece for a split volume). slabBytes: the feature buffer of one slab (at least
+  // one slice is taken).
+  FeatureBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& options,
+    std::size_t slabBytes = kDefaultSlabBytes);
+
+  // Collective: checks the arguments and runs the statistics pass (progress per slab through
+  // options.progress). Fills result (names, offsets and scales, warnings) as
+  // computeFeatures does; false with result.error, after which nothing else may be called.
+  bool prepare(FeatureResult& result);
+
+  std::size_t rows() const override { return grid_.voxelCount(); }
+  int cols() const override { return cols_; }
+  std::size_t blockCount() const override;
+  std::size_t blockBegin(std::size_t b) const override;
+  const float* block(std::size_t b) override;
+  void gather(const std::size_t* index, std::size_t n, float* out) override;
+
+  int slabSlices() const { return slices_; }
+  // The bytes one slab holds at a time (features with ghost slices, a float channel, masks):
+  // what the fused path adds to its coordinates.
+  std::size_t workingBytes() const;
+  static std::size_t workingBytes(const ImageGrid& grid, int features, std::size_t slabBytes);
+
+  static constexpr std::size_t kDefaultSlabBytes = std::size_t(256) << 20;
+
+private:
+  // Raw features of slices [z0, z1) of the grid, computed on [z0 - 1, z1 + 1) clipped to
+  // the grid; returns the first row of slice z0. bad_ holds, per row of [z0, z1), 1 when a
+  // channel is not finite there; badPerChannel (optional) counts the owned ones.
+  float* rawSlab(int z0, int z1, std::vector<double>* badPerChannel);
+  static int slicesFor(const ImageGrid& grid, int features, std::size_t slabBytes);
+
+  std::vector<ChannelView> channels_;
+  ImageGrid grid_;
+  FeatureOptions options_;
+  FeatureSelection selection_;
+  int cols_ = 0;
+  int slices_ = 1;
+  std::vector<double> offset_, scale_;
+  std::vector<float> features_, values_;
+  std::vector<unsigned char> bad_, channelBad_;
+};
+
+} // namespace mcv

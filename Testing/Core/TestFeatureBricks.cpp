@@ -1,0 +1,226 @@
+// The fused path (issue 20): features a slab at a time (FeatureBricks.h) against the whole
+// Features array of computeFeatures, and the reduction of those slabs against the
+// reduction of the whole array, on a small synthetic 3-channel volume with a zero
+// background, mixed scalar types and a NaN voxel.
+#include "BackgroundMask.h"
+#include "DimensionReduction.h"
+#include "FeatureBricks.h"
+#include "FeatureVectors.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+namespace
+{
+
+struct Volume
+{
+  mcv::ImageGrid grid;
+  std::vector<float> a;
+  std::vector<std::uint16_t> b;
+  std::vector<double> c;
+  std::vector<mcv::ChannelView> views() const
+  {
+    mcv::ChannelView va, vb, vc;
+    va.data = a.data();
+    va.type = mcv::ScalarType::Float32;
+    vb.data = b.data();
+    vb.type = mcv::ScalarType::UInt16;
+    vc.data = c.data();
+    vc.type = mcv::ScalarType::Float64;
+    return { va, vb, vc };
+  }
+};
+
+// A blob in a zero field: smooth, a ramp and a hash pattern, so the features vary.
+Volume makeVolume(bool withNaN)
+{
+  Volume v;
+  v.grid.dims = { 23, 19, 17 };
+  v.grid.spacing = { 1.0, 0.8, 1.5 };
+  const std::size_t n = v.grid.voxelCount();
+  v.a.resize(n);
+  v.b.resize(n);
+  v.c.resize(n);
+  std::size_t at = 0;
+  for (int k = 0; k < v.grid.dims[2]; ++k)
+    for (int j = 0; j < v.grid.dims[1]; ++j)
+      for (int i = 0; i < v.grid.dims[0]; ++i, ++at)
+      {
+        const double x = (i - 11.0) / 8.0, y = (j - 9.0) / 7.0, z = (k - 8.0) / 6.0;
+        const double r2 = x * x + y * y + z * z;
+        const bool inside = r2 < 1.0;
+        v.a[at] = inside ? static_cast<float>(std::exp(-2.0 * r2) * 100.0) : 0.0f;
+        v.b[at] = inside ? static_cast<std::uint16_t>((i * 7 + j * 13 + k * 29) % 50) : 0;
+        v.c[at] = inside ? 0.5 * i + 0.25 * j - 0.125 * k : 0.0;
+      }
+  if (withNaN)
+  {
+    v.a[(8 * 19 + 9) * 23 + 11] = std::numeric_limits<float>::quiet_NaN();
+  }
+  return v;
+}
+
+mcv::FeatureOptions options24D()
+{
+  mcv::FeatureOptions o;
+  o.preset = mcv::FeaturePreset::TwentyFourD;
+  o.device = mcv::Device::CPU;
+  return o;
+}
+
+std::vector<float> wholeFeatures(const Volume& v, const mcv::FeatureOptions& o, mcv::FeatureResult& r)
+{
+  const int F = mcv::featureCount(3, o);
+  std::vector<float> m(v.grid.voxelCount() * static_cast<std::size_t>(F));
+  EXPECT_TRUE(mcv::computeFeatures(v.views(), v.grid, o, mcv::FeatureOutput{ m.data(), v.grid.voxelCount(), F }, r));
+  return m;
+}
+
+// Slab by slab, with slabs of `slices` z slices.
+std::vector<float> slabFeatures(mcv::FeatureBricks& bricks)
+{
+  std::vector<float> m(bricks.rows() * static_cast<std::size_t>(bricks.cols()));
+  for (std::size_t b = 0; b < bricks.blockCount(); ++b)
+  {
+    const std::size_t begin = bricks.blockBegin(b), end = bricks.blockBegin(b + 1);
+    const float* rows = bricks.block(b);
+    std::copy(rows, rows + (end - begin) * bricks.cols(), m.begin() + static_cast<std::ptrdiff_t>(begin * bricks.cols()));
+  }
+  return m;
+}
+
+std::size_t sliceBytes(const Volume& v, int F)
+{
+  return static_cast<std::size_t>(v.grid.dims[0]) * v.grid.dims[1] * F * sizeof(float);
+}
+
+float maxDifference(const std::vector<float>& a, const std::vector<float>& b)
+{
+  float d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i)
+  {
+    d = std::max(d, std::abs(a[i] - b[i]));
+  }
+  return d;
+}
+
+TEST(FeatureBricks, SlabsEqualTheWholeArray)
+{
+  for (bool withNaN : { false, true })
+  {
+    const Volume v = makeVolume(withNaN);
+    for (mcv::FeatureNormalization norm :
+      { mcv::FeatureNormalization::ZScore, mcv::FeatureNormalization::MinMax, mcv::FeatureNormalization::None })
+    {
+      mcv::FeatureOptions o = options24D();
+      o.normalization = norm;
+      mcv::FeatureResult whole;
+      const std::vector<float> expected = wholeFeatures(v, o, whole);
+      for (int slices : { 1, 4, 17 })
+      {
+        mcv::FeatureBricks bricks(v.views(), v.grid, o, slices * sliceBytes(v, 24));
+        ASSERT_EQ(bricks.slabSlices(), slices);
+        mcv::FeatureResult r;
+        ASSERT_TRUE(bricks.prepare(r)) << r.error;
+        EXPECT_EQ(r.names, whole.names);
+        EXPECT_EQ(r.nonFiniteVoxels, whole.nonFiniteVoxels);
+        EXPECT_EQ(r.warnings, whole.warnings);
+        for (std::size_t c = 0; c < r.columnOffset.size(); ++c)
+        {
+          EXPECT_NEAR(r.columnOffset[c], whole.columnOffset[c], 1e-12 * (1 + std::abs(whole.columnOffset[c])));
+          EXPECT_NEAR(r.columnScale[c], whole.columnScale[c], 1e-12 * (1 + std::abs(whole.columnScale[c])));
+        }
+        EXPECT_LE(maxDifference(slabFeatures(bricks), expected), 1e-6f)
+          << "slabs of " << slices << " slices, normalisation " << static_cast<int>(norm) << ", NaN " << withNaN;
+      }
+    }
+  }
+}
+
+TEST(FeatureBricks, GatheredVoxelsEqualTheirRows)
+{
+  const Volume v = makeVolume(true);
+  const mcv::FeatureOptions o = options24D();
+  mcv::FeatureResult whole;
+  const std::vector<float> expected = wholeFeatures(v, o, whole);
+  mcv::FeatureBricks bricks(v.views(), v.grid, o, sliceBytes(v, 24));
+  mcv::FeatureResult r;
+  ASSERT_TRUE(bricks.prepare(r));
+  // Corners, faces, the NaN voxel and its neighbours, and a stride through the volume.
+  std::vector<std::size_t> index{ 0, v.grid.voxelCount() - 1, 22, 23 * 19 - 1, (8 * 19 + 9) * 23 + 11,
+    (8 * 19 + 9) * 23 + 12, (7 * 19 + 9) * 23 + 11 };
+  for (std::size_t i = 5; i < v.grid.voxelCount(); i += 37)
+  {
+    index.push_back(i);
+  }
+  std::vector<float> got(index.size() * 24);
+  bricks.gather(index.data(), index.size(), got.data());
+  for (std::size_t i = 0; i < index.size(); ++i)
+  {
+    for (int c = 0; c < 24; ++c)
+    {
+      ASSERT_LE(std::abs(got[i * 24 + c] - expected[index[i] * 24 + c]), 1e-6f) << "voxel " << index[i] << " column " << c;
+    }
+  }
+}
+
+// The fused reduction (FeatureBricks as the rows) against the reduction of the whole array:
+// the same sample, fit and coordinates.
+TEST(FeatureBricks, FusedReductionEqualsTheChain)
+{
+  const Volume v = makeVolume(false);
+  const mcv::FeatureOptions o = options24D();
+  mcv::FeatureResult whole;
+  const std::vector<float> features = wholeFeatures(v, o, whole);
+  std::vector<unsigned char> foreground(v.grid.voxelCount());
+  mcv::BackgroundMaskResult mask;
+  ASSERT_TRUE(mcv::computeBackgroundMask(v.views(), v.grid, {}, foreground.data(), mask));
+  for (mcv::ReductionMethod method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap })
+  {
+    mcv::ReductionOptions ro;
+    ro.method = method;
+    ro.referenceSampleSize = 600;
+    ro.numberOfNeighbors = 10;
+    ro.numberOfLandmarks = 100;
+    ro.device = mcv::Device::CPU;
+    ro.sampleMask = foreground.data();
+    const mcv::ReductionResult chain =
+      mcv::reduceDimension(mcv::FeatureMatrix{ features.data(), v.grid.voxelCount(), 24 }, ro);
+    ASSERT_TRUE(chain.ok()) << chain.error;
+    mcv::FeatureBricks bricks(v.views(), v.grid, o, 3 * sliceBytes(v, 24));
+    mcv::FeatureResult r;
+    ASSERT_TRUE(bricks.prepare(r));
+    const mcv::ReductionResult fused = mcv::reduceDimension(bricks, ro);
+    ASSERT_TRUE(fused.ok()) << fused.error;
+    EXPECT_EQ(fused.referenceIndices, chain.referenceIndices);
+    EXPECT_EQ(fused.usedColumns, chain.usedColumns);
+    ASSERT_EQ(fused.coordinates.size(), chain.coordinates.size());
+    float lo = chain.coordinates[0], hi = lo;
+    for (float x : chain.coordinates)
+    {
+      lo = std::min(lo, x);
+      hi = std::max(hi, x);
+    }
+    EXPECT_LE(maxDifference(fused.coordinates, chain.coordinates), 1e-5f * (hi - lo));
+  }
+}
+
+TEST(FeatureBricks, BadArgumentsAreErrors)
+{
+  const Volume v = makeVolume(false);
+  mcv::FeatureOptions o = options24D();
+  o.preset = mcv::FeaturePreset::Custom;
+  o.custom = mcv::FeatureSelection{ false, false, false, false, false, false };
+  mcv::FeatureBricks bricks(v.views(), v.grid, o);
+  mcv::FeatureResult r;
+  EXPECT_FALSE(bricks.prepare(r));
+  EXPECT_NE(r.error.find("no feature selected"), std::string::npos) << r.error;
+}
+
+} // namespace
