@@ -286,7 +286,8 @@ TEST(DistributedReduction, BlocksSplitLikeVtk)
 TEST(DistributedReduction, SameAnswerAsSerial)
 {
   const Volume v = syntheticVolume();
-  for (auto method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap, mcv::ReductionMethod::LLE })
+  for (auto method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap, mcv::ReductionMethod::LLE,
+         mcv::ReductionMethod::UMAP })
   {
     const mcv::ReductionOptions o = options(method);
     const mcv::ReductionResult serial = mcv::reduceDimension(v.matrix(), o);
@@ -296,7 +297,8 @@ TEST(DistributedReduction, SameAnswerAsSerial)
     {
       for (int ghost : { 0, 1 })
       {
-        SCOPED_TRACE(std::string(method == mcv::ReductionMethod::PCA ? "PCA" : method == mcv::ReductionMethod::Isomap ? "Isomap" : "LLE") +
+        const char* names[] = { "PCA", "Isomap", "LLE", "UMAP" };
+        SCOPED_TRACE(std::string(names[static_cast<int>(method)]) +
           ", " + std::to_string(pieces) + " pieces, " + std::to_string(ghost) + " ghost layers");
         const std::vector<Block> blocks = splitVolume(v, pieces, ghost);
         expectSameAsSerial(serial, blocks, reduceSplit(blocks, o));
