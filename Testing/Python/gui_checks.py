@@ -31,6 +31,16 @@ def recorded_events(path, rc):
         return []
 
 
+def load_state(path):
+    """The state file the setup script wrote ({} with a failed check when unreadable)."""
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        check(False, "state file %s readable (%s)" % (path, e))
+        return {}
+
+
 def finish(name):
     print("%s: %d failed" % (name, len(fails)))
     sys.exit(1 if fails else 0)

@@ -2,19 +2,10 @@
 file and paraview's exit status): the chain ran in the GUI with Device Auto, and not one
 warning or error reached ParaView's output window (so the Output Messages window never
 opened)."""
-import json
-
-from gui_checks import arguments, check, fails, finish  # noqa: E402,F401
+from gui_checks import arguments, check, fails, finish, load_state  # noqa: E402,F401
 
 path, rc = arguments()
-
-
-try:
-    with open(path) as f:
-        state = json.load(f)
-except (OSError, ValueError) as e:
-    state = {}
-    check(False, "state file %s readable (%s)" % (path, e))
+state = load_state(path)
 print("state: %s" % state)
 check(rc == 0, "paraview exited normally (%d)" % rc)
 check(state.get("done"), "the chain ran to the end in the GUI: %s" % state.get("steps"))

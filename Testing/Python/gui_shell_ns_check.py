@@ -2,17 +2,10 @@
 test_gui.sh with the state file and paraview's exit status): the plugin was not
 auto-loaded, LoadPlugin(..., ns=globals()) put its filters into the script's namespace, and
 every helper called ran without an exception."""
-import json
-
-from gui_checks import arguments, check, finish
+from gui_checks import arguments, check, finish, load_state
 
 path, rc = arguments()
-try:
-    with open(path) as f:
-        state = json.load(f)
-except (OSError, ValueError) as e:
-    state = {}
-    check(False, "state file %s readable (%s)" % (path, e))
+state = load_state(path)
 check(rc == 0, "paraview exited normally (%d)" % rc)
 check(state.get("autoloaded") is False, "the plugin was not auto-loaded (no PV_PLUGIN_PATH)")
 check(state.get("in_namespace"), "LoadPlugin(..., ns=globals()) put the filters in the namespace")
