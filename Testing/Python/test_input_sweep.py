@@ -148,8 +148,11 @@ dr.nan             | NaN in one Features value        | DR  | error "non-finite"
 dr.constant        | Features all 2.0                 | DR  | error "0 of the 4 feature components
                    |                                  |     | vary"; empty
 dr.1x1x1           | one voxel of features            | DR  | error "vary"; empty
-dr.no-feature      | no Features array, Features ''   | DR  | error "No feature array selected";
-                   |                                  |     | empty
+dr.no-feature      | no Features array, Features '',  | DR  | error "No feature array selected";
+                   | FeatureSet "Use input array"     |     | empty
+dr.no-feature-auto | no Features array, FeatureSet    | DR  | features from the channels (the
+                   | Automatic (the default)          |     | fused path): finite 3D coordinates,
+                   |                                  |     | warning "values_0.gradZ" constant
 dr.polydata        | a Sphere                         | DR  | error "not image data"; empty
 dr.int64           | features x 1000 as int64         | DR  | ok: finite 3D coordinates
 dr.int8            | features x 40 as int8            | DR  | ok: finite 3D coordinates
@@ -1117,8 +1120,11 @@ ROWS = [
     Row("dr.constant", "DR", "features-constant", DR, "error",
         ("0 of the 4 feature components vary",)),
     Row("dr.1x1x1", "DR", "features-1x1x1", DR, "error", ("vary",)),
-    Row("dr.no-feature", "DR", "features-none", dict(DR, Features=["POINTS", ""]), "error",
+    Row("dr.no-feature", "DR", "features-none",
+        dict(DR, FeatureSet="Use input array", Features=["POINTS", ""]), "error",
         ("No feature array selected", "Features property")),
+    Row("dr.no-feature-auto", "DR", "features-none", DR, "warning",
+        ("values_0.gradZ", "constant"), coordinates_ok(3)),
     Row("dr.polydata", "DR", "sphere", {}, "error", ("not image data",)),
     Row("dr.int64", "DR", "features-int64", DR, "ok", (), coordinates_ok(3)),
     Row("dr.int8", "DR", "features-int8", DR, "ok", (), coordinates_ok(3)),
