@@ -120,6 +120,31 @@ std::size_t accumulateOpacity(
   return nonFinite;
 }
 
+namespace
+{
+// How many voxels the process owns (block indices, x fastest) satisfy `test`.
+template <class Test>
+std::size_t countOwned(const ImageGrid& block, const GridPiece& piece, Test test)
+{
+  const std::size_t dx = static_cast<std::size_t>(block.dims[0]);
+  const std::size_t dy = static_cast<std::size_t>(block.dims[1]);
+  std::size_t total = 0;
+#pragma omp parallel for reduction(+ : total) schedule(static)
+  for (int k = piece.ownedLo[2]; k <= piece.ownedHi[2]; ++k)
+  {
+    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
+    {
+      const std::size_t row = (static_cast<std::size_t>(k) * dy + j) * dx;
+      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
+      {
+        total += test(row + i) ? 1 : 0;
+      }
+    }
+  }
+  return total;
+}
+} // namespace
+
 std::size_t countNonFiniteVoxels(
   const std::vector<ChannelView>& channels, const ImageGrid& block, const GridPiece& piece)
 {
@@ -146,41 +171,13 @@ std::size_t countNonFiniteVoxels(
   {
     return 0;
   }
-  const std::int64_t dx = block.dims[0], dy = block.dims[1];
-  std::size_t total = 0;
-#pragma omp parallel for reduction(+ : total) schedule(static)
-  for (int k = piece.ownedLo[2]; k <= piece.ownedHi[2]; ++k)
-  {
-    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
-    {
-      const unsigned char* row = bad.data() + (k * dy + j) * dx;
-      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
-      {
-        total += row[i];
-      }
-    }
-  }
-  return total;
+  return countOwned(block, piece, [&](std::size_t v) { return bad[v] != 0; });
 }
 
 std::size_t countOwnedAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold)
 {
-  const std::int64_t dx = block.dims[0], dy = block.dims[1];
-  std::size_t total = 0;
-#pragma omp parallel for reduction(+ : total) schedule(static)
-  for (int k = piece.ownedLo[2]; k <= piece.ownedHi[2]; ++k)
-  {
-    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
-    {
-      const float* row = opacity + (k * dy + j) * dx;
-      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
-      {
-        total += row[i] >= threshold ? 1 : 0;
-      }
-    }
-  }
-  return total;
+  return countOwned(block, piece, [&](std::size_t v) { return opacity[v] >= threshold; });
 }
 
 } // namespace mcv
