@@ -128,8 +128,18 @@ inline std::string selectChannelArrays(vtkDataSet* input, const std::vector<std:
 {
   arrays.clear();
   vtkPointData* pd = input->GetPointData();
+  bool namedChannel = false;
   for (const std::string& name : names)
   {
+    if (isInternalArray(name.c_str()))
+    {
+      // ParaView's own marks, never a channel: in a split run the GUI's array list offers
+      // vtkGhostType (a parallel source adds it) where a serial run has none, so the same
+      // settings would otherwise read a different set of channels, or miss the array on a
+      // process whose block was assembled from the others' pieces (mcvGatherBlock.h).
+      continue;
+    }
+    namedChannel = true;
     vtkAbstractArray* abstractArray = pd->GetAbstractArray(name.c_str());
     if (!abstractArray)
     {
@@ -146,7 +156,7 @@ inline std::string selectChannelArrays(vtkDataSet* input, const std::vector<std:
       arrays.push_back(dataArray);
     }
   }
-  if (names.empty())
+  if (!namedChannel)
   {
     arrays = defaults(pd);
   }

@@ -14,6 +14,7 @@
 
 #include "mcvChannelArrays.h"
 #include "mcvControllerCommunicator.h"
+#include "mcvGatherBlock.h"
 #include "mcvPieces.h"
 
 #include <omp.h>
@@ -31,6 +32,8 @@ struct vtkMultichannelAlgorithm::vtkInternals
   mcv::vtkhelpers::PieceLayout Layout;
   const mcv::Communicator* Communicator = nullptr;
   mcv::vtkhelpers::CollectiveCheck* Check = nullptr;
+  // The block a split run assembled when the input delivered another split (GetInputImage).
+  vtkSmartPointer<vtkImageData> GatheredInput;
 };
 
 namespace
@@ -237,6 +240,7 @@ int vtkMultichannelAlgorithm::RequestData(
   }
   internals.Check = nullptr;
   internals.Communicator = nullptr;
+  internals.GatheredInput = nullptr;
   return status;
 }
 
@@ -289,6 +293,23 @@ vtkImageData* vtkMultichannelAlgorithm::GetInputImage(
 {
   vtkDataObject* inputObject = vtkDataObject::GetData(inputVector[0], 0);
   vtkImageData* image = vtkImageData::SafeDownCast(inputObject);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (image && this->Internals->Layout.IsSplit() &&
+    inInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  {
+    // A source that ignored the extent asked of it (ResampleToImage splits its own way):
+    // the block is assembled from the processes' pieces (collective).
+    mcv::vtkhelpers::Box need;
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), need.e);
+    std::string error;
+    this->Internals->GatheredInput =
+      mcv::vtkhelpers::gatherBlock(image, need, this->Internals->Layout.Controller, error);
+    if (this->ReportError(error))
+    {
+      return nullptr;
+    }
+    image = this->Internals->GatheredInput;
+  }
   if (!image)
   {
     // "vtkBestViewpoint" -> "BestViewpoint", the filter's label in ParaView.

@@ -13,7 +13,10 @@ Run twice on the real 3-channel brain (Colin27 ch2 + AAL + Brodmann):
       reference (float tolerance; the mask exactly), and prints the times of each stage;
       the same for DimensionReduction on the channels (the fused path: each process
       computes its piece's features a slab at a time and places its own voxels), whose
-      one-process coordinates also equal the chain's.
+      one-process coordinates also equal the chain's;
+      and both on the brain resampled by ParaView's ResampleToImage, which splits its
+      output its own way (DIY blocks) whatever extent the filters ask for: each process
+      then assembles its block from the others' pieces.
 With --thin, a 2 x 2 x 2 synthetic volume instead (PCA): more processes than the volume
 splits in, so some own no voxel and must take part with nothing.
 Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
@@ -64,6 +67,8 @@ def timed(proxy):
 # The arrays compared, with their array module type codes (float32, uint8).
 COMPARED = (("Features", "f"), ("Foreground", "B"), ("ReducedCoordinates", "f"))
 FUSED_COMPARED = (("Foreground", "B"), ("ReducedCoordinates", "f"))
+RESAMPLED_COMPARED = (("Features", "f"), ("Foreground", "B"))
+RESAMPLED_DIMS = [40, 48, 40]
 
 
 def values_of(vtk_array, typecode="f"):
@@ -121,6 +126,17 @@ def main():
     for key, value in (THIN_REDUCTION if args.thin else REDUCTION).items():
         setattr(fused, key, value)
     timings["fused reduction"] = timed(fused)
+    if not args.thin:
+        resampled = simple.ResampleToImage(Input=merged, UseInputBounds=1,
+                                           SamplingDimensions=RESAMPLED_DIMS)
+        resampled_feats = MultichannelFeatures(Input=resampled, FeatureSet="6D")
+        messages.append(T.Messages(resampled_feats))
+        timings["resampled features"] = timed(resampled_feats)
+        resampled_fused = DimensionReduction(Input=resampled, FeatureSet="24D")
+        messages.append(T.Messages(resampled_fused))
+        for key, value in REDUCTION.items():
+            setattr(resampled_fused, key, value)
+        timings["resampled fused reduction"] = timed(resampled_fused)
     errors = [e for m in messages for e in m.errors]
     C.check(not errors, "no error from the features or the reductions %s" % errors)
 
@@ -141,6 +157,14 @@ def main():
         for name, code in FUSED_COMPARED:
             with open(os.path.join(args.reference, "fused_" + name + ".values"), "wb") as f:
                 values_of(fused_image.GetPointData().GetArray(name), code).tofile(f)
+        if not args.thin:
+            for proxy, compared in ((resampled_feats, RESAMPLED_COMPARED),
+                                    (resampled_fused, (("ReducedCoordinates", "f"),))):
+                out = proxy.GetClientSideObject().GetOutputDataObject(0)
+                for name, code in compared:
+                    with open(os.path.join(args.reference, "resampled_" + name + ".values"),
+                              "wb") as f:
+                        values_of(out.GetPointData().GetArray(name), code).tofile(f)
         chain = values_of(image.GetPointData().GetArray("ReducedCoordinates"))
         own = values_of(fused_image.GetPointData().GetArray("ReducedCoordinates"))
         span = max(chain) - min(chain)
@@ -165,6 +189,11 @@ def main():
     dims = ref["dims"]
     compare_pieces(C, reduction, R, dims, COMPARED, args.compare, "")
     compare_pieces(C, fused, R, dims, FUSED_COMPARED, args.compare, "fused_")
+    if not args.thin:
+        compare_pieces(C, resampled_feats, R, RESAMPLED_DIMS, RESAMPLED_COMPARED, args.compare,
+                       "resampled_")
+        compare_pieces(C, resampled_fused, R, RESAMPLED_DIMS, (("ReducedCoordinates", "f"),),
+                       args.compare, "resampled_")
     print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
     print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
                                                 for kv in ref["timings"].items()))

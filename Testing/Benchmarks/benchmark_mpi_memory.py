@@ -1,0 +1,94 @@
+"""One process of the main job's fused reduction under `mpiexec -np R pvbatch --mpi
+--symmetric` (issue 20 §4): every process runs this script, reads the real 3-channel brain
+(Colin27 ch2 + AAL + Brodmann), resamples it by F along each axis with ParaView's
+ResampleToImage (as Examples/transfer_function.py --upsample F), and runs
+DimensionReduction on the channels with the main job's settings (24D, Isomap, reference
+sample 10000, K = 10, L = 500, seed 0), each process on its own piece.
+
+Each process writes to DIR:
+  rank<r>.f32   its piece's ReducedCoordinates (float32, x fastest over its extent)
+  rank<r>.json  its extent, the whole dimensions, its stage times and its peak resident
+                memory (ru_maxrss) after each stage
+benchmark_mpi_memory.sh runs it for R = 1, 2, 4 and compares every piece with the
+one-process coordinates, voxel by voxel, and the peaks with the one-process run's.
+"""
+import argparse
+import json
+import os
+import resource
+import sys
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
+import mcv_testing as T  # noqa: E402
+
+from paraview import servermanager, simple  # noqa: E402
+
+
+def peak_gib():
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / float(1 << 20)
+
+
+def whole_dims(proxy):
+    """The whole grid's dimensions from the pipeline information each process holds (in
+    symmetric mode GetDataInformation describes only what the first process gathered)."""
+    from paraview.vtk import vtkStreamingDemandDrivenPipeline as SDDP
+
+    algorithm = proxy.GetClientSideObject()
+    e = algorithm.GetOutputInformation(0).Get(SDDP.WHOLE_EXTENT())
+    return [e[2 * a + 1] - e[2 * a] + 1 for a in range(3)]
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--upsample", type=float, default=2.0)
+    parser.add_argument("--output", required=True)
+    args = parser.parse_args()
+    T.load_plugin(globals())
+    from paraview.simple import DimensionReduction
+
+    controller = servermanager.vtkProcessModule.GetProcessModule().GetGlobalController()
+    rank, ranks = controller.GetLocalProcessId(), controller.GetNumberOfProcesses()
+    stages, peaks = {}, {}
+
+    def timed(name, proxy):
+        start = time.time()
+        proxy.UpdatePipeline()
+        stages[name] = round(time.time() - start, 3)
+        peaks[name] = round(peak_gib(), 3)
+
+    readers = [simple.OpenDataFile(T.data_file(n))
+               for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+    volume = simple.MergeChannels(Input=readers)
+    timed("read", volume)
+    dims = whole_dims(volume)
+    if args.upsample != 1.0:
+        volume = simple.ResampleToImage(
+            Input=volume, UseInputBounds=1,
+            SamplingDimensions=[max(1, int(round(d * args.upsample))) for d in dims])
+        timed("upsample", volume)
+    reduction = DimensionReduction(Input=volume, FeatureSet="24D", Method="Isomap",
+                                   OutputDimension=3, ReferenceSampleSize=10000,
+                                   NumberOfNeighbors=10, NumberOfLandmarks=500, RandomSeed=0)
+    timed("reduction", reduction)
+
+    image = reduction.GetClientSideObject().GetOutputDataObject(0)
+    coordinates = image.GetPointData().GetArray("ReducedCoordinates")
+    os.makedirs(args.output, exist_ok=True)
+    with open(os.path.join(args.output, "rank%d.f32" % rank), "wb") as f:
+        if coordinates is not None and coordinates.GetNumberOfTuples() > 0:
+            f.write(bytes(memoryview(coordinates)))
+    info = {"rank": rank, "ranks": ranks, "extent": list(image.GetExtent()),
+            "points": image.GetNumberOfPoints(),
+            "whole_dims": whole_dims(reduction),
+            "threads": int(os.environ.get("OMP_NUM_THREADS", "0")),
+            "stage_seconds": stages, "stage_peak_rss_gib": peaks, "peak_rss_gib": peak_gib()}
+    with open(os.path.join(args.output, "rank%d.json" % rank), "w") as f:
+        json.dump(info, f)
+    print("rank %d of %d: %d points, peak %.2f GiB, %s"
+          % (rank, ranks, info["points"], info["peak_rss_gib"], stages))
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()
