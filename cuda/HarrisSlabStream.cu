@@ -134,6 +134,8 @@ std::size_t deviceBudgetBytes(std::size_t limitBytes, std::size_t alreadyHeldByt
   return usable > margin ? usable - margin : 0;
 }
 
+constexpr std::size_t kMaxSlabInputBytes = std::size_t(512) << 20;
+
 struct HarrisSlabStream::Impl
 {
   cudaStream_t compute = nullptr, copy = nullptr;
@@ -144,8 +146,12 @@ struct HarrisSlabStream::Impl
   bool uploadPending[2] = { false, false };
   void* device[2] = { nullptr, nullptr };
   std::size_t deviceCap[2] = { 0, 0 };
-  void* pinned[2] = { nullptr, nullptr };
-  std::size_t pinnedCap[2] = { 0, 0 };
+  // Pinned staging: a ring of pieces, each with the event of its last upload.
+  static constexpr int kRingSlots = 4;
+  static constexpr std::size_t kPieceBytes = std::size_t(64) << 20;
+  void* ring = nullptr;
+  cudaEvent_t slotFree[kRingSlots] = {};
+  int nextSlot = 0;
   float* scores = nullptr;
   std::size_t scoresCap = 0;
   detail::TopNSelector selector;
@@ -155,8 +161,7 @@ struct HarrisSlabStream::Impl
   ~Impl()
   {
     freeBuffers();
-    for (cudaEvent_t* e : { &upBegin[0], &upBegin[1], &upEnd[0], &upEnd[1], &consumed[0],
-           &consumed[1], &harrisBegin, &harrisEnd, &selectBegin, &selectEnd })
+    for (cudaEvent_t* e : allEvents())
     {
       if (*e)
       {
@@ -170,6 +175,17 @@ struct HarrisSlabStream::Impl
         cudaStreamDestroy(s);
       }
     }
+  }
+
+  std::vector<cudaEvent_t*> allEvents()
+  {
+    std::vector<cudaEvent_t*> all = { &upBegin[0], &upBegin[1], &upEnd[0], &upEnd[1],
+      &consumed[0], &consumed[1], &harrisBegin, &harrisEnd, &selectBegin, &selectEnd };
+    for (cudaEvent_t& e : slotFree)
+    {
+      all.push_back(&e);
+    }
+    return all;
   }
 
   std::size_t deviceBytesHeld() const { return deviceCap[0] + deviceCap[1] + scoresCap; }
@@ -191,14 +207,15 @@ struct HarrisSlabStream::Impl
       {
         cudaFree(device[b]);
       }
-      if (pinned[b])
-      {
-        cudaFreeHost(pinned[b]);
-      }
-      device[b] = pinned[b] = nullptr;
-      deviceCap[b] = pinnedCap[b] = 0;
+      device[b] = nullptr;
+      deviceCap[b] = 0;
       uploadPending[b] = false;
     }
+    if (ring)
+    {
+      cudaFreeHost(ring);
+    }
+    ring = nullptr;
     if (scores)
     {
       cudaFree(scores);
@@ -217,8 +234,7 @@ struct HarrisSlabStream::Impl
         MCV_CUDA_TRY(cudaStreamCreateWithFlags(s, cudaStreamNonBlocking));
       }
     }
-    for (cudaEvent_t* e : { &upBegin[0], &upBegin[1], &upEnd[0], &upEnd[1], &consumed[0],
-           &consumed[1], &harrisBegin, &harrisEnd, &selectBegin, &selectEnd })
+    for (cudaEvent_t* e : allEvents())
     {
       if (!*e)
       {
@@ -245,20 +261,12 @@ struct HarrisSlabStream::Impl
     return true;
   }
 
-  bool ensurePinned(int b, std::size_t bytes, std::string* error)
+  bool ensureRing(std::string* error)
   {
-    if (pinned[b] && bytes <= pinnedCap[b])
+    if (!ring)
     {
-      return true;
+      MCV_CUDA_TRY(cudaHostAlloc(&ring, kRingSlots * kPieceBytes, cudaHostAllocDefault));
     }
-    if (pinned[b])
-    {
-      MCV_CUDA_TRY(cudaFreeHost(pinned[b]));
-      pinned[b] = nullptr;
-      pinnedCap[b] = 0;
-    }
-    MCV_CUDA_TRY(cudaHostAlloc(&pinned[b], bytes, cudaHostAllocDefault));
-    pinnedCap[b] = bytes;
     return true;
   }
 
@@ -285,9 +293,10 @@ struct HarrisSlabStream::Impl
     return true;
   }
 
-  // Input slices [in0, in1) of the host volume -> device slab b, through staging b in
-  // pieces, each piece's upload queued as soon as the host has copied it (the host copy of
-  // piece k+1 overlaps the DMA of piece k).
+  // Input slices [in0, in1) of the host volume -> device slab b, in pieces through the
+  // pinned ring: each piece's upload is queued as soon as the host has copied it, so the
+  // host copy of piece k+1 overlaps the DMA of piece k; a slot is refilled only after its
+  // last DMA (its event). The ring, not the slab, sets the pinned memory.
   template <typename T>
   bool stage(const T* host, std::size_t plane, int in0, int in1, int b, SlabTimings& t,
     std::string* error)
@@ -298,18 +307,21 @@ struct HarrisSlabStream::Impl
     }
     MCV_CUDA_TRY(cudaStreamWaitEvent(copy, consumed[b], 0)); // the kernel is done with slab b
     MCV_CUDA_TRY(cudaEventRecord(upBegin[b], copy));
-    constexpr std::size_t kPiece = std::size_t(64) << 20;
     const std::size_t bytes = static_cast<std::size_t>(in1 - in0) * plane * sizeof(T);
     const char* src = reinterpret_cast<const char*>(host + static_cast<std::size_t>(in0) * plane);
-    char* staging = static_cast<char*>(pinned[b]);
     char* dst = static_cast<char*>(device[b]);
-    for (std::size_t at = 0; at < bytes; at += kPiece)
+    for (std::size_t at = 0; at < bytes; at += kPieceBytes)
     {
-      const std::size_t n = std::min(kPiece, bytes - at);
+      const std::size_t n = std::min(kPieceBytes, bytes - at);
+      const int slot = nextSlot;
+      nextSlot = (nextSlot + 1) % kRingSlots;
+      MCV_CUDA_TRY(cudaEventSynchronize(slotFree[slot]));
+      char* staging = static_cast<char*>(ring) + static_cast<std::size_t>(slot) * kPieceBytes;
       const auto c0 = Clock::now();
-      parallelCopy(staging + at, src + at, n);
+      parallelCopy(staging, src + at, n);
       t.stagingMs += msSince(c0);
-      MCV_CUDA_TRY(cudaMemcpyAsync(dst + at, staging + at, n, cudaMemcpyHostToDevice, copy));
+      MCV_CUDA_TRY(cudaMemcpyAsync(dst + at, staging, n, cudaMemcpyHostToDevice, copy));
+      MCV_CUDA_TRY(cudaEventRecord(slotFree[slot], copy));
     }
     MCV_CUDA_TRY(cudaEventRecord(upEnd[b], copy));
     uploadPending[b] = true;
@@ -341,22 +353,35 @@ struct HarrisSlabStream::Impl
       return false;
     }
     const std::size_t budgetNow = budget ? budget : deviceBudgetBytes(0, deviceBytesHeld());
-    const SlabPlan plan = planSlabs(grid, sizeof(T), params.kernelWidth, budgetNow, maxOwned);
+    const std::size_t plane = planeOf(grid);
+    const int halo = 1 + params.kernelWidth / 2;
+    // Slabs of at most kMaxSlabInputBytes of input: the first slab's upload is not
+    // overlapped, and the halo overhead (2 halo / owned slices) is small at that size.
+    const std::size_t sliceBytes = plane * sizeof(T);
+    int cap = static_cast<int>(std::max<std::size_t>(1 + 2 * halo, kMaxSlabInputBytes / sliceBytes)) - 2 * halo;
+    if (maxOwned > 0)
+    {
+      cap = std::min(cap, maxOwned);
+    }
+    const SlabPlan plan = planSlabs(grid, sizeof(T), params.kernelWidth, budgetNow, cap);
     if (plan.ownedSlices < 1)
     {
       return fail(error, "a device budget of " + std::to_string(budgetNow >> 20) +
           " MiB holds not even one z-slab of this volume");
     }
-    const std::size_t plane = planeOf(grid);
     const int nz = grid.dims[2], S = plan.ownedSlices, H = plan.halo;
     const std::size_t inBytes =
       static_cast<std::size_t>(std::min(S + 2 * H, nz)) * plane * sizeof(T);
     for (int b = 0; b < 2; ++b)
     {
-      if (!ensureDevice(device[b], deviceCap[b], inBytes, error) || !ensurePinned(b, inBytes, error))
+      if (!ensureDevice(device[b], deviceCap[b], inBytes, error))
       {
         return false;
       }
+    }
+    if (!ensureRing(error))
+    {
+      return false;
     }
     void* scoreBuffer = scores;
     if (!ensureDevice(scoreBuffer, scoresCap, static_cast<std::size_t>(S) * plane * sizeof(float), error))
@@ -368,7 +393,7 @@ struct HarrisSlabStream::Impl
     t.ownedSlices = S;
     t.halo = H;
     t.deviceBytes = plan.deviceBytes;
-    t.pinnedBytes = 2 * inBytes;
+    t.pinnedBytes = kRingSlots * kPieceBytes;
 
     auto inRange = [&](int i, int& in0, int& in1) {
       in0 = std::max(0, i * S - H);

@@ -7,9 +7,10 @@
 // of the global top-N is in its own slab's top-N, so the result is exactly the whole-volume
 // GPU result.
 //
-// Transfers overlap compute: slabs alternate between two pinned host staging buffers and
-// two device slab buffers; while the kernel runs on slab i, the host copies slab i+1 into
-// the other staging buffer and a second stream uploads it.
+// Transfers overlap compute: slabs alternate between two device slab buffers; while the
+// kernel runs on slab i, the host copies slab i+1 piece by piece into a small ring of
+// pinned staging buffers (256 MiB) and a second stream uploads each piece as soon as it is
+// there. Slabs hold at most 512 MiB of input, so the first, unoverlapped upload is short.
 //
 // Plain C++ (no CUDA types). Not thread-safe: one caller at a time per instance.
 #pragma once
@@ -56,8 +57,9 @@ std::size_t deviceBudgetBytes(std::size_t limitBytes, std::size_t alreadyHeldByt
 struct SlabTimings
 {
   int slabs = 0, ownedSlices = 0, halo = 0;
-  double stagingMs = 0;  // host: copies into the pinned staging buffers (sum)
-  double uploadMs = 0;   // H2D copies on the copy stream (sum, CUDA events; overlapped)
+  double stagingMs = 0;  // host: copies into the pinned staging ring (sum)
+  double uploadMs = 0;   // per slab, first piece queued to last piece landed on the copy
+                         // stream (sum, CUDA events; includes waits for the host copies)
   double harrisMs = 0;   // Harris kernels (sum, CUDA events)
   double selectMs = 0;   // per-slab selections incl. the N points' download (sum)
   double mergeMs = 0;    // host: running top-N merges (sum)
