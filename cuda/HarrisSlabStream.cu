@@ -4,13 +4,12 @@
 #include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "HarrisPipeline.h"
+#include "StagingCopy.h"
 #include "TopNSelect.cuh"
 
 #include <algorithm>
 #include <chrono>
 #include <cstring>
-#include <system_error>
-#include <thread>
 #include <vector>
 
 namespace mcv
@@ -33,48 +32,6 @@ double msSince(Clock::time_point t)
 std::size_t planeOf(const ImageGrid& g)
 {
   return static_cast<std::size_t>(g.dims[0]) * static_cast<std::size_t>(g.dims[1]);
-}
-
-// Host copy into pinned memory on several threads: one core's memcpy (about 10 GB/s) is
-// slower than the PCIe upload it feeds. Hand-written: a plain split of one memcpy, nothing
-// a library would add. A thread that cannot be started copies its part on this one.
-void parallelCopy(void* dst, const void* src, std::size_t bytes)
-{
-  constexpr std::size_t kPerThreadMin = std::size_t(4) << 20;
-  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  const std::size_t parts =
-    std::max<std::size_t>(1, std::min<std::size_t>({ cores, 8, bytes / kPerThreadMin }));
-  if (parts == 1)
-  {
-    std::memcpy(dst, src, bytes);
-    return;
-  }
-  const std::size_t step = (bytes + parts - 1) / parts;
-  auto copyPart = [&](std::size_t p) {
-    const std::size_t begin = p * step, end = std::min(bytes, begin + step);
-    if (begin < end)
-    {
-      std::memcpy(static_cast<char*>(dst) + begin, static_cast<const char*>(src) + begin, end - begin);
-    }
-  };
-  std::vector<std::thread> threads;
-  threads.reserve(parts - 1);
-  for (std::size_t p = 1; p < parts; ++p)
-  {
-    try
-    {
-      threads.emplace_back(copyPart, p);
-    }
-    catch (const std::system_error&)
-    {
-      copyPart(p);
-    }
-  }
-  copyPart(0);
-  for (std::thread& t : threads)
-  {
-    t.join();
-  }
 }
 
 } // namespace
@@ -318,7 +275,7 @@ struct HarrisSlabStream::Impl
       MCV_CUDA_TRY(cudaEventSynchronize(slotFree[slot]));
       char* staging = static_cast<char*>(ring) + static_cast<std::size_t>(slot) * kPieceBytes;
       const auto c0 = Clock::now();
-      parallelCopy(staging, src + at, n);
+      detail::stagingCopy(staging, src + at, n);
       t.stagingMs += msSince(c0);
       MCV_CUDA_TRY(cudaMemcpyAsync(dst + at, staging, n, cudaMemcpyHostToDevice, copy));
       MCV_CUDA_TRY(cudaEventRecord(slotFree[slot], copy));
