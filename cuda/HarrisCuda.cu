@@ -6,6 +6,7 @@
 #include "CudaCheck.h"
 #include "HarrisKernel.cuh"
 #include "HarrisPipeline.h"
+#include "HarrisSlabStream.h"
 
 #include <mutex>
 
@@ -29,6 +30,18 @@ HarrisPipeline& sharedPipeline()
 {
   static HarrisPipeline* p = new HarrisPipeline;
   return *p;
+}
+
+HarrisSlabStream& sharedSlabStream() // never destroyed, as sharedPipeline()
+{
+  static HarrisSlabStream* s = new HarrisSlabStream;
+  return *s;
+}
+
+std::size_t& budgetLimit() // guarded by pipelineMutex()
+{
+  static std::size_t bytes = 0;
+  return bytes;
 }
 
 // After a failure at any step: the buffers may be half allocated or hold half a result, and
@@ -110,6 +123,30 @@ bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisPar
   {
     return detail::fail(error, why);
   }
+  HarrisSlabStream& slabs = sharedSlabStream();
+  const std::size_t budget = deviceBudgetBytes(
+    budgetLimit(), pipeline.deviceBytesHeld() + slabs.deviceBytesHeld());
+  if (grid.extendedAxes() == 3 && wholeVolumeDeviceBytes(grid, sizeof(float)) > budget)
+  {
+    pipeline.release(); // its memory counts in the budget: give it to the slabs
+    slabs.setBudgetBytes(budget);
+    SlabTimings st;
+    if (slabs.topN(hostOpacity, grid, params, N, out, error, &st))
+    {
+      if (timings)
+      {
+        *timings = GpuStageTimings();
+        timings->uploadMs = st.uploadMs;
+        timings->harrisMs = st.harrisMs;
+        timings->selectMs = st.selectMs + st.mergeMs;
+        timings->slabs = st.slabs;
+      }
+      return true;
+    }
+    out = InterestPoints(); // the slab stream has freed its buffers
+    return false;
+  }
+  slabs.release(); // the whole volume fits: the slab buffers would only take room
   if (pipeline.uploadVolume(hostOpacity, grid, error) &&
     pipeline.topN(params, N, out, error, timings))
   {
@@ -139,10 +176,17 @@ bool harrisResponse(const float* hostOpacity, const ImageGrid& grid,
   return false;
 }
 
+void setHarrisDeviceBudget(std::size_t bytes)
+{
+  std::lock_guard<std::mutex> lock(pipelineMutex());
+  budgetLimit() = bytes;
+}
+
 void releaseHarrisCache()
 {
   std::lock_guard<std::mutex> lock(pipelineMutex());
   sharedPipeline().release();
+  sharedSlabStream().release();
 }
 
 } // namespace cuda

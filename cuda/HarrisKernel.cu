@@ -87,8 +87,8 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
   const int nx = a.nx, ny = a.ny, nz = a.nz;
   const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
-  const int zb = blockIdx.z * a.zChunk;
-  const int ze = min(zb + a.zChunk, nz);
+  const int zb = a.zOutBegin + blockIdx.z * a.zChunk;
+  const int ze = min(zb + a.zChunk, a.zOutEnd);
   const std::size_t plane = static_cast<std::size_t>(nx) * ny;
   const bool withHist = a.hist != nullptr;
   if (withHist)
@@ -323,7 +323,8 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       const bool inside = gx < nx && gy < ny;
       if (inside)
       {
-        a.response[static_cast<std::size_t>(z) * plane + static_cast<std::size_t>(gy) * nx + gx] =
+        a.response[static_cast<std::size_t>(z - a.zOutBegin) * plane +
+          static_cast<std::size_t>(gy) * nx + gx] =
           response;
       }
       if (withHist)
@@ -469,6 +470,17 @@ cudaError_t launchRadius(
   }
   const int tilesX = (args.nx + kHarrisTileX - 1) / kHarrisTileX;
   const int tilesY = (args.ny + kHarrisTileY - 1) / kHarrisTileY;
+  HarrisKernelArgs a = args;
+  if (a.zOutEnd <= 0)
+  {
+    a.zOutBegin = 0;
+    a.zOutEnd = a.nz;
+  }
+  if (a.zOutBegin < 0 || a.zOutEnd > a.nz || a.zOutBegin >= a.zOutEnd)
+  {
+    return cudaErrorInvalidValue;
+  }
+  const int outSlices = a.zOutEnd - a.zOutBegin;
   if (zChunk <= 0)
   {
     int device = 0, sms = 1, perSM = 1;
@@ -479,16 +491,15 @@ cudaError_t launchRadius(
     {
       return err;
     }
-    zChunk = chooseZChunk(tilesX * tilesY, args.nz, sms * perSM, R);
+    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R);
   }
-  zChunk = min(max(zChunk, 1), args.nz);
-  HarrisKernelArgs a = args;
+  zChunk = min(max(zChunk, 1), outSlices);
   a.zChunk = zChunk;
   if (used)
   {
     *used = zChunk;
   }
-  const dim3 grid(tilesX, tilesY, (args.nz + zChunk - 1) / zChunk);
+  const dim3 grid(tilesX, tilesY, (outSlices + zChunk - 1) / zChunk);
   if (grid.y > 65535u || grid.z > 65535u)
   {
     return cudaErrorInvalidConfiguration;

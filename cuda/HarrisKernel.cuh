@@ -36,6 +36,10 @@ struct HarrisKernelArgs
 {
   int nx = 0, ny = 0, nz = 0; // the grid as the kernel sees it (a slice: nz == 1)
   int zChunk = 0;             // output slices per block
+  // Output slices [zOutBegin, zOutEnd) (zOutEnd <= 0: all nz); response holds only those,
+  // slice z at (z - zOutBegin) * nx * ny. A z-slab with halo slices computes its owned
+  // slices this way: the halo is read (and clamped at the slab's ends) but not output.
+  int zOutBegin = 0, zOutEnd = 0;
   float scaleX = 0, scaleY = 0, scaleZ = 0; // 0.5 / spacing
   float k = 0;
   int planar = 0; // 1: 2D form det2 - k tr2^2 on the x,y block

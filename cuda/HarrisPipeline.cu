@@ -1,6 +1,7 @@
 #include "HarrisPipeline.h"
 
 #include "CudaCheck.h"
+#include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "TopNSelect.cuh"
 
@@ -51,6 +52,22 @@ KernelGrid kernelGrid(const ImageGrid& g)
 }
 
 } // namespace
+
+detail::HarrisKernelArgs detail::harrisKernelArgs(const ImageGrid& grid, const HarrisParameters& params)
+{
+  const KernelGrid k = kernelGrid(grid);
+  HarrisKernelArgs a;
+  a.nx = k.nx;
+  a.ny = k.ny;
+  a.nz = k.nz;
+  a.scaleX = static_cast<float>(0.5 / k.sx); // as the CPU path: 0.5 / spacing, in float
+  a.scaleY = static_cast<float>(0.5 / k.sy);
+  a.scaleZ = static_cast<float>(0.5 / k.sz);
+  a.k = static_cast<float>(params.k);
+  a.planar = k.planar ? 1 : 0;
+  gaussianTaps(params, a.taps); // kernelWidth <= 7 taps (gpuUnsupportedReason)
+  return a;
+}
 
 const char* gpuUnsupportedReason(const ImageGrid& grid, const HarrisParameters& params)
 {
@@ -240,17 +257,7 @@ struct HarrisPipeline::Impl
     {
       return false;
     }
-    const KernelGrid k = kernelGrid(grid);
-    detail::HarrisKernelArgs a;
-    a.nx = k.nx;
-    a.ny = k.ny;
-    a.nz = k.nz;
-    a.scaleX = static_cast<float>(0.5 / k.sx); // as the CPU path: 0.5 / spacing, in float
-    a.scaleY = static_cast<float>(0.5 / k.sy);
-    a.scaleZ = static_cast<float>(0.5 / k.sz);
-    a.k = static_cast<float>(params.k);
-    a.planar = k.planar ? 1 : 0;
-    gaussianTaps(params, a.taps); // kernelWidth <= 7 taps (checked above)
+    detail::HarrisKernelArgs a = detail::harrisKernelArgs(grid, params);
     a.response = scores;
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
     a.histMode = histMode;
@@ -420,6 +427,11 @@ bool HarrisPipeline::timeHarrisKernel(
     *ms = p.elapsed(2, 3);
   }
   return true;
+}
+
+std::size_t HarrisPipeline::deviceBytesHeld() const
+{
+  return impl_->inputCap + impl_->scoresCap;
 }
 
 void HarrisPipeline::release()

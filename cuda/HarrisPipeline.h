@@ -65,6 +65,9 @@ public:
   bool timeHarrisKernel(const HarrisParameters& params, bool withHistogram, double* ms,
     std::string* error);
 
+  // Bytes of the volume and score buffers it holds now (the selection's are small).
+  std::size_t deviceBytesHeld() const;
+
   // Frees every device buffer (they are allocated again on the next call).
   void release();
 

@@ -4,6 +4,7 @@
 //
 //   mcvBenchmarkGPU [--sizes 64,128,256,384,512] [--runs R] [--cpu-runs R] [--cpu-max N]
 //                   [--sweep] [--variants] [--no-float] [--profile]
+//                   [--slabs] [--slab-budget-mib M] [--slab-runs R] [--large N]
 //
 // Per size: GPU stage times (CUDA events, median of R runs, volume resident on the GPU):
 // harris (fused kernel + level-1 histogram), select (radix select + compaction + sort, with
@@ -16,8 +17,15 @@
 // --sweep times the Harris kernel for several z chunks, --variants the kernel variants
 // (z-loop unrolling, 3 blocks/SM, histogram atomics) from 256^3 up; the float path (the
 // plugin's input) is timed too unless --no-float.
+// --slabs also runs the z-slab path (HarrisSlabStream: volume on the host, streamed in
+// slabs with halos, running top-N) under a forced device budget (--slab-budget-mib, default
+// a quarter of what the whole volume needs), checks that its points equal the whole-volume
+// points, and prints its stages and the ratio slabs / whole (volume resident, and with the
+// whole volume's pageable upload). --large N streams an N^3 uint8 volume (tiles of the
+// structured volume) whose whole-volume buffers exceed the device, under the default budget.
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
+#include "cuda/HarrisSlabStream.h"
 
 #include "HarrisResponse.h"
 #include "TopResponses.h"
@@ -56,6 +64,17 @@ struct Config
   bool variants = false;
   bool floatPath = true;
   bool profile = false; // one warm topN on the first size, then exit (for ncu)
+  bool slabs = false;
+  std::size_t slabBudgetMiB = 0; // 0: a quarter of the whole-volume need
+  int slabRuns = 3;
+  int large = 0;
+};
+
+struct SlabRow
+{
+  double total = -1, harris = 0, select = 0, upload = 0, staging = 0, merge = 0;
+  int slabs = 0, owned = 0;
+  bool same = false;
 };
 
 struct Row
@@ -64,6 +83,7 @@ struct Row
   double harris = 0, select = 0, download = 0, device = 0, wall = 0;
   double h2dPinned = 0, h2dPageable = 0;
   double floatHarris = -1, floatDevice = -1, floatH2D = -1;
+  SlabRow slabU8, slabF;
   double cpu = -1;
   double overlap = -1, angle = -1;
   int zChunk = 0;
@@ -132,6 +152,55 @@ double pytorchAnchorMs(int n)
   }
 }
 
+// The slab path on a host volume: one warm-up, then the median of `runs` of each stage.
+template <typename T>
+SlabRow runSlabs(mcv::cuda::HarrisSlabStream& stream, const std::vector<T>& values,
+  const mcv::ImageGrid& grid, std::size_t budget, int runs, const mcv::InterestPoints* whole)
+{
+  const mcv::HarrisParameters params;
+  stream.setBudgetBytes(budget);
+  mcv::InterestPoints pts;
+  std::string error;
+  if (!stream.topN(values.data(), grid, params, 2048, pts, &error))
+    die(error);
+  std::vector<double> tot, h, s, u, st, m;
+  SlabRow row;
+  for (int r = 0; r < runs; ++r)
+  {
+    mcv::cuda::SlabTimings t;
+    if (!stream.topN(values.data(), grid, params, 2048, pts, &error, &t))
+      die(error);
+    tot.push_back(t.totalMs);
+    h.push_back(t.harrisMs);
+    s.push_back(t.selectMs);
+    u.push_back(t.uploadMs);
+    st.push_back(t.stagingMs);
+    m.push_back(t.mergeMs);
+    row.slabs = t.slabs;
+    row.owned = t.ownedSlices;
+  }
+  row.total = median(tot);
+  row.harris = median(h);
+  row.select = median(s);
+  row.upload = median(u);
+  row.staging = median(st);
+  row.merge = median(m);
+  row.same = whole && pts.indices == whole->indices && pts.scores == whole->scores;
+  return row;
+}
+
+void printSlabRow(const char* kind, const SlabRow& r, double wholeDevice, double wholeWithUpload,
+  bool compared)
+{
+  std::printf("  slabs %s: %d slabs of %d slices: total %.2f ms (harris %.2f, select %.2f, upload "
+              "span %.2f, host staging %.2f, merge %.2f); slabs/whole-resident %.1fx, "
+              "slabs/(whole+pageable H2D) %.2fx; points %s\n",
+    kind, r.slabs, r.owned, r.total, r.harris, r.select, r.upload, r.staging, r.merge,
+    r.total / wholeDevice, r.total / wholeWithUpload,
+    compared ? (r.same ? "identical to the whole-volume run" : "DIFFER from the whole-volume run")
+             : "not compared");
+}
+
 } // namespace
 
 int main(int argc, char** argv)
@@ -161,6 +230,14 @@ int main(int argc, char** argv)
       cfg.profile = true;
     else if (a == "--no-float")
       cfg.floatPath = false;
+    else if (a == "--slabs")
+      cfg.slabs = true;
+    else if (a == "--slab-budget-mib")
+      cfg.slabBudgetMiB = static_cast<std::size_t>(std::atoll(next()));
+    else if (a == "--slab-runs")
+      cfg.slabRuns = std::max(1, std::atoi(next()));
+    else if (a == "--large")
+      cfg.large = std::atoi(next());
     else
       die("unknown argument " + a);
   }
@@ -326,12 +403,12 @@ int main(int argc, char** argv)
     }
 
     // Float input (what the plugin passes), same values / 255.
+    mcv::InterestPoints fp;
     if (cfg.floatPath)
     {
       if (!pipeline.uploadVolume(vol.values.data(), vol.grid, &error))
         die(error);
       row.floatH2D = pipeline.lastUploadMs();
-      mcv::InterestPoints fp;
       for (int r = 0; r < 2; ++r)
         if (!pipeline.topN(params, N, fp, &error))
           die(error);
@@ -349,6 +426,23 @@ int main(int argc, char** argv)
       std::printf("  GPU float: harris %.3f ms, device total %.3f ms, H2D (pageable) %.3f ms; "
                   "overlap with uint8 %.4f\n",
         row.floatHarris, row.floatDevice, row.floatH2D, mcv::testing::indexOverlap(fp, gpu));
+    }
+
+    // The z-slab path on the same host volumes under a forced budget.
+    if (cfg.slabs)
+    {
+      mcv::cuda::HarrisSlabStream stream;
+      auto budgetFor = [&](int bytesPerValue) {
+        return cfg.slabBudgetMiB ? cfg.slabBudgetMiB << 20
+                                 : mcv::cuda::wholeVolumeDeviceBytes(vol.grid, bytesPerValue) / 4;
+      };
+      row.slabU8 = runSlabs(stream, bytes, vol.grid, budgetFor(1), cfg.slabRuns, &gpu);
+      printSlabRow("uint8", row.slabU8, row.device, row.device + row.h2dPageable, true);
+      if (cfg.floatPath)
+      {
+        row.slabF = runSlabs(stream, vol.values, vol.grid, budgetFor(4), cfg.slabRuns, &fp);
+        printSlabRow("float", row.slabF, row.floatDevice, row.floatDevice + row.floatH2D, true);
+      }
     }
 
     // CPU path, same volume (float values = bytes / 255).
@@ -376,6 +470,45 @@ int main(int argc, char** argv)
     std::printf("\n");
   }
   pipeline.release();
+
+  SlabRow largeRow;
+  std::size_t largeBudget = 0, largeWhole = 0;
+  if (cfg.large > 0)
+  {
+    // N^3 uint8 from 4^3 tiles of the structured volume of side N/4 (copies tie exactly:
+    // the index order decides, as everywhere). Default budget: free memory minus the margin.
+    const int n = cfg.large, tile = std::max(8, cfg.large / 4);
+    const auto t0 = Clock::now();
+    const mt::Volume tv = mt::structuredVolume(tile);
+    std::vector<std::uint8_t> tb(tv.values.size());
+    for (std::size_t i = 0; i < tb.size(); ++i)
+      tb[i] = static_cast<std::uint8_t>(std::lround(tv.values[i] * 255.0f));
+    const mcv::ImageGrid grid = mt::makeGrid(n, n, n);
+    std::vector<std::uint8_t> big(grid.voxelCount());
+#pragma omp parallel for schedule(static)
+    for (long long z = 0; z < n; ++z)
+      for (int y = 0; y < n; ++y)
+      {
+        const std::uint8_t* src = tb.data() +
+          (static_cast<std::size_t>(z % tile) * tile + static_cast<std::size_t>(y % tile)) * tile;
+        std::uint8_t* dst = big.data() + (static_cast<std::size_t>(z) * n + y) * n;
+        for (int x = 0; x < n; x += tile)
+          std::memcpy(dst + x, src, static_cast<std::size_t>(std::min(tile, n - x)));
+      }
+    largeBudget = mcv::cuda::deviceBudgetBytes(0);
+    largeWhole = mcv::cuda::wholeVolumeDeviceBytes(grid, 1);
+    std::printf("== large %d^3 uint8 (%.2f G voxels, %.1f GB on the host; made in %.0f ms): the "
+                "whole-volume path needs %.1f GB of device memory, the budget (free minus margin) "
+                "is %.1f GB: %s\n",
+      n, grid.voxelCount() / 1e9, grid.voxelCount() / 1e9, msSince(t0), largeWhole / 1e9,
+      largeBudget / 1e9, largeWhole > largeBudget ? "streamed in slabs" : "it would fit whole");
+    mcv::cuda::HarrisSlabStream stream;
+    largeRow = runSlabs(stream, big, grid, largeBudget, std::min(cfg.slabRuns, 2), nullptr);
+    std::printf("  slabs uint8: %d slabs of %d slices: total %.1f ms (harris %.1f, select %.1f, "
+                "upload span %.1f, host staging %.1f, merge %.1f); %.3f ns per voxel\n\n",
+      largeRow.slabs, largeRow.owned, largeRow.total, largeRow.harris, largeRow.select,
+      largeRow.upload, largeRow.staging, largeRow.merge, largeRow.total * 1e6 / grid.voxelCount());
+  }
 
   std::printf("Best-viewpoint GPU pipeline (Harris 5^3 + top-2048), %s, times in ms "
               "(medians)\n",
@@ -407,5 +540,38 @@ int main(int argc, char** argv)
               "computeHarrisResponseCPU + selectTopResponsesCPU, this run; overlap/angle: GPU vs CPU "
               "top-N set and PCA best view;\ntorch-ref = notes/gpu.md PyTorch pipeline on an H200 "
               "(not measured in this run).\n");
+  if (cfg.slabs)
+  {
+    std::printf("\nZ-slab path (volume on the host, forced budget), total ms (medians of %d), "
+                "ratio to the whole-volume path of the same run\n", cfg.slabRuns);
+    std::printf("%6s %5s %7s %9s %9s %9s %9s %10s %10s %10s %10s\n", "size", "type", "slabs",
+      "total", "harris", "select", "staging", "/resident", "/+H2Dpin", "/+H2Dpage", "ns/voxel");
+    for (const Row& r : rows)
+    {
+      const double voxels = static_cast<double>(r.n) * r.n * r.n;
+      for (int f = 0; f < 2; ++f)
+      {
+        const SlabRow& s = f ? r.slabF : r.slabU8;
+        if (s.total < 0)
+          continue;
+        const double dev = f ? r.floatDevice : r.device;
+        const double up = f ? r.floatH2D : r.h2dPageable;
+        char pin[32] = "-"; // the pinned upload is timed for uint8 only
+        if (!f && r.h2dPinned > 0)
+          std::snprintf(pin, sizeof(pin), "%.2fx", s.total / (dev + r.h2dPinned));
+        std::printf("%5d^3 %5s %7d %9.2f %9.2f %9.2f %9.2f %9.1fx %10s %9.2fx %10.3f%s\n", r.n,
+          f ? "float" : "uint8", s.slabs, s.total, s.harris, s.select, s.staging, s.total / dev,
+          pin, s.total / (dev + up), s.total * 1e6 / voxels, s.same ? "" : "  POINTS DIFFER");
+      }
+    }
+  }
+  if (largeRow.total >= 0)
+  {
+    const double voxels = static_cast<double>(cfg.large) * cfg.large * cfg.large;
+    std::printf("%5d^3 %5s %7d %9.2f %9.2f %9.2f %9.2f %10s %10s %10s %10.3f  (whole needs %.1f GB, "
+                "budget %.1f GB)\n",
+      cfg.large, "uint8", largeRow.slabs, largeRow.total, largeRow.harris, largeRow.select,
+      largeRow.staging, "-", "-", "-", largeRow.total * 1e6 / voxels, largeWhole / 1e9, largeBudget / 1e9);
+  }
   return 0;
 }

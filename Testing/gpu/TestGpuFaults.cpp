@@ -11,6 +11,7 @@
 #include "cuda/CudaCheck.h"
 #include "cuda/FaultInjection.h"
 #include "cuda/HarrisCuda.h"
+#include "cuda/HarrisSlabStream.h"
 
 #include "BestViewpoint.h"
 #include "FeatureVectors.h"
@@ -339,6 +340,27 @@ TEST(GpuFaults, BestViewpointFallsBackAtEveryFailurePoint)
     SCOPED_TRACE("N = " + std::to_string(N));
     viewpointFaults(v.values, v.grid, N);
   }
+}
+
+// The same under a device budget that sends the volume through the GPU in 4 z-slabs
+// (HarrisSlabStream): a failure in any slab falls back to the CPU, frees the slab buffers,
+// and the next call streams again with the same result.
+TEST(GpuFaults, BestViewpointInSlabsFallsBackAtEveryFailurePoint)
+{
+  MCV_REQUIRE_GPU();
+  const mt::Volume v = mt::structuredVolume(144);
+  const std::size_t planeBytes = 144 * 144 * sizeof(float);
+  // float: 2 x (S + 6) input slices + S score slices + the selection reserve -> S = 40.
+  mcv::cuda::setHarrisDeviceBudget(mcv::cuda::kSelectionReserveBytes + (12 + 3 * 40) * planeBytes);
+  mcv::InterestPoints points;
+  mcv::cuda::GpuStageTimings timings;
+  std::string error;
+  EXPECT_TRUE(mcv::cuda::harrisTopN(
+    v.values.data(), v.grid, mcv::HarrisParameters(), 2048, points, &error, &timings)) << error;
+  EXPECT_EQ(timings.slabs, 4);
+  viewpointFaults(v.values, v.grid, 2048);
+  mcv::cuda::setHarrisDeviceBudget(0);
+  releaseDeviceCaches();
 }
 
 TEST(GpuFaults, BestViewpointOfABlockFallsBack)
