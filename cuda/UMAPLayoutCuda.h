@@ -13,8 +13,10 @@
 //    round's start, and the round's moves are summed per vertex (UMAPLayoutStep.h) and
 //    applied at its end. The CPU moves the ends of an edge before the next edge of its
 //    block reads them. Several rounds keep a vertex from taking all its pulls of an epoch
-//    from one stale position (with one round, 500 epochs on 10000 points lost 0.01 of
-//    trustworthiness against the CPU; measured by the host run of the same arithmetic).
+//    from one stale position: in a host run of the same arithmetic (UMAPLayoutStep.h) on
+//    2000 brain 24D points, the Procrustes disparity to the CPU layout was 0.19 with one
+//    round, 0.096 with 2, 0.076 with 4 and 8 (two CPU seeds: 0.14); trustworthiness within
+//    0.003 of the CPU's for every count. 4 rounds cost 4 launches of E / 4 threads.
 //  - Negative samples come from a counter-based hash of (seed, epoch, edge), not from the
 //    CPU's per-block streams.
 //  - The gradient coefficients use the GPU's __powf instead of the CPU's table.

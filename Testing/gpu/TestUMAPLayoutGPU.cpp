@@ -4,12 +4,14 @@
 //  - trustworthiness (k = 10) of the GPU layout within 0.01 of the CPU's;
 //  - the Procrustes disparity of the two layouts (both centred and scaled to unit norm, the
 //    GPU's optimally rotated/reflected and scaled onto the CPU's; 1 - (sum of singular values
-//    of A^T B)^2, scipy.spatial.procrustes) at most twice the disparity between two CPU
-//    layouts that differ only in their seed, plus 0.01. The seed is the SGD's own noise:
-//    the GPU layout is another draw of the same process, so it may not sit further from
-//    the CPU's than a reseeded CPU run does by more than a factor 2 (+0.01 so that a
-//    near-zero seed spread, e.g. two blobs that collapse to two tight clusters, does not
-//    demand more than float rounding);
+//    of A^T B)^2, scipy.spatial.procrustes) at most twice the largest disparity between the
+//    CPU layout and two CPU layouts that differ only in their seed, plus 0.01. The seed is
+//    the SGD's own noise: the GPU layout is another draw of the same process, so it may not
+//    sit further from the CPU's than reseeded CPU runs do by more than a factor 2 (+0.01 so
+//    that a near-zero seed spread does not demand more than float rounding). A host run of
+//    the GPU's arithmetic gave 0.022, 0.076 and 0.044 against seed spreads 0.014, 0.14 and
+//    0.033 (two blobs, brain 24D with 2000 and 5000 points); a layout that ignored the graph
+//    (unrelated point sets) would sit near 1;
 // on two well-separated Gaussian blobs in 10D (which also stay separated on the GPU) and on
 // reference samples of the real brain's 24D and 6D features. Also: the same seed gives the
 // same GPU layout bit for bit, and an injected CUDA failure falls back to the CPU layout with
@@ -72,9 +74,10 @@ bool mentionsGpuFailure(const std::string& w)
 mcv::Embedding expectGpuAgreesWithCpu(const RowMatrixF& X, const char* what)
 {
   const mcv::Embedding cpu = fit(X, Device::CPU, 0);
-  const mcv::Embedding reseeded = fit(X, Device::CPU, 1);
+  const mcv::Embedding reseeded = fit(X, Device::CPU, 1), reseeded2 = fit(X, Device::CPU, 2);
   const mcv::Embedding gpu = fit(X, Device::GPU, 0);
-  EXPECT_TRUE(cpu.error.empty() && reseeded.error.empty() && gpu.error.empty()) << cpu.error << gpu.error;
+  EXPECT_TRUE(cpu.error.empty() && reseeded.error.empty() && reseeded2.error.empty() && gpu.error.empty())
+    << cpu.error << gpu.error;
   for (const std::string& w : gpu.warnings)
   {
     EXPECT_FALSE(mentionsGpuFailure(w)) << w;
@@ -85,10 +88,11 @@ mcv::Embedding expectGpuAgreesWithCpu(const RowMatrixF& X, const char* what)
   const double tCpu = mcv::trustworthiness(X.data(), D, cpu.coordinates.data(), d, n, 10);
   const double tSeed = mcv::trustworthiness(X.data(), D, reseeded.coordinates.data(), d, n, 10);
   const double tGpu = mcv::trustworthiness(X.data(), D, gpu.coordinates.data(), d, n, 10);
-  const double seedSpread = procrustesDisparity(cpu.coordinates, reseeded.coordinates);
+  const double seedSpread = std::max(procrustesDisparity(cpu.coordinates, reseeded.coordinates),
+    procrustesDisparity(cpu.coordinates, reseeded2.coordinates));
   const double disparity = procrustesDisparity(cpu.coordinates, gpu.coordinates);
   std::printf("[ agreement ] UMAP %s, N = %zu: trustworthiness CPU %.4f (other seed %.4f), GPU %.4f; "
-              "Procrustes disparity CPU-GPU %.4f, CPU-CPU other seed %.4f\n",
+              "Procrustes disparity CPU-GPU %.4f, CPU-CPU other seeds (max of 2) %.4f\n",
     what, n, tCpu, tSeed, tGpu, disparity, seedSpread);
   EXPECT_NEAR(tGpu, tCpu, 0.01);
   EXPECT_LE(disparity, 2.0 * seedSpread + 0.01);

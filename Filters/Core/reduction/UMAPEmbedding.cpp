@@ -154,7 +154,7 @@ Embedding fitUMAP(const RowMatrixF& X, const UMAPOptions& o)
   {
     e.warnings.push_back(deviceWarning);
   }
-  optimizeLayoutOn(device, graph, lo, Y, e.warnings);
+  optimizeLayoutOn(device, graph, lo, Y, e.warnings, o.gpuLayoutRounds);
 
   Eigen::MatrixXd axes = Y.cast<double>();
   toPrincipalAxes(axes);

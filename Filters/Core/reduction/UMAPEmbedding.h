@@ -42,6 +42,7 @@ struct UMAPOptions
   int numberOfEpochs = 0;       // 0: umap-learn's default (500 up to 10000 points, 200 beyond)
   std::uint64_t seed = 0;
   Device device = Device::CPU; // of the layout (step 4); Auto and GPU as resolveDevice says
+  int gpuLayoutRounds = 0;      // parallel rounds per epoch of the GPU layout; 0: its default
   StageProgress progress;
 };
 

@@ -9,7 +9,8 @@
 namespace mcv
 {
 
-bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y, std::string* error)
+bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y, std::string* error,
+  int gpuRounds)
 {
 #ifdef MCV_HAS_CUDA
   // The CSR rows as directed edges: row i's entries all have head i.
@@ -33,6 +34,10 @@ bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, 
   p.initialAlpha = options.initialAlpha;
   p.negativeSampleRate = options.negativeSampleRate;
   p.seed = options.seed;
+  if (gpuRounds > 0)
+  {
+    p.rounds = gpuRounds;
+  }
   std::function<void(double)> progress;
   if (options.progress)
   {
@@ -49,6 +54,7 @@ bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, 
   (void)graph;
   (void)options;
   (void)Y;
+  (void)gpuRounds;
   if (error)
   {
     *error = "this build has no CUDA";
@@ -58,12 +64,12 @@ bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, 
 }
 
 Device optimizeLayoutOn(Device device, const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y,
-  std::vector<std::string>& warnings)
+  std::vector<std::string>& warnings, int gpuRounds)
 {
   if (device == Device::GPU)
   {
     std::string error;
-    if (optimizeLayoutOnGpu(graph, options, Y, &error))
+    if (optimizeLayoutOnGpu(graph, options, Y, &error, gpuRounds))
     {
       return Device::GPU;
     }

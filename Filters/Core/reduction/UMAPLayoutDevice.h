@@ -14,12 +14,14 @@ namespace mcv
 {
 
 // Y: the start, replaced by the layout. Returns where the layout ran; warnings receives
-// one line when the GPU was asked for and the CPU ran.
+// one line when the GPU was asked for and the CPU ran. gpuRounds: parallel rounds per epoch
+// of the GPU layout (cuda::LayoutProblem::rounds), 0 for its default.
 Device optimizeLayoutOn(Device device, const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y,
-  std::vector<std::string>& warnings);
+  std::vector<std::string>& warnings, int gpuRounds = 0);
 
 // The GPU layout alone (no fallback): false with `error` set when it did not run (no CUDA in
 // this build, or a CUDA failure). For the tests and benchmarks that compare it with the CPU.
-bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y, std::string* error);
+bool optimizeLayoutOnGpu(const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y, std::string* error,
+  int gpuRounds = 0);
 
 } // namespace mcv
