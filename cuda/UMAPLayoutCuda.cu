@@ -148,10 +148,20 @@ bool runEpochs(const LayoutProblem& p, const EdgeState& s, const std::vector<std
 }
 } // namespace
 
-bool optimizeLayout(const LayoutProblem& p, float* Y, const std::function<void(double)>& progress, LayoutStats* stats,
-  std::string* error)
+int defaultLayoutRounds(std::size_t n)
+{
+  return n <= 10000 ? 4 : 16;
+}
+
+bool optimizeLayout(const LayoutProblem& problem, float* Y, const std::function<void(double)>& progress,
+  LayoutStats* stats, std::string* error)
 {
   FaultStage stage("umaplayout");
+  LayoutProblem p = problem;
+  if (p.rounds == 0)
+  {
+    p.rounds = defaultLayoutRounds(p.n);
+  }
   if ((p.dim != 2 && p.dim != 3) || p.n == 0 || p.n >= 0xffffffffull || p.epochs < 1 || p.rounds < 1 ||
     p.negativeSampleRate < 1 || (p.edges > 0 && (!p.head || !p.tail || !p.weight)))
   {

@@ -12,11 +12,14 @@
 //    in the graph's row order); every edge of a round reads the positions as they were at the
 //    round's start, and the round's moves are summed per vertex (UMAPLayoutStep.h) and
 //    applied at its end. The CPU moves the ends of an edge before the next edge of its
-//    block reads them. Several rounds keep a vertex from taking all its pulls of an epoch
-//    from one stale position: in a host run of the same arithmetic (UMAPLayoutStep.h) on
-//    2000 brain 24D points, the Procrustes disparity to the CPU layout was 0.19 with one
-//    round, 0.096 with 2, 0.076 with 4 and 8 (two CPU seeds: 0.14); trustworthiness within
-//    0.003 of the CPU's for every count. 4 rounds cost 4 launches of E / 4 threads.
+//    block reads them. More rounds keep a vertex from taking many pulls of an epoch from
+//    one stale position. Measured on an H100 (docs/benchmarks.md section 13, brain 24D):
+//    at N = 10000 (500 epochs) 1 to 16 rounds give the same trustworthiness (within 0.0015
+//    of the CPU's) and the layout takes 15 ms with 1 round, 27 ms with 4, 90 ms with 16
+//    (two launches per round and epoch); at N = 100000 (200 epochs) trustworthiness
+//    against the CPU's rises with the rounds: -0.025 (1), -0.008 (4), -0.003 (8), +0.001
+//    (16), for 68 to 108 ms. Why the larger sample needs them was not investigated. Hence
+//    the default (rounds = 0): 4 up to 10000 vertices, 16 beyond.
 //  - Negative samples come from a counter-based hash of (seed, epoch, edge), not from the
 //    CPU's per-block streams.
 //  - The gradient coefficients use the GPU's __powf instead of the CPU's table.
@@ -50,8 +53,11 @@ struct LayoutProblem
   double a = 1.577, b = 0.8951, gamma = 1.0, initialAlpha = 1.0;
   int negativeSampleRate = 5;
   std::uint64_t seed = 0;
-  int rounds = 4; // parallel rounds per epoch (see above)
+  int rounds = 0; // parallel rounds per epoch (see above); 0: defaultLayoutRounds(n)
 };
+
+// 4 up to 10000 vertices, 16 beyond (see above).
+int defaultLayoutRounds(std::size_t n);
 
 struct LayoutStats
 {

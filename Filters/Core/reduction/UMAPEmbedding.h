@@ -43,6 +43,7 @@ struct UMAPOptions
   std::uint64_t seed = 0;
   Device device = Device::CPU; // of the layout (step 4); Auto and GPU as resolveDevice says
   int gpuLayoutRounds = 0;      // parallel rounds per epoch of the GPU layout; 0: its default
+                                // (cuda/UMAPLayoutCuda.h: 4 up to 10000 points, 16 beyond)
   StageProgress progress;
 };
 
