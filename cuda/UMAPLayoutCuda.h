@@ -13,7 +13,7 @@
 //    round's start, and the round's moves are summed per vertex (UMAPLayoutStep.h) and
 //    applied at its end. The CPU moves the ends of an edge before the next edge of its
 //    block reads them. More rounds keep a vertex from taking many pulls of an epoch from
-//    one stale position. Measured on an H100 (docs/benchmarks.md section 13, brain 24D):
+//    one stale position. Measured on an H100 (docs/benchmarks.md section 13.1, brain 24D):
 //    at N = 10000 (500 epochs) 1 to 16 rounds give the same trustworthiness (within 0.0015
 //    of the CPU's) and the layout takes 15 ms with 1 round, 27 ms with 4, 90 ms with 16
 //    (two launches per round and epoch); at N = 100000 (200 epochs) trustworthiness
@@ -24,9 +24,10 @@
 //    CPU's per-block streams.
 //  - The gradient coefficients use the GPU's __powf instead of the CPU's table.
 // Deterministic: the moves are fixed-point integers, whose sums do not depend on the order
-// of the atomics, so a fixed seed gives the same layout on every run and every GPU with
-// the same __powf (bitwise; a different GPU architecture or CUDA version may round __powf
-// differently).
+// of the atomics, so a fixed seed gives the same layout bit for bit on every run
+// (TestUMAPLayoutGPU.SameSeedSameLayout). What may vary: the layout on another GPU
+// architecture or CUDA version (__powf and float contraction may round differently), and
+// of course against the CPU layout.
 #pragma once
 
 #include <cstddef>
