@@ -51,8 +51,9 @@
  * NumberOfNeighbors / NumberOfLandmarks / ReferenceSampleSize, and every error of the
  * core (K >= M, NaN/Inf features, ...). The core's warnings are forwarded as VTK warnings.
  *
- * Device (vtkMultichannelAlgorithm): where the out-of-sample step runs; GetDeviceUsed says
- * where it ran.
+ * Device (vtkMultichannelAlgorithm): where the out-of-sample step and UMAP's layout run;
+ * GetDeviceUsed says where the out-of-sample step ran (a UMAP layout that fell back to the
+ * CPU says so in a warning).
  *
  * Parallel runs (mpiexec pvbatch --mpi, pvserver): each process holds a piece; the
  * column statistics and the reference sample are drawn across all processes and shared

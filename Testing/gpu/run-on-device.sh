@@ -74,6 +74,12 @@ grep -E "^==|WHOLE CHAIN|GPU vs CPU|baseline|kd-tree placement|in-run|warning|fa
   tee -a "$summary"
 note "mcvBenchmarkReduction exit code $red_rc"
 
+note "== UMAP: fit on the GPU vs the CPU (N = 10000, brain 24D) and the whole brain with UMAP vs Isomap"
+umap_rc=0
+timeout 120 "$build/Testing/gpu/mcvBenchmarkUMAPGPU" --sizes 10000 --runs 1 >"$logs/bench-umap.log" 2>&1 || umap_rc=$?
+grep -E "^N = |^Isomap|^UMAP|failed" "$logs/bench-umap.log" | tee -a "$summary"
+note "mcvBenchmarkUMAPGPU exit code $umap_rc"
+
 note "== Gaussian transfer function (256^3 recolouring: baseline loop, CPU path, GPU path)"
 tf_rc=0
 timeout 180 "$build/Testing/Benchmarks/mcvBenchmarkGaussianTF" >"$logs/bench-gaussiantf.log" 2>&1 || tf_rc=$?
@@ -98,4 +104,4 @@ echo "================ summary ================"
 cat "$summary"
 echo
 sed -n '/^Best-viewpoint GPU pipeline/,$p' "$logs/bench.log" | tee -a "$summary"
-[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ] && [ "$red_rc" -eq 0 ] && [ "$tf_rc" -eq 0 ]
+[ "$gpu_rc" -eq 0 ] && [ "$core_rc" -eq 0 ] && [ "$bench_rc" -eq 0 ] && [ "$red_rc" -eq 0 ] && [ "$tf_rc" -eq 0 ] && [ "$umap_rc" -eq 0 ]

@@ -411,6 +411,7 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
       uo.minimumDistance = options.minimumDistance;
       uo.numberOfEpochs = options.numberOfEpochs;
       uo.seed = options.randomSeed;
+      uo.device = resolveDevice(options.device); // reduceDimension warns once if the GPU is missing
       uo.progress = progress;
       embedding = fitUMAP(refX, uo);
       break;

@@ -50,7 +50,9 @@ struct ReductionOptions
   int numberOfEpochs = 0;               // UMAP: SGD epochs; 0: 500 up to 10000 points, else 200
   std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
-  Device device = Device::Auto;         // the out-of-sample step (touches every voxel)
+  Device device = Device::Auto;         // the out-of-sample step (touches every voxel) and
+                                        // UMAP's layout (the SGD epochs of its fit); a GPU
+                                        // that fails falls back to the CPU with a warning
   int trustworthinessNeighbors = 10;    // k of the trustworthiness measure
   std::size_t trustworthinessSample = 2000; // points it is measured on (from the reference)
   // Optional progress: stage name and overall fraction in [0,1].

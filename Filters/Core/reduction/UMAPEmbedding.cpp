@@ -4,6 +4,7 @@
 #include "SeededRandom.h"
 #include "UMAPGraph.h"
 #include "UMAPLayout.h"
+#include "UMAPLayoutDevice.h"
 #include "UMAPSpectral.h"
 
 #include <algorithm>
@@ -147,7 +148,13 @@ Embedding fitUMAP(const RowMatrixF& X, const UMAPOptions& o)
   lo.seed = o.seed;
   lo.progress = [&](const char* stage, double f) { report(stage, 0.2 + 0.8 * f); };
   report("UMAP: layout", 0.2);
-  optimizeLayout(graph, lo, Y);
+  std::string deviceWarning;
+  const Device device = o.device == Device::CPU ? Device::CPU : resolveDevice(o.device, &deviceWarning);
+  if (!deviceWarning.empty())
+  {
+    e.warnings.push_back(deviceWarning);
+  }
+  optimizeLayoutOn(device, graph, lo, Y, e.warnings, o.gpuLayoutRounds);
 
   Eigen::MatrixXd axes = Y.cast<double>();
   toPrincipalAxes(axes);

@@ -10,11 +10,14 @@
 //     added, then every axis mapped to [0, 10]; a disconnected graph, or a solver that does
 //     not converge, gets a uniform random start in [-10, 10]^d instead, with a warning;
 //  4. SGD of the cross-entropy with negative sampling (UMAPLayout.h), a and b of the low-
-//     dimensional similarity fitted from minimumDistance (fitCurveParameters);
+//     dimensional similarity fitted from minimumDistance (fitCurveParameters); on the GPU
+//     when `device` resolves to it (UMAPLayoutDevice.h; cuda/UMAPLayoutCuda.h says how that
+//     layout differs from the CPU's), on the CPU with a warning if the GPU fails;
 //  5. the layout is centred and rotated to its principal axes (largest spread first; a rigid
 //     motion: distances and trustworthiness unchanged), signs as fixColumnSigns.
 // Deterministic: the same seed gives the same coordinates, for any number of threads
-// (UMAPLayout.h says how the SGD stays so in parallel).
+// (UMAPLayout.h says how the SGD stays so in parallel); on the GPU, the same on every run
+// of one GPU model (not the CPU's coordinates).
 // Eigenvalues: those of the normalised Laplacian behind the initialisation, ascending (none
 // with a random start).
 //
@@ -23,6 +26,7 @@
 // chosen, as umap-learn does, and duplicates end up next to each other.
 #pragma once
 
+#include "Device.h"
 #include "Embedding.h"
 
 #include <cstdint>
@@ -37,6 +41,9 @@ struct UMAPOptions
   double minimumDistance = 0.1; // in [0, 1] (spread 1); 0 lets points coincide
   int numberOfEpochs = 0;       // 0: umap-learn's default (500 up to 10000 points, 200 beyond)
   std::uint64_t seed = 0;
+  Device device = Device::CPU; // of the layout (step 4); Auto and GPU as resolveDevice says
+  int gpuLayoutRounds = 0;      // parallel rounds per epoch of the GPU layout; 0: its default
+                                // (cuda/UMAPLayoutCuda.h: 4 up to 10000 points, 16 beyond)
   StageProgress progress;
 };
 
