@@ -8,6 +8,7 @@
 //   features     feature vectors (FeaturesCuda.h)
 //   gaussiantf   Gaussian-widget transfer function (GaussianTFCuda.h)
 //   outofsample  out-of-sample placement (OutOfSampleCuda.h)
+//   fused        the fused reduction's slabs: features + placement (FusedPlacementCuda.h)
 // The kinds of call (from the checked expression's text, at compile time):
 //   alloc   cudaMalloc*                     copy  cudaMemcpy*, cudaMemset*
 //   launch  the check after a kernel launch, CUB calls, launch helpers

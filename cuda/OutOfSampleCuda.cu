@@ -315,9 +315,17 @@ __global__ void resolveKernel(RowParams p, PlaceParams pp, const unsigned* __res
 
 // The rows the bound could not settle: every reference in canonical double, best k kept
 // by (distance, index).
-__global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restrict__ scanRows, unsigned count)
+// Launched over every row of the chunk (so nothing waits for the host to read the count);
+// thread 0 adds the count to the running total.
+__global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restrict__ scanRows,
+  const unsigned* __restrict__ scanCount, unsigned long long* __restrict__ scanTotal)
 {
   const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
+  const unsigned count = *scanCount;
+  if (t == 0 && count > 0)
+  {
+    atomicAdd(scanTotal, static_cast<unsigned long long>(count));
+  }
   if (t >= count)
   {
     return;
@@ -354,6 +362,14 @@ __global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restri
 struct DeviceBuffer
 {
   void* ptr = nullptr;
+  DeviceBuffer() = default;
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& o) noexcept
+    : ptr(o.ptr)
+  {
+    o.ptr = nullptr;
+  }
   ~DeviceBuffer()
   {
     if (ptr)
@@ -369,10 +385,15 @@ struct DeviceBuffer
 };
 
 template <int DP>
-void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF)
+void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)
 {
   const int blocks = (p.count + kThreads - 1) / kThreads;
-  candidatesKernel<DP><<<blocks, kThreads>>>(p, reinterpret_cast<const float4*>(refsPadded), cIdx, cF);
+  candidatesKernel<DP><<<blocks, kThreads, 0, stream>>>(p, reinterpret_cast<const float4*>(refsPadded), cIdx, cF);
+}
+
+int paddedDimension(int D)
+{
+  return D <= 8 ? 8 : D <= 16 ? 16 : D <= 24 ? 24 : D <= 32 ? 32 : D <= 48 ? 48 : 64;
 }
 
 using Clock = std::chrono::steady_clock;
@@ -382,10 +403,50 @@ double msSince(Clock::time_point t)
 }
 } // namespace
 
-bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neighbors,
-  const std::function<void(double)>& progress, PlacementStats* stats, std::string* error)
+struct PlacementOnDevice::Impl
 {
-  FaultStage stage("outofsample");
+  struct Slot
+  {
+    DeviceBuffer cIdx, cF, scanRows, scanCount;
+  };
+  DeviceBuffer refs, refX, refY, scanTotal;
+  std::vector<Slot> slots;
+  std::size_t M = 0, bytes = 0, chunk = 0;
+  int D = 0, d = 0, k = 0, dim = 0, DP = 0;
+  bool gather = false;
+  double regularization = 0, margin = 0;
+};
+
+PlacementOnDevice::PlacementOnDevice()
+  : P(new Impl)
+{
+}
+
+PlacementOnDevice::~PlacementOnDevice() = default;
+
+void PlacementOnDevice::release()
+{
+  P.reset(new Impl);
+}
+
+std::size_t PlacementOnDevice::deviceBytes() const
+{
+  return P->bytes;
+}
+
+std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
+{
+  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 1) * sizeof(unsigned) + sizeof(unsigned);
+}
+
+std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
+{
+  return M * (static_cast<std::size_t>(paddedDimension(D)) + D + d) * sizeof(float) + sizeof(unsigned long long);
+}
+
+bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t maxRows, std::string* error)
+{
+  release();
   if (in.D < 1 || in.D > kMaxPlacementDimension)
   {
     return detail::fail(error, "the GPU placement handles 1.." + std::to_string(kMaxPlacementDimension) +
@@ -397,100 +458,162 @@ bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neigh
     return detail::fail(error, "the GPU placement handles up to " + std::to_string(kMaxPlacementNeighbors) +
         " neighbours (got " + std::to_string(k) + ")");
   }
-  if (in.M == 0 || in.M >= 0x7fffffffu || (in.columns == nullptr && in.dim != in.D) || in.d < 1)
+  if (in.M == 0 || in.M >= 0x7fffffffu || (in.columns == nullptr && in.dim != in.D) || in.d < 1 || slots < 1)
   {
     return detail::fail(error, "invalid GPU placement arguments");
+  }
+  Impl& I = *P;
+  I.M = in.M;
+  I.D = in.D;
+  I.d = in.d;
+  I.k = k;
+  I.dim = in.dim;
+  I.DP = paddedDimension(in.D);
+  I.gather = in.columns != nullptr;
+  I.regularization = in.regularization;
+  I.margin = in.distanceMargin;
+  I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
+  std::vector<float> padded(in.M * static_cast<std::size_t>(I.DP), 0.f);
+  for (std::size_t i = 0; i < in.M; ++i)
+  {
+    std::copy(in.refX + i * in.D, in.refX + (i + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * I.DP));
+  }
+  MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.refX.ptr, in.M * in.D * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.refY.ptr, in.M * in.d * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.scanTotal.ptr, sizeof(unsigned long long)));
+  I.bytes = referenceBytes(in.M, in.D, in.d);
+  I.slots.resize(static_cast<std::size_t>(slots));
+  for (Impl::Slot& slot : I.slots)
+  {
+    MCV_CUDA_TRY(cudaMalloc(&slot.cIdx.ptr, I.chunk * KP * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.cF.ptr, I.chunk * KP * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.scanRows.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.scanCount.ptr, sizeof(unsigned)));
+    I.bytes += scratchBytesPerSlot(I.chunk);
+  }
+  if (in.columns)
+  {
+    MCV_CUDA_TRY(cudaMemcpyToSymbol(cColumns, in.columns, in.D * sizeof(int)));
+  }
+  MCV_CUDA_TRY(cudaMemcpy(I.refs.ptr, padded.data(), padded.size() * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemcpy(I.refX.ptr, in.refX, in.M * in.D * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemcpy(I.refY.ptr, in.refY, in.M * in.d * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemset(I.scanTotal.ptr, 0, sizeof(unsigned long long)));
+  return true;
+}
+
+bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors,
+  int slot, void* streamHandle, std::string* error)
+{
+  Impl& I = *P;
+  if (I.M == 0 || slot < 0 || slot >= static_cast<int>(I.slots.size()))
+  {
+    return detail::fail(error, "the GPU placement has no references (upload first)");
+  }
+  const cudaStream_t stream = static_cast<cudaStream_t>(streamHandle);
+  Impl::Slot& s = I.slots[static_cast<std::size_t>(slot)];
+  RowParams p{ deviceRows, 0, 0, I.dim, I.D, I.gather ? 1 : 0, static_cast<int>(I.M) };
+  PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
+    deviceNeighbors };
+  for (std::size_t first = 0; first < n; first += I.chunk)
+  {
+    p.first = first;
+    p.count = static_cast<int>(std::min(I.chunk, n - first));
+    MCV_CUDA_TRY(cudaMemsetAsync(s.scanCount.ptr, 0, sizeof(unsigned), stream));
+    switch (I.DP)
+    {
+      case 8:
+        launchCandidates<8>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 16:
+        launchCandidates<16>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 24:
+        launchCandidates<24>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 32:
+        launchCandidates<32>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 48:
+        launchCandidates<48>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      default:
+        launchCandidates<64>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+    }
+    MCV_CUDA_TRY(cudaGetLastError());
+    const int blocks = (p.count + 127) / 128;
+    resolveKernel<<<blocks, 128, 0, stream>>>(p, pp, s.cIdx.as<unsigned>(), s.cF.as<float>(), s.scanRows.as<unsigned>(),
+      s.scanCount.as<unsigned>());
+    MCV_CUDA_TRY(cudaGetLastError());
+    scanKernel<<<(p.count + 63) / 64, 64, 0, stream>>>(p, pp, s.scanRows.as<unsigned>(), s.scanCount.as<unsigned>(),
+      I.scanTotal.as<unsigned long long>());
+    MCV_CUDA_TRY(cudaGetLastError());
+  }
+  return true;
+}
+
+bool PlacementOnDevice::radiusScans(std::size_t* count, std::string* error)
+{
+  unsigned long long total = 0;
+  if (P->scanTotal.ptr)
+  {
+    MCV_CUDA_TRY(cudaMemcpy(&total, P->scanTotal.ptr, sizeof total, cudaMemcpyDeviceToHost));
+  }
+  *count = static_cast<std::size_t>(total);
+  return true;
+}
+
+bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neighbors,
+  const std::function<void(double)>& progress, PlacementStats* stats, std::string* error)
+{
+  FaultStage stage("outofsample");
+  PlacementStats local;
+  PlacementStats& st = stats ? *stats : local;
+  st = PlacementStats{};
+  auto start = Clock::now();
+  PlacementOnDevice device;
+  if (!device.upload(in, 1, in.n, error))
+  {
+    return false;
   }
   if (in.n == 0)
   {
     return true;
   }
-  const int DP = in.D <= 8 ? 8 : in.D <= 16 ? 16 : in.D <= 24 ? 24 : in.D <= 32 ? 32 : in.D <= 48 ? 48 : 64;
-  PlacementStats local;
-  PlacementStats& st = stats ? *stats : local;
-  st = PlacementStats{};
-
-  auto start = Clock::now();
-  std::vector<float> padded(in.M * static_cast<std::size_t>(DP), 0.f);
-  for (std::size_t i = 0; i < in.M; ++i)
-  {
-    std::copy(in.refX + i * in.D, in.refX + (i + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * DP));
-  }
-  const std::size_t chunk = std::min(kChunkRows, in.n);
-  DeviceBuffer dRows, dRefs, dRefX, dRefY, dOut, dNb, dCIdx, dCF, dScan, dScanCount;
+  const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, in.neighbors)), in.M));
+  DeviceBuffer dRows, dOut, dNb;
   MCV_CUDA_TRY(cudaMalloc(&dRows.ptr, in.n * in.dim * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefs.ptr, padded.size() * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefX.ptr, in.M * in.D * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefY.ptr, in.M * in.d * sizeof(float)));
   MCV_CUDA_TRY(cudaMalloc(&dOut.ptr, in.n * in.d * sizeof(float)));
   if (neighbors)
   {
     MCV_CUDA_TRY(cudaMalloc(&dNb.ptr, in.n * k * sizeof(unsigned)));
   }
-  MCV_CUDA_TRY(cudaMalloc(&dCIdx.ptr, chunk * KP * sizeof(unsigned)));
-  MCV_CUDA_TRY(cudaMalloc(&dCF.ptr, chunk * KP * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dScan.ptr, chunk * sizeof(unsigned)));
-  MCV_CUDA_TRY(cudaMalloc(&dScanCount.ptr, sizeof(unsigned)));
-  if (in.columns)
-  {
-    MCV_CUDA_TRY(cudaMemcpyToSymbol(cColumns, in.columns, in.D * sizeof(int)));
-  }
   MCV_CUDA_TRY(cudaMemcpy(dRows.ptr, in.rows, in.n * in.dim * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefs.ptr, padded.data(), padded.size() * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefX.ptr, in.refX, in.M * in.D * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefY.ptr, in.refY, in.M * in.d * sizeof(float), cudaMemcpyHostToDevice));
   st.uploadMs = msSince(start);
 
   start = Clock::now();
-  RowParams p{ dRows.as<float>(), 0, 0, in.dim, in.D, in.columns ? 1 : 0, static_cast<int>(in.M) };
-  PlaceParams pp{ dRefX.as<float>(), dRefY.as<float>(), in.D, in.d, k, in.regularization, in.distanceMargin,
-    dOut.as<float>(), neighbors ? dNb.as<unsigned>() : nullptr };
-  for (std::size_t first = 0; first < in.n; first += chunk)
+  // One chunk per step, so that progress can be reported between them.
+  for (std::size_t first = 0; first < in.n; first += kChunkRows)
   {
-    p.first = first;
-    p.count = static_cast<int>(std::min(chunk, in.n - first));
-    MCV_CUDA_TRY(cudaMemsetAsync(dScanCount.ptr, 0, sizeof(unsigned)));
-    switch (DP)
+    const std::size_t count = std::min(kChunkRows, in.n - first);
+    if (!device.place(dRows.as<float>() + first * in.dim, count, dOut.as<float>() + first * in.d,
+          neighbors ? dNb.as<unsigned>() + first * k : nullptr, 0, nullptr, error))
     {
-      case 8:
-        launchCandidates<8>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 16:
-        launchCandidates<16>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 24:
-        launchCandidates<24>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 32:
-        launchCandidates<32>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 48:
-        launchCandidates<48>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      default:
-        launchCandidates<64>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-    }
-    MCV_CUDA_TRY(cudaGetLastError());
-    const int blocks = (p.count + 127) / 128;
-    resolveKernel<<<blocks, 128>>>(p, pp, dCIdx.as<unsigned>(), dCF.as<float>(), dScan.as<unsigned>(),
-      dScanCount.as<unsigned>());
-    MCV_CUDA_TRY(cudaGetLastError());
-    unsigned scans = 0;
-    MCV_CUDA_TRY(cudaMemcpy(&scans, dScanCount.ptr, sizeof(unsigned), cudaMemcpyDeviceToHost));
-    if (scans > 0)
-    {
-      scanKernel<<<(scans + 63) / 64, 64>>>(p, pp, dScan.as<unsigned>(), scans);
-      MCV_CUDA_TRY(cudaGetLastError());
-      st.radiusScans += scans;
+      return false;
     }
     if (progress)
     {
       MCV_CUDA_TRY(cudaDeviceSynchronize());
-      progress(static_cast<double>(first + p.count) / static_cast<double>(in.n));
+      progress(static_cast<double>(first + count) / static_cast<double>(in.n));
     }
   }
   MCV_CUDA_TRY(cudaDeviceSynchronize());
+  if (!device.radiusScans(&st.radiusScans, error))
+  {
+    return false;
+  }
   st.computeMs = msSince(start);
 
   start = Clock::now();

@@ -17,6 +17,7 @@
 #include "GaussianTransferFunction.h"
 #include "OutOfSample.h"
 
+#include "FusedRuns.h"
 #include "RequireGpu.h"
 #include "TestVolumes.h"
 
@@ -593,6 +594,72 @@ TEST(GpuFaults, OutOfSamplePlacementFallsBackAtEveryFailurePoint)
     EXPECT_TRUE(again.report.warnings.empty());
     EXPECT_TRUE(sameBits(again.y, gpu.y));
     EXPECT_EQ(again.nb, gpu.nb);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// The fused reduction's GPU slabs (features + placement on the device, FusedPlacementCuda.h)
+// ---------------------------------------------------------------------------------------
+
+// The voxels the GPU had placed when it failed, from the warning ("... after X of N voxels").
+std::size_t voxelsPlacedBeforeTheFault(const std::vector<std::string>& warnings)
+{
+  for (const std::string& w : warnings)
+  {
+    const std::size_t at = w.find("failed after ");
+    if (isFaultWarning(w) && at != std::string::npos)
+    {
+      return static_cast<std::size_t>(std::stoull(w.substr(at + 13)));
+    }
+  }
+  return static_cast<std::size_t>(-1);
+}
+
+TEST(GpuFaults, FusedPlacementFallsBackAtEveryFailurePoint)
+{
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 31, 27, 24 }, 3);
+  const std::size_t voxels = t.grid.voxelCount();
+  const std::size_t budget = mt::budgetForSlices(t.grid, 3, 24, 500, 3, 3);
+  const mt::FusedRun cpu = mt::runFused(t.views(), t.grid, mt::isomapOptions(500, Device::CPU), 0);
+  const float range = mt::coordinateRange(cpu.result.coordinates);
+  auto runGpu = [&] { return mt::runFused(t.views(), t.grid, mt::isomapOptions(500, Device::GPU), budget); };
+  mt::FusedRun gpu;
+  std::vector<Point> points = injectionPoints("fused", [&] { gpu = runGpu(); });
+  ASSERT_EQ(gpu.result.deviceUsed, Device::GPU);
+  ASSERT_GE(gpu.stats.slabs, 6u);
+  // Also a launch in the middle of the run: a slab half way fails after earlier ones are done.
+  mcv::cuda::countCudaCalls(true);
+  runGpu();
+  const long launches = mcv::cuda::countedCudaCalls("fused", CudaCall::Launch);
+  mcv::cuda::countCudaCalls(false);
+  points.push_back(Point{ CudaCall::Launch, launches / 2 });
+  LeakCheck leaks;
+  for (const Point& p : points)
+  {
+    SCOPED_TRACE("fused, failure at " + describe(p));
+    const mt::FusedRun fell = runWithFault("fused", p, runGpu);
+    ASSERT_TRUE(fell.result.ok()) << fell.result.error;
+    EXPECT_EQ(expectOneFaultWarning(fell.result.warnings), gpu.result.warnings);
+    const std::size_t placed = voxelsPlacedBeforeTheFault(fell.result.warnings);
+    ASSERT_LE(placed, voxels);
+    EXPECT_EQ(fell.result.deviceUsed, placed == voxels ? Device::GPU : Device::CPU);
+    if (p.kind == CudaCall::Launch && p.n > 1)
+    {
+      EXPECT_GT(placed, 0u); // slabs before the fault stay the GPU's
+      EXPECT_LT(placed, voxels);
+    }
+    EXPECT_LE(mt::maxDifference(fell.result.coordinates, cpu.result.coordinates), 1e-5f * range);
+    // The rows the GPU placed are its own, the rest the CPU's.
+    const std::size_t split = std::min(placed, voxels) * 3;
+    EXPECT_TRUE(std::equal(fell.result.coordinates.begin(), fell.result.coordinates.begin() + split,
+      gpu.result.coordinates.begin()));
+    EXPECT_TRUE(std::equal(fell.result.coordinates.begin() + split, fell.result.coordinates.end(),
+      cpu.result.coordinates.begin() + split));
+    // The GPU works again.
+    const mt::FusedRun again = runGpu();
+    EXPECT_EQ(again.result.deviceUsed, Device::GPU);
+    EXPECT_EQ(again.result.coordinates, gpu.result.coordinates);
   }
 }
 
