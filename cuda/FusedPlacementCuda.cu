@@ -302,7 +302,7 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
       static_cast<std::int64_t>(rows), F, res.columnParams, res.columnParams + F, res.channels[i], C,
       static_cast<std::int64_t>(plane), vBegin, anyBad ? 1 : 0);
     MCV_CUDA_TRY(cudaGetLastError());
-    if (!res.placement.place(res.features[i], rows, res.coords[i], nullptr, i, stream, error))
+    if (!res.placement.place(res.features[i], rows, res.coords[i], nullptr, i, stream, setup.mergeEqualRows, error))
     {
       return false;
     }

@@ -41,6 +41,9 @@ struct FusedPlacementSetup
   // Device memory the path may use; 0: the free memory less a margin (1/16 of the card, at
   // least 512 MiB). The slab is the thickest that fits (at most kMaxSlabVoxels voxels).
   std::size_t deviceBytes = 0;
+  // A run of consecutive voxels with equal features (a uniform background) is placed once;
+  // false places every voxel (the benchmark's baseline). Same coordinates either way.
+  bool mergeEqualRows = true;
 };
 
 // Fills `values` with channel c's voxels [first, first + count) of the grid as float

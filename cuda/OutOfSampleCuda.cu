@@ -5,6 +5,10 @@
 
 #include "CudaCheck.h"
 
+#include <cub/device/device_scan.cuh>
+#include <cub/device/device_select.cuh>
+#include <thrust/iterator/counting_iterator.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -35,7 +39,21 @@ struct RowParams
   int D;
   int gather; // 1: feature c is rows[..][cColumns[c]]
   int M;
+  // Optional: the rows to place are list[0, *listCount) of the chunk (the first of each run
+  // of equal rows); null: every row of the chunk.
+  const unsigned* list;
+  const unsigned* listCount;
 };
+
+__device__ __forceinline__ int rowsToPlace(const RowParams& p)
+{
+  return p.listCount ? static_cast<int>(*p.listCount) : p.count;
+}
+
+__device__ __forceinline__ int rowOf(const RowParams& p, int local)
+{
+  return p.list ? static_cast<int>(p.list[local]) : local;
+}
 
 struct PlaceParams
 {
@@ -61,9 +79,14 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
 {
   constexpr int V = DP / 4;
   __shared__ float4 tile[kTile * V];
+  const int count = rowsToPlace(p);
+  if (static_cast<int>(blockIdx.x) * kThreads >= count)
+  {
+    return; // the whole block (before any barrier): beyond the rows to place
+  }
   const int local = blockIdx.x * kThreads + threadIdx.x;
-  const bool active = local < p.count;
-  const float* row = p.rows + (p.first + static_cast<std::size_t>(active ? local : 0)) * p.dim;
+  const bool active = local < count;
+  const float* row = p.rows + (p.first + static_cast<std::size_t>(active ? rowOf(p, local) : 0)) * p.dim;
   float q[DP];
 #pragma unroll
   for (int c = 0; c < DP; ++c)
@@ -148,12 +171,12 @@ __device__ double canonicalD2(const float* q, const float* r, int D)
   return s;
 }
 
-__device__ void loadRow(const RowParams& p, int local, float* q)
+__device__ void loadRow(const RowParams& p, int row, float* q)
 {
-  const float* row = p.rows + (p.first + static_cast<std::size_t>(local)) * p.dim;
+  const float* at = p.rows + (p.first + static_cast<std::size_t>(row)) * p.dim;
   for (int c = 0; c < p.D; ++c)
   {
-    q[c] = feature(row, c, p.gather);
+    q[c] = feature(at, c, p.gather);
   }
 }
 
@@ -275,12 +298,13 @@ __global__ void resolveKernel(RowParams p, PlaceParams pp, const unsigned* __res
   const float* __restrict__ cF, unsigned* __restrict__ scanRows, unsigned* __restrict__ scanCount)
 {
   const int local = blockIdx.x * blockDim.x + threadIdx.x;
-  if (local >= p.count)
+  if (local >= rowsToPlace(p))
   {
     return;
   }
+  const int row = rowOf(p, local);
   float q[kMaxPlacementDimension];
-  loadRow(p, local, q);
+  loadRow(p, row, q);
   double cd[KP];
   unsigned ci[KP];
   int valid = 0;
@@ -310,7 +334,7 @@ __global__ void resolveKernel(RowParams p, PlaceParams pp, const unsigned* __res
     scanRows[atomicAdd(scanCount, 1u)] = static_cast<unsigned>(local);
     return;
   }
-  place(pp, p.first + local, q, ci, cd);
+  place(pp, p.first + row, q, ci, cd);
 }
 
 // The rows the bound could not settle: every reference in canonical double, best k kept
@@ -330,9 +354,9 @@ __global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restri
   {
     return;
   }
-  const int local = static_cast<int>(scanRows[t]);
+  const int row = rowOf(p, static_cast<int>(scanRows[t]));
   float q[kMaxPlacementDimension];
-  loadRow(p, local, q);
+  loadRow(p, row, q);
   double bd[kMaxPlacementNeighbors];
   unsigned bi[kMaxPlacementNeighbors];
   for (int j = 0; j < pp.k; ++j)
@@ -356,7 +380,70 @@ __global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restri
       bi[at] = static_cast<unsigned>(r);
     }
   }
-  place(pp, p.first + local, q, bi, bd);
+  place(pp, p.first + row, q, bi, bd);
+}
+
+// Runs of equal rows (the CPU's mergeEqualRows, OutOfSample.cpp): equal used features give
+// equal neighbours and coordinates, so only the first row of a run is placed and the others
+// copy its coordinates. headIdx[r] = r for the first row of a run, 0 otherwise (row 0 always
+// starts one).
+__global__ void runHeadsKernel(RowParams p, unsigned* __restrict__ headIdx)
+{
+  const int r = blockIdx.x * blockDim.x + threadIdx.x;
+  if (r >= p.count)
+  {
+    return;
+  }
+  bool head = r == 0;
+  if (!head)
+  {
+    const float* a = p.rows + (p.first + static_cast<std::size_t>(r)) * p.dim;
+    const float* b = a - p.dim;
+    for (int c = 0; c < p.D && !head; ++c)
+    {
+      head = feature(a, c, p.gather) != feature(b, c, p.gather);
+    }
+  }
+  headIdx[r] = head ? static_cast<unsigned>(r) : 0u;
+}
+
+struct IsRunHead
+{
+  const unsigned* headIdx;
+  __device__ bool operator()(int r) const { return r == 0 || headIdx[r] != 0u; }
+};
+
+struct MaxOp
+{
+  __device__ unsigned operator()(unsigned a, unsigned b) const { return a > b ? a : b; }
+};
+
+// Every row that is not the first of its run takes the coordinates (and neighbours) of the
+// run's first row, headOf[r] (the running maximum of headIdx).
+__global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __restrict__ headOf, float* out, int d,
+  unsigned* neighbors, int k)
+{
+  const int r = blockIdx.x * blockDim.x + threadIdx.x;
+  if (r >= count)
+  {
+    return;
+  }
+  const unsigned h = headOf[r];
+  if (h == static_cast<unsigned>(r))
+  {
+    return;
+  }
+  for (int c = 0; c < d; ++c)
+  {
+    out[(first + r) * d + c] = out[(first + h) * d + c];
+  }
+  if (neighbors)
+  {
+    for (int j = 0; j < k; ++j)
+    {
+      neighbors[(first + r) * k + j] = neighbors[(first + h) * k + j];
+    }
+  }
 }
 
 struct DeviceBuffer
@@ -408,6 +495,8 @@ struct PlacementOnDevice::Impl
   struct Slot
   {
     DeviceBuffer cIdx, cF, scanRows, scanCount;
+    DeviceBuffer headIdx, headOf, list, listCount, temp; // runs of equal rows
+    std::size_t tempBytes = 0;
   };
   DeviceBuffer refs, refX, refY, scanTotal;
   std::vector<Slot> slots;
@@ -436,7 +525,10 @@ std::size_t PlacementOnDevice::deviceBytes() const
 
 std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
 {
-  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 1) * sizeof(unsigned) + sizeof(unsigned);
+  // Candidates and scan list, run heads, run owners, placed list; CUB's temporary storage
+  // (a few KiB per million rows) is bounded by 1 MiB here.
+  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 4) * sizeof(unsigned) +
+    2 * sizeof(unsigned) + (std::size_t(1) << 20);
 }
 
 std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
@@ -490,6 +582,18 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
     MCV_CUDA_TRY(cudaMalloc(&slot.cF.ptr, I.chunk * KP * sizeof(float)));
     MCV_CUDA_TRY(cudaMalloc(&slot.scanRows.ptr, I.chunk * sizeof(unsigned)));
     MCV_CUDA_TRY(cudaMalloc(&slot.scanCount.ptr, sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.headIdx.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.headOf.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.list.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.listCount.ptr, sizeof(unsigned)));
+    std::size_t selectBytes = 0, scanBytes = 0;
+    const thrust::counting_iterator<int> rows(0);
+    MCV_CUDA_TRY(cub::DeviceSelect::If(nullptr, selectBytes, rows, slot.list.as<int>(), slot.listCount.as<int>(),
+      static_cast<int>(I.chunk), IsRunHead{ slot.headIdx.as<unsigned>() }));
+    MCV_CUDA_TRY(cub::DeviceScan::InclusiveScan(nullptr, scanBytes, slot.headIdx.as<unsigned>(),
+      slot.headOf.as<unsigned>(), MaxOp{}, static_cast<int>(I.chunk)));
+    slot.tempBytes = std::max<std::size_t>(1, std::max(selectBytes, scanBytes));
+    MCV_CUDA_TRY(cudaMalloc(&slot.temp.ptr, slot.tempBytes));
     I.bytes += scratchBytesPerSlot(I.chunk);
   }
   if (in.columns)
@@ -504,7 +608,7 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
 }
 
 bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors,
-  int slot, void* streamHandle, std::string* error)
+  int slot, void* streamHandle, bool mergeEqualRows, std::string* error)
 {
   Impl& I = *P;
   if (I.M == 0 || slot < 0 || slot >= static_cast<int>(I.slots.size()))
@@ -520,6 +624,21 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
   {
     p.first = first;
     p.count = static_cast<int>(std::min(I.chunk, n - first));
+    if (mergeEqualRows)
+    {
+      // The first row of each run is placed (list), the others copy it afterwards.
+      runHeadsKernel<<<(p.count + 255) / 256, 256, 0, stream>>>(p, s.headIdx.as<unsigned>());
+      MCV_CUDA_TRY(cudaGetLastError());
+      std::size_t bytes = s.tempBytes;
+      const thrust::counting_iterator<int> rows(0);
+      MCV_CUDA_TRY(cub::DeviceSelect::If(s.temp.ptr, bytes, rows, s.list.as<int>(), s.listCount.as<int>(), p.count,
+        IsRunHead{ s.headIdx.as<unsigned>() }, stream));
+      bytes = s.tempBytes;
+      MCV_CUDA_TRY(cub::DeviceScan::InclusiveScan(s.temp.ptr, bytes, s.headIdx.as<unsigned>(), s.headOf.as<unsigned>(),
+        MaxOp{}, p.count, stream));
+      p.list = s.list.as<unsigned>();
+      p.listCount = s.listCount.as<unsigned>();
+    }
     MCV_CUDA_TRY(cudaMemsetAsync(s.scanCount.ptr, 0, sizeof(unsigned), stream));
     switch (I.DP)
     {
@@ -550,6 +669,12 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
     scanKernel<<<(p.count + 63) / 64, 64, 0, stream>>>(p, pp, s.scanRows.as<unsigned>(), s.scanCount.as<unsigned>(),
       I.scanTotal.as<unsigned long long>());
     MCV_CUDA_TRY(cudaGetLastError());
+    if (mergeEqualRows)
+    {
+      copyRunsKernel<<<(p.count + 255) / 256, 256, 0, stream>>>(p.count, first, s.headOf.as<unsigned>(), deviceOut, I.d,
+        deviceNeighbors, I.k);
+      MCV_CUDA_TRY(cudaGetLastError());
+    }
   }
   return true;
 }
@@ -599,7 +724,7 @@ bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neigh
   {
     const std::size_t count = std::min(kChunkRows, in.n - first);
     if (!device.place(dRows.as<float>() + first * in.dim, count, dOut.as<float>() + first * in.d,
-          neighbors ? dNb.as<unsigned>() + first * k : nullptr, 0, nullptr, error))
+          neighbors ? dNb.as<unsigned>() + first * k : nullptr, 0, nullptr, false, error))
     {
       return false;
     }

@@ -73,9 +73,10 @@ public:
   // Queues the placement of n rows (device memory, n x dim) into deviceOut (n x d) and
   // deviceNeighbors (n x k, optional) on `stream` (a cudaStream_t; null: the default
   // stream) with the scratch of `slot`. Nothing waits; errors of the kernels show at the
-  // stream's next synchronisation.
+  // stream's next synchronisation. mergeEqualRows: a run of consecutive rows with equal
+  // features is placed once (as the CPU path does; the same coordinates, bit for bit).
   bool place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors, int slot,
-    void* stream, std::string* error);
+    void* stream, bool mergeEqualRows, std::string* error);
   // Rows solved by the exact scan since upload (waits for the device).
   bool radiusScans(std::size_t* count, std::string* error);
   // Device bytes held: upload's, and what it needs for M references and per slot.
