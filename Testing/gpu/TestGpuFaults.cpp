@@ -1,13 +1,16 @@
 // A GPU that fails or runs out of memory mid-run: the CPU takes over with a warning and the
 // result is the same. For each GPU path (best viewpoint, features, Gaussian transfer
-// function, out-of-sample placement) a clean run counts its checked CUDA calls, then an
+// function, out-of-sample placement, the fused reduction's slabs) a clean run counts its
+// checked CUDA calls, then an
 // out-of-memory is injected (cuda/FaultInjection.h) at the first and last allocation, the
 // first and last copy, the first launch, the last synchronisation and the very last
 // checked call. Each time: exactly one warning naming the GPU failure, deviceUsed CPU, the
 // CPU path's result (bit-identical where the CPU path is deterministic) over an output
 // prefilled with garbage, and the next call without injection runs on the GPU again with
 // the clean GPU result. Device memory after all faults is what it was before (nothing
-// leaked). The FaultInjection tests need no GPU; the others skip without one.
+// leaked). The fused reduction also fails in the middle of its slabs (a launch half way):
+// the slabs already down stay the GPU's, the CPU places the rest. The FaultInjection tests
+// need no GPU; the others skip without one.
 #include "cuda/CudaCheck.h"
 #include "cuda/FaultInjection.h"
 #include "cuda/HarrisCuda.h"
