@@ -5,6 +5,10 @@
 
 #include "CudaCheck.h"
 
+#include <cub/device/device_scan.cuh>
+#include <cub/device/device_select.cuh>
+#include <thrust/iterator/counting_iterator.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -35,7 +39,21 @@ struct RowParams
   int D;
   int gather; // 1: feature c is rows[..][cColumns[c]]
   int M;
+  // Optional: the rows to place are list[0, *listCount) of the chunk (the first of each run
+  // of equal rows); null: every row of the chunk.
+  const unsigned* list;
+  const unsigned* listCount;
 };
+
+__device__ __forceinline__ int rowsToPlace(const RowParams& p)
+{
+  return p.listCount ? static_cast<int>(*p.listCount) : p.count;
+}
+
+__device__ __forceinline__ int rowOf(const RowParams& p, int local)
+{
+  return p.list ? static_cast<int>(p.list[local]) : local;
+}
 
 struct PlaceParams
 {
@@ -61,9 +79,14 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
 {
   constexpr int V = DP / 4;
   __shared__ float4 tile[kTile * V];
+  const int count = rowsToPlace(p);
+  if (static_cast<int>(blockIdx.x) * kThreads >= count)
+  {
+    return; // the whole block (before any barrier): beyond the rows to place
+  }
   const int local = blockIdx.x * kThreads + threadIdx.x;
-  const bool active = local < p.count;
-  const float* row = p.rows + (p.first + static_cast<std::size_t>(active ? local : 0)) * p.dim;
+  const bool active = local < count;
+  const float* row = p.rows + (p.first + static_cast<std::size_t>(active ? rowOf(p, local) : 0)) * p.dim;
   float q[DP];
 #pragma unroll
   for (int c = 0; c < DP; ++c)
@@ -148,12 +171,12 @@ __device__ double canonicalD2(const float* q, const float* r, int D)
   return s;
 }
 
-__device__ void loadRow(const RowParams& p, int local, float* q)
+__device__ void loadRow(const RowParams& p, int row, float* q)
 {
-  const float* row = p.rows + (p.first + static_cast<std::size_t>(local)) * p.dim;
+  const float* at = p.rows + (p.first + static_cast<std::size_t>(row)) * p.dim;
   for (int c = 0; c < p.D; ++c)
   {
-    q[c] = feature(row, c, p.gather);
+    q[c] = feature(at, c, p.gather);
   }
 }
 
@@ -275,12 +298,13 @@ __global__ void resolveKernel(RowParams p, PlaceParams pp, const unsigned* __res
   const float* __restrict__ cF, unsigned* __restrict__ scanRows, unsigned* __restrict__ scanCount)
 {
   const int local = blockIdx.x * blockDim.x + threadIdx.x;
-  if (local >= p.count)
+  if (local >= rowsToPlace(p))
   {
     return;
   }
+  const int row = rowOf(p, local);
   float q[kMaxPlacementDimension];
-  loadRow(p, local, q);
+  loadRow(p, row, q);
   double cd[KP];
   unsigned ci[KP];
   int valid = 0;
@@ -310,21 +334,29 @@ __global__ void resolveKernel(RowParams p, PlaceParams pp, const unsigned* __res
     scanRows[atomicAdd(scanCount, 1u)] = static_cast<unsigned>(local);
     return;
   }
-  place(pp, p.first + local, q, ci, cd);
+  place(pp, p.first + row, q, ci, cd);
 }
 
 // The rows the bound could not settle: every reference in canonical double, best k kept
 // by (distance, index).
-__global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restrict__ scanRows, unsigned count)
+// Launched over every row of the chunk (so nothing waits for the host to read the count);
+// thread 0 adds the count to the running total.
+__global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restrict__ scanRows,
+  const unsigned* __restrict__ scanCount, unsigned long long* __restrict__ scanTotal)
 {
   const unsigned t = blockIdx.x * blockDim.x + threadIdx.x;
+  const unsigned count = *scanCount;
+  if (t == 0 && count > 0)
+  {
+    atomicAdd(scanTotal, static_cast<unsigned long long>(count));
+  }
   if (t >= count)
   {
     return;
   }
-  const int local = static_cast<int>(scanRows[t]);
+  const int row = rowOf(p, static_cast<int>(scanRows[t]));
   float q[kMaxPlacementDimension];
-  loadRow(p, local, q);
+  loadRow(p, row, q);
   double bd[kMaxPlacementNeighbors];
   unsigned bi[kMaxPlacementNeighbors];
   for (int j = 0; j < pp.k; ++j)
@@ -348,12 +380,83 @@ __global__ void scanKernel(RowParams p, PlaceParams pp, const unsigned* __restri
       bi[at] = static_cast<unsigned>(r);
     }
   }
-  place(pp, p.first + local, q, bi, bd);
+  place(pp, p.first + row, q, bi, bd);
+}
+
+// Runs of equal rows (the CPU's mergeEqualRows, OutOfSample.cpp): equal used features give
+// equal neighbours and coordinates, so only the first row of a run is placed and the others
+// copy its coordinates. headIdx[r] = r for the first row of a run, 0 otherwise (row 0 always
+// starts one).
+__global__ void runHeadsKernel(RowParams p, unsigned* __restrict__ headIdx)
+{
+  const int r = blockIdx.x * blockDim.x + threadIdx.x;
+  if (r >= p.count)
+  {
+    return;
+  }
+  bool head = r == 0;
+  if (!head)
+  {
+    const float* a = p.rows + (p.first + static_cast<std::size_t>(r)) * p.dim;
+    const float* b = a - p.dim;
+    for (int c = 0; c < p.D && !head; ++c)
+    {
+      head = feature(a, c, p.gather) != feature(b, c, p.gather);
+    }
+  }
+  headIdx[r] = head ? static_cast<unsigned>(r) : 0u;
+}
+
+struct IsRunHead
+{
+  const unsigned* headIdx;
+  __device__ bool operator()(int r) const { return r == 0 || headIdx[r] != 0u; }
+};
+
+struct MaxOp
+{
+  __device__ unsigned operator()(unsigned a, unsigned b) const { return a > b ? a : b; }
+};
+
+// Every row that is not the first of its run takes the coordinates (and neighbours) of the
+// run's first row, headOf[r] (the running maximum of headIdx).
+__global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __restrict__ headOf, float* out, int d,
+  unsigned* neighbors, int k)
+{
+  const int r = blockIdx.x * blockDim.x + threadIdx.x;
+  if (r >= count)
+  {
+    return;
+  }
+  const unsigned h = headOf[r];
+  if (h == static_cast<unsigned>(r))
+  {
+    return;
+  }
+  for (int c = 0; c < d; ++c)
+  {
+    out[(first + r) * d + c] = out[(first + h) * d + c];
+  }
+  if (neighbors)
+  {
+    for (int j = 0; j < k; ++j)
+    {
+      neighbors[(first + r) * k + j] = neighbors[(first + h) * k + j];
+    }
+  }
 }
 
 struct DeviceBuffer
 {
   void* ptr = nullptr;
+  DeviceBuffer() = default;
+  DeviceBuffer(const DeviceBuffer&) = delete;
+  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
+  DeviceBuffer(DeviceBuffer&& o) noexcept
+    : ptr(o.ptr)
+  {
+    o.ptr = nullptr;
+  }
   ~DeviceBuffer()
   {
     if (ptr)
@@ -369,10 +472,15 @@ struct DeviceBuffer
 };
 
 template <int DP>
-void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF)
+void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)
 {
   const int blocks = (p.count + kThreads - 1) / kThreads;
-  candidatesKernel<DP><<<blocks, kThreads>>>(p, reinterpret_cast<const float4*>(refsPadded), cIdx, cF);
+  candidatesKernel<DP><<<blocks, kThreads, 0, stream>>>(p, reinterpret_cast<const float4*>(refsPadded), cIdx, cF);
+}
+
+int paddedDimension(int D)
+{
+  return D <= 8 ? 8 : D <= 16 ? 16 : D <= 24 ? 24 : D <= 32 ? 32 : D <= 48 ? 48 : 64;
 }
 
 using Clock = std::chrono::steady_clock;
@@ -382,10 +490,55 @@ double msSince(Clock::time_point t)
 }
 } // namespace
 
-bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neighbors,
-  const std::function<void(double)>& progress, PlacementStats* stats, std::string* error)
+struct PlacementOnDevice::Impl
 {
-  FaultStage stage("outofsample");
+  struct Slot
+  {
+    DeviceBuffer cIdx, cF, scanRows, scanCount;
+    DeviceBuffer headIdx, headOf, list, listCount, temp; // runs of equal rows
+    std::size_t tempBytes = 0;
+  };
+  DeviceBuffer refs, refX, refY, scanTotal;
+  std::vector<Slot> slots;
+  std::size_t M = 0, bytes = 0, chunk = 0;
+  int D = 0, d = 0, k = 0, dim = 0, DP = 0;
+  bool gather = false;
+  double regularization = 0, margin = 0;
+};
+
+PlacementOnDevice::PlacementOnDevice()
+  : P(new Impl)
+{
+}
+
+PlacementOnDevice::~PlacementOnDevice() = default;
+
+void PlacementOnDevice::release()
+{
+  P.reset(new Impl);
+}
+
+std::size_t PlacementOnDevice::deviceBytes() const
+{
+  return P->bytes;
+}
+
+std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
+{
+  // Candidates and scan list, run heads, run owners, placed list; CUB's temporary storage
+  // (a few KiB per million rows) is bounded by 1 MiB here.
+  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 4) * sizeof(unsigned) +
+    2 * sizeof(unsigned) + (std::size_t(1) << 20);
+}
+
+std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
+{
+  return M * (static_cast<std::size_t>(paddedDimension(D)) + D + d) * sizeof(float) + sizeof(unsigned long long);
+}
+
+bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t maxRows, std::string* error)
+{
+  release();
   if (in.D < 1 || in.D > kMaxPlacementDimension)
   {
     return detail::fail(error, "the GPU placement handles 1.." + std::to_string(kMaxPlacementDimension) +
@@ -397,100 +550,195 @@ bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neigh
     return detail::fail(error, "the GPU placement handles up to " + std::to_string(kMaxPlacementNeighbors) +
         " neighbours (got " + std::to_string(k) + ")");
   }
-  if (in.M == 0 || in.M >= 0x7fffffffu || (in.columns == nullptr && in.dim != in.D) || in.d < 1)
+  if (in.M == 0 || in.M >= 0x7fffffffu || (in.columns == nullptr && in.dim != in.D) || in.d < 1 || slots < 1)
   {
     return detail::fail(error, "invalid GPU placement arguments");
+  }
+  Impl& I = *P;
+  I.M = in.M;
+  I.D = in.D;
+  I.d = in.d;
+  I.k = k;
+  I.dim = in.dim;
+  I.DP = paddedDimension(in.D);
+  I.gather = in.columns != nullptr;
+  I.regularization = in.regularization;
+  I.margin = in.distanceMargin;
+  I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
+  std::vector<float> padded(in.M * static_cast<std::size_t>(I.DP), 0.f);
+  for (std::size_t i = 0; i < in.M; ++i)
+  {
+    std::copy(in.refX + i * in.D, in.refX + (i + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * I.DP));
+  }
+  MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.refX.ptr, in.M * in.D * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.refY.ptr, in.M * in.d * sizeof(float)));
+  MCV_CUDA_TRY(cudaMalloc(&I.scanTotal.ptr, sizeof(unsigned long long)));
+  I.bytes = referenceBytes(in.M, in.D, in.d);
+  I.slots.resize(static_cast<std::size_t>(slots));
+  for (Impl::Slot& slot : I.slots)
+  {
+    MCV_CUDA_TRY(cudaMalloc(&slot.cIdx.ptr, I.chunk * KP * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.cF.ptr, I.chunk * KP * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.scanRows.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.scanCount.ptr, sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.headIdx.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.headOf.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.list.ptr, I.chunk * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&slot.listCount.ptr, sizeof(unsigned)));
+    std::size_t selectBytes = 0, scanBytes = 0;
+    const thrust::counting_iterator<int> rows(0);
+    MCV_CUDA_TRY(cub::DeviceSelect::If(nullptr, selectBytes, rows, slot.list.as<int>(), slot.listCount.as<int>(),
+      static_cast<int>(I.chunk), IsRunHead{ slot.headIdx.as<unsigned>() }));
+    MCV_CUDA_TRY(cub::DeviceScan::InclusiveScan(nullptr, scanBytes, slot.headIdx.as<unsigned>(),
+      slot.headOf.as<unsigned>(), MaxOp{}, static_cast<int>(I.chunk)));
+    slot.tempBytes = std::max<std::size_t>(1, std::max(selectBytes, scanBytes));
+    MCV_CUDA_TRY(cudaMalloc(&slot.temp.ptr, slot.tempBytes));
+    I.bytes += scratchBytesPerSlot(I.chunk);
+  }
+  if (in.columns)
+  {
+    MCV_CUDA_TRY(cudaMemcpyToSymbol(cColumns, in.columns, in.D * sizeof(int)));
+  }
+  MCV_CUDA_TRY(cudaMemcpy(I.refs.ptr, padded.data(), padded.size() * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemcpy(I.refX.ptr, in.refX, in.M * in.D * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemcpy(I.refY.ptr, in.refY, in.M * in.d * sizeof(float), cudaMemcpyHostToDevice));
+  MCV_CUDA_TRY(cudaMemset(I.scanTotal.ptr, 0, sizeof(unsigned long long)));
+  return true;
+}
+
+bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors,
+  int slot, void* streamHandle, bool mergeEqualRows, std::string* error)
+{
+  Impl& I = *P;
+  if (I.M == 0 || slot < 0 || slot >= static_cast<int>(I.slots.size()))
+  {
+    return detail::fail(error, "the GPU placement has no references (upload first)");
+  }
+  const cudaStream_t stream = static_cast<cudaStream_t>(streamHandle);
+  Impl::Slot& s = I.slots[static_cast<std::size_t>(slot)];
+  RowParams p{ deviceRows, 0, 0, I.dim, I.D, I.gather ? 1 : 0, static_cast<int>(I.M) };
+  PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
+    deviceNeighbors };
+  for (std::size_t first = 0; first < n; first += I.chunk)
+  {
+    p.first = first;
+    p.count = static_cast<int>(std::min(I.chunk, n - first));
+    if (mergeEqualRows)
+    {
+      // The first row of each run is placed (list), the others copy it afterwards.
+      runHeadsKernel<<<(p.count + 255) / 256, 256, 0, stream>>>(p, s.headIdx.as<unsigned>());
+      MCV_CUDA_TRY(cudaGetLastError());
+      std::size_t bytes = s.tempBytes;
+      const thrust::counting_iterator<int> rows(0);
+      MCV_CUDA_TRY(cub::DeviceSelect::If(s.temp.ptr, bytes, rows, s.list.as<int>(), s.listCount.as<int>(), p.count,
+        IsRunHead{ s.headIdx.as<unsigned>() }, stream));
+      bytes = s.tempBytes;
+      MCV_CUDA_TRY(cub::DeviceScan::InclusiveScan(s.temp.ptr, bytes, s.headIdx.as<unsigned>(), s.headOf.as<unsigned>(),
+        MaxOp{}, p.count, stream));
+      p.list = s.list.as<unsigned>();
+      p.listCount = s.listCount.as<unsigned>();
+    }
+    MCV_CUDA_TRY(cudaMemsetAsync(s.scanCount.ptr, 0, sizeof(unsigned), stream));
+    switch (I.DP)
+    {
+      case 8:
+        launchCandidates<8>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 16:
+        launchCandidates<16>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 24:
+        launchCandidates<24>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 32:
+        launchCandidates<32>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      case 48:
+        launchCandidates<48>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+      default:
+        launchCandidates<64>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        break;
+    }
+    MCV_CUDA_TRY(cudaGetLastError());
+    const int blocks = (p.count + 127) / 128;
+    resolveKernel<<<blocks, 128, 0, stream>>>(p, pp, s.cIdx.as<unsigned>(), s.cF.as<float>(), s.scanRows.as<unsigned>(),
+      s.scanCount.as<unsigned>());
+    MCV_CUDA_TRY(cudaGetLastError());
+    scanKernel<<<(p.count + 63) / 64, 64, 0, stream>>>(p, pp, s.scanRows.as<unsigned>(), s.scanCount.as<unsigned>(),
+      I.scanTotal.as<unsigned long long>());
+    MCV_CUDA_TRY(cudaGetLastError());
+    if (mergeEqualRows)
+    {
+      copyRunsKernel<<<(p.count + 255) / 256, 256, 0, stream>>>(p.count, first, s.headOf.as<unsigned>(), deviceOut, I.d,
+        deviceNeighbors, I.k);
+      MCV_CUDA_TRY(cudaGetLastError());
+    }
+  }
+  return true;
+}
+
+bool PlacementOnDevice::radiusScans(std::size_t* count, std::string* error)
+{
+  unsigned long long total = 0;
+  if (P->scanTotal.ptr)
+  {
+    MCV_CUDA_TRY(cudaMemcpy(&total, P->scanTotal.ptr, sizeof total, cudaMemcpyDeviceToHost));
+  }
+  *count = static_cast<std::size_t>(total);
+  return true;
+}
+
+bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neighbors,
+  const std::function<void(double)>& progress, PlacementStats* stats, std::string* error)
+{
+  FaultStage stage("outofsample");
+  PlacementStats local;
+  PlacementStats& st = stats ? *stats : local;
+  st = PlacementStats{};
+  auto start = Clock::now();
+  PlacementOnDevice device;
+  if (!device.upload(in, 1, in.n, error))
+  {
+    return false;
   }
   if (in.n == 0)
   {
     return true;
   }
-  const int DP = in.D <= 8 ? 8 : in.D <= 16 ? 16 : in.D <= 24 ? 24 : in.D <= 32 ? 32 : in.D <= 48 ? 48 : 64;
-  PlacementStats local;
-  PlacementStats& st = stats ? *stats : local;
-  st = PlacementStats{};
-
-  auto start = Clock::now();
-  std::vector<float> padded(in.M * static_cast<std::size_t>(DP), 0.f);
-  for (std::size_t i = 0; i < in.M; ++i)
-  {
-    std::copy(in.refX + i * in.D, in.refX + (i + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * DP));
-  }
-  const std::size_t chunk = std::min(kChunkRows, in.n);
-  DeviceBuffer dRows, dRefs, dRefX, dRefY, dOut, dNb, dCIdx, dCF, dScan, dScanCount;
+  const int k = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, in.neighbors)), in.M));
+  DeviceBuffer dRows, dOut, dNb;
   MCV_CUDA_TRY(cudaMalloc(&dRows.ptr, in.n * in.dim * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefs.ptr, padded.size() * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefX.ptr, in.M * in.D * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dRefY.ptr, in.M * in.d * sizeof(float)));
   MCV_CUDA_TRY(cudaMalloc(&dOut.ptr, in.n * in.d * sizeof(float)));
   if (neighbors)
   {
     MCV_CUDA_TRY(cudaMalloc(&dNb.ptr, in.n * k * sizeof(unsigned)));
   }
-  MCV_CUDA_TRY(cudaMalloc(&dCIdx.ptr, chunk * KP * sizeof(unsigned)));
-  MCV_CUDA_TRY(cudaMalloc(&dCF.ptr, chunk * KP * sizeof(float)));
-  MCV_CUDA_TRY(cudaMalloc(&dScan.ptr, chunk * sizeof(unsigned)));
-  MCV_CUDA_TRY(cudaMalloc(&dScanCount.ptr, sizeof(unsigned)));
-  if (in.columns)
-  {
-    MCV_CUDA_TRY(cudaMemcpyToSymbol(cColumns, in.columns, in.D * sizeof(int)));
-  }
   MCV_CUDA_TRY(cudaMemcpy(dRows.ptr, in.rows, in.n * in.dim * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefs.ptr, padded.data(), padded.size() * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefX.ptr, in.refX, in.M * in.D * sizeof(float), cudaMemcpyHostToDevice));
-  MCV_CUDA_TRY(cudaMemcpy(dRefY.ptr, in.refY, in.M * in.d * sizeof(float), cudaMemcpyHostToDevice));
   st.uploadMs = msSince(start);
 
   start = Clock::now();
-  RowParams p{ dRows.as<float>(), 0, 0, in.dim, in.D, in.columns ? 1 : 0, static_cast<int>(in.M) };
-  PlaceParams pp{ dRefX.as<float>(), dRefY.as<float>(), in.D, in.d, k, in.regularization, in.distanceMargin,
-    dOut.as<float>(), neighbors ? dNb.as<unsigned>() : nullptr };
-  for (std::size_t first = 0; first < in.n; first += chunk)
+  // One chunk per step, so that progress can be reported between them.
+  for (std::size_t first = 0; first < in.n; first += kChunkRows)
   {
-    p.first = first;
-    p.count = static_cast<int>(std::min(chunk, in.n - first));
-    MCV_CUDA_TRY(cudaMemsetAsync(dScanCount.ptr, 0, sizeof(unsigned)));
-    switch (DP)
+    const std::size_t count = std::min(kChunkRows, in.n - first);
+    if (!device.place(dRows.as<float>() + first * in.dim, count, dOut.as<float>() + first * in.d,
+          neighbors ? dNb.as<unsigned>() + first * k : nullptr, 0, nullptr, false, error))
     {
-      case 8:
-        launchCandidates<8>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 16:
-        launchCandidates<16>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 24:
-        launchCandidates<24>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 32:
-        launchCandidates<32>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      case 48:
-        launchCandidates<48>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-      default:
-        launchCandidates<64>(p, dRefs.as<float>(), dCIdx.as<unsigned>(), dCF.as<float>());
-        break;
-    }
-    MCV_CUDA_TRY(cudaGetLastError());
-    const int blocks = (p.count + 127) / 128;
-    resolveKernel<<<blocks, 128>>>(p, pp, dCIdx.as<unsigned>(), dCF.as<float>(), dScan.as<unsigned>(),
-      dScanCount.as<unsigned>());
-    MCV_CUDA_TRY(cudaGetLastError());
-    unsigned scans = 0;
-    MCV_CUDA_TRY(cudaMemcpy(&scans, dScanCount.ptr, sizeof(unsigned), cudaMemcpyDeviceToHost));
-    if (scans > 0)
-    {
-      scanKernel<<<(scans + 63) / 64, 64>>>(p, pp, dScan.as<unsigned>(), scans);
-      MCV_CUDA_TRY(cudaGetLastError());
-      st.radiusScans += scans;
+      return false;
     }
     if (progress)
     {
       MCV_CUDA_TRY(cudaDeviceSynchronize());
-      progress(static_cast<double>(first + p.count) / static_cast<double>(in.n));
+      progress(static_cast<double>(first + count) / static_cast<double>(in.n));
     }
   }
   MCV_CUDA_TRY(cudaDeviceSynchronize());
+  if (!device.radiusScans(&st.radiusScans, error))
+  {
+    return false;
+  }
   st.computeMs = msSince(start);
 
   start = Clock::now();

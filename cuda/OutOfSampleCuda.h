@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace mcv
@@ -51,6 +52,43 @@ struct PlacementStats
 // progress (optional) receives the fraction of rows done, from the calling thread.
 bool placeOutOfSample(const PlacementInput& input, float* out, std::uint32_t* neighbors,
   const std::function<void(double)>& progress, PlacementStats* stats, std::string* error);
+
+// The same placement with the references resident on the device and rows that are already
+// there: the fused path (FusedPlacementCuda.h) computes a slab's features on the device and
+// places them without a round trip. Same kernels, same answers as placeOutOfSample. The
+// column list lives in this file's constant memory: one PlacementOnDevice at a time.
+class PlacementOnDevice
+{
+public:
+  PlacementOnDevice();
+  ~PlacementOnDevice();
+  PlacementOnDevice(const PlacementOnDevice&) = delete;
+  PlacementOnDevice& operator=(const PlacementOnDevice&) = delete;
+
+  // The references and settings of `input` (its rows and n are not used; dim and columns
+  // describe the rows place() will get). `slots`: sets of scratch buffers, one per stream
+  // placing at the same time, each for up to maxRows rows at once (larger calls go in
+  // steps). Replaces an earlier upload.
+  bool upload(const PlacementInput& input, int slots, std::size_t maxRows, std::string* error);
+  // Queues the placement of n rows (device memory, n x dim) into deviceOut (n x d) and
+  // deviceNeighbors (n x k, optional) on `stream` (a cudaStream_t; null: the default
+  // stream) with the scratch of `slot`. Nothing waits; errors of the kernels show at the
+  // stream's next synchronisation. mergeEqualRows: a run of consecutive rows with equal
+  // features is placed once (as the CPU path does; the same coordinates, bit for bit).
+  bool place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors, int slot,
+    void* stream, bool mergeEqualRows, std::string* error);
+  // Rows solved by the exact scan since upload (waits for the device).
+  bool radiusScans(std::size_t* count, std::string* error);
+  // Device bytes held: upload's, and what it needs for M references and per slot.
+  std::size_t deviceBytes() const;
+  static std::size_t referenceBytes(std::size_t M, int D, int d);
+  static std::size_t scratchBytesPerSlot(std::size_t maxRows);
+  void release();
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> P;
+};
 
 } // namespace cuda
 } // namespace mcv

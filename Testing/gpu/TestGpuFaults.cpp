@@ -1,13 +1,15 @@
 // A GPU that fails or runs out of memory mid-run: the CPU takes over with a warning and the
 // result is the same. For each GPU path (best viewpoint, features, Gaussian transfer
-// function, out-of-sample placement) a clean run counts its checked CUDA calls, then an
-// out-of-memory is injected (cuda/FaultInjection.h) at the first and last allocation, the
-// first and last copy, the first launch, the last synchronisation and the very last
-// checked call. Each time: exactly one warning naming the GPU failure, deviceUsed CPU, the
+// function, out-of-sample placement, the fused reduction's slabs) a clean run counts its
+// checked CUDA calls, then an out-of-memory is injected (cuda/FaultInjection.h) at the
+// first and last allocation, the first and last copy, the first launch, the last
+// synchronisation and the very last checked call. Each time: exactly one warning naming the GPU failure, deviceUsed CPU, the
 // CPU path's result (bit-identical where the CPU path is deterministic) over an output
 // prefilled with garbage, and the next call without injection runs on the GPU again with
 // the clean GPU result. Device memory after all faults is what it was before (nothing
-// leaked). The FaultInjection tests need no GPU; the others skip without one.
+// leaked). The fused reduction also fails in the middle of its slabs (a launch half way):
+// the slabs already down stay the GPU's, the CPU places the rest. The FaultInjection tests
+// need no GPU; the others skip without one.
 #include "cuda/CudaCheck.h"
 #include "cuda/FaultInjection.h"
 #include "cuda/HarrisCuda.h"
@@ -18,6 +20,7 @@
 #include "GaussianTransferFunction.h"
 #include "OutOfSample.h"
 
+#include "FusedRuns.h"
 #include "RequireGpu.h"
 #include "TestVolumes.h"
 
@@ -615,6 +618,72 @@ TEST(GpuFaults, OutOfSamplePlacementFallsBackAtEveryFailurePoint)
     EXPECT_TRUE(again.report.warnings.empty());
     EXPECT_TRUE(sameBits(again.y, gpu.y));
     EXPECT_EQ(again.nb, gpu.nb);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// The fused reduction's GPU slabs (features + placement on the device, FusedPlacementCuda.h)
+// ---------------------------------------------------------------------------------------
+
+// The voxels the GPU had placed when it failed, from the warning ("... after X of N voxels").
+std::size_t voxelsPlacedBeforeTheFault(const std::vector<std::string>& warnings)
+{
+  for (const std::string& w : warnings)
+  {
+    const std::size_t at = w.find("failed after ");
+    if (isFaultWarning(w) && at != std::string::npos)
+    {
+      return static_cast<std::size_t>(std::stoull(w.substr(at + 13)));
+    }
+  }
+  return static_cast<std::size_t>(-1);
+}
+
+TEST(GpuFaults, FusedPlacementFallsBackAtEveryFailurePoint)
+{
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 31, 27, 24 }, 3);
+  const std::size_t voxels = t.grid.voxelCount();
+  const std::size_t budget = mt::budgetForSlices(t.grid, 3, 24, 500, 3, 3);
+  const mt::FusedRun cpu = mt::runFused(t.views(), t.grid, mt::isomapOptions(500, Device::CPU), 0);
+  const float range = mt::coordinateRange(cpu.result.coordinates);
+  auto runGpu = [&] { return mt::runFused(t.views(), t.grid, mt::isomapOptions(500, Device::GPU), budget); };
+  mt::FusedRun gpu;
+  std::vector<Point> points = injectionPoints("fused", [&] { gpu = runGpu(); });
+  ASSERT_EQ(gpu.result.deviceUsed, Device::GPU);
+  ASSERT_GE(gpu.stats.slabs, 6u);
+  // Also a launch in the middle of the run: a slab half way fails after earlier ones are done.
+  mcv::cuda::countCudaCalls(true);
+  runGpu();
+  const long launches = mcv::cuda::countedCudaCalls("fused", CudaCall::Launch);
+  mcv::cuda::countCudaCalls(false);
+  points.push_back(Point{ CudaCall::Launch, launches / 2 });
+  LeakCheck leaks;
+  for (const Point& p : points)
+  {
+    SCOPED_TRACE("fused, failure at " + describe(p));
+    const mt::FusedRun fell = runWithFault("fused", p, runGpu);
+    ASSERT_TRUE(fell.result.ok()) << fell.result.error;
+    EXPECT_EQ(expectOneFaultWarning(fell.result.warnings), gpu.result.warnings);
+    const std::size_t placed = voxelsPlacedBeforeTheFault(fell.result.warnings);
+    ASSERT_LE(placed, voxels);
+    EXPECT_EQ(fell.result.deviceUsed, placed == voxels ? Device::GPU : Device::CPU);
+    if (p.kind == CudaCall::Launch && p.n > 1)
+    {
+      EXPECT_GT(placed, 0u); // slabs before the fault stay the GPU's
+      EXPECT_LT(placed, voxels);
+    }
+    EXPECT_LE(mt::maxDifference(fell.result.coordinates, cpu.result.coordinates), 1e-5f * range);
+    // The rows the GPU placed are its own, the rest the CPU's.
+    const std::size_t split = std::min(placed, voxels) * 3;
+    EXPECT_TRUE(std::equal(fell.result.coordinates.begin(), fell.result.coordinates.begin() + split,
+      gpu.result.coordinates.begin()));
+    EXPECT_TRUE(std::equal(fell.result.coordinates.begin() + split, fell.result.coordinates.end(),
+      cpu.result.coordinates.begin() + split));
+    // The GPU works again.
+    const mt::FusedRun again = runGpu();
+    EXPECT_EQ(again.result.deviceUsed, Device::GPU);
+    EXPECT_EQ(again.result.coordinates, gpu.result.coordinates);
   }
 }
 

@@ -8,7 +8,8 @@
 # Real volumes: put them in .cache/volumes (scripts/fetch-data.sh) and carry that folder.
 # Header-only libraries the device lacks (nanoflann, Spectra): scripts/prepare-device.sh
 # copies them into .cache/include; carry that folder too.
-# MCV_DEVICE_CMAKE_ARGS: extra configure arguments.
+# MCV_DEVICE_CMAKE_ARGS: extra configure arguments. MCV_FUSED_BENCH=1: also the fused-reduction
+# benchmark at 1 G voxels (mcvBenchmarkFusedGPU).
 set -uo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -85,6 +86,14 @@ tf_rc=0
 timeout 180 "$build/Testing/Benchmarks/mcvBenchmarkGaussianTF" >"$logs/bench-gaussiantf.log" 2>&1 || tf_rc=$?
 sed -n '/^coords/,$p' "$logs/bench-gaussiantf.log" | tee -a "$summary"
 note "mcvBenchmarkGaussianTF exit code $tf_rc"
+
+# Opt-in (about 2 minutes): the fused reduction at 67 M voxels (GPU chain) and its GPU stage at
+# 1 G voxels, merged runs against every voxel searched (docs/benchmarks.md section 15).
+if [ "${MCV_FUSED_BENCH:-0}" = 1 ]; then
+  note "== fused reduction on the GPU (brain tiled to 67 M and 1 G voxels)"
+  timeout 300 "$build/Testing/gpu/mcvBenchmarkFusedGPU" --skip-cpu --merge-baseline >"$logs/bench-fused.log" 2>&1
+  grep -E "^==|WHOLE CHAIN|GPU stage|placement \(|bytes host|whole chain estimate" "$logs/bench-fused.log" | tee -a "$summary"
+fi
 
 if [ "${MCV_NCU:-0}" = 1 ] && command -v ncu >/dev/null 2>&1; then
   note "== ncu (256^3): kernel durations of one warm topN, then the Harris kernel's stall profile"

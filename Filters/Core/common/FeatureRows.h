@@ -7,9 +7,36 @@
 
 #include <cstddef>
 #include <cstring>
+#include <functional>
+#include <string>
 
 namespace mcv
 {
+
+// What the placement needs to run where the rows are made (the GPU fused path): the fit's
+// references and where the coordinates go. Plain pointers, so common/ needs no Eigen.
+struct DevicePlacement
+{
+  const float* refX = nullptr; // M x D reference features (the used columns), row-major
+  const float* refY = nullptr; // M x d their embedding
+  std::size_t M = 0;
+  int D = 0;
+  int d = 0;
+  const int* columns = nullptr; // D column indices into a row, or null (cols() == D)
+  int neighbors = 3;
+  double regularization = 1e-3;
+  double distanceMargin = 0; // floatDistanceMargin(D) of ExactKnn.h
+  float* out = nullptr;      // rows() x d
+  std::function<void(double)> progress; // fraction of the rows placed
+};
+
+struct DevicePlacementReport
+{
+  bool attempted = false;   // false: these rows have no device path (the caller places them)
+  std::size_t rowsDone = 0; // rows [0, rowsDone) of out are placed, also after a failure
+  std::string error;        // non-empty: the device failed; the caller places the rest
+  std::size_t radiusScans = 0;
+};
 
 class FeatureRows
 {
@@ -27,6 +54,10 @@ public:
   virtual const float* block(std::size_t b) = 0;
   // The rows of `index` (any order, repeats allowed) into out (n x cols()).
   virtual void gather(const std::size_t* index, std::size_t n, float* out) = 0;
+  // The out-of-sample placement of every row on the GPU where the rows are computed there
+  // (FeatureBricks: features and placement per slab on the device, only channels up and
+  // coordinates down). Default: no such path.
+  virtual DevicePlacementReport placeOnDevice(const DevicePlacement&) { return {}; }
 };
 
 // A matrix in memory: one block, gathered by copying rows.

@@ -2,6 +2,10 @@
 
 #include "TypedChannel.h"
 
+#ifdef MCV_HAS_CUDA
+#include "cuda/FusedPlacementCuda.h"
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -270,6 +274,55 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
     }
     detail::applyNormalizationCPU(FeatureOutput{ out + at * F, m, cols_ }, bad.data(), offset_, scale_);
   }
+}
+
+DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& request)
+{
+  DevicePlacementReport report;
+  deviceStats_ = DeviceStats();
+#ifdef MCV_HAS_CUDA
+  if (offset_.size() != static_cast<std::size_t>(cols_))
+  {
+    return report; // not prepared
+  }
+  report.attempted = true;
+  cuda::FusedPlacementSetup setup;
+  setup.grid = grid_;
+  setup.channels = static_cast<int>(channels_.size());
+  setup.selection = selection_;
+  setup.cols = cols_;
+  setup.offset = offset_;
+  setup.scale = scale_;
+  setup.deviceBytes = deviceBytes_;
+  cuda::PlacementInput& r = setup.references;
+  r.refX = request.refX;
+  r.refY = request.refY;
+  r.M = request.M;
+  r.D = request.D;
+  r.d = request.d;
+  r.dim = cols_;
+  r.columns = request.columns;
+  r.neighbors = request.neighbors;
+  r.regularization = request.regularization;
+  r.distanceMargin = request.distanceMargin;
+  // The host's part: the slab's channels as float (what rawSlab converts on the CPU).
+  const cuda::FusedChannelFill fill = [this](int c, std::size_t first, std::size_t count, float* values) {
+    return detail::channelToFloat(fromVoxel(channels_[static_cast<std::size_t>(c)], first), count, values, nullptr);
+  };
+  cuda::FusedPlacementStats stats;
+  std::string error;
+  if (!cuda::placeFused(setup, fill, request.out, request.progress, &stats, &report.rowsDone, &error))
+  {
+    report.error = error.empty() ? std::string("unknown CUDA failure") : error;
+  }
+  report.radiusScans = stats.radiusScans;
+  deviceStats_ = DeviceStats{ stats.slabSlices, stats.slabs, stats.bytesToDevice, stats.bytesFromDevice,
+    stats.deviceBytes, stats.deviceUsedPeak, stats.pinnedBytes, stats.setupMs, stats.fillMs, stats.waitMs,
+    stats.totalMs };
+#else
+  (void)request;
+#endif
+  return report;
 }
 
 } // namespace mcv

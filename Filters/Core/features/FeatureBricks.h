@@ -13,6 +13,12 @@
 //
 // As FeatureRows (common/FeatureRows.h) the rows are the voxels of the grid passed in
 // (x fastest), normalised; blocks are slabs.
+//
+// GPU (CUDA builds): placeOnDevice runs the placement slab by slab on the device
+// (cuda/FusedPlacementCuda.h): the channels of a slab go up, its features are computed,
+// normalised with prepare()'s offsets and scales and placed there, its coordinates come
+// down. The slab is sized from the device memory it may use (setDeviceBytes; default: the
+// free memory less a margin), so the volume may be larger than the device.
 #pragma once
 
 #include "ChannelView.h"
@@ -48,6 +54,22 @@ public:
   const float* block(std::size_t b) override;
   void gather(const std::size_t* index, std::size_t n, float* out) override;
 
+  // The GPU placement of every row (see the top of this file); attempted is false in a
+  // build without CUDA or before prepare().
+  DevicePlacementReport placeOnDevice(const DevicePlacement& request) override;
+
+  // Device memory the GPU path may use (0: the free memory less a margin).
+  void setDeviceBytes(std::size_t bytes) { deviceBytes_ = bytes; }
+  // What the last placeOnDevice did (also after a failure: up to it).
+  struct DeviceStats
+  {
+    int slabSlices = 0;
+    std::size_t slabs = 0, bytesToDevice = 0, bytesFromDevice = 0, deviceBytes = 0, deviceUsedPeak = 0,
+                pinnedBytes = 0;
+    double setupMs = 0, fillMs = 0, waitMs = 0, totalMs = 0;
+  };
+  const DeviceStats& deviceStats() const { return deviceStats_; }
+
   int slabSlices() const { return slices_; }
   // The bytes one slab holds at a time (features with ghost slices, a float channel, masks):
   // what the fused path adds to its coordinates.
@@ -70,6 +92,8 @@ private:
   int cols_ = 0;
   int slices_ = 1;
   std::vector<double> offset_, scale_;
+  std::size_t deviceBytes_ = 0;
+  DeviceStats deviceStats_;
   std::vector<float> features_, values_;
   std::vector<unsigned char> bad_, channelBad_;
 };

@@ -801,17 +801,66 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   }
   else
   {
+    // Rows made on the GPU (the fused path: features per slab on the device) are placed
+    // there too; after a GPU failure the CPU places the rows from the first one not done,
+    // with one warning.
+    std::size_t placedRows = 0;
+    Device blockDevice = device;
+    if (options.method != ReductionMethod::PCA && device == Device::GPU)
+    {
+      DevicePlacement request;
+      request.refX = refX.data();
+      request.refY = fit.coordinates.data();
+      request.M = M;
+      request.D = static_cast<int>(D);
+      request.d = d;
+      request.columns = gatherColumns.empty() ? nullptr : gatherColumns.data();
+      request.distanceMargin = floatDistanceMargin(static_cast<int>(D));
+      request.out = coordinates;
+      request.progress = [&](double f) { report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
+      report("Out-of-sample placement (GPU)", 0.6);
+      const DevicePlacementReport placed = features.placeOnDevice(request);
+      if (placed.attempted)
+      {
+        if (placed.error.empty())
+        {
+          placedRows = n;
+          result.deviceUsed = Device::GPU;
+        }
+        else if (placed.rowsDone >= n)
+        {
+          // Every coordinate had come down when the GPU failed.
+          placedRows = n;
+          result.deviceUsed = Device::GPU;
+          result.warnings.push_back("The GPU fused placement failed after " + std::to_string(n) + " of " +
+            std::to_string(n) + " voxels (" + placed.error + "); nothing was left for the CPU.");
+        }
+        else
+        {
+          placedRows = placed.rowsDone;
+          blockDevice = Device::CPU;
+          result.warnings.push_back("The GPU fused placement failed after " + std::to_string(placedRows) + " of " +
+            std::to_string(n) + " voxels (" + placed.error + "); the rest ran on the CPU.");
+        }
+      }
+    }
     // Block by block (one block for a matrix in memory; the fused path computes each
     // block's features here): progress after each, so an abort stops between blocks.
-    const std::size_t blocks = features.blockCount();
+    const std::size_t blocks = placedRows == n ? 0 : features.blockCount();
     const char* const stage = options.method == ReductionMethod::PCA ? "PCA projection" : "Out-of-sample placement";
     for (std::size_t b = 0; b < blocks; ++b)
     {
-      const std::size_t begin = features.blockBegin(b), count = features.blockBegin(b + 1) - begin;
+      const std::size_t blockBegin = features.blockBegin(b), blockEnd = features.blockBegin(b + 1);
+      if (blockEnd <= placedRows)
+      {
+        continue;
+      }
+      // A block the GPU placed in part: its remaining rows.
+      const std::size_t begin = std::max(blockBegin, placedRows), count = blockEnd - begin;
       const double lo = 0.6 + 0.35 * static_cast<double>(begin) / static_cast<double>(std::max<std::size_t>(1, n));
       const double hi = 0.6 + 0.35 * static_cast<double>(begin + count) / static_cast<double>(std::max<std::size_t>(1, n));
       report(stage, lo);
-      const float* rowsOfBlock = features.block(b);
+      const float* rowsOfBlock = features.block(b) + (begin - blockBegin) * static_cast<std::size_t>(cols);
       float* out = coordinates + begin * static_cast<std::size_t>(d);
       if (count == 0)
       {
@@ -823,7 +872,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         continue;
       }
       OutOfSampleOptions oo;
-      oo.device = device;
+      oo.device = blockDevice;
       oo.progress = within(lo, hi);
       const OutOfSampleReport placed =
         placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols, gatherColumns, out, oo);

@@ -1,0 +1,99 @@
+// The GPU fused reduction (issue 20 section 2): features computed, normalised and placed on
+// the device slab by slab (cuda/FusedPlacementCuda.h) against the CPU fused path
+// (FeatureBricks blocks + placeOutOfSample), with a device budget forced small so that many
+// slabs (and both streams) are used. Same reference sample and fit (both come from the CPU
+// statistics pass), coordinates within 1e-5 of their range. On a random 3-channel volume of
+// mixed scalar types with NaN voxels, and on the real Colin27 brain (a 40-slice piece, so
+// the CPU side stays a few seconds). Skips without a GPU.
+#include "FusedRuns.h"
+#include "BrainFeatures.h"
+#include "RequireGpu.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+namespace
+{
+
+namespace mt = mcv::testing;
+using mcv::Device;
+
+void expectSameCoordinates(const mt::FusedRun& cpu, const mt::FusedRun& gpu)
+{
+  EXPECT_EQ(cpu.result.deviceUsed, Device::CPU);
+  EXPECT_EQ(gpu.result.deviceUsed, Device::GPU) << (gpu.result.warnings.empty() ? "" : gpu.result.warnings.back());
+  EXPECT_EQ(gpu.result.referenceIndices, cpu.result.referenceIndices);
+  EXPECT_EQ(gpu.result.usedColumns, cpu.result.usedColumns);
+  const float range = mt::coordinateRange(cpu.result.coordinates);
+  ASSERT_GT(range, 0.0f);
+  const float diff = mt::maxDifference(gpu.result.coordinates, cpu.result.coordinates);
+  std::printf("[ fused ] %zu voxels, %zu slabs of %d slices: max |GPU - CPU| = %.3g (range %.3g, ratio %.2g)\n",
+    cpu.result.coordinates.size() / 3, gpu.stats.slabs, gpu.stats.slabSlices, diff, range, diff / range);
+  EXPECT_LE(diff, 1e-5f * range);
+}
+
+TEST(FusedGPU, RandomVolumeManySlabsMatchesTheCpu)
+{
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 37, 29, 26 }, 11);
+  const mcv::ReductionOptions cpuOptions = mt::isomapOptions(600, Device::CPU);
+  const mcv::ReductionOptions gpuOptions = mt::isomapOptions(600, Device::GPU);
+  const mt::FusedRun cpu = mt::runFused(t.views(), t.grid, cpuOptions, 0, 4 * 37 * 29 * 24 * sizeof(float));
+  const std::size_t budget = mt::budgetForSlices(t.grid, 3, 24, 600, 3, 3);
+  const mt::FusedRun gpu = mt::runFused(t.views(), t.grid, gpuOptions, budget);
+  EXPECT_GE(gpu.stats.slabSlices, 3);
+  EXPECT_LE(gpu.stats.slabSlices, 5); // the references are fewer than the budget assumed
+  EXPECT_GE(gpu.stats.slabs, 5u);
+  EXPECT_LE(gpu.stats.deviceBytes, budget);
+  expectSameCoordinates(cpu, gpu);
+  // Only channels went up (with their ghost slices) besides the references, only
+  // coordinates came down.
+  const std::size_t voxels = t.grid.voxelCount();
+  EXPECT_EQ(gpu.stats.bytesFromDevice, voxels * 3 * sizeof(float));
+  EXPECT_GE(gpu.stats.bytesToDevice, voxels * 3 * sizeof(float));
+  EXPECT_LT(gpu.stats.bytesToDevice, voxels * 3 * sizeof(float) * 2);
+  // The whole volume in one slab (the default budget) gives the same coordinates.
+  const mt::FusedRun whole = mt::runFused(t.views(), t.grid, gpuOptions, 0);
+  EXPECT_EQ(whole.stats.slabs, 1u);
+  EXPECT_EQ(whole.result.coordinates, gpu.result.coordinates);
+}
+
+TEST(FusedGPU, TooSmallABudgetFallsBackToTheCpuWithAWarning)
+{
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 20, 18, 12 }, 5);
+  const mt::FusedRun cpu = mt::runFused(t.views(), t.grid, mt::isomapOptions(300, Device::CPU), 0);
+  const mt::FusedRun gpu = mt::runFused(t.views(), t.grid, mt::isomapOptions(300, Device::GPU), 1024);
+  EXPECT_EQ(gpu.result.deviceUsed, Device::CPU);
+  int said = 0;
+  for (const std::string& w : gpu.result.warnings)
+    said += (w.find("GPU fused placement failed after 0 of") != std::string::npos &&
+      w.find("MiB of device memory") != std::string::npos && w.find("CPU") != std::string::npos);
+  EXPECT_EQ(said, 1);
+  EXPECT_EQ(gpu.result.coordinates, cpu.result.coordinates);
+}
+
+TEST(FusedGPU, RealBrainManySlabsMatchesTheCpu)
+{
+  MCV_REQUIRE_GPU();
+  if (!mt::haveBrain())
+    GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
+  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
+  std::vector<mcv::ChannelView> views;
+  for (const mt::Volume& v : brain)
+  {
+    mcv::ChannelView cv;
+    cv.data = v.values.data();
+    cv.type = mcv::ScalarType::Float32;
+    views.push_back(cv);
+  }
+  const mcv::ImageGrid& grid = brain[0].grid;
+  const mt::FusedRun cpu = mt::runFused(views, grid, mt::isomapOptions(2000, Device::CPU), 0);
+  const std::size_t budget = mt::budgetForSlices(grid, 3, 24, 2000, 3, 4);
+  const mt::FusedRun gpu = mt::runFused(views, grid, mt::isomapOptions(2000, Device::GPU), budget);
+  EXPECT_GE(gpu.stats.slabs, 8u);
+  expectSameCoordinates(cpu, gpu);
+}
+
+} // namespace

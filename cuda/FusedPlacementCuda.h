@@ -1,0 +1,78 @@
+// GPU path of the fused reduction (issue 20): the features of a slab of z slices are
+// computed on the device from its channels (uploaded with one ghost slice each side),
+// normalised there with the statistics pass's offsets and scales, and placed there by the
+// out-of-sample kernels (OutOfSampleCuda.h, PlacementOnDevice) against references uploaded
+// once. Only channel slabs go up and coordinates come down: a volume far larger than the
+// device runs slab by slab. Two streams and pinned staging buffers overlap the host's
+// conversion of slab s + 1, the transfers and the kernels of slab s.
+//
+// Same function as the CPU path (FeatureBricks::block + placeOutOfSample): the feature
+// kernel is the whole-volume one (FeatureKernels.cuh, bit-equal to the CPU) run on the slab
+// with its ghost slices, the normalisation rounds like applyNormalizationCPU, and the
+// placement picks the neighbours the CPU picks.
+//
+// Plain C++ interface (no CUDA types); built only with MCV_ENABLE_CUDA. Any CUDA failure
+// (allocation included) returns false with `error`; rowsDone says how many rows are placed
+// (whole slabs, in order), so the core places the rest on the CPU.
+#pragma once
+
+#include "OutOfSampleCuda.h"
+
+#include "../Filters/Core/features/FeatureVectors.h"
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace mcv
+{
+namespace cuda
+{
+
+struct FusedPlacementSetup
+{
+  ImageGrid grid; // the volume (or this process's block); rows are its voxels, x fastest
+  int channels = 0;
+  FeatureSelection selection;
+  int cols = 0;                      // channels * selection.perChannel()
+  std::vector<double> offset, scale; // per column, as applyNormalizationCPU takes them
+  PlacementInput references;         // refX, refY, M, D, d, columns, neighbors, ...; dim = cols
+  // Device memory the path may use; 0: the free memory less a margin (1/16 of the card, at
+  // least 512 MiB). The slab is the thickest that fits (at most kMaxSlabVoxels voxels).
+  std::size_t deviceBytes = 0;
+  // A run of consecutive voxels with equal features (a uniform background) is placed once;
+  // false places every voxel (the benchmark's baseline). Same coordinates either way.
+  bool mergeEqualRows = true;
+};
+
+// Fills `values` with channel c's voxels [first, first + count) of the grid as float
+// (what detail::channelToFloat gives); returns how many of them are not finite.
+using FusedChannelFill = std::function<std::size_t(int c, std::size_t first, std::size_t count, float* values)>;
+
+struct FusedPlacementStats
+{
+  int slabSlices = 0;
+  std::size_t slabs = 0;
+  std::size_t bytesToDevice = 0, bytesFromDevice = 0;
+  std::size_t deviceBytes = 0;     // allocated by this path (references, slabs, scratch)
+  std::size_t deviceUsedPeak = 0;  // the card's used memory at its highest (cudaMemGetInfo)
+  std::size_t pinnedBytes = 0;     // host staging buffers
+  std::size_t radiusScans = 0;
+  double setupMs = 0, fillMs = 0, waitMs = 0, totalMs = 0; // fill: host conversion; wait: for the device
+};
+
+constexpr std::size_t kMaxSlabVoxels = std::size_t(32) << 20;
+
+// The device bytes the path needs for slabs of `slices` z slices (so tests and callers can
+// ask for a given slab thickness through deviceBytes).
+std::size_t fusedPlacementBytes(const FusedPlacementSetup& setup, int slices);
+
+// Places every voxel of setup.grid into out (voxels x d floats). progress: fraction of the
+// rows placed, from the calling thread. rowsDone: see the header comment.
+bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, float* out,
+  const std::function<void(double)>& progress, FusedPlacementStats* stats, std::size_t* rowsDone,
+  std::string* error);
+
+} // namespace cuda
+} // namespace mcv
