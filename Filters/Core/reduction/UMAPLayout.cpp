@@ -213,8 +213,29 @@ Schedule makeSchedule(const FuzzyGraph& g, double negativeSampleRate, std::uint6
     std::fill(head.begin() + static_cast<std::ptrdiff_t>(g.start[i]), head.begin() + static_cast<std::ptrdiff_t>(g.start[i + 1]),
       static_cast<std::uint32_t>(i));
   }
+  // Within a task, the edges go by their rank in the row, then by row (the first edge of
+  // every row, then the second, ...): consecutive samples then have different heads, so
+  // their updates overlap in the core; in row order a sample waited for the one before to
+  // store the head it reads (a chain of dependent updates: the layout ran 2x slower).
+  std::size_t maxDegree = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    maxDegree = std::max(maxDegree, g.start[i + 1] - g.start[i]);
+  }
+  std::vector<std::size_t> byRank;
+  byRank.reserve(E);
+  for (std::size_t r = 0; r < maxDegree; ++r)
+  {
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      if (g.start[i] + r < g.start[i + 1])
+      {
+        byRank.push_back(g.start[i] + r);
+      }
+    }
+  }
   std::vector<std::size_t> fill(s.taskStart.begin(), s.taskStart.end() - 1);
-  for (std::size_t e = 0; e < E; ++e) // row order within a task
+  for (const std::size_t e : byRank)
   {
     const std::size_t at = fill[static_cast<std::size_t>(edgeTask[e])]++;
     s.head[at] = s.slot[head[e]];
