@@ -62,8 +62,14 @@ struct LayoutOptions
   double initialAlpha = 1.0;    // learning rate
   int negativeSampleRate = 5;
   std::uint64_t seed = 0;
+  // The negative samples two at a time (AVX2, where the CPU has it): the same bits as the
+  // portable loop that false selects (a test compares them).
+  bool vectorised = true;
   StageProgress progress; // called between epochs, from the calling thread
 };
+
+// Whether this CPU runs the vectorised negative samples (LayoutOptions::vectorised).
+bool layoutHasWideNegatives();
 
 // graph: the fuzzy simplicial set (weights in (0, 1]); Y: n x d (d = 2 or 3) start
 // positions, replaced by the layout. OpenMP inside every epoch.
