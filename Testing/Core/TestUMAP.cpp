@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numeric>
 #include <random>
@@ -308,6 +309,40 @@ TEST(UMAP, SameSeedSameResultForAnyThreadCount)
   mcv::ReductionOptions o = umapOptions(2);
   o.randomSeed = 6;
   EXPECT_NE(mcv::reduceDimension({ b.X.data(), 500, 10 }, o).coordinates, runs[0]);
+}
+
+TEST(UMAP, VectorisedNegativeSamplesMatchThePortableLoop)
+{
+  if (!mcv::layoutHasWideNegatives())
+  {
+    GTEST_SKIP() << "this CPU has no AVX2: the layout runs the portable loop only";
+  }
+  // Two touching blobs (one component), 2D and 3D layouts from the same random start.
+  Blobs b = twoBlobs(200, 13);
+  b.X.bottomRows(200).rowwise() -= (b.centres.row(1) - b.centres.row(0)) * 0.9f;
+  const mcv::KnnGraph knn = mcv::buildKnnGraph(b.X.data(), 400, 10, 15);
+  const mcv::FuzzyGraph g = mcv::fuzzySimplicialSet(knn);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.f, 10.f);
+  for (const int d : { 2, 3 })
+  {
+    mcv::RowMatrixF start(400, d);
+    for (Eigen::Index i = 0; i < start.size(); ++i)
+    {
+      start.data()[i] = u(rng);
+    }
+    start.row(7) = start.row(8); // two coincident points: the fixed push
+    mcv::LayoutOptions o;
+    o.epochs = 200;
+    o.seed = 4;
+    mcv::RowMatrixF wide = start, portable = start;
+    mcv::optimizeLayout(g, o, wide);
+    o.vectorised = false;
+    mcv::optimizeLayout(g, o, portable);
+    ASSERT_TRUE(wide.allFinite());
+    EXPECT_GT((wide - start).norm(), 1.f); // the layout moved
+    EXPECT_EQ(std::memcmp(wide.data(), portable.data(), sizeof(float) * wide.size()), 0) << "d = " << d;
+  }
 }
 
 TEST(UMAP, DisconnectedGraphStartsAtRandomWithAWarning)

@@ -17,6 +17,12 @@
 // two blocks of its next pair to finish the round before, and for the others at the end of
 // an epoch. The negative samples read the positions as they were at the start of the
 // epoch (a copy): a repelling vertex may be moved by another pair in the same round.
+// Every 10 epochs the layout runs on all threads or on one, whichever took less time per
+// epoch when last tried (a machine busy with other work can leave two threads waiting for
+// each other): the same bits either way, so only the time depends on it.
+// Within a task the edges go by their rank in the row, then by row (consecutive samples
+// have different heads), and the negative samples run two at a time in AVX2 where the CPU
+// has it, with the same bits as the portable loop (LayoutOptions::vectorised).
 //
 // Differences from umap-learn's sequential pass, all within the noise of SGD (the
 // trustworthiness of the result matches: docs/benchmarks.md): the order of the updates;
@@ -62,11 +68,17 @@ struct LayoutOptions
   double initialAlpha = 1.0;    // learning rate
   int negativeSampleRate = 5;
   std::uint64_t seed = 0;
+  // The negative samples two at a time (AVX2, where the CPU has it): the same bits as the
+  // portable loop that false selects (a test compares them).
+  bool vectorised = true;
   StageProgress progress; // called between epochs, from the calling thread
 };
 
+// Whether this CPU runs the vectorised negative samples (LayoutOptions::vectorised).
+bool layoutHasWideNegatives();
+
 // graph: the fuzzy simplicial set (weights in (0, 1]); Y: n x d (d = 2 or 3) start
-// positions, replaced by the layout. OpenMP inside every epoch.
+// positions, replaced by the layout. OpenMP inside every epoch (or one thread, above).
 void optimizeLayout(const FuzzyGraph& graph, const LayoutOptions& options, RowMatrixF& Y);
 
 } // namespace mcv
