@@ -1,6 +1,7 @@
 #include "HarrisPipeline.h"
 
 #include "CudaCheck.h"
+#include "DeviceBuffer.cuh"
 #include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "TopNSelect.cuh"
@@ -178,19 +179,7 @@ struct HarrisPipeline::Impl
 
   bool ensure(void*& buffer, std::size_t& capacity, std::size_t bytes, std::string* error)
   {
-    if (bytes <= capacity && buffer)
-    {
-      return true;
-    }
-    if (buffer)
-    {
-      MCV_CUDA_TRY(cudaFree(buffer));
-      buffer = nullptr;
-      capacity = 0;
-    }
-    MCV_CUDA_TRY(cudaMalloc(&buffer, bytes));
-    capacity = bytes;
-    return true;
+    return growDeviceBuffer(buffer, capacity, bytes, error);
   }
 
   bool ensureScores(std::size_t n, std::string* error)

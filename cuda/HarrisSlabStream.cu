@@ -1,6 +1,7 @@
 #include "HarrisSlabStream.h"
 
 #include "CudaCheck.h"
+#include "DeviceBuffer.cuh"
 #include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "HarrisPipeline.h"
@@ -202,19 +203,7 @@ struct HarrisSlabStream::Impl
 
   bool ensureDevice(void*& buffer, std::size_t& capacity, std::size_t bytes, std::string* error)
   {
-    if (buffer && bytes <= capacity)
-    {
-      return true;
-    }
-    if (buffer)
-    {
-      MCV_CUDA_TRY(cudaFree(buffer));
-      buffer = nullptr;
-      capacity = 0;
-    }
-    MCV_CUDA_TRY(cudaMalloc(&buffer, bytes));
-    capacity = bytes;
-    return true;
+    return growDeviceBuffer(buffer, capacity, bytes, error);
   }
 
   bool ensureRing(std::string* error)

@@ -4,6 +4,7 @@
 #include "OutOfSampleCuda.h"
 
 #include "CudaCheck.h"
+#include "DeviceBuffer.cuh"
 
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
@@ -445,31 +446,6 @@ __global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __r
     }
   }
 }
-
-struct DeviceBuffer
-{
-  void* ptr = nullptr;
-  DeviceBuffer() = default;
-  DeviceBuffer(const DeviceBuffer&) = delete;
-  DeviceBuffer& operator=(const DeviceBuffer&) = delete;
-  DeviceBuffer(DeviceBuffer&& o) noexcept
-    : ptr(o.ptr)
-  {
-    o.ptr = nullptr;
-  }
-  ~DeviceBuffer()
-  {
-    if (ptr)
-    {
-      cudaFree(ptr);
-    }
-  }
-  template <class T>
-  T* as() const
-  {
-    return static_cast<T*>(ptr);
-  }
-};
 
 template <int DP>
 void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)

@@ -6,6 +6,7 @@
 #include "UMAPLayoutCuda.h"
 
 #include "CudaCheck.h"
+#include "DeviceBuffer.cuh"
 #include "UMAPLayoutStep.h"
 
 #include <algorithm>
@@ -27,23 +28,6 @@ double msSince(Clock::time_point t)
 {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
 }
-
-struct DeviceBuffer
-{
-  void* ptr = nullptr;
-  ~DeviceBuffer()
-  {
-    if (ptr)
-    {
-      cudaFree(ptr);
-    }
-  }
-  template <class T>
-  T* as() const
-  {
-    return static_cast<T*>(ptr);
-  }
-};
 
 struct EdgeState
 {
