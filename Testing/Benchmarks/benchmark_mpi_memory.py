@@ -7,8 +7,9 @@ sample 10000, K = 10, L = 500, seed 0), each process on its own piece.
 
 Each process writes to DIR:
   rank<r>.f32   its piece's ReducedCoordinates (float32, x fastest over its extent)
-  rank<r>.json  its extent, the whole dimensions, its stage times and its peak resident
-                memory (ru_maxrss) after each stage
+  rank<r>.json  its extent, the whole dimensions, its stage times, its peak resident
+                memory (ru_maxrss) after each stage, and each stage's own peak (VmHWM
+                restarted at the stage's start) with the resident size it started from
 benchmark_mpi_memory.sh runs it for R = 1, 2, 4 and compares every piece with the
 one-process coordinates, voxel by voxel, and the peaks with the one-process run's.
 """
@@ -27,6 +28,26 @@ from paraview import servermanager, simple  # noqa: E402
 
 def peak_gib():
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / float(1 << 20)
+
+
+def status_gib(key):
+    """VmRSS / VmHWM of this process from /proc/self/status, in GiB."""
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) / float(1 << 20)
+    return float("nan")
+
+
+def reset_peak():
+    """Restarts VmHWM at the current resident size (Linux >= 4.0: clear_refs 5), so that
+    a stage's own peak is not hidden by an earlier stage's (ru_maxrss never falls)."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+        return True
+    except OSError:
+        return False
 
 
 def whole_dims(proxy):
@@ -49,13 +70,16 @@ def main():
 
     controller = servermanager.vtkProcessModule.GetProcessModule().GetGlobalController()
     rank, ranks = controller.GetLocalProcessId(), controller.GetNumberOfProcesses()
-    stages, peaks = {}, {}
+    stages, peaks, stage_start, stage_peak = {}, {}, {}, {}
 
     def timed(name, proxy):
+        stage_start[name] = round(status_gib("VmRSS"), 3)
+        reset = reset_peak()
         start = time.time()
         proxy.UpdatePipeline()
         stages[name] = round(time.time() - start, 3)
         peaks[name] = round(peak_gib(), 3)
+        stage_peak[name] = round(status_gib("VmHWM"), 3) if reset else None
 
     readers = [simple.OpenDataFile(T.data_file(n))
                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
@@ -77,16 +101,18 @@ def main():
     os.makedirs(args.output, exist_ok=True)
     with open(os.path.join(args.output, "rank%d.f32" % rank), "wb") as f:
         if coordinates is not None and coordinates.GetNumberOfTuples() > 0:
-            f.write(bytes(memoryview(coordinates)))
+            f.write(memoryview(coordinates))  # the buffer itself, no copy
     info = {"rank": rank, "ranks": ranks, "extent": list(image.GetExtent()),
             "points": image.GetNumberOfPoints(),
             "whole_dims": whole_dims(reduction),
             "threads": int(os.environ.get("OMP_NUM_THREADS", "0")),
-            "stage_seconds": stages, "stage_peak_rss_gib": peaks, "peak_rss_gib": peak_gib()}
+            "stage_seconds": stages, "stage_peak_rss_gib": peaks,
+            "stage_start_rss_gib": stage_start, "stage_own_peak_gib": stage_peak,
+            "peak_rss_gib": peak_gib()}
     with open(os.path.join(args.output, "rank%d.json" % rank), "w") as f:
         json.dump(info, f)
-    print("rank %d of %d: %d points, peak %.2f GiB, %s"
-          % (rank, ranks, info["points"], info["peak_rss_gib"], stages))
+    print("rank %d of %d: %d points, peak %.2f GiB, %s, stage start/peak GiB %s %s"
+          % (rank, ranks, info["points"], info["peak_rss_gib"], stages, stage_start, stage_peak))
     sys.stdout.flush()
 
 

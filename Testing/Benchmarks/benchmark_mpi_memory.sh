@@ -52,8 +52,9 @@ voxels = dims[0] * dims[1] * dims[2]
 data_gib = voxels * (3 * 4 + 3 * 4) / float(1 << 30)  # float channels + float coordinates
 print("Fused reduction of the brain resampled to %d x %d x %d = %.1f M voxels (24D, Isomap); "
       "channels + coordinates %.2f GiB" % (dims[0], dims[1], dims[2], voxels / 1e6, data_gib))
-print("%5s %8s | %9s %9s %9s | %13s %13s | %s" % ("ranks", "threads", "upsample", "reduction",
-      "total s", "peak GiB max", "peak / 1-rank", "largest |coordinate - 1-rank| / range"))
+print("%5s %8s | %9s %9s %9s | %13s %13s | %22s | %s" % ("ranks", "threads", "upsample", "reduction",
+      "total s", "peak GiB max", "peak / 1-rank", "reduction: start->peak",
+      "largest |coordinate - 1-rank| / range"))
 for R in ranks_list:
     infos = load(R)
     worst, points = 0.0, 0
@@ -68,10 +69,14 @@ for R in ranks_list:
         points += info["points"]
     peaks = [i["peak_rss_gib"] for i in infos]
     stages = infos[0]["stage_seconds"]
-    print("%5d %8d | %9.1f %9.1f %9.1f | %13s %13.2f | %.2e (%d points in %d pieces)"
+    own = " ".join("%.2f->%.2f" % (i["stage_start_rss_gib"]["reduction"],
+                                     i["stage_own_peak_gib"]["reduction"] or float("nan"))
+                   for i in infos)
+    print("%5d %8d | %9.1f %9.1f %9.1f | %13s %13.2f | %22s | %.2e (%d points in %d pieces)"
           % (R, infos[0]["threads"], stages.get("upsample", 0), stages["reduction"],
              sum(stages.values()), " ".join("%.2f" % p for p in peaks),
-             max(peaks) / base["peak_rss_gib"], worst / span, points, R))
+             max(peaks) / base["peak_rss_gib"], own, worst / span, points, R))
 print("peak: ru_maxrss of each process at the end (ParaView, Python and the libraries take "
-      "~0.35 GiB of it before any data is read).")
+      "~0.35 GiB of it before any data is read). reduction: each process's resident size when the "
+      "reduction started and its peak during the reduction (VmHWM restarted at its start).")
 PY
