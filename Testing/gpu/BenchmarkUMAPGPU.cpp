@@ -17,6 +17,7 @@
 // Ratios are printed against the CPU (1) and against the target (2), all measured in this run.
 #include "BrainFeatures.h"
 #include "DimensionReduction.h"
+#include "LayoutComparison.h"
 #include "ReferenceSample.h"
 #include "Trustworthiness.h"
 #include "UMAPEmbedding.h"
@@ -86,19 +87,6 @@ TimedFit bestOf(int runs, const mcv::RowMatrixF& X, mcv::Device device, std::str
       best = std::move(f);
   }
   return best;
-}
-
-// scipy.spatial.procrustes's disparity (as TestUMAPLayoutGPU.cpp).
-double procrustesDisparity(const mcv::RowMatrixF& a, const mcv::RowMatrixF& b)
-{
-  Eigen::MatrixXd A = a.cast<double>(), B = b.cast<double>();
-  A.rowwise() -= A.colwise().mean();
-  B.rowwise() -= B.colwise().mean();
-  A /= A.norm();
-  B /= B.norm();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A.transpose() * B);
-  const double s = svd.singularValues().sum();
-  return 1.0 - s * s;
 }
 
 // Trustworthiness of Y on the given rows (X and Y restricted to them).
@@ -216,7 +204,7 @@ int main(int argc, char** argv)
       std::printf("N = %6zu GPU, %2d rounds/epoch: layout %6.0f ms, T %.4f (dT vs CPU %+.4f), Procrustes to the CPU "
                   "layout %.4f\n",
         rows.size(), R, g.layoutMs, trustworthinessOn(X, g.e.coordinates, tRows),
-        trustworthinessOn(X, g.e.coordinates, tRows) - tCpu, procrustesDisparity(cpu.e.coordinates, g.e.coordinates));
+        trustworthinessOn(X, g.e.coordinates, tRows) - tCpu, mcv::testing::procrustesDisparity(cpu.e.coordinates, g.e.coordinates));
     }
   }
 

@@ -20,6 +20,7 @@
 
 #include "BrainFeatures.h"
 #include "DimensionReduction.h"
+#include "LayoutComparison.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
 #include "Trustworthiness.h"
@@ -43,18 +44,6 @@ namespace
 namespace mt = mcv::testing;
 using mcv::Device;
 using mcv::RowMatrixF;
-
-double procrustesDisparity(const RowMatrixF& a, const RowMatrixF& b)
-{
-  Eigen::MatrixXd A = a.cast<double>(), B = b.cast<double>();
-  A.rowwise() -= A.colwise().mean();
-  B.rowwise() -= B.colwise().mean();
-  A /= A.norm();
-  B /= B.norm();
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A.transpose() * B);
-  const double s = svd.singularValues().sum();
-  return 1.0 - s * s;
-}
 
 mcv::Embedding fit(const RowMatrixF& X, Device device, std::uint64_t seed)
 {
@@ -88,9 +77,9 @@ mcv::Embedding expectGpuAgreesWithCpu(const RowMatrixF& X, const char* what)
   const double tCpu = mcv::trustworthiness(X.data(), D, cpu.coordinates.data(), d, n, 10);
   const double tSeed = mcv::trustworthiness(X.data(), D, reseeded.coordinates.data(), d, n, 10);
   const double tGpu = mcv::trustworthiness(X.data(), D, gpu.coordinates.data(), d, n, 10);
-  const double seedSpread = std::max(procrustesDisparity(cpu.coordinates, reseeded.coordinates),
-    procrustesDisparity(cpu.coordinates, reseeded2.coordinates));
-  const double disparity = procrustesDisparity(cpu.coordinates, gpu.coordinates);
+  const double seedSpread = std::max(mt::procrustesDisparity(cpu.coordinates, reseeded.coordinates),
+    mt::procrustesDisparity(cpu.coordinates, reseeded2.coordinates));
+  const double disparity = mt::procrustesDisparity(cpu.coordinates, gpu.coordinates);
   std::printf("[ agreement ] UMAP %s, N = %zu: trustworthiness CPU %.4f (other seed %.4f), GPU %.4f; "
               "Procrustes disparity CPU-GPU %.4f, CPU-CPU other seeds (max of 2) %.4f\n",
     what, n, tCpu, tSeed, tGpu, disparity, seedSpread);
