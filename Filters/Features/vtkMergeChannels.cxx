@@ -96,6 +96,7 @@ int vtkMergeChannels::RequestInformation(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->GridsDiffer = false;
+  this->ReportedError.clear();
   const int inputs = inputVector[0]->GetNumberOfInformationObjects();
   if (inputs > 0)
   {
@@ -152,7 +153,11 @@ int vtkMergeChannels::RequestData(
   os << describe(0, vtkImageData::GetData(firstInfo), first)
      << ". Resample the channels onto one grid first (e.g. Resample To Image of each onto "
         "the first one's bounds and dimensions), then merge them.";
-  vtkErrorMacro(<< os.str());
+  if (os.str() != this->ReportedError)
+  {
+    this->ReportedError = os.str();
+    vtkErrorMacro(<< this->ReportedError);
+  }
   vtkDataObject::GetData(outputVector, 0)->Initialize();
   return 1;
 }

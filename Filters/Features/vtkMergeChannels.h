@@ -43,6 +43,10 @@ private:
 
   // True when some input's grid differs from the first one's (set by RequestInformation).
   bool GridsDiffer = false;
+  // The error last reported. An empty output never covers the extent asked of it, so the
+  // pipeline executes the filter again on every update (the GUI asks 5 times after Apply);
+  // the same error is reported once, again only after RequestInformation.
+  std::string ReportedError;
 };
 
 #endif

@@ -67,6 +67,19 @@ for order, label in (([t1, den], "T1 + brainsmall.den"), ([den, t1], "brainsmall
             "%s: error names both inputs, the T1's 181 x 217 x 181 grid and says to resample"
             % label)
     C.check(bad.GetDataInformation().GetNumberOfPoints() == 0, "%s: empty output" % label)
+    # The empty output never covers the extent asked of it, so showing and rendering it
+    # executes the filter again and again (5 times in all, as the GUI's Apply does): the
+    # error is said once...
+    Show(bad)
+    Render()
+    said = lambda: sum("not on one grid" in e for e in msgs.errors)  # noqa: E731
+    C.check(said() == 1, "%s: the error said once through Show and Render (said %d times)"
+            % (label, said()))
+    # ... and again once the inputs change.
+    bad.Input = list(reversed(order))
+    Render()
+    C.check(said() == 2, "%s: said again after the inputs changed (%d in all)" % (label, said()))
+    Hide(bad)
     Delete(bad)
 
 # Same extent, another spacing: refused; the same spacing up to rounding: merged.
