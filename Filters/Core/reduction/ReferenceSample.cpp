@@ -156,6 +156,28 @@ void forOwned(const RowLayout& rows, const unsigned char* eligible, const Visit&
   }
 }
 
+// forOwned for the rows of [begin, end) alone (a block of a FeatureRows).
+template <class Visit>
+void forOwnedIn(const RowLayout& rows, const unsigned char* eligible, std::size_t begin, std::size_t end,
+  const Visit& visit)
+{
+  const std::pair<std::size_t, std::size_t> within = rows.runsWithin(begin, end);
+  const long long first = static_cast<long long>(within.first), last = static_cast<long long>(within.second);
+#pragma omp parallel for schedule(static)
+  for (long long r = first; r < last; ++r)
+  {
+    const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
+    const std::size_t from = std::max(run.row, begin), to = std::min(run.row + run.count, end);
+    for (std::size_t row = from; row < to; ++row)
+    {
+      if (isEligible(eligible, row))
+      {
+        visit(row, run.global + static_cast<std::int64_t>(row - run.row));
+      }
+    }
+  }
+}
+
 // Calls visit(row, global, found) for every owned eligible row, OpenMP over runs, and
 // returns what the visits appended to `found`, in no particular order (callers sort by key).
 template <class T, class Visit>
@@ -318,12 +340,9 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
     }
     const std::size_t begin = source_.blockBegin(b), end = source_.blockBegin(b + 1);
     const float* block = source_.block(b);
-    forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {
-      if (row >= begin && row < end)
-      {
-        const float* x = block + (row - begin) * static_cast<std::size_t>(dim_);
-        stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
-      }
+    forOwnedIn(rows_, options_.eligible, begin, end, [&](std::size_t row, std::int64_t) {
+      const float* x = block + (row - begin) * static_cast<std::size_t>(dim_);
+      stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
     });
   }
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
@@ -719,6 +738,30 @@ std::size_t RowLayout::runCount() const
   }
   return static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1) *
     static_cast<std::size_t>(piece_.ownedHi[2] - piece_.ownedLo[2] + 1);
+}
+
+std::pair<std::size_t, std::size_t> RowLayout::runsWithin(std::size_t begin, std::size_t end) const
+{
+  // The first run r for which ends(r) holds; ends is false, then true, along the runs.
+  const auto firstWhere = [this](auto ends) {
+    std::size_t lo = 0, hi = runCount();
+    while (lo < hi)
+    {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (ends(run(mid)))
+      {
+        hi = mid;
+      }
+      else
+      {
+        lo = mid + 1;
+      }
+    }
+    return lo;
+  };
+  const std::size_t first = firstWhere([begin](const Run& r) { return r.row + r.count > begin; });
+  const std::size_t last = firstWhere([end](const Run& r) { return r.row >= end; });
+  return { first, std::max(first, last) };
 }
 
 RowLayout::Run RowLayout::run(std::size_t r) const

@@ -37,6 +37,7 @@
 #include <functional>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mcv
@@ -66,6 +67,10 @@ public:
   };
   std::size_t runCount() const;
   Run run(std::size_t r) const;
+  // The runs [first, last) holding rows of [begin, end) (runs ascend by row): a pass over
+  // the blocks of a FeatureRows visits only these per block; every run for every block
+  // made such a pass cost blocks x rows (33 slabs x 1 G voxels).
+  std::pair<std::size_t, std::size_t> runsWithin(std::size_t begin, std::size_t end) const;
 
 private:
   std::size_t rows_ = 0;
