@@ -10,6 +10,7 @@ through that pixel has accumulated.
 
 import math
 
+from ._common import _coordinate_tuple, _is_float16
 from ._voxels import _Grid, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -110,14 +111,25 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     t0, t1 = hit
     step = 0.5 * min(grid.spacing)
     samples = max(2, int(math.ceil((t1 - t0) / step)))
-    line = servermanager.filters.PlotOverLine(Input=source)
-    line.Point1 = [o + t0 * d for o, d in zip(origin, direction)]
-    line.Point2 = [o + t1 * d for o, d in zip(origin, direction)]
-    line.SamplingPattern = "Sample Uniformly"
-    line.Resolution = samples
+    name = _coordinates_name(display)
+    p1 = [o + t0 * d for o, d in zip(origin, direction)]
+    p2 = [o + t1 * d for o, d in zip(origin, direction)]
+    if _is_float16(source.PointData[name]):
+        # Interpolating float16 bits is no interpolation of the values (and gives inf or NaN
+        # across a sign change): the nearest voxel's coordinates instead.
+        segment = servermanager.sources.LineSource(Point1=p1, Point2=p2, Resolution=samples)
+        line = servermanager.filters.ResampleWithDataset(SourceDataArrays=source,
+                                                         DestinationMesh=segment)
+        line.CategoricalData = 1
+    else:
+        line = servermanager.filters.PlotOverLine(Input=source)
+        line.Point1 = p1
+        line.Point2 = p2
+        line.SamplingPattern = "Sample Uniformly"
+        line.Resolution = samples
     polyline = servermanager.Fetch(line)
     pd = polyline.GetPointData()
-    coords = pd.GetArray(_coordinates_name(display))
+    coords = pd.GetArray(name)
     valid = pd.GetArray("vtkValidPointMask")
     mask = pd.GetArray("Foreground")
     widgets = _widget_values(display)
@@ -128,7 +140,7 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     for p in range(polyline.GetNumberOfPoints()):
         alpha = 0.0
         if (valid is None or valid.GetTuple1(p)) and (mask is None or mask.GetTuple1(p) >= 0.5):
-            c = list(coords.GetTuple(p)) + [0.0]
+            c = list(_coordinate_tuple(coords, p)) + [0.0]
             alpha = 1.0 - (1.0 - _widget_alpha(widgets, c[:3])) ** (seg / unit)
         keep *= 1.0 - alpha
         opacities.append(1.0 - keep)
