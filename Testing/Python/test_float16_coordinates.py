@@ -99,6 +99,30 @@ def reduce_both(label, method, keep_features, **settings):
 p32, p16, _, _ = reduce_both("6D PCA, Features array", "PCA", True, ReferenceSampleSize=3000)
 Delete(p16)
 Delete(p32)
+
+# ---- The memory check counts 6 bytes per voxel (plus a chunk's float scratch) ---------------
+# On a float Features array the reduction needs only its coordinates: 7.1 M x 12 bytes =
+# 81.4 MiB as float32; as float16 7.1 M x 6 bytes + 1 Mi rows x 12 bytes = 52.7 MiB. A limit
+# of 65 MiB refuses the first and lets the second run.
+feats = MultichannelFeatures(Input=merged, FeatureSet="6D")
+feats.UpdatePipeline()
+checks = {}
+os.environ["MCV_MEMORY_LIMIT_MB"] = "65"
+for precision in ("Float32", "Float16"):
+    red = DimensionReduction(Input=feats, FeatureSet="Use input array", Method="PCA",
+                             ReferenceSampleSize=2000, CoordinatePrecision=precision)
+    red.Features = ["POINTS", "Features"]
+    msgs = T.Messages(red)
+    red.UpdatePipeline()
+    checks[precision] = (list(msgs.errors), coordinates(red) is not None)
+    Delete(red)
+del os.environ["MCV_MEMORY_LIMIT_MB"]
+Delete(feats)
+print("65 MiB limit: %s" % checks)
+C.check(any("needs 81.4 MiB" in e and "available" in e for e in checks["Float32"][0]) and
+        not checks["Float32"][1], "65 MiB: Float32 is refused, 'needs 81.4 MiB ... available'")
+C.check(not checks["Float16"][0] and checks["Float16"][1],
+        "65 MiB: Float16 (52.7 MiB) runs %s" % checks["Float16"][0])
 r32, r16, x32, x16 = reduce_both("6D Isomap, fused", "Isomap", False, ReferenceSampleSize=2000,
                                  NumberOfNeighbors=12, NumberOfLandmarks=200)
 
@@ -181,6 +205,31 @@ render_pair("Per sample")
 render_pair("Per voxel")
 disp16.Classification = "Per sample"
 disp32.Classification = "Per sample"
+
+# ---- Picking through the volume and a widget sized by the coordinates' range ---------------
+for other in (r32, r16):
+    Hide(other, view)
+Show(r16, view)
+simple.Render(view)
+hit = mce.probe_at_pixel(view, 250, 210, display=disp16, mark=False)
+Hide(r16, view)
+Show(r32, view)
+hit32 = mce.probe_at_pixel(view, 250, 210, display=disp32, mark=False)
+Hide(r32, view)
+Show(r16, view)
+C.check(hit is not None and list(hit.coordinates) == [float(v) for v in x16[hit.point_id]],
+        "probe_at_pixel through the float16 volume picks a voxel and reads its coordinates (%s)"
+        % str(None if hit is None else (hit.index, hit.coordinates)))
+# float32 is sampled by interpolation, float16 at the nearest voxels: the same spot.
+apart = math.sqrt(sum((a - b) ** 2 for a, b in zip(hit.index, hit32.index))) if hit and hit32 else -1
+print("picked voxel: float16 %s, float32 %s, %.2f voxels apart"
+      % (str(hit and hit.index), str(hit32 and hit32.index), apart))
+C.check(0 <= apart <= 3, "probe_at_pixel picks the same spot from both (%.2f voxels apart)" % apart)
+span = float((x16.max(axis=0) - x16.min(axis=0)).max())
+added = mce.add_widget_at(disp16, [0.0, 0.0, 0.0])
+C.check(abs(added[3] - 0.05 * span) <= 1e-6 * span,
+        "add_widget_at sizes sigma from the decoded range (%.5f = 5%% of %.4f)" % (added[3], span))
+disp16.GaussianWidgets = widgets
 
 # ---- BestViewpoint on the widgets' opacity: the same direction -----------------------------
 directions = []

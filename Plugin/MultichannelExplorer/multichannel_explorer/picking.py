@@ -3,8 +3,8 @@ of the domain point there), for the GUI's Probe toggle.
 
 A volume has no surface to pick, so the pixel's ray (from the view's camera, computed
 here, so it works in any session) is sampled through the volume on the server (Plot Over
-Line, interpolated) and the widgets' opacity is composited along it as the ray caster
-does; the picked voxel is the one nearest the depth where half of the opacity seen
+Line, interpolated; float16 coordinates at the nearest voxels) and the widgets' opacity
+is composited along it as the ray caster does; the picked voxel is the one nearest the depth where half of the opacity seen
 through that pixel has accumulated.
 """
 
@@ -115,12 +115,16 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     p1 = [o + t0 * d for o, d in zip(origin, direction)]
     p2 = [o + t1 * d for o, d in zip(origin, direction)]
     if _is_float16(source.PointData[name]):
-        # Interpolating float16 bits is no interpolation of the values (and gives inf or NaN
-        # across a sign change): the nearest voxel's coordinates instead.
-        segment = servermanager.sources.LineSource(Point1=p1, Point2=p2, Resolution=samples)
+        # Interpolating float16 bits is no interpolation of the values (it gives garbage,
+        # inf or NaN across a sign or exponent change): each sample is moved to its nearest
+        # voxel centre, where the probe's weights select that voxel's bits alone.
+        centres = []
+        for s in range(samples + 1):
+            at = [a + (b - a) * s / float(samples) for a, b in zip(p1, p2)]
+            centres.extend(grid.position(grid.nearest_index(at)))
+        segment = servermanager.sources.PolyLineSource(Points=centres)
         line = servermanager.filters.ResampleWithDataset(SourceDataArrays=source,
                                                          DestinationMesh=segment)
-        line.CategoricalData = 1
     else:
         line = servermanager.filters.PlotOverLine(Input=source)
         line.Point1 = p1
