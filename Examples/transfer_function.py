@@ -70,6 +70,9 @@ parser.add_argument("--widgets", type=int, default=4, help="number of seeded wid
 parser.add_argument("--widget-opacity", type=float, default=0.5)
 parser.add_argument("--blend", default="Composite", choices=["Composite", "Maximum Intensity"])
 parser.add_argument("--device", default="Auto", choices=["Auto", "CPU", "GPU"])
+parser.add_argument("--float16-coordinates", action="store_true",
+                    help="store ReducedCoordinates as float16 (half the memory, ~1/2048 "
+                         "relative precision; DimensionReduction's CoordinatePrecision)")
 parser.add_argument("--seed", type=int, default=0)
 parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
 parser.add_argument("--plugin", default=None, help="MultichannelExplorer.so to load")
@@ -134,10 +137,12 @@ def neighbors(method):
 
 
 # 2. The reduced domain.
+precision = "Float16" if args.float16_coordinates else "Float32"
 reduction = simple.DimensionReduction(
     Input=source, FeatureSet=feature_set, Method=args.method, OutputDimension=3,
     ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(args.method),
-    NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
+    NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
+    CoordinatePrecision=precision)
 if args.chain == "features":
     reduction.Features = ["POINTS", "Features"]
 timed("reduction", reduction.UpdatePipeline)
@@ -196,7 +201,9 @@ def fetch_array(source, name, port=0):
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
     data = servermanager.Fetch(source, idx=port)
-    return vtk_to_numpy(data.GetPointData().GetArray(name))
+    array = data.GetPointData().GetArray(name)
+    # Coordinates may be float16 (--float16-coordinates): decoded to float32.
+    return mce.coordinate_values(array) if name == "ReducedCoordinates" else vtk_to_numpy(array)
 
 
 def reduce_coarse(method, coarse_features):
@@ -205,7 +212,8 @@ def reduce_coarse(method, coarse_features):
     other = simple.DimensionReduction(
         Input=coarse_features, FeatureSet=feature_set, Method=method, OutputDimension=3,
         ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(method),
-        NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device)
+        NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
+    CoordinatePrecision=precision)
     if args.chain == "features":
         other.Features = ["POINTS", "Features"]
     other.UpdatePipeline()
@@ -263,6 +271,7 @@ report = {
     "features": args.features,
     "method": args.method,
     "reference_sample_size": args.reference_size,
+    "coordinate_precision": precision,
     "variance_retained": float(reduction.GetPropertyValue("VarianceRetained")),
     "trustworthiness": float(reduction.GetPropertyValue("Trustworthiness")),
     "reduction_eigenvalues": [float(v) for v in reduction.GetPropertyValue("EigenvalueSpectrum")],

@@ -3,6 +3,7 @@
 #include "CoordinateTexture.h"           // mcv core (Filters/Core)
 #include "ImageGrid.h"                   // mcv core: the spacing check
 #include "GaussianTransferFunction.h"    // mcv core (Filters/Core)
+#include "../Filters/Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
 #include "mcvGaussianTFShader.h"
 #include "vtkGaussianTFVolumeMapper.h"
@@ -158,24 +159,11 @@ vtkDataArray* maskOf(vtkImageData* piece, const std::string& name)
   return nullptr;
 }
 
-// Float32 values of `array` (no copy when it already is float32).
+// Float32 values of `array` (no copy when it already is float32; not for float16, which
+// the core decodes a chunk at a time: mcv::vtkhelpers::halfCoordinates).
 const float* asFloats(vtkDataArray* array, std::vector<float>& storage)
 {
-  if (auto floats = vtkFloatArray::FastDownCast(array))
-  {
-    return floats->GetPointer(0);
-  }
-  const vtkIdType n = array->GetNumberOfTuples();
-  const int components = array->GetNumberOfComponents();
-  storage.resize(static_cast<size_t>(n) * components);
-  for (vtkIdType t = 0; t < n; ++t)
-  {
-    for (int c = 0; c < components; ++c)
-    {
-      storage[t * components + c] = static_cast<float>(array->GetComponent(t, c));
-    }
-  }
-  return storage.data();
+  return mcv::vtkhelpers::coordinatesAsFloats(array, storage);
 }
 
 // One byte per voxel, 0 where `mask` is 0 (no copy for a uint8 mask); nullptr: no mask.
@@ -543,7 +531,8 @@ bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     // The array's modification time tags its values: the GPU path keeps the coordinates
     // on the device across widget edits and uploads them again only when it changes.
     view.version = static_cast<std::uint64_t>(coords->GetMTime());
-    view.data = asFloats(coords, internals.Converted);
+    view.halves = mcv::vtkhelpers::halfCoordinates(coords);
+    view.data = view.halves ? nullptr : asFloats(coords, internals.Converted);
 
     vtkPointData* pd = piece->GetPointData();
     vtkSmartPointer<vtkUnsignedCharArray> rgba =
@@ -643,10 +632,14 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
     internals.TextureRange = mcv::CoordinateRange();
     for (size_t p = 0; p < pieces.size(); ++p)
     {
+      const std::uint8_t* mask = asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask);
+      if (const std::uint16_t* halves = mcv::vtkhelpers::halfCoordinates(coords[p]))
+      {
+        internals.TextureRange.AddHalf(halves, coords[p]->GetNumberOfTuples(), coords[p]->GetNumberOfComponents(), mask);
+        continue;
+      }
       const float* x = asFloats(coords[p], internals.Converted);
-      internals.TextureRange.Add(x, coords[p]->GetNumberOfTuples(),
-        coords[p]->GetNumberOfComponents(),
-        asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask));
+      internals.TextureRange.Add(x, coords[p]->GetNumberOfTuples(), coords[p]->GetNumberOfComponents(), mask);
     }
     for (size_t p = 0; p < pieces.size(); ++p)
     {
@@ -655,10 +648,17 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
       texels->SetName(GetTextureArrayName());
       texels->SetNumberOfComponents(4);
       texels->SetNumberOfTuples(n);
-      mcv::quantizeCoordinates(asFloats(coords[p], internals.Converted), static_cast<size_t>(n),
-        coords[p]->GetNumberOfComponents(),
-        asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask),
-        internals.TextureRange, texels->GetPointer(0));
+      const std::uint8_t* mask = asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask);
+      if (const std::uint16_t* halves = mcv::vtkhelpers::halfCoordinates(coords[p]))
+      {
+        mcv::quantizeHalfCoordinates(halves, static_cast<size_t>(n), coords[p]->GetNumberOfComponents(), mask,
+          internals.TextureRange, texels->GetPointer(0));
+      }
+      else
+      {
+        mcv::quantizeCoordinates(asFloats(coords[p], internals.Converted), static_cast<size_t>(n),
+          coords[p]->GetNumberOfComponents(), mask, internals.TextureRange, texels->GetPointer(0));
+      }
       anchorRanges(texels, 65535.0); // the texture's range: no pass to find it
       pieces[p]->GetPointData()->AddArray(texels);
     }

@@ -148,7 +148,7 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
   const int C = setup.channels, F = setup.cols, d = setup.references.d, nz = grid.dims[2];
   const std::size_t nxy = sliceVoxels(grid), total = grid.voxelCount();
   if (C < 1 || F != C * setup.selection.perChannel() || setup.offset.size() != static_cast<std::size_t>(F) ||
-    setup.scale.size() != static_cast<std::size_t>(F) || setup.references.dim != F || !fill || !out)
+    setup.scale.size() != static_cast<std::size_t>(F) || setup.references.dim != F || !fill || (!out && !setup.writeCoordinates))
   {
     return detail::fail(error, "invalid arguments of the GPU fused placement");
   }
@@ -234,8 +234,15 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
     const auto waitStart = Clock::now();
     MCV_CUDA_TRY(cudaStreamSynchronize(res.streams[i]));
     st.waitMs += msSince(waitStart);
-    std::memcpy(out + pending[i].firstRow * static_cast<std::size_t>(d), res.stageOut[i],
-      pending[i].rows * static_cast<std::size_t>(d) * sizeof(float));
+    if (setup.writeCoordinates)
+    {
+      setup.writeCoordinates(pending[i].firstRow, pending[i].rows, res.stageOut[i]);
+    }
+    else
+    {
+      std::memcpy(out + pending[i].firstRow * static_cast<std::size_t>(d), res.stageOut[i],
+        pending[i].rows * static_cast<std::size_t>(d) * sizeof(float));
+    }
     pending[i].busy = false;
     done = pending[i].firstRow + pending[i].rows;
     if (progress)

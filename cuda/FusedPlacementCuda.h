@@ -44,6 +44,10 @@ struct FusedPlacementSetup
   // A run of consecutive voxels with equal features (a uniform background) is placed once;
   // false places every voxel (the benchmark's baseline). Same coordinates either way.
   bool mergeEqualRows = true;
+  // Optional: takes each slab's coordinates (rows [firstRow, firstRow + rows), from the
+  // pinned staging buffer) instead of the copy into `out`, which may then be null; the
+  // float16 output rounds them there (FeatureBricks::placeOnDevice).
+  std::function<void(std::size_t firstRow, std::size_t rows, const float* coordinates)> writeCoordinates;
 };
 
 // Fills `values` with channel c's voxels [first, first + count) of the grid as float

@@ -15,10 +15,12 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
+#include "vtkTypeUInt16Array.h"
 #include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
 #include "BackgroundMask.h"
+#include "CoordinateTexture.h" // CoordinateRange: the decoded range of float16 coordinates
 #include "DimensionReduction.h"
 #include "FeatureBricks.h"
 #include "FeatureRows.h"
@@ -274,8 +276,18 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
 
   // ---- The core ----------------------------------------------------------------------
-  // The output array, written by the core in place (no second coordinates buffer).
-  vtkNew<vtkFloatArray> reduced;
+  // The output array, written by the core in place (no second coordinates buffer): float32,
+  // or binary16 bits in uint16 (the core rounds a chunk of rows at a time into it).
+  const bool half = this->CoordinatePrecision == FLOAT16;
+  vtkSmartPointer<vtkDataArray> reduced;
+  if (half)
+  {
+    reduced = vtkSmartPointer<vtkTypeUInt16Array>::New();
+  }
+  else
+  {
+    reduced = vtkSmartPointer<vtkFloatArray>::New();
+  }
   reduced->SetName(kCoordinatesName);
   reduced->SetNumberOfComponents(this->OutputDimension);
   for (int c = 0; c < this->OutputDimension; ++c)
@@ -284,7 +296,14 @@ int vtkDimensionReduction::RequestMultichannelData(
     reduced->SetComponentName(c, name.c_str());
   }
   reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  options.coordinatesOutput = reduced->GetPointer(0);
+  if (half)
+  {
+    options.coordinatesHalfOutput = static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0);
+  }
+  else
+  {
+    options.coordinatesOutput = static_cast<vtkFloatArray*>(reduced.Get())->GetPointer(0);
+  }
 
   const mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
   this->SetProgressText(nullptr);
@@ -338,6 +357,24 @@ int vtkDimensionReduction::RequestMultichannelData(
   fd->AddArray(spectrumCopy);
   addFieldString(fd, "ReductionMethod", methodName(this->Method));
   addFieldString(fd, "DeviceUsed", this->GetDeviceUsed());
+  if (half)
+  {
+    // ParaView's data information would give the range of the bits: the values' range
+    // (finite ones; this process's piece, which ParaView merges across processes) goes
+    // with them as ReducedCoordinatesRange, a tuple of minima and one of maxima.
+    mcv::CoordinateRange range;
+    range.AddHalf(static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0), count, this->OutputDimension);
+    vtkNew<vtkDoubleArray> bounds;
+    bounds->SetName((std::string(kCoordinatesName) + "Range").c_str());
+    bounds->SetNumberOfComponents(this->OutputDimension);
+    bounds->SetNumberOfTuples(range.empty ? 0 : 2);
+    for (int c = 0; c < this->OutputDimension && !range.empty; ++c)
+    {
+      bounds->SetComponent(0, c, range.min[c]);
+      bounds->SetComponent(1, c, range.max[c]);
+    }
+    fd->AddArray(bounds);
+  }
   this->CropToRequestedExtent(output, outputVector);
 
   // ---- Output port 1: the spectrum table (one process of a split run: no copies) ------
@@ -476,7 +513,8 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::InputArrayRows(
 
   const bool isFloat = features->GetDataType() == VTK_FLOAT && features->HasStandardMemoryLayout();
   if (this->ReportError(
-        mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat)))
+        mcv::checkReductionMemory(count, components, this->OutputDimension, isFloat,
+          this->CoordinatePrecision == FLOAT16)))
   {
     return nullptr;
   }
@@ -539,7 +577,8 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   }
   const std::size_t slab =
     mcv::FeatureBricks::workingBytes(grid, F, mcv::FeatureBricks::kDefaultSlabBytes);
-  if (this->ReportError(mcv::checkFusedReductionMemory(count, F, this->OutputDimension, slab)))
+  if (this->ReportError(mcv::checkFusedReductionMemory(
+        count, F, this->OutputDimension, slab, this->CoordinatePrecision == FLOAT16)))
   {
     return nullptr;
   }
@@ -590,6 +629,10 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     std::size_t blockBegin(std::size_t b) const override { return bricks->blockBegin(b); }
     const float* block(std::size_t b) override { return bricks->block(b); }
     void gather(const std::size_t* index, std::size_t n, float* out) override { bricks->gather(index, n, out); }
+    mcv::DevicePlacementReport placeOnDevice(const mcv::DevicePlacement& request) override
+    {
+      return bricks->placeOnDevice(request);
+    }
   };
   std::unique_ptr<Rows> out(new Rows);
   out->bricks = std::move(bricks);
@@ -625,6 +668,7 @@ void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaskBackground: " << this->MaskBackground << "\n";
   os << indent << "Method: " << methodName(this->Method) << "\n";
   os << indent << "OutputDimension: " << this->OutputDimension << "\n";
+  os << indent << "CoordinatePrecision: " << (this->CoordinatePrecision == FLOAT16 ? "Float16" : "Float32") << "\n";
   os << indent << "NumberOfNeighbors: " << this->NumberOfNeighbors << "\n";
   os << indent << "NumberOfLandmarks: " << this->NumberOfLandmarks << "\n";
   os << indent << "MinimumDistance: " << this->MinimumDistance << "\n";

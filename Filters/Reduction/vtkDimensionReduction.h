@@ -38,7 +38,8 @@
  * (warning).
  *
  * Output port 0: the input (shallow copy) plus the point array `ReducedCoordinates`
- * (float32, OutputDimension components named dim1, dim2[, dim3]) and field-data arrays
+ * (float32, OutputDimension components named dim1, dim2[, dim3]; with CoordinatePrecision
+ * FLOAT16 a vtkTypeUInt16Array of IEEE binary16 bits, see HalfCoordinates.h) and field-data arrays
  * `Trustworthiness`, `VarianceRetained`, `EigenvalueSpectrum`, `ReductionMethod`,
  * `DeviceUsed`.
  * Output port 1: a vtkTable `Spectrum` with columns `index` (1-based), `value` and
@@ -169,6 +170,26 @@ public:
   vtkGetMacro(Method, int);
   ///@}
 
+  enum CoordinatePrecisionType
+  {
+    FLOAT32 = 0,
+    FLOAT16 = 1
+  };
+
+  ///@{
+  /**
+   * How ReducedCoordinates is stored: FLOAT32 (default, a vtkFloatArray) or FLOAT16 (a
+   * vtkTypeUInt16Array of IEEE binary16 bits: half the memory, ~1/2048 relative precision;
+   * the suite reads an unsigned-short coordinate array as float16). A coordinate beyond
+   * float16's range (|x| > 65504) is an error. With FLOAT16 the output's field data also
+   * has `ReducedCoordinatesRange` (OutputDimension components; tuple 0 the minima, tuple 1
+   * the maxima of the decoded values of this piece), since the array's own range is that
+   * of the bits.
+   */
+  vtkSetClampMacro(CoordinatePrecision, int, FLOAT32, FLOAT16);
+  vtkGetMacro(CoordinatePrecision, int);
+  ///@}
+
   ///@{
   /**
    * Dimension of the reduced domain: 2 or 3 (default 3). Any other value is refused at
@@ -265,6 +286,7 @@ protected:
 
   int Method = PCA;
   int OutputDimension = 3;
+  int CoordinatePrecision = FLOAT32;
   int NumberOfNeighbors = 50;
   int NumberOfLandmarks = 500;
   double MinimumDistance = 0.1;

@@ -20,6 +20,7 @@
 #include "SeededRandom.h" // uniformIndex: the suite's portable seeded RNG
 #include "WidgetSeeding.h"
 
+#include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -257,7 +258,7 @@ int vtkReducedDomain::RequestMultichannelData(
     const bool considered = ok;
     for (int c = 0; c < dims && ok; ++c)
     {
-      ok = std::isfinite(coordinates->GetComponent(i, c));
+      ok = std::isfinite(mcv::vtkhelpers::coordinateComponent(coordinates, i, c));
     }
     eligible[static_cast<std::size_t>(i)] = ok;
     eligibleCount += ok ? 1 : 0;
@@ -303,7 +304,7 @@ int vtkReducedDomain::RequestMultichannelData(
   {
     for (int c = 0; c < dims; ++c)
     {
-      const float v = static_cast<float>(coordinates->GetComponent(sample[s], c));
+      const float v = static_cast<float>(mcv::vtkhelpers::coordinateComponent(coordinates, sample[s], c));
       xyz[3 * s + c] = v;
       packed[dims * s + c] = v;
     }

@@ -30,6 +30,7 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
+#include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -395,21 +396,22 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(vtkImageData* image, const mcv::Imag
       << coordinates->GetNumberOfTuples() << " tuples).");
     return false;
   }
-  // The core reads contiguous float32; other layouts are converted once.
-  vtkSmartPointer<vtkFloatArray> floats = vtkFloatArray::FastDownCast(coordinates);
-  if (!floats)
+  // The core reads contiguous float32 or float16 (decoded per block); other layouts are
+  // converted once.
+  mcv::CoordinateView view{ nullptr, count, components };
+  view.halves = mcv::vtkhelpers::halfCoordinates(coordinates);
+  std::vector<float> converted;
+  if (!view.halves)
   {
-    floats = vtkSmartPointer<vtkFloatArray>::New();
-    floats->DeepCopy(coordinates);
+    view.data = mcv::vtkhelpers::coordinatesAsFloats(coordinates, converted);
   }
   if (!this->AllProcessesReady())
   {
     return false;
   }
   opacity.assign(count, 0.0f);
-  const mcv::TransferFunctionRun run = mcv::gaussianWidgetOpacity(
-    { floats->GetPointer(0), count, components }, widgets.widgets, opacity.data(),
-    this->GetRequestedDevice());
+  const mcv::TransferFunctionRun run =
+    mcv::gaussianWidgetOpacity(view, widgets.widgets, opacity.data(), this->GetRequestedDevice());
   if (!run.ok())
   {
     vtkErrorMacro(<< run.error);
@@ -419,13 +421,38 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(vtkImageData* image, const mcv::Imag
   // Voxels whose coordinates are NaN/Inf got opacity 0 (the core's rule, as the
   // representation draws them): count them over the owned voxels of every process and say
   // so, since such holes can decide where the interest points are.
-  std::vector<mcv::ChannelView> coordinateViews;
-  for (int c = 0; c < components; ++c)
+  std::vector<double> nonFinite{ 0.0 };
+  if (view.halves)
   {
-    coordinateViews.push_back({ floats->GetPointer(0), mcv::ScalarType::Float32, components, c });
+    // A binary16 value is NaN or Inf when its exponent bits are all set.
+    std::size_t bad = 0;
+    std::size_t t = 0;
+    for (int k = 0; k < grid.dims[2]; ++k)
+    {
+      for (int j = 0; j < grid.dims[1]; ++j)
+      {
+        for (int i = 0; i < grid.dims[0]; ++i, ++t)
+        {
+          bool finite = true;
+          for (int c = 0; c < components; ++c)
+          {
+            finite = finite && (view.halves[t * components + c] & 0x7C00u) != 0x7C00u;
+          }
+          bad += (!finite && block.owns(i, j, k)) ? 1 : 0;
+        }
+      }
+    }
+    nonFinite[0] = static_cast<double>(bad);
   }
-  std::vector<double> nonFinite{ static_cast<double>(
-    mcv::countNonFiniteVoxels(coordinateViews, grid, block)) };
+  else
+  {
+    std::vector<mcv::ChannelView> coordinateViews;
+    for (int c = 0; c < components; ++c)
+    {
+      coordinateViews.push_back({ view.data, mcv::ScalarType::Float32, components, c });
+    }
+    nonFinite[0] = static_cast<double>(mcv::countNonFiniteVoxels(coordinateViews, grid, block));
+  }
   if (const mcv::Communicator* comm = this->GetCommunicator())
   {
     comm->sum(nonFinite);

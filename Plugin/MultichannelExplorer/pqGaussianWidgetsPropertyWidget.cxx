@@ -20,6 +20,7 @@
 #include "vtkSMProxy.h"
 #include "vtkSMSessionProxyManager.h"
 #include "vtkSMTrace.h"
+#include "vtkType.h"
 
 #include <QGridLayout>
 #include <QHBoxLayout>
@@ -32,6 +33,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace
 {
@@ -338,6 +340,16 @@ void pqGaussianWidgetsPropertyWidget::updateRanges()
     return; // keep the last ranges
   }
   int dimensions = std::min(3, array->GetNumberOfComponents());
+  if (array->GetDataType() == VTK_UNSIGNED_SHORT)
+  {
+    // float16 coordinates (DimensionReduction's CoordinatePrecision Float16): the array's
+    // range is that of the bits; the decoded one comes as the field array <name>Range.
+    array = info->GetFieldDataInformation()->GetArrayInformation((std::string(name) + "Range").c_str());
+    if (!array || array->GetNumberOfComponents() < dimensions)
+    {
+      return; // keep the last ranges
+    }
+  }
   double ranges[3][2] = { { 0, 0 }, { 0, 0 }, { 0, 0 } };
   for (int axis = 0; axis < dimensions; ++axis)
   {

@@ -9,9 +9,13 @@
 #include "BrainFeatures.h"
 #include "RequireGpu.h"
 
+#include "HalfCoordinates.h"
+
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <vector>
 
 namespace
 {
@@ -72,6 +76,44 @@ TEST(FusedGPU, TooSmallABudgetFallsBackToTheCpuWithAWarning)
       w.find("MiB of device memory") != std::string::npos && w.find("CPU") != std::string::npos);
   EXPECT_EQ(said, 1);
   EXPECT_EQ(gpu.result.coordinates, cpu.result.coordinates);
+}
+
+TEST(FusedGPU, Float16OutputIsTheFloatOutputRounded)
+{
+  // float16 coordinates (issue 20 §1): each slab's pinned staging buffer is rounded into the
+  // output, so the result is the float32 GPU output rounded, bit for bit; the same from the
+  // GPU placement of a Features matrix (placed a chunk of rows at a time).
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 37, 29, 26 }, 11);
+  const std::size_t budget = mt::budgetForSlices(t.grid, 3, 24, 600, 3, 3);
+  const mt::FusedRun f32 = mt::runFused(t.views(), t.grid, mt::isomapOptions(600, Device::GPU), budget);
+  std::vector<std::uint16_t> halves(t.grid.voxelCount() * 3, 0xFFFF);
+  mcv::ReductionOptions o = mt::isomapOptions(600, Device::GPU);
+  o.coordinatesHalfOutput = halves.data();
+  const mt::FusedRun f16 = mt::runFused(t.views(), t.grid, o, budget);
+  EXPECT_EQ(f16.result.deviceUsed, Device::GPU);
+  EXPECT_GE(f16.stats.slabs, 5u);
+  EXPECT_TRUE(f16.result.coordinates.empty());
+  std::vector<std::uint16_t> rounded(f32.result.coordinates.size());
+  mcv::floatsToHalves(f32.result.coordinates.data(), rounded.size(), rounded.data());
+  EXPECT_EQ(halves, rounded);
+
+  const std::size_t n = t.grid.voxelCount();
+  std::vector<float> rows(n * 4);
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    rows[i] = static_cast<float>((i * 7919) % 1013) / 101.0f + static_cast<float>(i % 4);
+  mcv::ReductionOptions m = mt::isomapOptions(600, Device::GPU);
+  const mcv::ReductionResult m32 = mcv::reduceDimension(mcv::FeatureMatrix{ rows.data(), n, 4 }, m);
+  ASSERT_TRUE(m32.ok()) << m32.error;
+  EXPECT_EQ(m32.deviceUsed, Device::GPU);
+  std::vector<std::uint16_t> matrixHalves(n * 3, 0xFFFF);
+  m.coordinatesHalfOutput = matrixHalves.data();
+  const mcv::ReductionResult m16 = mcv::reduceDimension(mcv::FeatureMatrix{ rows.data(), n, 4 }, m);
+  ASSERT_TRUE(m16.ok()) << m16.error;
+  EXPECT_EQ(m16.deviceUsed, Device::GPU);
+  rounded.resize(m32.coordinates.size());
+  mcv::floatsToHalves(m32.coordinates.data(), rounded.size(), rounded.data());
+  EXPECT_EQ(matrixHalves, rounded);
 }
 
 TEST(FusedGPU, RealBrainManySlabsMatchesTheCpu)

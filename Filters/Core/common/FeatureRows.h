@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -27,6 +28,9 @@ struct DevicePlacement
   double regularization = 1e-3;
   double distanceMargin = 0; // floatDistanceMargin(D) of ExactKnn.h
   float* out = nullptr;      // rows() x d
+  // Instead of out: rows() x d binary16 values (HalfCoordinates.h), each slab's coordinates
+  // rounded into it from the slab's float staging buffer.
+  std::uint16_t* outHalf = nullptr;
   std::function<void(double)> progress; // fraction of the rows placed
 };
 
@@ -36,6 +40,7 @@ struct DevicePlacementReport
   std::size_t rowsDone = 0; // rows [0, rowsDone) of out are placed, also after a failure
   std::string error;        // non-empty: the device failed; the caller places the rest
   std::size_t radiusScans = 0;
+  std::size_t halfOverflow = 0; // values of outHalf beyond float16's range (stored as +-inf)
 };
 
 class FeatureRows

@@ -1,9 +1,13 @@
 #include "MemoryBudget.h"
 
+#include "HalfCoordinates.h"
+
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -250,18 +254,29 @@ std::size_t featureBytes(std::size_t voxels, int features)
   return addSat(addSat(output, workingCopy), mask);
 }
 
-std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool inputIsFloat)
+std::size_t coordinateBytes(std::size_t rows, int dimensions, bool halfCoordinates)
 {
-  const std::size_t coordinates = mulSat(mulSat(rows, columns(dimensions)), sizeof(float));
+  if (!halfCoordinates)
+  {
+    return mulSat(mulSat(rows, columns(dimensions)), sizeof(float));
+  }
+  const std::size_t halves = mulSat(mulSat(rows, columns(dimensions)), sizeof(std::uint16_t));
+  const std::size_t scratch = mulSat(mulSat(std::min(rows, kHalfPlacementRows), columns(dimensions)), sizeof(float));
+  return addSat(halves, scratch);
+}
+
+std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool inputIsFloat, bool halfCoordinates)
+{
+  const std::size_t coordinates = coordinateBytes(rows, dimensions, halfCoordinates);
   const std::size_t converted =
     inputIsFloat ? 0 : mulSat(mulSat(rows, columns(features)), sizeof(float));
   return addSat(coordinates, converted);
 }
 
-std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes)
+std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes, bool halfCoordinates)
 {
   // Coordinates, the Foreground mask and the sample's stratum per row (one byte each).
-  const std::size_t coordinates = mulSat(mulSat(rows, columns(dimensions)), sizeof(float));
+  const std::size_t coordinates = coordinateBytes(rows, dimensions, halfCoordinates);
   return addSat(addSat(coordinates, mulSat(rows, 2)), slabBytes);
 }
 
@@ -301,22 +316,25 @@ std::string checkFeatureMemory(std::size_t voxels, int features)
     "use fewer features, ");
 }
 
-std::string checkReductionMemory(std::size_t rows, int features, int dimensions, bool inputIsFloat)
+std::string checkReductionMemory(std::size_t rows, int features, int dimensions, bool inputIsFloat,
+  bool halfCoordinates)
 {
   std::string forWhat = formatCount(rows) + " points x " + std::to_string(dimensions) +
-    " coordinates";
+    (halfCoordinates ? " float16 coordinates" : " coordinates");
   if (!inputIsFloat)
   {
     forWhat += " (and a float copy of the " + std::to_string(features) + " input features)";
   }
-  return checkMemory(reductionBytes(rows, features, dimensions, inputIsFloat), "DimensionReduction",
-    forWhat, "");
+  return checkMemory(reductionBytes(rows, features, dimensions, inputIsFloat, halfCoordinates),
+    "DimensionReduction", forWhat, "");
 }
 
-std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes)
+std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes,
+  bool halfCoordinates)
 {
-  return checkMemory(fusedReductionBytes(rows, dimensions, slabBytes), "DimensionReduction",
-    formatCount(rows) + " points x " + std::to_string(dimensions) + " coordinates (the " +
+  return checkMemory(fusedReductionBytes(rows, dimensions, slabBytes, halfCoordinates), "DimensionReduction",
+    formatCount(rows) + " points x " + std::to_string(dimensions) +
+      (halfCoordinates ? " float16 coordinates (the " : " coordinates (the ") +
       std::to_string(features) + " features computed a slab of " + formatBytes(slabBytes, true) + " at a time)",
     "");
 }

@@ -29,13 +29,19 @@ std::string formatCount(std::size_t count);
 // MultichannelFeatures: the voxels x features float output, one channel's float working
 // copy and the non-finite mask (one byte per voxel).
 std::size_t featureBytes(std::size_t voxels, int features);
-// DimensionReduction: the rows x dimensions float coordinates, plus a float copy of the
-// rows x features input when it is not float already.
-std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool inputIsFloat);
+// DimensionReduction's coordinates: rows x dimensions floats, or with halfCoordinates
+// (CoordinatePrecision Float16) 2 bytes each (6 per voxel in 3D) plus the float scratch
+// of one chunk of rows (kHalfPlacementRows of HalfCoordinates.h).
+std::size_t coordinateBytes(std::size_t rows, int dimensions, bool halfCoordinates);
+// DimensionReduction: the coordinates, plus a float copy of the rows x features input when
+// it is not float already.
+std::size_t reductionBytes(std::size_t rows, int features, int dimensions, bool inputIsFloat,
+  bool halfCoordinates = false);
 // DimensionReduction on the channels (the fused path): the coordinates, one byte per row for
 // the Foreground mask and one for the sample's strata, and the working memory of one slab
 // of features (FeatureBricks::workingBytes); no rows x features array.
-std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes);
+std::size_t fusedReductionBytes(std::size_t rows, int dimensions, std::size_t slabBytes,
+  bool halfCoordinates = false);
 // BestViewpoint: the opacity and the Harris response, one float each per voxel.
 std::size_t viewpointBytes(std::size_t voxels);
 
@@ -49,8 +55,10 @@ std::string checkMemory(std::size_t bytesNeeded, const char* what, const std::st
 
 // The checks of the filters (their estimate, their wording).
 std::string checkFeatureMemory(std::size_t voxels, int features);
-std::string checkReductionMemory(std::size_t rows, int features, int dimensions, bool inputIsFloat);
-std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes);
+std::string checkReductionMemory(std::size_t rows, int features, int dimensions, bool inputIsFloat,
+  bool halfCoordinates = false);
+std::string checkFusedReductionMemory(std::size_t rows, int features, int dimensions, std::size_t slabBytes,
+  bool halfCoordinates = false);
 std::string checkViewpointMemory(std::size_t voxels);
 
 } // namespace mcv

@@ -1,5 +1,6 @@
 #include "FeatureBricks.h"
 
+#include "HalfCoordinates.h"
 #include "TypedChannel.h"
 
 #ifdef MCV_HAS_CUDA
@@ -309,6 +310,16 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   const cuda::FusedChannelFill fill = [this](int c, std::size_t first, std::size_t count, float* values) {
     return detail::channelToFloat(fromVoxel(channels_[static_cast<std::size_t>(c)], first), count, values, nullptr);
   };
+  if (request.outHalf)
+  {
+    // float16 output: each slab's coordinates are rounded from the pinned staging buffer.
+    std::uint16_t* const halves = request.outHalf;
+    const std::size_t d = static_cast<std::size_t>(request.d);
+    std::size_t& overflow = report.halfOverflow;
+    setup.writeCoordinates = [halves, d, &overflow](std::size_t first, std::size_t rows, const float* values) {
+      overflow += floatsToHalves(values, rows * d, halves + first * d);
+    };
+  }
   cuda::FusedPlacementStats stats;
   std::string error;
   if (!cuda::placeFused(setup, fill, request.out, request.progress, &stats, &report.rowsDone, &error))

@@ -17,7 +17,7 @@
 // GPU (CUDA builds): placeOnDevice runs the placement slab by slab on the device
 // (cuda/FusedPlacementCuda.h): the channels of a slab go up, its features are computed,
 // normalised with prepare()'s offsets and scales and placed there, its coordinates come
-// down. The slab is sized from the device memory it may use (setDeviceBytes; default: the
+// down (for float16 output, DevicePlacement::outHalf, rounded from the slab's staging buffer). The slab is sized from the device memory it may use (setDeviceBytes; default: the
 // free memory less a margin), so the volume may be larger than the device.
 #pragma once
 

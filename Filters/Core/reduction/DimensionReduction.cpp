@@ -5,6 +5,7 @@
 // each process's rows is local.
 #include "DimensionReduction.h"
 
+#include "HalfCoordinates.h"
 #include "IsomapEmbedding.h"
 #include "LLEEmbedding.h"
 #include "OutOfSample.h"
@@ -626,6 +627,10 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       ") is too small: a " + std::to_string(d) + "D embedding is fitted on at least " + std::to_string(d + 2) +
       " reference points; raise ReferenceSampleSize (or lower OutputDimension).");
   }
+  if (options.coordinatesOutput && options.coordinatesHalfOutput)
+  {
+    return fail("Give the coordinates one destination: coordinatesOutput (float32) or coordinatesHalfOutput (float16).");
+  }
   result.outputDimension = d;
   report("Checking features", 0.0);
 
@@ -781,12 +786,35 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   // --- Every row of this process (local) -----------------------------------------------------
   const auto placeStart = Clock::now();
   const std::size_t n = features.rows();
+  const std::size_t du = static_cast<std::size_t>(d);
+  // float16 output: each piece of rows is placed into `scratch` (one chunk) and rounded
+  // into the caller's binary16 array; `coordinates` stays null.
+  std::uint16_t* const halves = options.coordinatesHalfOutput;
+  std::vector<float> scratch;
+  std::size_t overflow = 0;
   float* coordinates = options.coordinatesOutput;
-  if (!coordinates)
+  if (!coordinates && !halves)
   {
-    result.coordinates.resize(n * static_cast<std::size_t>(d));
+    result.coordinates.resize(n * du);
     coordinates = result.coordinates.data();
   }
+  // Where rows [begin, begin + count) are to be written as float (count <= the chunk for
+  // float16), and their hand-over once written.
+  auto floatsFor = [&](std::size_t begin, std::size_t count) -> float* {
+    if (!halves)
+    {
+      return coordinates + begin * du;
+    }
+    scratch.resize(count * du);
+    return scratch.data();
+  };
+  auto written = [&](std::size_t begin, std::size_t count, const float* values) {
+    if (halves)
+    {
+      overflow += floatsToHalves(values, count * du, halves + begin * du);
+    }
+  };
+  const std::size_t chunkRows = halves ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
   if (options.method == ReductionMethod::PCA && options.device == Device::GPU)
   {
     result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
@@ -795,7 +823,14 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     // Every row is a reference point (M distinct indices of [0, rows) in order): its
     // embedding is the fit's, which the placement would return after a kNN search per row.
-    std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates);
+    if (halves)
+    {
+      written(0, n, fit.coordinates.data());
+    }
+    else
+    {
+      std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates);
+    }
   }
   else
   {
@@ -815,9 +850,11 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       request.columns = gatherColumns.empty() ? nullptr : gatherColumns.data();
       request.distanceMargin = floatDistanceMargin(static_cast<int>(D));
       request.out = coordinates;
+      request.outHalf = halves;
       request.progress = [&](double f) { report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
       report("Out-of-sample placement (GPU)", 0.6);
       const DevicePlacementReport placed = features.placeOnDevice(request);
+      overflow += placed.halfOverflow;
       if (placed.attempted)
       {
         if (placed.error.empty())
@@ -854,34 +891,57 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         continue;
       }
       // A block the GPU placed in part: its remaining rows.
-      const std::size_t begin = std::max(blockBegin, placedRows), count = blockEnd - begin;
-      const double lo = 0.6 + 0.35 * static_cast<double>(begin) / static_cast<double>(std::max<std::size_t>(1, n));
-      const double hi = 0.6 + 0.35 * static_cast<double>(begin + count) / static_cast<double>(std::max<std::size_t>(1, n));
-      report(stage, lo);
-      const float* rowsOfBlock = features.block(b) + (begin - blockBegin) * static_cast<std::size_t>(cols);
-      float* out = coordinates + begin * static_cast<std::size_t>(d);
-      if (count == 0)
+      const std::size_t blockFirst = std::max(blockBegin, placedRows);
+      if (blockEnd <= blockFirst)
       {
         continue;
       }
-      if (options.method == ReductionMethod::PCA)
+      const float* const blockRows = features.block(b);
+      // In chunks for float16 output (the scratch), else the block at once.
+      for (std::size_t begin = blockFirst; begin < blockEnd; begin += std::min(chunkRows, blockEnd - begin))
       {
-        projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
-        continue;
-      }
-      OutOfSampleOptions oo;
-      oo.device = blockDevice;
-      oo.progress = within(lo, hi);
-      const OutOfSampleReport placed =
-        placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols, gatherColumns, out, oo);
-      result.deviceUsed = placed.deviceUsed;
-      for (const std::string& w : placed.warnings)
-      {
-        if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end())
+        const std::size_t count = std::min(chunkRows, blockEnd - begin);
+        const double lo = 0.6 + 0.35 * static_cast<double>(begin) / static_cast<double>(std::max<std::size_t>(1, n));
+        const double hi =
+          0.6 + 0.35 * static_cast<double>(begin + count) / static_cast<double>(std::max<std::size_t>(1, n));
+        report(stage, lo);
+        const float* rowsOfBlock = blockRows + (begin - blockBegin) * static_cast<std::size_t>(cols);
+        float* out = floatsFor(begin, count);
+        if (options.method == ReductionMethod::PCA)
         {
-          result.warnings.push_back(w); // once, not once per block
+          projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
+          written(begin, count, out);
+          continue;
+        }
+        OutOfSampleOptions oo;
+        oo.device = blockDevice;
+        oo.progress = within(lo, hi);
+        const OutOfSampleReport placed =
+          placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols, gatherColumns, out, oo);
+        written(begin, count, out);
+        result.deviceUsed = placed.deviceUsed;
+        for (const std::string& w : placed.warnings)
+        {
+          if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end())
+          {
+            result.warnings.push_back(w); // once, not once per block
+          }
         }
       }
+    }
+  }
+  if (halves)
+  {
+    // Collective, like the other errors: every process fails together.
+    std::vector<double> over{ static_cast<double>(overflow) };
+    if (isDistributed(comm))
+    {
+      comm->sum(over);
+    }
+    if (over[0] > 0)
+    {
+      return fail(std::to_string(static_cast<std::int64_t>(over[0])) +
+        " reduced coordinate value(s) exceed float16's range (|x| > 65504); use CoordinatePrecision Float32.");
     }
   }
   result.placeMs = msSince(placeStart);

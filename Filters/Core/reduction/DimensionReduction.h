@@ -10,6 +10,7 @@
 #include "Device.h"
 #include "FeatureRows.h"
 #include "GridPiece.h"
+#include "HalfCoordinates.h"
 #include "ImageGrid.h"
 
 #include <cstddef>
@@ -62,6 +63,12 @@ struct ReductionOptions
   // a zero-filled buffer and a copy as large as the output (85 MB for the 7.1 M-voxel brain
   // in 3D). Undefined where the reduction fails.
   float* coordinatesOutput = nullptr;
+  // Optional instead: rows x outputDimension binary16 values (HalfCoordinates.h) the caller
+  // owns, for float16 coordinates at half the memory. The placement writes into a float
+  // scratch of kHalfPlacementRows rows (HalfCoordinates.h; 12 MiB in 3D) and rounds each
+  // chunk into it, so no float copy of the whole output exists. A coordinate beyond
+  // float16's range (|x| > 65504) fails the reduction. Not together with coordinatesOutput.
+  std::uint16_t* coordinatesHalfOutput = nullptr;
   // Optional, one byte per row (features.rows): rows marked 0 (the background of a volume:
   // the Foreground array of MultichannelFeatures) are never drawn into the reference
   // sample, so the embedding, its spectrum and trustworthiness describe the foreground.
@@ -88,7 +95,8 @@ struct ReductionResult
   std::string error;                 // non-empty: nothing else is meaningful
   std::vector<std::string> warnings; // one line each
   std::vector<float> coordinates;    // rows x outputDimension, row-major (empty when
-                                     // options.coordinatesOutput received them)
+                                     // options.coordinatesOutput or coordinatesHalfOutput
+                                     // received them)
   int outputDimension = 0;
   std::vector<double> eigenvalues;   // spectrum, descending (PCA: covariance; Isomap: MDS;
                                      // LLE: the smallest non-trivial eigenvalues, ascending;

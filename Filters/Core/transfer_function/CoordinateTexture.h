@@ -29,12 +29,19 @@ struct CoordinateRange
 
   void Add(const float* coordinates, std::size_t count, int components,
     const std::uint8_t* mask = nullptr);
+  // The same from float16 coordinates (binary16 bits, HalfCoordinates.h), decoded a chunk
+  // at a time.
+  void AddHalf(const std::uint16_t* coordinates, std::size_t count, int components,
+    const std::uint8_t* mask = nullptr);
   double Extent(int c) const { return empty ? 0.0 : max[c] - min[c]; }
 };
 
 // Writes 4 x uint16 per voxel into `texels` (count x 4 values). components: 2 or 3.
 // mask: optional, one byte per voxel, 0 = not drawn. Returns the number of drawn voxels.
 std::size_t quantizeCoordinates(const float* coordinates, std::size_t count, int components,
+  const std::uint8_t* mask, const CoordinateRange& range, std::uint16_t* texels);
+// The same from float16 coordinates, decoded a chunk at a time (per thread).
+std::size_t quantizeHalfCoordinates(const std::uint16_t* coordinates, std::size_t count, int components,
   const std::uint8_t* mask, const CoordinateRange& range, std::uint16_t* texels);
 
 } // namespace mcv

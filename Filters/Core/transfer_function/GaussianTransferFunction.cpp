@@ -1,5 +1,7 @@
 #include "GaussianTransferFunction.h"
 
+#include "HalfCoordinates.h"
+
 #ifdef MCV_HAS_CUDA
 #include "cuda/GaussianTFCuda.h"
 #endif
@@ -139,7 +141,7 @@ std::string checkCoordinates(const CoordinateView& c, const void* out)
   {
     return "The coordinates must have 2 or 3 components, not " + std::to_string(c.components) + ".";
   }
-  if ((c.count > 0 && !c.data) || (c.count > 0 && !out))
+  if ((c.count > 0 && !c.data && !c.halves) || (c.count > 0 && !out))
   {
     return "No coordinates or no output buffer.";
   }
@@ -172,7 +174,13 @@ MCV_LOOP_INLINE void loadBlockAs(const float* in, int count, float* x, float* y,
 
 MCV_LOOP_INLINE void loadBlock(const CoordinateView& c, std::size_t first, int count, float* x, float* y, float* z)
 {
+  alignas(64) float decoded[3 * Block];
   const float* in = c.data + first * c.components;
+  if (c.halves)
+  {
+    halvesToFloats(c.halves + first * c.components, static_cast<std::size_t>(count) * c.components, decoded);
+    in = decoded;
+  }
   if (c.components == 3)
   {
     loadBlockAs<3>(in, count, x, y, z);
@@ -361,6 +369,15 @@ TransferFunctionRun apply(
     return run;
   }
   std::string warning;
+  if (c.halves && device != Device::CPU)
+  {
+    // The CUDA kernel reads float32 coordinates; a float32 copy would undo float16's saving.
+    if (device == Device::GPU)
+    {
+      run.warnings.push_back("float16 coordinates are shaded on the CPU (the GPU path reads float32).");
+    }
+    device = Device::CPU;
+  }
   if (resolveDevice(device, &warning) == Device::GPU)
   {
 #ifdef MCV_HAS_CUDA

@@ -67,6 +67,10 @@ struct CoordinateView
   std::size_t count = 0;
   int components = 3;
   std::uint64_t version = 0;
+  // Instead of data: float16 coordinates (binary16 bits, HalfCoordinates.h), decoded a
+  // block of voxels at a time on the CPU. The GPU path reads float32 only: with these,
+  // Device GPU/Auto runs on the CPU (a warning for GPU).
+  const std::uint16_t* halves = nullptr;
 };
 
 struct TransferFunctionRun

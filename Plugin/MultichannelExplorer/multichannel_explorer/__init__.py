@@ -37,8 +37,9 @@ The package, one module per capability (every public name is also here, at the t
     brushing            brush, BRUSHED_VOXELS
     _voxels             private: the volume's grid, one voxel's values, views of a source
     _gui                private: what the GUI's Probe and Brush Selection run, their text
-    _common             private helpers shared by the others (paraview.simple on
-                        demand, warnings, proxy look-ups, property observers)
+    _common             helpers shared by the others (paraview.simple on demand,
+                        warnings, proxy look-ups, property observers) and the public
+                        coordinate_values (float32 or float16 coordinates as floats)
 
 The modules call each other directly: replacing a name here (``mce.X = wrapper``, as the
 GUI tests do for the functions the toolbar buttons call) changes what callers of
@@ -58,6 +59,8 @@ from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_fi
                         follow_best_viewpoint, set_camera_direction, stop_following,
                         turn_camera)
 
+from ._common import coordinate_values
+
 # Private helpers the tests reach through the package (Testing/Python); not in __all__.
 _find_filter = _common._find_filter
 _read_png = images._read_png
@@ -70,6 +73,7 @@ __all__ = [
     "image_entropy",
     "image_statistics",
     "reduce_multichannel",
+    "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",
     "show_dual_domain",

@@ -9,6 +9,41 @@ import the list itself and only append to it or pop from it, never rebind it.
 
 _FILTER_XML_NAME = "BestViewpoint"
 
+# A coordinate array of this type (VTK_UNSIGNED_SHORT) holds IEEE binary16 bits:
+# DimensionReduction's CoordinatePrecision Float16 (VTK 9.2 has no half-float array).
+_FLOAT16_STORAGE = 5
+
+
+def _is_float16(array):
+    """Whether a coordinate array (a vtkDataArray or ParaView's array information) holds
+    float16 values."""
+    return array is not None and array.GetDataType() == _FLOAT16_STORAGE
+
+
+def coordinate_values(array):
+    """The values of a reduced-coordinate array (vtkDataArray: float32, or float16 stored
+    as uint16 bits) as a float32 numpy array of shape (tuples, components); float16 is
+    decoded through numpy's float16 view of the bits (exact: every half is a float)."""
+    import numpy
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    values = vtk_to_numpy(array)
+    if _is_float16(array):
+        values = values.view(numpy.float16)
+    return values.astype(numpy.float32).reshape(array.GetNumberOfTuples(),
+                                                 array.GetNumberOfComponents())
+
+
+def _coordinate_tuple(array, t):
+    """Tuple t of a coordinate array as floats (float16 decoded), without numpy."""
+    values = array.GetTuple(t)
+    if not _is_float16(array):
+        return tuple(float(v) for v in values)
+    import struct
+
+    bits = [int(v) for v in values]
+    return struct.unpack("<%de" % len(bits), struct.pack("<%dH" % len(bits), *bits))
+
 
 def _simple():
     from paraview import simple

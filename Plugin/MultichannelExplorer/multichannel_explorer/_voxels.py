@@ -6,7 +6,7 @@ Voxel indices (i, j, k) count from the first voxel of the volume's extent (0-bas
 that the point id is i + nx (j + ny k): the VoxelId of ReducedDomain.
 """
 
-from ._common import _same_proxy, _simple
+from ._common import _coordinate_tuple, _is_float16, _same_proxy, _simple
 
 # Point arrays of the volume that are not channels.
 _NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
@@ -86,8 +86,10 @@ def _fetch_voxel(source, absolute_index):
     return servermanager.Fetch(subset)
 
 
-def _voxel_values(source, grid, index):
-    """{array name: tuple of values} of one voxel (exact values, no interpolation)."""
+def _voxel_values(source, grid, index, coordinates="ReducedCoordinates"):
+    """{array name: tuple of values} of one voxel (exact values, no interpolation). The
+    array named `coordinates` is read as reduced coordinates: float16 (unsigned-short
+    bits) decoded; other unsigned-short arrays (16-bit channels) are plain numbers."""
     image = _fetch_voxel(source, [index[a] + grid.extent[2 * a] for a in range(3)])
     pd = image.GetPointData()
     values = {}
@@ -95,15 +97,27 @@ def _voxel_values(source, grid, index):
         array = pd.GetAbstractArray(a)
         if array is None or not hasattr(array, "GetTuple") or array.GetName() is None:
             continue
+        if array.GetName() == coordinates:
+            values[array.GetName()] = _coordinate_tuple(array, 0)
+            continue
         values[array.GetName()] = tuple(float(v) for v in array.GetTuple(0))
     return values
 
 
 def _coordinate_range(source, name):
-    """Per-component (min, max) of the coordinate array over the whole volume."""
+    """Per-component (min, max) of the coordinate array over the whole volume. For float16
+    coordinates the ranges ParaView gathers are those of the bits: DimensionReduction's
+    field array <name>Range (min and max tuples) holds the decoded ones."""
     info = source.PointData[name]
     if info is None:
         raise ValueError("%s has no point array %s" % (source.SMProxy.GetXMLLabel(), name))
+    if _is_float16(info):
+        decoded = source.FieldData[name + "Range"]
+        if decoded is None:
+            raise ValueError("%s: the float16 coordinates %s come without their range (the "
+                             "field array %sRange of DimensionReduction)"
+                             % (source.SMProxy.GetXMLLabel(), name, name))
+        info = decoded
     return [tuple(info.GetRange(c)) for c in range(info.GetNumberOfComponents())]
 
 

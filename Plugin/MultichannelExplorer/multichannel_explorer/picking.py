@@ -3,13 +3,14 @@ of the domain point there), for the GUI's Probe toggle.
 
 A volume has no surface to pick, so the pixel's ray (from the view's camera, computed
 here, so it works in any session) is sampled through the volume on the server (Plot Over
-Line, interpolated) and the widgets' opacity is composited along it as the ray caster
-does; the picked voxel is the one nearest the depth where half of the opacity seen
+Line, interpolated; float16 coordinates at the nearest voxels) and the widgets' opacity
+is composited along it as the ray caster does; the picked voxel is the one nearest the depth where half of the opacity seen
 through that pixel has accumulated.
 """
 
 import math
 
+from ._common import _coordinate_tuple, _is_float16
 from ._voxels import _Grid, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -110,14 +111,29 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     t0, t1 = hit
     step = 0.5 * min(grid.spacing)
     samples = max(2, int(math.ceil((t1 - t0) / step)))
-    line = servermanager.filters.PlotOverLine(Input=source)
-    line.Point1 = [o + t0 * d for o, d in zip(origin, direction)]
-    line.Point2 = [o + t1 * d for o, d in zip(origin, direction)]
-    line.SamplingPattern = "Sample Uniformly"
-    line.Resolution = samples
+    name = _coordinates_name(display)
+    p1 = [o + t0 * d for o, d in zip(origin, direction)]
+    p2 = [o + t1 * d for o, d in zip(origin, direction)]
+    if _is_float16(source.PointData[name]):
+        # Interpolating float16 bits is no interpolation of the values (it gives garbage,
+        # inf or NaN across a sign or exponent change): each sample is moved to its nearest
+        # voxel centre, where the probe's weights select that voxel's bits alone.
+        centres = []
+        for s in range(samples + 1):
+            at = [a + (b - a) * s / float(samples) for a, b in zip(p1, p2)]
+            centres.extend(grid.position(grid.nearest_index(at)))
+        segment = servermanager.sources.PolyLineSource(Points=centres)
+        line = servermanager.filters.ResampleWithDataset(SourceDataArrays=source,
+                                                         DestinationMesh=segment)
+    else:
+        line = servermanager.filters.PlotOverLine(Input=source)
+        line.Point1 = p1
+        line.Point2 = p2
+        line.SamplingPattern = "Sample Uniformly"
+        line.Resolution = samples
     polyline = servermanager.Fetch(line)
     pd = polyline.GetPointData()
-    coords = pd.GetArray(_coordinates_name(display))
+    coords = pd.GetArray(name)
     valid = pd.GetArray("vtkValidPointMask")
     mask = pd.GetArray("Foreground")
     widgets = _widget_values(display)
@@ -128,7 +144,7 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     for p in range(polyline.GetNumberOfPoints()):
         alpha = 0.0
         if (valid is None or valid.GetTuple1(p)) and (mask is None or mask.GetTuple1(p) >= 0.5):
-            c = list(coords.GetTuple(p)) + [0.0]
+            c = list(_coordinate_tuple(coords, p)) + [0.0]
             alpha = 1.0 - (1.0 - _widget_alpha(widgets, c[:3])) ** (seg / unit)
         keep *= 1.0 - alpha
         opacities.append(1.0 - keep)

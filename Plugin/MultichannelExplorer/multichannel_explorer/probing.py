@@ -116,8 +116,8 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
         raise ValueError("probe needs a voxel: (i, j, k), a point id or a world position")
     grid = _Grid(source)
     index = _resolve_voxel(grid, voxel, position)
-    values = _voxel_values(source, grid, index)
     name = _coordinates_name(display) if display is not None else "ReducedCoordinates"
+    values = _voxel_values(source, grid, index, name)
     if name not in values:
         raise ValueError("the volume has no point array %s (reduced coordinates)" % name)
     coordinates = list(values[name])
