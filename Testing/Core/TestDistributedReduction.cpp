@@ -459,6 +459,49 @@ TEST(DistributedReduction, SampleIsTheSameForAnySplit)
   }
 }
 
+// RowLayout::runsWithin (the block passes visit only their block's runs): for every row
+// range, exactly the runs holding one of its rows, checked against a scan of all runs, for
+// plain rows and for an owned box inside a block with ghost layers on every side.
+TEST(DistributedReduction, RunsWithinAreTheRunsHoldingTheRows)
+{
+  mcv::ImageGrid block;
+  block.dims = { 7, 5, 6 };
+  mcv::GridPiece piece;
+  piece.wholeDims = { 20, 20, 20 };
+  piece.ownedLo = { 1, 1, 2 };
+  piece.ownedHi = { 5, 3, 4 };
+  for (const mcv::RowLayout& rows : { mcv::RowLayout::plain(100000), mcv::RowLayout::grid(piece, block) })
+  {
+    const std::size_t n = rows.size();
+    std::size_t checked = 0;
+    for (std::size_t begin = 0; begin <= n; begin += (n > 1000 ? 997 : 1))
+      for (std::size_t end = begin; end <= n; end += (n > 1000 ? 4999 : 1))
+      {
+        std::size_t first = rows.runCount(), last = 0;
+        for (std::size_t r = 0; r < rows.runCount(); ++r)
+        {
+          const mcv::RowLayout::Run run = rows.run(r);
+          if (std::max(run.row, begin) < std::min(run.row + run.count, end)) // a row in both
+          {
+            first = std::min(first, r);
+            last = r + 1;
+          }
+        }
+        const std::pair<std::size_t, std::size_t> got = rows.runsWithin(begin, end);
+        if (last == 0) // no run: an empty range
+          EXPECT_EQ(got.first, got.second) << begin << ".." << end;
+        else
+          EXPECT_EQ(got, std::make_pair(first, last)) << begin << ".." << end;
+        ++checked;
+      }
+    EXPECT_GT(checked, 1000u);
+  }
+  // The owned box's second run is its line j = 2, k = 2: rows 2 * 35 + 2 * 7 + 1 = 85 .. 89.
+  const mcv::RowLayout grid = mcv::RowLayout::grid(piece, block);
+  EXPECT_EQ(grid.runsWithin(85, 90), std::make_pair(std::size_t(1), std::size_t(2)));
+  EXPECT_EQ(grid.runsWithin(90, 92), std::make_pair(std::size_t(2), std::size_t(2)));
+}
+
 TEST(DistributedReduction, SampleKeepsTheRareBrightBlob)
 {
   // About 30 bright voxels among some 7000 distinct vectors: a uniform sample of 1000 holds

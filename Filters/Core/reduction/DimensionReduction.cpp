@@ -232,7 +232,6 @@ ColumnStats localStats(FeatureRows& f, const RowLayout& rows, const std::functio
 {
   const int D = f.cols();
   ColumnStats total(D);
-  const long long runs = static_cast<long long>(rows.runCount());
   for (std::size_t b = 0; b < f.blockCount(); ++b)
   {
     if (progress && f.blockCount() > 1)
@@ -241,11 +240,14 @@ ColumnStats localStats(FeatureRows& f, const RowLayout& rows, const std::functio
     }
     const std::size_t begin = f.blockBegin(b), end = f.blockBegin(b + 1);
     const float* block = f.block(b);
+    // The block's own runs only: all runs per block would cost blocks x rows.
+    const std::pair<std::size_t, std::size_t> within = rows.runsWithin(begin, end);
+    const long long first = static_cast<long long>(within.first), last = static_cast<long long>(within.second);
 #pragma omp parallel
   {
     ColumnStats mine(D);
 #pragma omp for schedule(static) nowait
-    for (long long r = 0; r < runs; ++r)
+    for (long long r = first; r < last; ++r)
     {
       const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
       for (std::size_t t = 0; t < run.count; ++t)

@@ -137,13 +137,16 @@ inline bool isEligible(const unsigned char* eligible, std::size_t row)
   return eligible == nullptr || eligible[row] != 0;
 }
 
-// Calls visit(row, global) for every owned eligible row, OpenMP over runs.
+// Calls visit(row, global) for every owned eligible row, OpenMP over runs; with a row range
+// [begin, end), only for the runs that hold rows of it (visit still sees the whole runs).
 template <class Visit>
-void forOwned(const RowLayout& rows, const unsigned char* eligible, const Visit& visit)
+void forOwned(const RowLayout& rows, const unsigned char* eligible, const Visit& visit, std::size_t begin = 0,
+  std::size_t end = std::numeric_limits<std::size_t>::max())
 {
-  const long long runs = static_cast<long long>(rows.runCount());
+  const std::pair<std::size_t, std::size_t> within = rows.runsWithin(begin, end);
+  const long long first = static_cast<long long>(within.first), last = static_cast<long long>(within.second);
 #pragma omp parallel for schedule(static)
-  for (long long r = 0; r < runs; ++r)
+  for (long long r = first; r < last; ++r)
   {
     const RowLayout::Run run = rows.run(static_cast<std::size_t>(r));
     for (std::size_t t = 0; t < run.count; ++t)
@@ -318,13 +321,16 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
     }
     const std::size_t begin = source_.blockBegin(b), end = source_.blockBegin(b + 1);
     const float* block = source_.block(b);
-    forOwned(rows_, options_.eligible, [&](std::size_t row, std::int64_t) {
-      if (row >= begin && row < end)
-      {
-        const float* x = block + (row - begin) * static_cast<std::size_t>(dim_);
-        stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
-      }
-    });
+    forOwned(
+      rows_, options_.eligible,
+      [&](std::size_t row, std::int64_t) {
+        if (row >= begin && row < end)
+        {
+          const float* x = block + (row - begin) * static_cast<std::size_t>(dim_);
+          stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
+        }
+      },
+      begin, end);
   }
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
   for (std::uint8_t s : stratum_)
@@ -739,6 +745,28 @@ RowLayout::Run RowLayout::run(std::size_t r) const
   out.global = piece_.globalIndex(static_cast<std::int64_t>(out.row), block_);
   out.count = static_cast<std::size_t>(piece_.ownedHi[0] - piece_.ownedLo[0] + 1);
   return out;
+}
+
+std::pair<std::size_t, std::size_t> RowLayout::runsWithin(std::size_t begin, std::size_t end) const
+{
+  // Runs ascend in rows and do not overlap: the first run where `past` holds, by bisection.
+  const auto firstWhere = [this](auto past) {
+    std::size_t lo = 0, hi = runCount();
+    while (lo < hi)
+    {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (past(run(mid)))
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    return lo;
+  };
+  const std::size_t first = firstWhere([begin](const Run& r) { return r.row + r.count > begin; });
+  if (end <= begin)
+    return { first, first };
+  const std::size_t last = firstWhere([end](const Run& r) { return r.row >= end; });
+  return { first, std::max(first, last) };
 }
 
 std::size_t eligibleCount(const RowLayout& rows, const unsigned char* eligible)

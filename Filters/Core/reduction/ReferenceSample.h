@@ -37,6 +37,7 @@
 #include <functional>
 #include <new>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mcv
@@ -66,6 +67,10 @@ public:
   };
   std::size_t runCount() const;
   Run run(std::size_t r) const;
+  // The runs [first, second) holding rows of [begin, end): runs come in increasing row order,
+  // so a pass over one block of rows visits that block's runs, not every run (a pass block
+  // by block over all runs costs blocks x rows: quadratic in the voxels at a fixed slab size).
+  std::pair<std::size_t, std::size_t> runsWithin(std::size_t begin, std::size_t end) const;
 
 private:
   std::size_t rows_ = 0;
