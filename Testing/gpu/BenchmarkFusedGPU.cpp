@@ -26,6 +26,7 @@
 // statistics and fit of the compare size (the same brain, tiled), and prints the CPU passes'
 // per-voxel cost measured at the compare size. --large-chain runs the whole chain there.
 #include "BrainFeatures.h"
+#include "ScaledBrain.h"
 #include "DimensionReduction.h"
 #include "FeatureBricks.h"
 #include "ExactKnn.h"
@@ -54,53 +55,6 @@ double secondsSince(Clock::time_point t)
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-struct Tiled
-{
-  mcv::ImageGrid grid;
-  std::vector<std::vector<float>> channels;
-  std::vector<mcv::ChannelView> views() const
-  {
-    std::vector<mcv::ChannelView> v;
-    for (const auto& c : channels)
-    {
-      mcv::ChannelView cv;
-      cv.data = c.data();
-      cv.type = mcv::ScalarType::Float32;
-      v.push_back(cv);
-    }
-    return v;
-  }
-};
-
-// The brain scaled by s = cbrt(voxels / brain voxels) along each axis by periodic tiling
-// (voxel (i, j, k) is the brain's (i mod nx, j mod ny, k mod nz)): at least `voxels` voxels.
-Tiled tile(const std::vector<mt::Volume>& brain, double voxels)
-{
-  const mcv::ImageGrid& g = brain[0].grid;
-  const double s = std::cbrt(voxels / static_cast<double>(g.voxelCount()));
-  Tiled t;
-  t.grid = g;
-  for (int a = 0; a < 3; ++a)
-    t.grid.dims[a] = static_cast<int>(std::ceil(g.dims[a] * s));
-  const std::size_t n = t.grid.voxelCount();
-  const int nx = t.grid.dims[0], ny = t.grid.dims[1], nz = t.grid.dims[2];
-  for (const mt::Volume& v : brain)
-  {
-    std::vector<float> c(n);
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < nz; ++k)
-      for (int j = 0; j < ny; ++j)
-      {
-        const float* src = v.values.data() + (static_cast<std::size_t>(k % g.dims[2]) * g.dims[1] + j % g.dims[1]) * g.dims[0];
-        float* dst = c.data() + (static_cast<std::size_t>(k) * ny + j) * nx;
-        for (int i = 0; i < nx; ++i)
-          dst[i] = src[i % g.dims[0]];
-      }
-    t.channels.push_back(std::move(c));
-  }
-  return t;
-}
-
 struct ChainRun
 {
   mcv::ReductionResult result;
@@ -110,7 +64,7 @@ struct ChainRun
   double statisticsS = 0, reduceS = 0, wholeS = 0;
 };
 
-ChainRun runChain(const Tiled& t, mcv::Device device, std::size_t reference, std::size_t deviceBytes)
+ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t reference, std::size_t deviceBytes)
 {
   ChainRun run;
   mcv::FeatureOptions fo;
@@ -183,7 +137,7 @@ ChainRun runChain(const Tiled& t, mcv::Device device, std::size_t reference, std
 // scales and the fit of `fitted` (a smaller tiling of the same brain, whose statistics are
 // nearly the same). Reference i's embedding is the coordinate of its own voxel (the
 // placement returns a reference's embedding exactly).
-void stageOnly(const Tiled& t, const ChainRun& fitted, std::size_t deviceBytes, bool mergeEqualRows)
+void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t deviceBytes, bool mergeEqualRows)
 {
   const mcv::ReductionResult& r = fitted.result;
   const std::size_t M = r.referenceIndices.size();
@@ -293,7 +247,7 @@ int main(int argc, char** argv)
   if (!hasFlag(argc, argv, "--skip-compare"))
   {
     const auto t0 = Clock::now();
-    const Tiled t = tile(brain, compare);
+    const mt::ScaledChannels t = mt::tileBrain(brain, compare);
     std::printf("\n== %d x %d x %d = %.1f M voxels (brain tiled in %.1f s): CPU (all cores) vs GPU\n", t.grid.dims[0],
       t.grid.dims[1], t.grid.dims[2], t.grid.voxelCount() / 1e6, secondsSince(t0));
     std::printf(" GPU:\n");
@@ -325,7 +279,7 @@ int main(int argc, char** argv)
   if (!hasFlag(argc, argv, "--skip-large"))
   {
     const auto t0 = Clock::now();
-    const Tiled t = tile(brain, large);
+    const mt::ScaledChannels t = mt::tileBrain(brain, large);
     std::printf("\n== %d x %d x %d = %.3f G voxels (brain tiled in %.1f s), 3 float channels (%.1f GB): GPU\n",
       t.grid.dims[0], t.grid.dims[1], t.grid.dims[2], t.grid.voxelCount() / 1e9, secondsSince(t0),
       3.0 * 4.0 * t.grid.voxelCount() / 1e9);
