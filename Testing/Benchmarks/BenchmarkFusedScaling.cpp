@@ -17,6 +17,7 @@
 //
 //   mcvBenchmarkFusedScaling [--factors 0.53,1,2,3] [--tile] [--reference 10000]
 #include "BrainFeatures.h"
+#include "CommandLine.h"
 #include "DimensionReduction.h"
 #include "FeatureBricks.h"
 #include "ScaledBrain.h"
@@ -55,22 +56,6 @@ double statusKiB(const char* key)
     if (line.rfind(key, 0) == 0)
       return std::atof(line.c_str() + std::strlen(key));
   return 0;
-}
-
-const char* argValue(int argc, char** argv, const char* name, const char* fallback)
-{
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0)
-      return argv[i + 1];
-  return fallback;
-}
-
-bool hasFlag(int argc, char** argv, const char* name)
-{
-  for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0)
-      return true;
-  return false;
 }
 
 // What one child reports (one "RESULT" line).
@@ -113,13 +98,7 @@ int runOne(double factor, bool tile, std::size_t reference)
     return 1;
   }
   r.statisticsS = secondsSince(start);
-  mcv::ReductionOptions ro;
-  ro.method = mcv::ReductionMethod::Isomap;
-  ro.outputDimension = 3;
-  ro.numberOfNeighbors = 10;
-  ro.numberOfLandmarks = 500;
-  ro.referenceSampleSize = reference;
-  ro.device = mcv::Device::CPU;
+  mcv::ReductionOptions ro = mcv::testing::mainJobReduction(reference, mcv::Device::CPU);
   // The column check ends where the reference sample's drawing starts (its first report).
   Clock::time_point sampleStart{};
   ro.progress = [&](const char* stage, double) {
@@ -210,10 +189,10 @@ std::string cpuModel()
 
 int main(int argc, char** argv)
 {
-  const bool tile = hasFlag(argc, argv, "--tile");
-  const char* reference = argValue(argc, argv, "--reference", "10000");
-  if (hasFlag(argc, argv, "--one"))
-    return runOne(std::atof(argValue(argc, argv, "--one", "1")), tile, std::strtoull(reference, nullptr, 10));
+  const bool tile = mcv::testing::hasFlag(argc, argv, "--tile");
+  const char* reference = mcv::testing::optionText(argc, argv, "--reference", "10000");
+  if (mcv::testing::hasFlag(argc, argv, "--one"))
+    return runOne(std::atof(mcv::testing::optionText(argc, argv, "--one", "1")), tile, std::strtoull(reference, nullptr, 10));
 
   if (!mt::haveBrain())
   {
@@ -221,7 +200,7 @@ int main(int argc, char** argv)
     return 1;
   }
   std::vector<double> factors;
-  const std::string list = argValue(argc, argv, "--factors", "0.53,1,2,3");
+  const std::string list = mcv::testing::optionText(argc, argv, "--factors", "0.53,1,2,3");
   for (std::size_t p = 0; p < list.size();)
   {
     const std::size_t q = std::min(list.find(',', p), list.size());

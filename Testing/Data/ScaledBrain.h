@@ -11,6 +11,7 @@
 #pragma once
 
 #include "ChannelView.h"
+#include "DimensionReduction.h"
 #include "ImageGrid.h"
 #include "TestVolumes.h"
 
@@ -145,6 +146,20 @@ inline ScaledChannels upsampleBrain(const std::vector<Volume>& brain, double fac
     t.channels.push_back(std::move(c));
   }
   return t;
+}
+
+// The main job's reduction (Examples/transfer_function.py): Isomap, K = 10, L = 500, 3D,
+// on a reference sample of `reference` voxels.
+inline ReductionOptions mainJobReduction(std::size_t reference, Device device)
+{
+  ReductionOptions ro;
+  ro.method = ReductionMethod::Isomap;
+  ro.outputDimension = 3;
+  ro.numberOfNeighbors = 10;
+  ro.numberOfLandmarks = 500;
+  ro.referenceSampleSize = reference;
+  ro.device = device;
+  return ro;
 }
 
 } // namespace testing

@@ -26,6 +26,7 @@
 // statistics and fit of the compare size (the same brain, tiled), and prints the CPU passes'
 // per-voxel cost measured at the compare size. --large-chain runs the whole chain there.
 #include "BrainFeatures.h"
+#include "CommandLine.h"
 #include "ScaledBrain.h"
 #include "DimensionReduction.h"
 #include "FeatureBricks.h"
@@ -83,13 +84,7 @@ ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t r
   std::printf("  statistics pass (CPU, %d slabs of %d slices): %.2f s\n", static_cast<int>(bricks.blockCount()),
     bricks.slabSlices(), run.statisticsS);
   std::fflush(stdout);
-  mcv::ReductionOptions ro;
-  ro.method = mcv::ReductionMethod::Isomap;
-  ro.outputDimension = 3;
-  ro.numberOfNeighbors = 10;
-  ro.numberOfLandmarks = 500;
-  ro.referenceSampleSize = reference;
-  ro.device = device;
+  mcv::ReductionOptions ro = mcv::testing::mainJobReduction(reference, device);
   const auto reduceStart = Clock::now();
   run.result = mcv::reduceDimension(bricks, ro);
   run.reduceS = secondsSince(reduceStart);
@@ -202,29 +197,14 @@ void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t 
   std::fflush(stdout);
 }
 
-double argValue(int argc, char** argv, const char* name, double fallback)
-{
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0)
-      return std::atof(argv[i + 1]);
-  return fallback;
-}
-
-bool hasFlag(int argc, char** argv, const char* name)
-{
-  for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0)
-      return true;
-  return false;
-}
 } // namespace
 
 int main(int argc, char** argv)
 {
-  const double large = argValue(argc, argv, "--voxels", 1073741824.0);
-  const double compare = argValue(argc, argv, "--compare", 67108864.0);
-  const std::size_t reference = static_cast<std::size_t>(argValue(argc, argv, "--reference", 10000));
-  const std::size_t deviceBytes = static_cast<std::size_t>(argValue(argc, argv, "--device-mib", 0)) << 20;
+  const double large = mcv::testing::optionNumber(argc, argv, "--voxels", 1073741824.0);
+  const double compare = mcv::testing::optionNumber(argc, argv, "--compare", 67108864.0);
+  const std::size_t reference = static_cast<std::size_t>(mcv::testing::optionNumber(argc, argv, "--reference", 10000));
+  const std::size_t deviceBytes = static_cast<std::size_t>(mcv::testing::optionNumber(argc, argv, "--device-mib", 0)) << 20;
   std::string why;
   if (!mcv::cuda::deviceUsable(&why))
   {
@@ -244,7 +224,7 @@ int main(int argc, char** argv)
 
   // The compare size: GPU chain, then the CPU chain as the in-run baseline.
   ChainRun gpuSmall;
-  if (!hasFlag(argc, argv, "--skip-compare"))
+  if (!mcv::testing::hasFlag(argc, argv, "--skip-compare"))
   {
     const auto t0 = Clock::now();
     const mt::ScaledChannels t = mt::tileBrain(brain, compare);
@@ -252,7 +232,7 @@ int main(int argc, char** argv)
       t.grid.dims[1], t.grid.dims[2], t.grid.voxelCount() / 1e6, secondsSince(t0));
     std::printf(" GPU:\n");
     gpuSmall = runChain(t, mcv::Device::GPU, reference, deviceBytes);
-    if (!hasFlag(argc, argv, "--skip-cpu"))
+    if (!mcv::testing::hasFlag(argc, argv, "--skip-cpu"))
     {
       std::printf(" CPU (baseline):\n");
       const ChainRun cpu = runChain(t, mcv::Device::CPU, reference, 0);
@@ -276,14 +256,14 @@ int main(int argc, char** argv)
 
   // The large size: the whole chain (--large-chain: its CPU passes take minutes), or by
   // default the GPU stage alone with the compare size's statistics and fit.
-  if (!hasFlag(argc, argv, "--skip-large"))
+  if (!mcv::testing::hasFlag(argc, argv, "--skip-large"))
   {
     const auto t0 = Clock::now();
     const mt::ScaledChannels t = mt::tileBrain(brain, large);
     std::printf("\n== %d x %d x %d = %.3f G voxels (brain tiled in %.1f s), 3 float channels (%.1f GB): GPU\n",
       t.grid.dims[0], t.grid.dims[1], t.grid.dims[2], t.grid.voxelCount() / 1e9, secondsSince(t0),
       3.0 * 4.0 * t.grid.voxelCount() / 1e9);
-    if (hasFlag(argc, argv, "--large-chain") || gpuSmall.refX.empty())
+    if (mcv::testing::hasFlag(argc, argv, "--large-chain") || gpuSmall.refX.empty())
     {
       const ChainRun gpu = runChain(t, mcv::Device::GPU, reference, deviceBytes);
       std::printf("target of issue 20: whole chain <= 10 s at 1 G voxels on one H100; measured %.2f s (GPU stage %.2f s)\n",
@@ -292,7 +272,7 @@ int main(int argc, char** argv)
     else
     {
       stageOnly(t, gpuSmall, deviceBytes, true);
-      if (hasFlag(argc, argv, "--merge-baseline"))
+      if (mcv::testing::hasFlag(argc, argv, "--merge-baseline"))
         stageOnly(t, gpuSmall, deviceBytes, false); // the in-run baseline of equal runs placed once
     }
   }

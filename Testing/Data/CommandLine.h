@@ -1,0 +1,46 @@
+// The few command-line options of the benchmark programs: "--name value" and "--flag".
+#pragma once
+
+#include <cstdlib>
+#include <cstring>
+
+namespace mcv
+{
+namespace testing
+{
+
+// The word after `name` on the command line, or `fallback`.
+inline const char* optionText(int argc, char** argv, const char* name, const char* fallback)
+{
+  for (int i = 1; i + 1 < argc; ++i)
+  {
+    if (std::strcmp(argv[i], name) == 0)
+    {
+      return argv[i + 1];
+    }
+  }
+  return fallback;
+}
+
+// The number after `name` on the command line, or `fallback`.
+inline double optionNumber(int argc, char** argv, const char* name, double fallback)
+{
+  const char* text = optionText(argc, argv, name, nullptr);
+  return text ? std::atof(text) : fallback;
+}
+
+// True when `name` is on the command line.
+inline bool hasFlag(int argc, char** argv, const char* name)
+{
+  for (int i = 1; i < argc; ++i)
+  {
+    if (std::strcmp(argv[i], name) == 0)
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+} // namespace testing
+} // namespace mcv
