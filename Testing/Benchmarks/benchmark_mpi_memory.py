@@ -21,7 +21,7 @@ Each process writes to DIR:
                 ParaView and the plugin are loaded and before anything is read (the
                 baseline), its peak resident memory (ru_maxrss) after each stage, and
                 each stage's own peak (VmHWM restarted at the stage's start) with the
-                resident size it started from
+                resident sizes it started from and ended with
 benchmark_mpi_memory.sh runs it for R = 1, 2, 4 and compares every piece with the
 one-process coordinates, voxel by voxel, and the peaks with the one-process run's.
 """
@@ -89,7 +89,7 @@ def main():
 
     controller = servermanager.vtkProcessModule.GetProcessModule().GetGlobalController()
     rank, ranks = controller.GetLocalProcessId(), controller.GetNumberOfProcesses()
-    stages, peaks, stage_start, stage_peak = {}, {}, {}, {}
+    stages, peaks, stage_start, stage_peak, stage_end = {}, {}, {}, {}, {}
 
     def timed(name, proxy):
         stage_start[name] = round(status_gib("VmRSS"), 3)
@@ -99,6 +99,7 @@ def main():
         stages[name] = round(time.time() - start, 3)
         peaks[name] = round(peak_gib(), 3)
         stage_peak[name] = round(status_gib("VmHWM"), 3) if reset else None
+        stage_end[name] = round(status_gib("VmRSS"), 3)
 
     if args.volume:
         # Not updated on its own: asked for piece r of R, the reader would read the piece
@@ -146,6 +147,7 @@ def main():
             "baseline_rss_gib": baseline,
             "stage_seconds": stages, "stage_peak_rss_gib": peaks,
             "stage_start_rss_gib": stage_start, "stage_own_peak_gib": stage_peak,
+            "stage_end_rss_gib": stage_end,
             "peak_rss_gib": peak_gib()}
     with open(os.path.join(args.output, "rank%d.json" % rank), "w") as f:
         json.dump(info, f)

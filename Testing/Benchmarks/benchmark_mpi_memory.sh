@@ -3,7 +3,8 @@
 # Isomap) under `mpiexec -np R pvbatch --mpi --symmetric` for R = 1, 2, 4
 # (benchmark_mpi_memory.py). Prints, per run and process, the resident size before
 # anything is read (ParaView + plugin: the baseline), the peak, the data share (peak -
-# baseline) against the one-process run's and 1/R, the stage times, and the largest
+# baseline) and what it still holds after the reduction (VmRSS - baseline), each against
+# the one-process run's and 1/R, the stage times, and the largest
 # difference of every process's coordinates from the one-process coordinates, voxel by voxel.
 #   --source pieces (default): the merged, resampled channels are first saved once, by one
 #     process, as one uncompressed .vti; the R-process runs read it with the XML reader,
@@ -79,10 +80,18 @@ print("Fused reduction of the brain resampled to %d x %d x %d = %.1f M voxels (2
          voxels * 3 * 4 / float(1 << 30),
          ", channels file %.2f GiB" % (os.path.getsize(volume) / float(1 << 30))
          if os.path.exists(volume) else ""))
-print("%5s %7s | %9s %9s | %-23s | %-23s | %-23s | %11s %5s | %s" % (
+print("%5s %7s | %9s %9s | %-23s | %-23s | %-23s | %11s | %-23s | %10s | %5s | %s" % (
     "ranks", "threads", "upsample", "reduction", "baseline GiB, per rank", "peak GiB, per rank",
-    "share GiB (peak - base)", "max share/1", "1/R", "largest |coordinate - 1-rank| / range"))
+    "share GiB (peak - base)", "max share/1", "held GiB (end - base)", "max held/1", "1/R",
+    "largest |coordinate - 1-rank| / range"))
+
+
+def held(info):
+    return info["stage_end_rss_gib"]["reduction"] - info["baseline_rss_gib"]
+
+
 share1 = base["peak_rss_gib"] - base["baseline_rss_gib"]
+held1 = held(base)
 for R in ranks_list:
     infos = load(R)
     worst, points = 0.0, 0
@@ -97,18 +106,22 @@ for R in ranks_list:
         points += info["points"]
     shares = [i["peak_rss_gib"] - i["baseline_rss_gib"] for i in infos]
     stages = infos[0]["stage_seconds"]
-    print("%5d %7d | %9.1f %9.1f | %-23s | %-23s | %-23s | %11.3f %5.3f | %.2e (%d points in %d pieces)"
+    helds = [held(i) for i in infos]
+    print("%5d %7d | %9.1f %9.1f | %-23s | %-23s | %-23s | %11.3f | %-23s | %10.3f | %5.3f | %.2e (%d points in %d pieces)"
           % (R, infos[0]["threads"], stages.get("upsample", 0), stages["reduction"],
              " ".join("%.2f" % i["baseline_rss_gib"] for i in infos),
              " ".join("%.2f" % i["peak_rss_gib"] for i in infos),
-             " ".join("%.2f" % s for s in shares), max(shares) / share1, 1.0 / R,
+             " ".join("%.2f" % s for s in shares), max(shares) / share1,
+             " ".join("%.2f" % h for h in helds), max(helds) / held1, 1.0 / R,
              worst / span, points, R))
     print("%5s %7s   reduction's own peak per rank, GiB (resident at its start -> peak): %s"
           % ("", "", " ".join("%.2f->%.2f" % (i["stage_start_rss_gib"]["reduction"],
                                                i["stage_own_peak_gib"]["reduction"] or float("nan"))
                               for i in infos)))
 print("baseline: VmRSS once ParaView, Python and the plugin are loaded, before anything is read; "
-      "peak: ru_maxrss at the end; share: peak - baseline, the data and working memory of the "
-      "job; max share/1: the largest share of the R processes over the one-process share "
-      "(1/R when everything splits). With --source pieces the reduction stage includes the read.")
+      "peak: ru_maxrss at the end; share: peak - baseline, the data and the working memory of "
+      "the job; held: VmRSS after the reduction - baseline, what the process keeps (its block of "
+      "channels in the reader and the output, coordinates, mask) once the working memory (the "
+      "feature slab) is freed; max .../1: the largest of the R processes over the one-process "
+      "figure (1/R when it splits). With --source pieces the reduction stage includes the read.")
 PY
