@@ -11,9 +11,9 @@ Two sources:
       whole channels;
   --volume FILE.vti: the merged (and resampled) channels saved once by
       `--write-volume FILE.vti` (one process, uncompressed appended raw data), read with
-      vtkXMLImageDataReader, which reads only the extent asked of it: DimensionReduction
-      asks for this process's piece plus one ghost layer (Filters/Common/mcvPieces.h), so
-      each process reads and holds only that.
+      vtkXMLImageDataReader, which reads only the extent asked of it: each process reads
+      and holds only its block when DimensionReduction asks for its piece plus one ghost
+      layer (Filters/Common/mcvPieces.h; docs/benchmarks.md §7.2 says when it does).
 
 Each process writes to DIR:
   rank<r>.f32   its piece's ReducedCoordinates (float32, x fastest over its extent)

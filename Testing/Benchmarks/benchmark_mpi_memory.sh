@@ -8,7 +8,7 @@
 # difference of every process's coordinates from the one-process coordinates, voxel by voxel.
 #   --source pieces (default): the merged, resampled channels are first saved once, by one
 #     process, as one uncompressed .vti; the R-process runs read it with the XML reader,
-#     which reads only the block each process asks for (its piece + one ghost layer).
+#     which reads only the extent each process asks for (docs/benchmarks.md §7.2).
 #   --source nifti: every process reads the NIfTI files whole and resamples (§7.1).
 #   --method PCA: a faster reduction than the main job's Isomap (memory figures at 57 M
 #     voxels on a slow machine); the features, the slab and the coordinates are the same.
@@ -76,7 +76,7 @@ volume = os.path.join(out, "brain.vti")
 print("Fused reduction of the brain resampled to %d x %d x %d = %.1f M voxels (24D, %s), "
       "source %s; coordinates %.2f GiB%s"
       % (dims[0], dims[1], dims[2], voxels / 1e6, base["method"],
-         "the .vti read in pieces" if base["source"] == "vti" else "NIfTI read whole by every process",
+         "one .vti (XML reader)" if base["source"] == "vti" else "NIfTI read whole by every process",
          voxels * 3 * 4 / float(1 << 30),
          ", channels file %.2f GiB" % (os.path.getsize(volume) / float(1 << 30))
          if os.path.exists(volume) else ""))
