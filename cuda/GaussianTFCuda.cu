@@ -2,6 +2,7 @@
 
 #include "CudaCheck.h"
 
+#include <cuda_fp16.h>
 #include <cuda_runtime.h>
 
 #include <mutex>
@@ -125,6 +126,16 @@ void launch(GaussianTFOutput kind, const float* coords, std::size_t n, int widge
 
 } // namespace
 
+// float16 coordinates to float32, one value per thread (exact).
+__global__ void widenHalves(const __half* in, float* out, std::size_t n)
+{
+  const std::size_t i = blockIdx.x * static_cast<std::size_t>(blockDim.x) + threadIdx.x;
+  if (i < n)
+  {
+    out[i] = __half2float(in[i]);
+  }
+}
+
 struct GaussianTFGpu::Impl
 {
   float* coords = nullptr;
@@ -160,8 +171,8 @@ bool GaussianTFGpu::setCoordinates(const GaussianTFCoordinates& c, std::string* 
     *uploaded = false;
   }
   const GaussianTFCoordinates& r = P->resident;
-  if (c.version != 0 && r.data == c.data && r.count == c.count && r.components == c.components &&
-    r.version == c.version)
+  if (c.version != 0 && r.data == c.data && r.halves == c.halves && r.count == c.count &&
+    r.components == c.components && r.version == c.version)
   {
     return true;
   }
@@ -175,7 +186,26 @@ bool GaussianTFGpu::setCoordinates(const GaussianTFCoordinates& c, std::string* 
     MCV_CUDA_TRY(cudaMalloc(&P->coords, floats * sizeof(float)));
     P->coordsCapacity = floats;
   }
-  if (floats > 0)
+  if (floats > 0 && c.halves)
+  {
+    // The halves land in a scratch buffer freed again at once: the device keeps float32.
+    __half* staged = nullptr;
+    MCV_CUDA_TRY(cudaMalloc(&staged, floats * sizeof(__half)));
+    cudaError_t status = cudaMemcpy(staged, c.halves, floats * sizeof(__half), cudaMemcpyHostToDevice);
+    if (status == cudaSuccess)
+    {
+      constexpr unsigned threads = 256;
+      widenHalves<<<static_cast<unsigned>((floats + threads - 1) / threads), threads>>>(staged, P->coords, floats);
+      status = cudaGetLastError();
+      if (status == cudaSuccess)
+      {
+        status = cudaDeviceSynchronize();
+      }
+    }
+    cudaFree(staged);
+    MCV_CUDA_TRY(status);
+  }
+  else if (floats > 0)
   {
     MCV_CUDA_TRY(cudaMemcpy(P->coords, c.data, floats * sizeof(float), cudaMemcpyHostToDevice));
   }
@@ -192,7 +222,7 @@ bool GaussianTFGpu::shade(
 {
   FaultStage stage("gaussiantf");
   const GaussianTFCoordinates& c = P->resident;
-  if (c.count > 0 && !c.data)
+  if (c.count > 0 && !c.data && !c.halves)
   {
     return detail::fail(error, "GaussianTFGpu::shade before setCoordinates");
   }

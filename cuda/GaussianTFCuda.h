@@ -37,6 +37,10 @@ struct GaussianTFCoordinates
   std::size_t count = 0;
   int components = 3;
   std::uint64_t version = 0;
+  // Instead of data: float16 coordinates (binary16 bits). They cross the bus as they are
+  // (half the bytes) and are widened to float32 on the device, exactly (every binary16 is
+  // a float32), so the kernel shades the same values as the CPU's decode.
+  const std::uint16_t* halves = nullptr;
 };
 
 // Device-resident state: coordinates and one output buffer. The core uses one shared

@@ -10,6 +10,7 @@
 #include "DimensionReduction.h"
 #include "FeatureVectors.h"
 #include "GaussianTransferFunction.h"
+#include "HalfCoordinates.h"
 
 #include "RequireGpu.h"
 #include "TestVolumes.h"
@@ -139,6 +140,35 @@ TEST(GaussianTFGPU, AgreesWithCPUOnRandomInput)
     }
   }
   std::printf("[ agreement ] random coordinates, 1..16 widgets: max |GPU - CPU| = %.2e\n", worstAll);
+}
+
+TEST(GaussianTFGPU, Float16CoordinatesShadeAsTheirFloats)
+{
+  MCV_REQUIRE_GPU();
+  std::mt19937 rng(16);
+  const int components = 3;
+  const std::vector<float> coords = randomCoords(100003, components, rng);
+  std::vector<std::uint16_t> halves(coords.size());
+  mcv::floatsToHalves(coords.data(), coords.size(), halves.data());
+  std::vector<float> decoded(coords.size());
+  mcv::halvesToFloats(halves.data(), halves.size(), decoded.data());
+  const std::size_t n = coords.size() / components;
+  const mcv::CoordinateView asFloats{ decoded.data(), n, components };
+  mcv::CoordinateView asHalves{ nullptr, n, components };
+  asHalves.halves = halves.data();
+  const std::vector<GaussianWidget> widgets = randomWidgets(8, rng);
+  // The halves cross the bus as they are and are widened on the device, exactly: the same
+  // float32 values, so the same bits as the float32 run on the GPU, and within the GPU's
+  // usual distance of the CPU's decode.
+  std::vector<float> fromFloats(4 * n, -1.f), fromHalves(4 * n, -2.f), onCpu(4 * n, -3.f);
+  const mcv::TransferFunctionRun a = mcv::applyGaussianWidgets(asFloats, widgets, fromFloats.data(), Device::GPU);
+  const mcv::TransferFunctionRun b = mcv::applyGaussianWidgets(asHalves, widgets, fromHalves.data(), Device::GPU);
+  ASSERT_TRUE(a.ok() && b.ok()) << a.error << b.error;
+  EXPECT_EQ(a.deviceUsed, Device::GPU);
+  EXPECT_EQ(b.deviceUsed, Device::GPU) << (b.warnings.empty() ? "" : b.warnings.back());
+  EXPECT_EQ(fromHalves, fromFloats);
+  ASSERT_TRUE(mcv::applyGaussianWidgets(asHalves, widgets, onCpu.data(), Device::CPU).ok());
+  EXPECT_LE(maxDiff(onCpu, fromHalves), 1e-5);
 }
 
 TEST(GaussianTFGPU, ResidentCoordinatesFollowTheVersion)

@@ -369,15 +369,6 @@ TransferFunctionRun apply(
     return run;
   }
   std::string warning;
-  if (c.halves && device != Device::CPU)
-  {
-    // The CUDA kernel reads float32 coordinates; a float32 copy would undo float16's saving.
-    if (device == Device::GPU)
-    {
-      run.warnings.push_back("float16 coordinates are shaded on the CPU (the GPU path reads float32).");
-    }
-    device = Device::CPU;
-  }
   if (resolveDevice(device, &warning) == Device::GPU)
   {
 #ifdef MCV_HAS_CUDA
@@ -386,7 +377,7 @@ TransferFunctionRun apply(
       : (Kind == Output::ByteRGBA ? cuda::GaussianTFOutput::ByteRGBA : cuda::GaussianTFOutput::Opacity);
     std::string error;
     if (cuda::shadeGaussianWidgetsCached(
-          { c.data, c.count, c.components, c.version }, packed, gpuKind, out, &error))
+          { c.data, c.count, c.components, c.version, c.halves }, packed, gpuKind, out, &error))
     {
       run.deviceUsed = Device::GPU;
       return run;

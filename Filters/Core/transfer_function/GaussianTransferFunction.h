@@ -68,8 +68,8 @@ struct CoordinateView
   int components = 3;
   std::uint64_t version = 0;
   // Instead of data: float16 coordinates (binary16 bits, HalfCoordinates.h), decoded a
-  // block of voxels at a time on the CPU. The GPU path reads float32 only: with these,
-  // Device GPU/Auto runs on the CPU (a warning for GPU).
+  // block of voxels at a time on the CPU; the GPU path uploads them as they are and widens
+  // them on the device (the same float32 values).
   const std::uint16_t* halves = nullptr;
 };
 
