@@ -10,6 +10,7 @@
 //   outofsample  out-of-sample placement (OutOfSampleCuda.h)
 //   umaplayout   UMAP's SGD layout (UMAPLayoutCuda.h)
 //   fused        the fused reduction's slabs: features + placement (FusedPlacementCuda.h)
+//   fusedpasses  its statistics, column-sum and strata passes (FusedPassesCuda.h)
 // The kinds of call (from the checked expression's text, at compile time):
 //   alloc   cudaMalloc*                     copy  cudaMemcpy*, cudaMemset*
 //   launch  the check after a kernel launch, CUB calls, launch helpers

@@ -566,6 +566,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   options.channelNames = channels.names;
   options.communicator = this->GetCommunicator();
   options.piece = piece;
+  options.device = this->GetRequestedDevice(); // the statistics pass runs where the reduction does
   options.progress = this->ProgressCallback(0.0, 0.1);
   const int F = mcv::featureCount(channels.views.size(), options);
   if (F <= 0)
@@ -632,6 +633,14 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     mcv::DevicePlacementReport placeOnDevice(const mcv::DevicePlacement& request) override
     {
       return bricks->placeOnDevice(request);
+    }
+    mcv::DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override
+    {
+      return bricks->columnSumsOnDevice(progress);
+    }
+    mcv::DevicePassReport strataOnDevice(const mcv::DeviceStrata& request) override
+    {
+      return bricks->strataOnDevice(request);
     }
   };
   std::unique_ptr<Rows> out(new Rows);

@@ -66,11 +66,12 @@ inline TypedChannels randomChannels(std::array<int, 3> dims, std::uint64_t seed)
   return t;
 }
 
-inline FeatureOptions fused24D()
+// The statistics pass on `device` (the CPU by default: the reference the GPU is compared with).
+inline FeatureOptions fused24D(Device device = Device::CPU)
 {
   FeatureOptions o;
   o.preset = FeaturePreset::TwentyFourD;
-  o.device = Device::CPU;
+  o.device = device;
   return o;
 }
 
@@ -104,20 +105,24 @@ struct FusedRun
 {
   ReductionResult result;
   FeatureBricks::DeviceStats stats;
+  FeatureResult prepared;
+  int passesOnDevice = 0; // statistics, column sums, strata
 };
 
-// One fused reduction; deviceBytes 0: the default budget.
+// One fused reduction; deviceBytes 0: the default budget. statisticsDevice: where
+// FeatureBricks::prepare runs (the column check and strata run where the reduction does).
 inline FusedRun runFused(const std::vector<ChannelView>& channels, const ImageGrid& grid, const ReductionOptions& ro,
-  std::size_t deviceBytes, std::size_t cpuSlabBytes = FeatureBricks::kDefaultSlabBytes)
+  std::size_t deviceBytes, std::size_t cpuSlabBytes = FeatureBricks::kDefaultSlabBytes,
+  Device statisticsDevice = Device::CPU)
 {
   FusedRun run;
-  FeatureBricks bricks(channels, grid, fused24D(), cpuSlabBytes);
+  FeatureBricks bricks(channels, grid, fused24D(statisticsDevice), cpuSlabBytes);
   bricks.setDeviceBytes(deviceBytes);
-  FeatureResult prepared;
-  EXPECT_TRUE(bricks.prepare(prepared)) << prepared.error;
+  EXPECT_TRUE(bricks.prepare(run.prepared)) << run.prepared.error;
   run.result = reduceDimension(bricks, ro);
   EXPECT_TRUE(run.result.ok()) << run.result.error;
   run.stats = bricks.deviceStats();
+  run.passesOnDevice = bricks.passesOnDevice();
   return run;
 }
 

@@ -687,4 +687,39 @@ TEST(GpuFaults, FusedPlacementFallsBackAtEveryFailurePoint)
   }
 }
 
+// The fused reduction's other GPU passes (statistics, column sums, strata:
+// FusedPassesCuda.h): a failure at any point reruns that pass on the CPU with one warning.
+// The column sums and strata are the CPU's bits, so only a failed statistics pass (the CPU's
+// sums in another order) may move the coordinates, by rounding.
+TEST(GpuFaults, FusedPassesFallBackAtEveryFailurePoint)
+{
+  MCV_REQUIRE_GPU();
+  const mt::TypedChannels t = mt::randomChannels({ 31, 27, 24 }, 3);
+  const std::size_t budget = mt::budgetForSlices(t.grid, 3, 24, 500, 3, 3);
+  auto runGpu = [&] {
+    return mt::runFused(t.views(), t.grid, mt::isomapOptions(500, Device::GPU), budget,
+      mcv::FeatureBricks::kDefaultSlabBytes, Device::GPU);
+  };
+  auto warnings = [](const mt::FusedRun& r) {
+    std::vector<std::string> all = r.prepared.warnings;
+    all.insert(all.end(), r.result.warnings.begin(), r.result.warnings.end());
+    return all;
+  };
+  mt::FusedRun gpu;
+  const std::vector<Point> points = injectionPoints("fusedpasses", [&] { gpu = runGpu(); });
+  ASSERT_EQ(gpu.passesOnDevice, 3);
+  const float range = mt::coordinateRange(gpu.result.coordinates);
+  LeakCheck leaks;
+  for (const Point& p : points)
+  {
+    SCOPED_TRACE("fusedpasses, failure at " + describe(p));
+    const mt::FusedRun fell = runWithFault("fusedpasses", p, runGpu);
+    ASSERT_TRUE(fell.result.ok()) << fell.result.error;
+    EXPECT_EQ(fell.passesOnDevice, 2);
+    EXPECT_EQ(expectOneFaultWarning(warnings(fell)), warnings(gpu));
+    EXPECT_EQ(fell.result.referenceIndices, gpu.result.referenceIndices);
+    EXPECT_LE(mt::maxDifference(fell.result.coordinates, gpu.result.coordinates), 1e-5f * range);
+  }
+}
+
 } // namespace

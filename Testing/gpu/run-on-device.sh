@@ -92,7 +92,7 @@ note "mcvBenchmarkGaussianTF exit code $tf_rc"
 if [ "${MCV_FUSED_BENCH:-0}" = 1 ]; then
   note "== fused reduction on the GPU (brain tiled to 67 M and 1 G voxels)"
   timeout 300 "$build/Testing/gpu/mcvBenchmarkFusedGPU" --skip-cpu --merge-baseline >"$logs/bench-fused.log" 2>&1
-  grep -E "^==|WHOLE CHAIN|GPU stage|placement \(|bytes host|whole chain estimate" "$logs/bench-fused.log" | tee -a "$summary"
+  grep -E "^==|WHOLE CHAIN|GPU stage|statistics pass|columns \+ sample|placement \(|bytes host|whole chain estimate|target of issue" "$logs/bench-fused.log" | tee -a "$summary"
 fi
 
 if [ "${MCV_NCU:-0}" = 1 ] && command -v ncu >/dev/null 2>&1; then

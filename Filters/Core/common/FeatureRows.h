@@ -9,7 +9,9 @@
 #include <cstdint>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace mcv
 {
@@ -43,6 +45,41 @@ struct DevicePlacementReport
   std::size_t halfOverflow = 0; // values of outHalf beyond float16's range (stored as +-inf)
 };
 
+// The column check of reduceDimension computed where the rows are made (the GPU fused path):
+// per column, exact integer sums per float exponent field (cols x 256, as
+// DimensionReduction.cpp's addExact), the extremes, and the non-finite values with the first
+// one (row x cols + column).
+struct DeviceColumnSums
+{
+  bool attempted = false; // false: no such path (the caller walks the blocks)
+  std::string error;      // non-empty: the device failed; the caller walks the blocks
+  std::vector<std::int64_t> bins;
+  std::vector<double> minimum, maximum;
+  double nonFinite = 0;
+  double firstBad = std::numeric_limits<double>::infinity();
+};
+
+// The reference sample's strata computed where the rows are made: stratum[row] = the number
+// of edges <= the float norm of the row's `columns` less `center` (ReferenceSample.cpp's
+// Sampler::norm), for the rows with eligible[row] != 0 (all when null), notEligible for the
+// others.
+struct DeviceStrata
+{
+  std::vector<int> columns;
+  std::vector<double> center;
+  std::vector<float> edges;
+  const unsigned char* eligible = nullptr;
+  std::uint8_t notEligible = 0xFF;
+  std::uint8_t* stratum = nullptr; // rows()
+  std::function<void(double)> progress;
+};
+
+struct DevicePassReport
+{
+  bool attempted = false;
+  std::string error;
+};
+
 class FeatureRows
 {
 public:
@@ -63,6 +100,10 @@ public:
   // (FeatureBricks: features and placement per slab on the device, only channels up and
   // coordinates down). Default: no such path.
   virtual DevicePlacementReport placeOnDevice(const DevicePlacement&) { return {}; }
+  // The two other passes over every row, on the device where the rows are computed there
+  // (single-process volumes: every row owned). Default: no such path.
+  virtual DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>&) { return {}; }
+  virtual DevicePassReport strataOnDevice(const DeviceStrata&) { return {}; }
 };
 
 // A matrix in memory: one block, gathered by copying rows.

@@ -4,6 +4,7 @@
 #include "TypedChannel.h"
 
 #ifdef MCV_HAS_CUDA
+#include "cuda/FusedPassesCuda.h"
 #include "cuda/FusedPlacementCuda.h"
 #endif
 
@@ -53,6 +54,16 @@ std::size_t sliceVoxels(const ImageGrid& g)
 {
   return static_cast<std::size_t>(g.dims[0]) * static_cast<std::size_t>(g.dims[1]);
 }
+
+#ifdef MCV_HAS_CUDA
+// The host's part of every GPU pass: a slab's channels as float (what rawSlab converts).
+cuda::FusedChannelFill channelFill(const std::vector<ChannelView>& channels)
+{
+  return [&channels](int c, std::size_t first, std::size_t count, float* values) {
+    return detail::channelToFloat(fromVoxel(channels[static_cast<std::size_t>(c)], first), count, values, nullptr);
+  };
+}
+#endif
 
 // Voxels gathered per batch: their 3x3x3 neighbourhoods (27 voxels each, F features) stay
 // a few MiB.
@@ -173,8 +184,17 @@ bool FeatureBricks::prepare(FeatureResult& result)
   std::vector<detail::ColumnStats> parts;
   std::vector<double> badPerChannel(channels_.size(), 0.0);
   double badVoxels = 0;
+  std::string deviceError;
+  if (deviceStatistics(parts, badPerChannel, badVoxels, deviceError))
+  {
+    result.deviceUsed = Device::GPU;
+  }
+  else if (!deviceError.empty())
+  {
+    result.warnings.push_back("The GPU statistics pass failed (" + deviceError + "); it ran on the CPU.");
+  }
   std::vector<unsigned char> statsMask;
-  const std::size_t blocks = blockCount();
+  const std::size_t blocks = result.deviceUsed == Device::GPU ? 0 : blockCount();
   for (std::size_t b = 0; b < blocks; ++b)
   {
     if (options_.progress)
@@ -277,6 +297,131 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
   }
 }
 
+bool FeatureBricks::wholeVolumeHere() const
+{
+  const GridPiece& piece = options_.piece;
+  return !isDistributed(options_.communicator) && (piece.wholeDims[0] <= 0 || piece.isWhole(grid_));
+}
+
+bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, std::vector<double>& badPerChannel,
+  double& badVoxels, std::string& error)
+{
+#ifdef MCV_HAS_CUDA
+  if (!wholeVolumeHere() || resolveDevice(options_.device) != Device::GPU)
+  {
+    return false;
+  }
+  cuda::FusedPassSetup setup;
+  setup.grid = grid_;
+  setup.channels = static_cast<int>(channels_.size());
+  setup.selection = selection_;
+  setup.cols = cols_;
+  setup.deviceBytes = deviceBytes_;
+  cuda::RawStatistics raw;
+  if (!cuda::fusedRawStatistics(setup, channelFill(channels_), &raw, options_.progress, nullptr, &error))
+  {
+    if (error.empty())
+    {
+      error = "unknown CUDA failure";
+    }
+    return false;
+  }
+  parts = std::move(raw.slabs);
+  badPerChannel = std::move(raw.badPerChannel);
+  badVoxels = raw.badVoxels;
+  ++passesOnDevice_;
+  return true;
+#else
+  (void)parts;
+  (void)badPerChannel;
+  (void)badVoxels;
+  (void)error;
+  return false;
+#endif
+}
+
+#ifdef MCV_HAS_CUDA
+namespace
+{
+cuda::FusedPassSetup normalisedPassSetup(const ImageGrid& grid, std::size_t channels, const FeatureSelection& selection,
+  int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes)
+{
+  cuda::FusedPassSetup setup;
+  setup.grid = grid;
+  setup.channels = static_cast<int>(channels);
+  setup.selection = selection;
+  setup.cols = cols;
+  setup.offset = offset;
+  setup.scale = scale;
+  setup.deviceBytes = deviceBytes;
+  return setup;
+}
+} // namespace
+#endif
+
+DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(double)>& progress)
+{
+  DeviceColumnSums out;
+#ifdef MCV_HAS_CUDA
+  if (offset_.size() != static_cast<std::size_t>(cols_) || !wholeVolumeHere())
+  {
+    return out;
+  }
+  out.attempted = true;
+  cuda::ExactColumnSums sums;
+  if (!cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_),
+        channelFill(channels_), &sums, progress, nullptr, &out.error))
+  {
+    if (out.error.empty())
+    {
+      out.error = "unknown CUDA failure";
+    }
+    return out;
+  }
+  out.bins = std::move(sums.bins);
+  out.minimum = std::move(sums.minimum);
+  out.maximum = std::move(sums.maximum);
+  out.nonFinite = sums.nonFinite;
+  out.firstBad = sums.firstBad;
+  ++passesOnDevice_;
+#else
+  (void)progress;
+#endif
+  return out;
+}
+
+DevicePassReport FeatureBricks::strataOnDevice(const DeviceStrata& request)
+{
+  DevicePassReport out;
+#ifdef MCV_HAS_CUDA
+  if (offset_.size() != static_cast<std::size_t>(cols_) || !wholeVolumeHere())
+  {
+    return out;
+  }
+  out.attempted = true;
+  cuda::StrataRequest r;
+  r.columns = request.columns;
+  r.center = request.center;
+  r.edges = request.edges;
+  r.eligible = request.eligible;
+  r.notEligible = request.notEligible;
+  r.stratum = request.stratum;
+  if (!cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_),
+        channelFill(channels_), r, request.progress, nullptr, &out.error))
+  {
+    if (out.error.empty())
+    {
+      out.error = "unknown CUDA failure";
+    }
+    return out;
+  }
+  ++passesOnDevice_;
+#else
+  (void)request;
+#endif
+  return out;
+}
+
 DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& request)
 {
   DevicePlacementReport report;
@@ -306,10 +451,7 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   r.neighbors = request.neighbors;
   r.regularization = request.regularization;
   r.distanceMargin = request.distanceMargin;
-  // The host's part: the slab's channels as float (what rawSlab converts on the CPU).
-  const cuda::FusedChannelFill fill = [this](int c, std::size_t first, std::size_t count, float* values) {
-    return detail::channelToFloat(fromVoxel(channels_[static_cast<std::size_t>(c)], first), count, values, nullptr);
-  };
+  const cuda::FusedChannelFill fill = channelFill(channels_);
   if (request.outHalf)
   {
     // float16 output: each slab's coordinates are rounded from the pinned staging buffer.

@@ -45,6 +45,9 @@ public:
   // Collective: checks the arguments and runs the statistics pass (progress per slab through
   // options.progress). Fills result (names, offsets and scales, warnings) as
   // computeFeatures does; false with result.error, after which nothing else may be called.
+  // With options.device Auto or GPU, a CUDA build and a single-process volume, the pass runs
+  // on the GPU (cuda/FusedPassesCuda.h; result.deviceUsed says so); a GPU failure reruns it
+  // on the CPU with a warning.
   bool prepare(FeatureResult& result);
 
   std::size_t rows() const override { return grid_.voxelCount(); }
@@ -57,6 +60,12 @@ public:
   // The GPU placement of every row (see the top of this file); attempted is false in a
   // build without CUDA or before prepare().
   DevicePlacementReport placeOnDevice(const DevicePlacement& request) override;
+  // The column check and the strata on the GPU (cuda/FusedPassesCuda.h): attempted is false
+  // in a build without CUDA, before prepare(), or for one process's piece of a volume.
+  DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override;
+  DevicePassReport strataOnDevice(const DeviceStrata& request) override;
+  // Passes over the volume that ran on the GPU (statistics, column sums, strata).
+  int passesOnDevice() const { return passesOnDevice_; }
 
   // Device memory the GPU path may use (0: the free memory less a margin).
   void setDeviceBytes(std::size_t bytes) { deviceBytes_ = bytes; }
@@ -83,6 +92,11 @@ private:
   // the grid; returns the first row of slice z0. bad_ holds, per row of [z0, z1), 1 when a
   // channel is not finite there; badPerChannel (optional) counts the owned ones.
   float* rawSlab(int z0, int z1, std::vector<double>* badPerChannel);
+  // One process holds the whole volume: the GPU passes apply.
+  bool wholeVolumeHere() const;
+  // The statistics pass on the GPU; false (with error) leaves the CPU to run it.
+  bool deviceStatistics(std::vector<detail::ColumnStats>& parts, std::vector<double>& badPerChannel,
+    double& badVoxels, std::string& error);
   static int slicesFor(const ImageGrid& grid, int features, std::size_t slabBytes);
 
   std::vector<ChannelView> channels_;
@@ -94,6 +108,7 @@ private:
   std::vector<double> offset_, scale_;
   std::size_t deviceBytes_ = 0;
   DeviceStats deviceStats_;
+  int passesOnDevice_ = 0;
   std::vector<float> features_, values_;
   std::vector<unsigned char> bad_, channelBad_;
 };

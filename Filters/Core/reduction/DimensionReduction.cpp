@@ -277,6 +277,32 @@ ColumnStats localStats(FeatureRows& f, const RowLayout& rows, const std::functio
   return total;
 }
 
+// The same statistics from the rows' own device pass (FeatureRows::columnSumsOnDevice; every
+// row owned): false when there is none or it failed (said in `warnings`), so the caller
+// walks the blocks.
+bool deviceColumnStats(FeatureRows& f, const std::function<void(double)>& progress, ColumnStats& stats,
+  std::vector<std::string>& warnings)
+{
+  DeviceColumnSums sums = f.columnSumsOnDevice(progress);
+  if (!sums.attempted)
+  {
+    return false;
+  }
+  if (!sums.error.empty() || sums.bins.size() != stats.bins.size() || sums.minimum.size() != stats.minimum.size() ||
+    sums.maximum.size() != stats.maximum.size())
+  {
+    warnings.push_back("The GPU column statistics failed (" + (sums.error.empty() ? std::string("unexpected result") : sums.error) +
+      "); they ran on the CPU.");
+    return false;
+  }
+  stats.bins = std::move(sums.bins);
+  stats.minimum = std::move(sums.minimum);
+  stats.maximum = std::move(sums.maximum);
+  stats.nonFinite = sums.nonFinite;
+  stats.firstBad = sums.firstBad;
+  return true;
+}
+
 // Collective: the statistics of all processes' owned rows, the same on every process.
 void combineStats(ColumnStats& s, double voxels, const Communicator* comm)
 {
@@ -669,8 +695,21 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
 
   // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
   // would leave holes in the output. The message says where the first one is.
+  std::string deviceWarning;
+  const Device device = resolveDevice(options.device, &deviceWarning);
+  if (!deviceWarning.empty())
+  {
+    result.warnings.push_back(deviceWarning);
+  }
+  // Where the rows are computed on the GPU and this process owns them all, the passes over
+  // every row (this one, the sample's strata) run there too.
+  const bool devicePasses = device == Device::GPU && !isDistributed(comm) && rows.ownedCount() == features.rows();
   ColumnStats stats(cols);
-  error = runShared(comm, [&] { stats = localStats(features, rows, [&](double f) { report("Column statistics", 0.03 * f); }); });
+  const std::function<void(double)> statsProgress = [&](double f) { report("Column statistics", 0.03 * f); };
+  if (!(devicePasses && deviceColumnStats(features, statsProgress, stats, result.warnings)))
+  {
+    error = runShared(comm, [&] { stats = localStats(features, rows, statsProgress); });
+  }
   if (!error.empty())
   {
     return fail(error);
@@ -712,12 +751,6 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   const bool allColumns = static_cast<int>(used.size()) == cols;
   const std::vector<int> gatherColumns = allColumns ? std::vector<int>{} : used;
 
-  std::string deviceWarning;
-  const Device device = resolveDevice(options.device, &deviceWarning);
-  if (!deviceWarning.empty())
-  {
-    result.warnings.push_back(deviceWarning);
-  }
   result.deviceUsed = Device::CPU; // the placement below says where it really ran
 
   // --- Reference sample (the same voxels on every process) ---------------------------------
@@ -743,7 +776,9 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   so.seed = options.randomSeed;
   so.eligible = mask;
   so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
+  so.strataOnDevice = devicePasses;
   ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
+  result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
   if (!sample.error.empty())
   {
     return fail("Drawing the reference sample: " + sample.error);

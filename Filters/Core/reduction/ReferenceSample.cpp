@@ -233,6 +233,7 @@ public:
   }
 
   ReferenceSample draw();
+  const std::vector<std::string>& warnings() const { return warnings_; }
 
 private:
   float norm(const float* x, bool fullRow) const;
@@ -260,6 +261,7 @@ private:
   std::size_t share_ = 0;             // sample per stratum
   std::vector<std::uint8_t> stratum_; // per row; kNotOwned for rows of other processes
   std::vector<LocalList> lists_;      // 0: every voxel; 1 + s: stratum s
+  std::vector<std::string> warnings_;
 };
 
 // The norm of the used, centred features: of a row of dim_ features, or of D_ used ones.
@@ -331,8 +333,27 @@ std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
 std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
 {
   stratum_.assign(rows_.size(), kNotOwned);
+  bool onDevice = false;
+  if (options_.strataOnDevice && !comm_)
+  {
+    DeviceStrata request;
+    request.columns = columns_;
+    request.center = center_;
+    request.edges = edges;
+    request.eligible = options_.eligible;
+    request.notEligible = kNotOwned;
+    request.stratum = stratum_.data();
+    request.progress = options_.progress;
+    const DevicePassReport device = source_.strataOnDevice(request);
+    onDevice = device.attempted && device.error.empty();
+    if (device.attempted && !onDevice)
+    {
+      warnings_.push_back("The GPU strata of the reference sample failed (" + device.error + "); they ran on the CPU.");
+      stratum_.assign(rows_.size(), kNotOwned);
+    }
+  }
   // Block by block: the fused path computes each block's features once for this pass.
-  for (std::size_t b = 0; b < source_.blockCount(); ++b)
+  for (std::size_t b = 0; b < (onDevice ? 0 : source_.blockCount()); ++b)
   {
     if (options_.progress && source_.blockCount() > 1)
     {
@@ -345,13 +366,26 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
       stratum_[row] = static_cast<std::uint8_t>(std::upper_bound(edges.begin(), edges.end(), norm(x, true)) - edges.begin());
     });
   }
+  // Voxels per stratum (a giga-voxel volume: over threads, each counting a part).
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
-  for (std::uint8_t s : stratum_)
+  const long long n = static_cast<long long>(stratum_.size());
+#pragma omp parallel
   {
-    if (s != kNotOwned)
+    std::vector<std::size_t> mine(count.size(), 0);
+#pragma omp for schedule(static) nowait
+    for (long long r = 0; r < n; ++r)
     {
-      ++count[0];
-      ++count[1 + s];
+      const std::uint8_t s = stratum_[static_cast<std::size_t>(r)];
+      if (s != kNotOwned)
+      {
+        ++mine[0];
+        ++mine[1 + s];
+      }
+    }
+#pragma omp critical(mcvStrataCount)
+    for (std::size_t i = 0; i < count.size(); ++i)
+    {
+      count[i] += mine[i];
     }
   }
   lists_.assign(count.size(), LocalList{});
@@ -852,7 +886,10 @@ std::string sharedError(const Communicator* comm, const std::string& localError)
 ReferenceSample drawReferenceSample(FeatureRows& source, const RowLayout& rows, const std::vector<int>& columns,
   const std::vector<double>& center, const ReferenceSampleOptions& options, const Communicator* comm)
 {
-  return Sampler(source, rows, columns, center, options, comm).draw();
+  Sampler sampler(source, rows, columns, center, options, comm);
+  ReferenceSample sample = sampler.draw();
+  sample.warnings = sampler.warnings();
+  return sample;
 }
 
 ReferenceSample drawReferenceSample(const float* data, int dim, const RowLayout& rows,

@@ -92,11 +92,15 @@ struct ReferenceSampleOptions
   // Optional: the pass over the source's blocks (the strata) reports its fraction here, on
   // the calling thread, before each block (FeatureRows with several blocks only).
   std::function<void(double)> progress;
+  // The strata pass on the source's device (FeatureRows::strataOnDevice) when it has one; a
+  // serial caller whose process owns every row sets it (reduceDimension on the GPU).
+  bool strataOnDevice = false;
 };
 
 struct ReferenceSample
 {
   std::string error;                 // non-empty: nothing else is meaningful
+  std::vector<std::string> warnings; // e.g. the device's strata pass failed and the CPU's ran
   std::vector<std::int64_t> indices; // global indices, ascending
   std::vector<float> vectors;        // indices.size() x columns.size(): the used features
 };
