@@ -303,6 +303,7 @@ SlabStreamSetup streamSetup(const FusedPassSetup& s, const SlabPassBytes& pass)
   st.offset = s.offset;
   st.scale = s.scale;
   st.deviceBytes = s.deviceBytes;
+  st.resident = s.resident;
   st.pass = pass;
   return st;
 }

@@ -42,6 +42,7 @@ struct FusedPassSetup
   int cols = 0;
   std::vector<double> offset, scale; // the normalisation (column sums, strata); empty for the statistics
   std::size_t deviceBytes = 0;       // 0: the free memory less a margin
+  ResidentChannels* resident = nullptr; // optional: see FusedPlacementCuda.h
 };
 
 struct FusedPassStats

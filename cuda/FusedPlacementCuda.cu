@@ -27,6 +27,7 @@ SlabStreamSetup streamSetup(const FusedPlacementSetup& s)
   st.offset = s.offset;
   st.scale = s.scale;
   st.deviceBytes = s.deviceBytes;
+  st.resident = s.resident;
   const PlacementInput& r = s.references;
   st.pass.fixedDevice = PlacementOnDevice::referenceBytes(r.M, r.D, r.d);
   // Coordinates on the device and in pinned memory, per row; the placement's scratch per slot.

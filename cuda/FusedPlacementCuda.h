@@ -30,6 +30,42 @@ namespace mcv
 namespace cuda
 {
 
+// The volume's channels (as float) kept on the device between the fused passes, when they
+// fit in at most half the device memory the passes may use: the first pass fills it as it
+// streams the slabs, the later ones compute their features from it instead of converting and
+// uploading the channels again (FeatureBricks keeps one from its statistics pass to its
+// placement). nonFinite: per channel, whether the volume holds a non-finite value (known
+// once filled; the slabs then use the guarded feature kernel, which equals the other on
+// finite data).
+class ResidentChannels
+{
+public:
+  ResidentChannels() = default;
+  ~ResidentChannels();
+  ResidentChannels(const ResidentChannels&) = delete;
+  ResidentChannels& operator=(const ResidentChannels&) = delete;
+
+  // Reserves channels x voxels floats when they fit (see above; deviceBytes 0: the free
+  // memory less a margin); false, holding nothing, when they do not or the allocation fails.
+  bool reserveIfFits(int channels, std::size_t voxels, std::size_t deviceBytes);
+  void release();
+  float* data() const { return data_; }
+  std::size_t voxels() const { return voxels_; }
+  std::size_t bytes() const { return static_cast<std::size_t>(channels_) * voxels_ * sizeof(float); }
+
+  bool filled = false;
+  std::vector<bool> nonFinite;
+
+private:
+  float* data_ = nullptr;
+  int channels_ = 0;
+  std::size_t voxels_ = 0;
+};
+
+// The device memory the fused passes may use: deviceBytes, or the free memory less a margin
+// (1/16 of the card, at least 512 MiB); false with error when the card cannot be asked.
+bool fusedDeviceBudget(std::size_t deviceBytes, std::size_t* budget, std::size_t* cardBytes, std::string* error);
+
 struct FusedPlacementSetup
 {
   ImageGrid grid; // the volume (or this process's block); rows are its voxels, x fastest
@@ -44,6 +80,8 @@ struct FusedPlacementSetup
   // A run of consecutive voxels with equal features (a uniform background) is placed once;
   // false places every voxel (the benchmark's baseline). Same coordinates either way.
   bool mergeEqualRows = true;
+  // Optional: the channels already on the device (filled by an earlier pass), or to be kept.
+  ResidentChannels* resident = nullptr;
   // Optional: takes each slab's coordinates (rows [firstRow, firstRow + rows), from the
   // pinned staging buffer) instead of the copy into `out`, which may then be null; the
   // float16 output rounds them there (FeatureBricks::placeOnDevice).

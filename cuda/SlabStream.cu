@@ -55,16 +55,63 @@ std::size_t sliceVoxels(const ImageGrid& g)
   return static_cast<std::size_t>(g.dims[0]) * static_cast<std::size_t>(g.dims[1]);
 }
 
-// Device bytes per slot for a slab of `slices` slices: channels with ghosts, features, the pass's.
+// Device bytes per slot for a slab of `slices` slices: channels with ghosts (unless the
+// volume's are resident), features, the pass's.
 std::size_t slotBytes(const SlabStreamSetup& s, int slices)
 {
   const std::size_t nxy = sliceVoxels(s.grid), rows = static_cast<std::size_t>(slices) * nxy;
-  return static_cast<std::size_t>(s.channels) * (rows + 2 * nxy) * sizeof(float) +
+  return (s.resident ? 0 : static_cast<std::size_t>(s.channels) * (rows + 2 * nxy) * sizeof(float)) +
     rows * (static_cast<std::size_t>(s.cols) * sizeof(float) + s.pass.perRowDevice) +
     (s.pass.perSlotDevice ? s.pass.perSlotDevice(rows) : 0);
 }
 
 } // namespace
+
+bool fusedDeviceBudget(std::size_t deviceBytes, std::size_t* budget, std::size_t* cardBytes, std::string* error)
+{
+  std::size_t freeBytes = 0;
+  MCV_CUDA_TRY(cudaMemGetInfo(&freeBytes, cardBytes));
+  *budget = deviceBytes;
+  if (deviceBytes == 0)
+  {
+    const std::size_t margin = std::max<std::size_t>(std::size_t(512) << 20, *cardBytes / 16);
+    *budget = freeBytes > margin ? freeBytes - margin : 0;
+  }
+  return true;
+}
+
+ResidentChannels::~ResidentChannels()
+{
+  release();
+}
+
+void ResidentChannels::release()
+{
+  cudaFree(data_);
+  data_ = nullptr;
+  channels_ = 0;
+  voxels_ = 0;
+  filled = false;
+  nonFinite.clear();
+}
+
+bool ResidentChannels::reserveIfFits(int channels, std::size_t voxels, std::size_t deviceBytes)
+{
+  release();
+  std::size_t budget = 0, card = 0;
+  const std::size_t need = static_cast<std::size_t>(std::max(0, channels)) * voxels * sizeof(float);
+  if (need == 0 || !fusedDeviceBudget(deviceBytes, &budget, &card, nullptr) || need > budget / 2 ||
+    cudaMalloc(&data_, need) != cudaSuccess)
+  {
+    data_ = nullptr;
+    (void)cudaGetLastError();
+    return false;
+  }
+  channels_ = channels;
+  voxels_ = voxels;
+  nonFinite.assign(static_cast<std::size_t>(channels), false);
+  return true;
+}
 
 int slabBlocksFor(std::int64_t work)
 {
@@ -101,6 +148,11 @@ void SlabStream::release()
   {
     cudaFree(channels_[i]);
     cudaFree(features_[i]);
+    if (uploaded_[i])
+    {
+      cudaEventDestroy(uploaded_[i]);
+      uploaded_[i] = nullptr;
+    }
     cudaFreeHost(stageIn_[i]);
     cudaFreeHost(passPinned_[i]);
     if (streams_[i])
@@ -122,6 +174,7 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   setup_ = setup;
   stats_ = SlabStreamStats{};
   opened_ = Clock::now();
+  uploadedEnd_ = 0;
   const ImageGrid& grid = setup.grid;
   const int F = setup.cols;
   const bool normalise = !setup.offset.empty();
@@ -130,13 +183,19 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   {
     return detail::fail(error, "invalid arguments of the GPU slab stream");
   }
-  std::size_t freeBytes = 0, cardBytes = 0;
-  MCV_CUDA_TRY(cudaMemGetInfo(&freeBytes, &cardBytes));
-  std::size_t budget = setup.deviceBytes;
-  if (budget == 0)
+  if (setup.resident && (!setup.resident->data() || setup.resident->voxels() != grid.voxelCount()))
   {
-    const std::size_t margin = std::max<std::size_t>(std::size_t(512) << 20, cardBytes / 16);
-    budget = freeBytes > margin ? freeBytes - margin : 0;
+    return detail::fail(error, "the resident channels do not hold this volume");
+  }
+  std::size_t budget = 0, cardBytes = 0;
+  if (!fusedDeviceBudget(setup.deviceBytes, &budget, &cardBytes, error))
+  {
+    return false;
+  }
+  if (setup.resident && setup.deviceBytes > 0)
+  {
+    // A given budget covers the resident channels too (the free memory already lacks them).
+    budget = budget > setup.resident->bytes() ? budget - setup.resident->bytes() : 0;
   }
   if (bytesFor(setup, 1) > budget)
   {
@@ -166,9 +225,19 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   for (int i = 0; i < kSlabSlots; ++i)
   {
     MCV_CUDA_TRY(cudaStreamCreateWithFlags(&streams_[i], cudaStreamNonBlocking));
-    MCV_CUDA_TRY(cudaMalloc(&channels_[i], C * plane_ * sizeof(float)));
+    if (!setup.resident)
+    {
+      MCV_CUDA_TRY(cudaMalloc(&channels_[i], C * plane_ * sizeof(float)));
+    }
     MCV_CUDA_TRY(cudaMalloc(&features_[i], rows * static_cast<std::size_t>(F) * sizeof(float)));
-    MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], C * plane_ * sizeof(float)));
+    if (!setup.resident || !setup.resident->filled)
+    {
+      MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], C * plane_ * sizeof(float)));
+    }
+    if (setup.resident && !setup.resident->filled)
+    {
+      MCV_CUDA_TRY(cudaEventCreateWithFlags(&uploaded_[i], cudaEventDisableTiming));
+    }
     if (setup.pass.perRowPinned > 0)
     {
       MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], rows * setup.pass.perRowPinned));
@@ -182,8 +251,8 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     stats_.bytesToDevice += 2 * static_cast<std::size_t>(F) * sizeof(double);
   }
   stats_.slabSlices = slices_;
-  stats_.deviceBytes = bytesFor(setup, slices_);
-  stats_.pinnedBytes = kSlabSlots * (C * plane_ * sizeof(float) + rows * setup.pass.perRowPinned);
+  stats_.deviceBytes = bytesFor(setup, slices_) + (setup.resident ? setup.resident->bytes() : 0);
+  stats_.pinnedBytes = kSlabSlots * ((stageIn_[0] ? C * plane_ * sizeof(float) : 0) + rows * setup.pass.perRowPinned);
   return true;
 }
 
@@ -234,37 +303,20 @@ bool SlabStream::run(const FusedChannelFill& fill, const Launch& launch, const D
     s.firstRow = static_cast<std::size_t>(z0) * nxy;
     s.rows = static_cast<std::size_t>(z1 - z0) * nxy;
     s.features = features_[i];
-    s.channels = channels_[i];
-    s.plane = plane_;
     s.vBegin = static_cast<std::int64_t>(z0 - g0) * static_cast<std::int64_t>(nxy);
     s.pinned = passPinned_[i];
     ImageGrid sub = grid;
     sub.dims[2] = g1 - g0;
-
-    // The host converts this slab's channels while the device works on the other slot's.
-    const auto fillStart = Clock::now();
-    s.nonFinite.assign(static_cast<std::size_t>(C), false);
-    s.anyNonFinite = false;
-    for (int c = 0; c < C; ++c)
+    if (!channelsUp(s, g0, g1, withGhosts, fill, error))
     {
-      const bool bad = fill(c, static_cast<std::size_t>(g0) * nxy, withGhosts, stageIn_[i] + static_cast<std::size_t>(c) * plane_) > 0;
-      s.nonFinite[static_cast<std::size_t>(c)] = bad;
-      s.anyNonFinite = s.anyNonFinite || bad;
-    }
-    stats_.fillMs += msSince(fillStart);
-
-    for (int c = 0; c < C; ++c)
-    {
-      MCV_CUDA_TRY(cudaMemcpyAsync(channels_[i] + static_cast<std::size_t>(c) * plane_,
-        stageIn_[i] + static_cast<std::size_t>(c) * plane_, withGhosts * sizeof(float), cudaMemcpyHostToDevice, s.stream));
-      stats_.bytesToDevice += withGhosts * sizeof(float);
+      return false;
     }
     for (int c = 0; c < C; ++c)
     {
       ChannelParams p = channelParams(sub, setup_.selection, F, c * perChannel);
       p.vBegin = s.vBegin;
       p.vEnd = s.vBegin + static_cast<std::int64_t>(s.rows);
-      const float* channel = channels_[i] + static_cast<std::size_t>(c) * plane_;
+      const float* channel = s.channels + static_cast<std::size_t>(c) * s.plane;
       if (s.nonFinite[static_cast<std::size_t>(c)])
       {
         channelFeaturesKernel<true><<<slabBlocksFor(static_cast<std::int64_t>(s.rows)), kThreads, 0, s.stream>>>(
@@ -280,8 +332,8 @@ bool SlabStream::run(const FusedChannelFill& fill, const Launch& launch, const D
     if (normalise)
     {
       normalizeSlabKernel<<<slabBlocksFor(static_cast<std::int64_t>(s.rows) * F), kThreads, 0, s.stream>>>(features_[i],
-        static_cast<std::int64_t>(s.rows), F, columnParams_, columnParams_ + F, channels_[i], C,
-        static_cast<std::int64_t>(plane_), s.vBegin, s.anyNonFinite ? 1 : 0);
+        static_cast<std::int64_t>(s.rows), F, columnParams_, columnParams_ + F, s.channels, C,
+        static_cast<std::int64_t>(s.plane), s.vBegin, s.anyNonFinite ? 1 : 0);
       MCV_CUDA_TRY(cudaGetLastError());
     }
     if (!launch(s))
@@ -300,6 +352,82 @@ bool SlabStream::run(const FusedChannelFill& fill, const Launch& launch, const D
   }
   stats_.slabs = slab;
   stats_.totalMs = msSince(opened_);
+  if (setup_.resident && !setup_.resident->filled)
+  {
+    setup_.resident->nonFinite = residentNonFinite_;
+    setup_.resident->filled = true;
+  }
+  return true;
+}
+
+bool SlabStream::channelsUp(Slab& s, int g0, int g1, std::size_t withGhosts, const FusedChannelFill& fill, std::string* error)
+{
+  const int C = setup_.channels, i = s.slot;
+  const std::size_t nxy = sliceVoxels(setup_.grid);
+  ResidentChannels* const resident = setup_.resident;
+  s.nonFinite.assign(static_cast<std::size_t>(C), false);
+  if (resident && resident->filled)
+  {
+    // Everything is on the device already.
+    s.channels = resident->data() + static_cast<std::size_t>(g0) * nxy;
+    s.plane = resident->voxels();
+    s.nonFinite = resident->nonFinite;
+    s.anyNonFinite = std::find(s.nonFinite.begin(), s.nonFinite.end(), true) != s.nonFinite.end();
+    return true;
+  }
+  // The host converts the slices that go up while the device works on the other slot's
+  // slab: the slab with its ghosts, or, filling the resident copy, the slices not up yet.
+  const int u0 = resident ? std::max(g0, uploadedEnd_) : g0;
+  const std::size_t count = resident ? static_cast<std::size_t>(g1 - u0) * nxy : withGhosts;
+  if (resident && s.firstRow == 0)
+  {
+    residentNonFinite_.assign(static_cast<std::size_t>(C), false);
+  }
+  const auto fillStart = Clock::now();
+  for (int c = 0; c < C; ++c)
+  {
+    const bool bad = count > 0 && fill(c, static_cast<std::size_t>(u0) * nxy, count, stageIn_[i] + static_cast<std::size_t>(c) * plane_) > 0;
+    s.nonFinite[static_cast<std::size_t>(c)] = bad;
+  }
+  stats_.fillMs += msSince(fillStart);
+  if (resident)
+  {
+    // The slab's lower slices came up with earlier slabs (on the other stream): wait for them.
+    // Its flags are those of every slice up so far (a superset of its own: the guarded
+    // kernel equals the other on finite data).
+    const int previous = (i + kSlabSlots - 1) % kSlabSlots;
+    if (s.firstRow > 0)
+    {
+      MCV_CUDA_TRY(cudaStreamWaitEvent(s.stream, uploaded_[previous], 0));
+    }
+    for (int c = 0; c < C; ++c)
+    {
+      residentNonFinite_[static_cast<std::size_t>(c)] =
+        residentNonFinite_[static_cast<std::size_t>(c)] || s.nonFinite[static_cast<std::size_t>(c)];
+    }
+    s.nonFinite = residentNonFinite_;
+    s.channels = resident->data() + static_cast<std::size_t>(g0) * nxy;
+    s.plane = resident->voxels();
+    uploadedEnd_ = g1;
+  }
+  else
+  {
+    s.channels = channels_[i];
+    s.plane = plane_;
+  }
+  s.anyNonFinite = std::find(s.nonFinite.begin(), s.nonFinite.end(), true) != s.nonFinite.end();
+  float* const target = resident ? resident->data() + static_cast<std::size_t>(u0) * nxy : channels_[i];
+  const std::size_t targetPlane = resident ? resident->voxels() : plane_;
+  for (int c = 0; c < C && count > 0; ++c)
+  {
+    MCV_CUDA_TRY(cudaMemcpyAsync(target + static_cast<std::size_t>(c) * targetPlane,
+      stageIn_[i] + static_cast<std::size_t>(c) * plane_, count * sizeof(float), cudaMemcpyHostToDevice, s.stream));
+    stats_.bytesToDevice += count * sizeof(float);
+  }
+  if (resident)
+  {
+    MCV_CUDA_TRY(cudaEventRecord(uploaded_[i], s.stream));
+  }
   return true;
 }
 

@@ -48,6 +48,10 @@ struct SlabStreamSetup
   std::size_t deviceBytes = 0;       // 0: the free memory less a margin (1/16 of the card, >= 512 MiB)
   std::size_t maxSlabVoxels = kMaxSlabVoxels;
   SlabPassBytes pass;
+  // Optional: the whole volume's channels on the device (FusedPlacementCuda.h). Not yet
+  // filled: the stream uploads into it (each slice once) instead of per-slab buffers; filled:
+  // nothing is converted or uploaded.
+  ResidentChannels* resident = nullptr;
 };
 
 // One slab in its slot, as the pass's callbacks see it.
@@ -101,17 +105,23 @@ public:
 
 private:
   void release();
+  // Puts slab s's channels on the device (or finds them there) and sets s.channels, s.plane
+  // and the non-finite flags.
+  bool channelsUp(Slab& s, int g0, int g1, std::size_t withGhosts, const FusedChannelFill& fill, std::string* error);
 
   SlabStreamSetup setup_;
   int slices_ = 1;
   std::size_t plane_ = 0;
   cudaStream_t streams_[kSlabSlots] = { nullptr, nullptr };
-  float* channels_[kSlabSlots] = { nullptr, nullptr };      // device, C x plane
+  float* channels_[kSlabSlots] = { nullptr, nullptr };      // device, C x plane (not resident)
+  cudaEvent_t uploaded_[kSlabSlots] = { nullptr, nullptr }; // filling a resident copy: a slab's slices are up
   float* features_[kSlabSlots] = { nullptr, nullptr };      // device, slab rows x F
   float* stageIn_[kSlabSlots] = { nullptr, nullptr };       // pinned host, C x plane
   unsigned char* passPinned_[kSlabSlots] = { nullptr, nullptr };
   double* columnParams_ = nullptr;                          // device, offset then scale
   SlabStreamStats stats_;
+  int uploadedEnd_ = 0;                     // filling the resident copy: slices [0, uploadedEnd_) are up
+  std::vector<bool> residentNonFinite_;     // and their non-finite flags per channel
   std::chrono::steady_clock::time_point opened_;
 };
 

@@ -232,4 +232,38 @@ TEST(FusedPassesGPU, WholeChainOnTheGpuMatchesTheCpu)
   expectSameChain(floatViews(brain), brain[0].grid, 2000);
 }
 
+// The channels kept on the device from the statistics pass to the placement (a budget with
+// room for them) against every pass streaming them up again (a budget without): the
+// placement uploads no channel in the first, the same sample and coordinates (to the
+// rounding of the statistics, whose slabs differ) in both.
+TEST(FusedPassesGPU, ResidentChannelsGiveTheStreamedResult)
+{
+  MCV_REQUIRE_GPU();
+  if (!mt::haveBrain())
+    GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
+  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
+  const std::vector<mcv::ChannelView> views = floatViews(brain);
+  const mcv::ImageGrid& grid = brain[0].grid;
+  const std::size_t channelBytes = grid.voxelCount() * 3 * sizeof(float);
+  const std::size_t streamedBudget = mt::budgetForSlices(grid, 3, 24, 2000, 3, 4);
+  ASSERT_LT(streamedBudget, 2 * channelBytes); // the channels do not fit in half of it
+  const std::size_t residentBudget = streamedBudget + 2 * channelBytes;
+  const mcv::ReductionOptions o = mt::isomapOptions(2000, Device::GPU);
+  const mt::FusedRun streamed =
+    mt::runFused(views, grid, o, streamedBudget, mcv::FeatureBricks::kDefaultSlabBytes, Device::GPU);
+  const mt::FusedRun resident =
+    mt::runFused(views, grid, o, residentBudget, mcv::FeatureBricks::kDefaultSlabBytes, Device::GPU);
+  EXPECT_EQ(streamed.passesOnDevice, 3);
+  EXPECT_EQ(resident.passesOnDevice, 3);
+  EXPECT_EQ(resident.result.deviceUsed, Device::GPU);
+  std::printf("[ passes ] placement bytes up: %zu streamed, %zu with the channels resident (channels: %zu)\n",
+    streamed.stats.bytesToDevice, resident.stats.bytesToDevice, channelBytes);
+  EXPECT_GE(streamed.stats.bytesToDevice, channelBytes);
+  EXPECT_LT(resident.stats.bytesToDevice, channelBytes / 4); // the references only
+  EXPECT_LE(resident.stats.deviceBytes, residentBudget);
+  EXPECT_EQ(resident.result.referenceIndices, streamed.result.referenceIndices);
+  const float range = mt::coordinateRange(streamed.result.coordinates);
+  EXPECT_LE(mt::maxDifference(resident.result.coordinates, streamed.result.coordinates), 1e-5f * range);
+}
+
 } // namespace

@@ -65,6 +65,13 @@ cuda::FusedChannelFill channelFill(const std::vector<ChannelView>& channels)
 }
 #endif
 
+#ifdef MCV_HAS_CUDA
+cuda::ResidentChannels* residentOf(const std::shared_ptr<void>& resident)
+{
+  return static_cast<cuda::ResidentChannels*>(resident.get());
+}
+#endif
+
 // Voxels gathered per batch: their 3x3x3 neighbourhoods (27 voxels each, F features) stay
 // a few MiB.
 constexpr std::size_t kGatherBatch = 4096;
@@ -243,10 +250,17 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
 {
   const int nx = grid_.dims[0], ny = grid_.dims[1], nz = grid_.dims[2];
   const std::size_t F = static_cast<std::size_t>(cols_);
+  // Batches on separate threads (the sample's candidates run to millions of voxels in a giga-
+  // voxel volume with repeated content); the feature code inside each runs on its thread.
+  const long long batches = static_cast<long long>((n + kGatherBatch - 1) / kGatherBatch);
+#pragma omp parallel if (batches > 1)
+  {
   std::vector<float> values, features;
   std::vector<unsigned char> bad;
-  for (std::size_t at = 0; at < n; at += kGatherBatch)
+#pragma omp for schedule(dynamic)
+  for (long long batch = 0; batch < batches; ++batch)
   {
+    const std::size_t at = static_cast<std::size_t>(batch) * kGatherBatch;
     const std::size_t m = std::min(kGatherBatch, n - at);
     // The neighbourhoods side by side along x: voxel b's is x in [3b, 3b + 3), so its centre
     // (3b + 1, 1, 1) sees only its own neighbours, border-replicated as in the volume.
@@ -295,6 +309,7 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
     }
     detail::applyNormalizationCPU(FeatureOutput{ out + at * F, m, cols_ }, bad.data(), offset_, scale_);
   }
+  }
 }
 
 bool FeatureBricks::wholeVolumeHere() const
@@ -311,12 +326,19 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
   {
     return false;
   }
+  // The channels stay on the device for the later passes when they fit.
+  std::shared_ptr<cuda::ResidentChannels> resident = std::make_shared<cuda::ResidentChannels>();
+  if (resident->reserveIfFits(static_cast<int>(channels_.size()), grid_.voxelCount(), deviceBytes_))
+  {
+    resident_ = resident;
+  }
   cuda::FusedPassSetup setup;
   setup.grid = grid_;
   setup.channels = static_cast<int>(channels_.size());
   setup.selection = selection_;
   setup.cols = cols_;
   setup.deviceBytes = deviceBytes_;
+  setup.resident = residentOf(resident_);
   cuda::RawStatistics raw;
   if (!cuda::fusedRawStatistics(setup, channelFill(channels_), &raw, options_.progress, nullptr, &error))
   {
@@ -324,6 +346,7 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
     {
       error = "unknown CUDA failure";
     }
+    resident_.reset();
     return false;
   }
   parts = std::move(raw.slabs);
@@ -344,9 +367,11 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
 namespace
 {
 cuda::FusedPassSetup normalisedPassSetup(const ImageGrid& grid, std::size_t channels, const FeatureSelection& selection,
-  int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes)
+  int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes,
+  cuda::ResidentChannels* resident)
 {
   cuda::FusedPassSetup setup;
+  setup.resident = resident;
   setup.grid = grid;
   setup.channels = static_cast<int>(channels);
   setup.selection = selection;
@@ -369,7 +394,8 @@ DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(doub
   }
   out.attempted = true;
   cuda::ExactColumnSums sums;
-  if (!cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_),
+  if (!cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
+                                 residentOf(resident_)),
         channelFill(channels_), &sums, progress, nullptr, &out.error))
   {
     if (out.error.empty())
@@ -406,7 +432,8 @@ DevicePassReport FeatureBricks::strataOnDevice(const DeviceStrata& request)
   r.eligible = request.eligible;
   r.notEligible = request.notEligible;
   r.stratum = request.stratum;
-  if (!cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_),
+  if (!cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
+                                 residentOf(resident_)),
         channelFill(channels_), r, request.progress, nullptr, &out.error))
   {
     if (out.error.empty())
@@ -440,6 +467,7 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   setup.offset = offset_;
   setup.scale = scale_;
   setup.deviceBytes = deviceBytes_;
+  setup.resident = residentOf(resident_);
   cuda::PlacementInput& r = setup.references;
   r.refX = request.refX;
   r.refY = request.refY;
@@ -468,6 +496,7 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   {
     report.error = error.empty() ? std::string("unknown CUDA failure") : error;
   }
+  resident_.reset(); // the last pass over the volume
   report.radiusScans = stats.radiusScans;
   deviceStats_ = DeviceStats{ stats.slabSlices, stats.slabs, stats.bytesToDevice, stats.bytesFromDevice,
     stats.deviceBytes, stats.deviceUsedPeak, stats.pinnedBytes, stats.setupMs, stats.fillMs, stats.waitMs,

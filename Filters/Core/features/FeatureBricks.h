@@ -28,6 +28,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace mcv
@@ -109,6 +110,9 @@ private:
   std::size_t deviceBytes_ = 0;
   DeviceStats deviceStats_;
   int passesOnDevice_ = 0;
+  // CUDA builds: the channels kept on the device from the statistics pass to the placement
+  // when they fit (cuda::ResidentChannels, type-erased so that this header needs no CUDA).
+  std::shared_ptr<void> resident_;
   std::vector<float> features_, values_;
   std::vector<unsigned char> bad_, channelBad_;
 };
