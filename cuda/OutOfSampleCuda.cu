@@ -12,7 +12,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
+#include <limits>
+#include <utility>
 #include <vector>
 
 namespace mcv
@@ -72,14 +75,43 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
   return row[gather ? cColumns[c] : c];
 }
 
+// Tile pruning (pruneTiles): the references are ordered at upload so that each tile of
+// kTile is compact (orderReferences) and each tile has a float centroid c and a radius R
+// (the largest distance of its references to c, computed in double and rounded up). For a
+// query q and any reference r of the tile, |q - r| >= |q - c| - R. The kernel computes that
+// bound in float with a relative allowance for rounding, margin = 4 (DP + 4) 2^-24 (the
+// bound of floatDistanceMargin in ExactKnn.h: a float squared distance is within that
+// relative margin of the exact one), and a row "can skip" the tile when
+// lb^2 > (its current 8th float distance) * (1 + 4 margin). Then every reference r of the
+// tile has the float distance the kernel would compute, acc(q, r) >= (1 - margin)^2 |q - r|^2,
+// larger than the current 8th, which only decreases: r is not among the row's final 8 by
+// (float distance, index), so skipping it changes nothing. The block skips a tile only when
+// every active row can (__syncthreads_or of "needs it"). Candidates are inserted by
+// (float distance, original index), which does not depend on the order references are
+// visited in, so the pruned kernel returns exactly the unpruned kernel's candidates (the
+// same indices and float distances in the same slots).
+struct TileParams
+{
+  const unsigned* order;      // sorted position -> original reference index
+  const float4* centroids;    // tiles x DP / 4
+  const float* radii;         // tiles, rounded up
+  float margin;               // 4 (DP + 4) 2^-24
+  unsigned long long* visits; // [0] += tiles scanned x rows of the block, [1] += rows
+};
+constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
+
 // One query per thread; DP = D padded with zeros (queries and references alike) to a
 // multiple of 4 so a reference is read from shared memory as float4 broadcasts.
-template <int DP>
+template <int DP, bool Prune>
 __global__ void __launch_bounds__(kThreads) candidatesKernel(
-  RowParams p, const float4* __restrict__ refs4, unsigned* __restrict__ cIdx, float* __restrict__ cF)
+  RowParams p, TileParams tp, const float4* __restrict__ refs4, unsigned* __restrict__ cIdx, float* __restrict__ cF)
 {
   constexpr int V = DP / 4;
+  static_assert(kTile * V * sizeof(float4) >= kMaxRankedTiles * sizeof(float), "tile distances alias the tile");
   __shared__ float4 tile[kTile * V];
+  __shared__ unsigned tileIdx[Prune ? kTile : 1];
+  __shared__ unsigned short rankOrder[Prune ? kMaxRankedTiles : 1];
+  __shared__ float q0[Prune ? DP : 1];
   const int count = rowsToPlace(p);
   if (static_cast<int>(blockIdx.x) * kThreads >= count)
   {
@@ -102,15 +134,97 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
     bf[s] = __int_as_float(0x7f800000); // +inf
     bi[s] = kNone;
   }
-  for (int base = 0; base < p.M; base += kTile)
+  const int tiles = (p.M + kTile - 1) / kTile;
+  const bool ranked = Prune && tiles <= kMaxRankedTiles;
+  if (ranked)
   {
-    const int n = min(kTile, p.M - base);
-    __syncthreads();
-    for (int t = threadIdx.x; t < n * V; t += kThreads)
+    // The tiles in order of their centroid's distance to thread 0's row (always active):
+    // the block's rows are neighbouring voxels, so near tiles first lower the 8th distances
+    // early and more of the far tiles are skipped. A counting rank, ties by tile.
+    if (threadIdx.x == 0)
     {
-      tile[t] = refs4[static_cast<std::size_t>(base) * V + t];
+#pragma unroll
+      for (int c = 0; c < DP; ++c)
+      {
+        q0[c] = q[c];
+      }
     }
     __syncthreads();
+    float* dist = reinterpret_cast<float*>(tile);
+    for (int t = threadIdx.x; t < tiles; t += kThreads)
+    {
+      float acc = 0.f;
+#pragma unroll
+      for (int v = 0; v < V; ++v)
+      {
+        const float4 c = tp.centroids[t * V + v];
+        acc = fmaf(q0[4 * v] - c.x, q0[4 * v] - c.x, acc);
+        acc = fmaf(q0[4 * v + 1] - c.y, q0[4 * v + 1] - c.y, acc);
+        acc = fmaf(q0[4 * v + 2] - c.z, q0[4 * v + 2] - c.z, acc);
+        acc = fmaf(q0[4 * v + 3] - c.w, q0[4 * v + 3] - c.w, acc);
+      }
+      dist[t] = acc <= 3.4e38f ? acc : __int_as_float(0x7f800000); // NaN ranks last too
+    }
+    __syncthreads();
+    for (int t = threadIdx.x; t < tiles; t += kThreads)
+    {
+      const float dt = dist[t];
+      int rank = 0;
+      for (int u = 0; u < tiles; ++u)
+      {
+        const float du = dist[u];
+        rank += du < dt || (du == dt && u < t);
+      }
+      rankOrder[rank] = static_cast<unsigned short>(t);
+    }
+    __syncthreads(); // rankOrder complete; dist (the tile's memory) read by everyone
+  }
+  unsigned long long visited = 0;
+  for (int step = 0; step < tiles; ++step)
+  {
+    const int t = ranked ? rankOrder[step] : step;
+    const int base = t * kTile;
+    const int n = min(kTile, p.M - base);
+    if (Prune)
+    {
+      bool need = false;
+      if (active)
+      {
+        float acc = 0.f;
+#pragma unroll
+        for (int v = 0; v < V; ++v)
+        {
+          const float4 c = tp.centroids[t * V + v];
+          acc = fmaf(q[4 * v] - c.x, q[4 * v] - c.x, acc);
+          acc = fmaf(q[4 * v + 1] - c.y, q[4 * v + 1] - c.y, acc);
+          acc = fmaf(q[4 * v + 2] - c.z, q[4 * v + 2] - c.z, acc);
+          acc = fmaf(q[4 * v + 3] - c.w, q[4 * v + 3] - c.w, acc);
+        }
+        // |q - c| from below (its float value less 4 margins), less the radius; the
+        // comparison allows 4 margins more (see TileParams). 1e-36: subnormal rounding.
+        const float lb = sqrtf(acc) * (1.f - 4.f * tp.margin) - tp.radii[t];
+        need = !(lb > 0.f && lb * lb > fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f));
+      }
+      // Also the barrier that keeps the previous tile until everyone has scanned it.
+      if (!__syncthreads_or(need))
+      {
+        continue;
+      }
+    }
+    else
+    {
+      __syncthreads();
+    }
+    for (int i = threadIdx.x; i < n * V; i += kThreads)
+    {
+      tile[i] = refs4[static_cast<std::size_t>(base) * V + i];
+    }
+    if (Prune && threadIdx.x < n)
+    {
+      tileIdx[threadIdx.x] = tp.order[base + threadIdx.x];
+    }
+    __syncthreads();
+    ++visited;
 #pragma unroll 2
     for (int j = 0; j < n; ++j)
     {
@@ -128,26 +242,37 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
         acc = fmaf(t2, t2, acc);
         acc = fmaf(t3, t3, acc);
       }
-      if (acc < bf[KP - 1])
+      if (acc <= bf[KP - 1])
       {
-        // Increasing reference index: an equal distance stays behind, so (distance, index).
-        bf[KP - 1] = acc;
-        bi[KP - 1] = static_cast<unsigned>(base + j);
-#pragma unroll
-        for (int s = KP - 1; s > 0; --s)
+        // Kept by (distance, original index) whatever order the references come in; an
+        // equal distance to a kept +inf is not kept (as the scan in index order did).
+        const unsigned idx = Prune ? tileIdx[j] : static_cast<unsigned>(base + j);
+        if (acc < bf[KP - 1] || (idx < bi[KP - 1] && bi[KP - 1] != kNone))
         {
-          if (bf[s] < bf[s - 1])
+          bf[KP - 1] = acc;
+          bi[KP - 1] = idx;
+#pragma unroll
+          for (int s = KP - 1; s > 0; --s)
           {
-            const float tf = bf[s];
-            bf[s] = bf[s - 1];
-            bf[s - 1] = tf;
-            const unsigned ti = bi[s];
-            bi[s] = bi[s - 1];
-            bi[s - 1] = ti;
+            if (bf[s] < bf[s - 1] || (bf[s] == bf[s - 1] && bi[s] < bi[s - 1]))
+            {
+              const float tf = bf[s];
+              bf[s] = bf[s - 1];
+              bf[s - 1] = tf;
+              const unsigned ti = bi[s];
+              bi[s] = bi[s - 1];
+              bi[s - 1] = ti;
+            }
           }
         }
       }
     }
+  }
+  if (Prune && threadIdx.x == 0 && tp.visits)
+  {
+    const unsigned long long rows = static_cast<unsigned long long>(min(kThreads, count - static_cast<int>(blockIdx.x) * kThreads));
+    atomicAdd(tp.visits, visited * rows);
+    atomicAdd(tp.visits + 1, rows);
   }
   if (active)
   {
@@ -448,15 +573,179 @@ __global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __r
 }
 
 template <int DP>
-void launchCandidates(const RowParams& p, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)
+void launchCandidates(
+  const RowParams& p, const TileParams& tp, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)
 {
   const int blocks = (p.count + kThreads - 1) / kThreads;
-  candidatesKernel<DP><<<blocks, kThreads, 0, stream>>>(p, reinterpret_cast<const float4*>(refsPadded), cIdx, cF);
+  const float4* refs4 = reinterpret_cast<const float4*>(refsPadded);
+  if (tp.order)
+  {
+    candidatesKernel<DP, true><<<blocks, kThreads, 0, stream>>>(p, tp, refs4, cIdx, cF);
+  }
+  else
+  {
+    candidatesKernel<DP, false><<<blocks, kThreads, 0, stream>>>(p, tp, refs4, cIdx, cF);
+  }
 }
 
 int paddedDimension(int D)
 {
   return D <= 8 ? 8 : D <= 16 ? 16 : D <= 24 ? 24 : D <= 32 ? 32 : D <= 48 ? 48 : 64;
+}
+
+// The references reordered so that each tile of kTile consecutive ones is compact: a node
+// of the recursion is split across its principal axis (a few power iterations on its
+// covariance, in double) at a multiple of kTile, by rank along the axis (ties by index),
+// until it is one tile. order[sorted position] = original index; deterministic.
+std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
+{
+  std::vector<unsigned> order(M);
+  for (std::size_t i = 0; i < M; ++i)
+  {
+    order[i] = static_cast<unsigned>(i);
+  }
+  std::vector<double> mean(D), axis(D), next(D), x(D);
+  std::vector<std::pair<double, unsigned>> keyed;
+  struct Node
+  {
+    std::size_t lo, hi;
+  };
+  std::vector<Node> todo{ { 0, M } };
+  while (!todo.empty())
+  {
+    const Node node = todo.back();
+    todo.pop_back();
+    const std::size_t n = node.hi - node.lo;
+    if (n <= static_cast<std::size_t>(kTile))
+    {
+      continue;
+    }
+    std::fill(mean.begin(), mean.end(), 0.0);
+    for (std::size_t i = node.lo; i < node.hi; ++i)
+    {
+      for (int c = 0; c < D; ++c)
+      {
+        mean[c] += X[static_cast<std::size_t>(order[i]) * D + c];
+      }
+    }
+    for (int c = 0; c < D; ++c)
+    {
+      mean[c] /= static_cast<double>(n);
+    }
+    // Start from the widest coordinate (by variance) and iterate axis <- C axis.
+    std::fill(axis.begin(), axis.end(), 0.0);
+    for (std::size_t i = node.lo; i < node.hi; ++i)
+    {
+      for (int c = 0; c < D; ++c)
+      {
+        const double t = X[static_cast<std::size_t>(order[i]) * D + c] - mean[c];
+        axis[c] += t * t;
+      }
+    }
+    const int widest = static_cast<int>(std::max_element(axis.begin(), axis.end()) - axis.begin());
+    std::fill(axis.begin(), axis.end(), 0.0);
+    axis[widest] = 1.0;
+    for (int iteration = 0; iteration < 8; ++iteration)
+    {
+      std::fill(next.begin(), next.end(), 0.0);
+      for (std::size_t i = node.lo; i < node.hi; ++i)
+      {
+        double dot = 0.0;
+        for (int c = 0; c < D; ++c)
+        {
+          x[c] = X[static_cast<std::size_t>(order[i]) * D + c] - mean[c];
+          dot += x[c] * axis[c];
+        }
+        for (int c = 0; c < D; ++c)
+        {
+          next[c] += dot * x[c];
+        }
+      }
+      double norm = 0.0;
+      for (double v : next)
+      {
+        norm += v * v;
+      }
+      if (!(norm > 0.0) || !std::isfinite(norm))
+      {
+        break; // all equal (or not finite): keep the last axis
+      }
+      norm = std::sqrt(norm);
+      for (int c = 0; c < D; ++c)
+      {
+        axis[c] = next[c] / norm;
+      }
+    }
+    keyed.clear();
+    for (std::size_t i = node.lo; i < node.hi; ++i)
+    {
+      double dot = 0.0;
+      for (int c = 0; c < D; ++c)
+      {
+        dot += (X[static_cast<std::size_t>(order[i]) * D + c] - mean[c]) * axis[c];
+      }
+      keyed.emplace_back(std::isnan(dot) ? std::numeric_limits<double>::infinity() : dot, order[i]);
+    }
+    const std::size_t left = (n + kTile - 1) / kTile / 2 * kTile;
+    std::nth_element(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(left), keyed.end());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      order[node.lo + i] = keyed[i].second;
+    }
+    todo.push_back({ node.lo, node.lo + left });
+    todo.push_back({ node.lo + left, node.hi });
+  }
+  return order;
+}
+
+// Per tile of the ordered references: the centroid (float, padded to DP) and the radius,
+// the largest distance of its references to that float centroid, in double, rounded up to
+// a float; +inf for a tile with a value that is not finite (never skipped).
+void tileBounds(const float* X, std::size_t M, int D, int DP, const std::vector<unsigned>& order,
+  std::vector<float>& centroids, std::vector<float>& radii)
+{
+  const std::size_t tiles = (M + kTile - 1) / kTile;
+  centroids.assign(tiles * static_cast<std::size_t>(DP), 0.f);
+  radii.assign(tiles, 0.f);
+  std::vector<double> mean(D);
+  for (std::size_t t = 0; t < tiles; ++t)
+  {
+    const std::size_t lo = t * kTile, hi = std::min(M, lo + kTile);
+    std::fill(mean.begin(), mean.end(), 0.0);
+    bool finite = true;
+    for (std::size_t i = lo; i < hi; ++i)
+    {
+      for (int c = 0; c < D; ++c)
+      {
+        const float v = X[static_cast<std::size_t>(order[i]) * D + c];
+        finite = finite && std::isfinite(v);
+        mean[c] += v;
+      }
+    }
+    float* centroid = centroids.data() + t * DP;
+    if (!finite)
+    {
+      radii[t] = std::numeric_limits<float>::infinity();
+      continue;
+    }
+    for (int c = 0; c < D; ++c)
+    {
+      centroid[c] = static_cast<float>(mean[c] / static_cast<double>(hi - lo));
+    }
+    double r2 = 0.0;
+    for (std::size_t i = lo; i < hi; ++i)
+    {
+      double s = 0.0;
+      for (int c = 0; c < D; ++c)
+      {
+        const double t0 = static_cast<double>(X[static_cast<std::size_t>(order[i]) * D + c]) - centroid[c];
+        s += t0 * t0;
+      }
+      r2 = std::max(r2, s);
+    }
+    // 1e-9: more than the double rounding of the sum; nextafter: up past the float rounding.
+    radii[t] = std::nextafter(static_cast<float>(std::sqrt(r2) * (1.0 + 1e-9)), std::numeric_limits<float>::infinity());
+  }
 }
 
 using Clock = std::chrono::steady_clock;
@@ -475,6 +764,9 @@ struct PlacementOnDevice::Impl
     std::size_t tempBytes = 0;
   };
   DeviceBuffer refs, refX, refY, scanTotal;
+  // Tile pruning: refs in tile order, order[sorted] = original index, per-tile centroids
+  // and radii, the visit counters (TileParams::visits). Empty: refs in original order.
+  DeviceBuffer order, centroids, radii, visits;
   std::vector<Slot> slots;
   std::size_t M = 0, bytes = 0, chunk = 0;
   int D = 0, d = 0, k = 0, dim = 0, DP = 0;
@@ -509,7 +801,11 @@ std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
 
 std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
 {
-  return M * (static_cast<std::size_t>(paddedDimension(D)) + D + d) * sizeof(float) + sizeof(unsigned long long);
+  // Padded, original and embedding rows, the scan total; with pruning the order, the tiles'
+  // centroids and radii and two visit counters.
+  const std::size_t DP = static_cast<std::size_t>(paddedDimension(D)), tiles = (M + kTile - 1) / kTile;
+  return M * (DP + D + d) * sizeof(float) + sizeof(unsigned long long) + M * sizeof(unsigned) +
+    tiles * (DP + 1) * sizeof(float) + 2 * sizeof(unsigned long long);
 }
 
 bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t maxRows, std::string* error)
@@ -541,10 +837,31 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   I.regularization = in.regularization;
   I.margin = in.distanceMargin;
   I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
+  // The padded copy the candidate kernel reads: in tile order when pruning.
+  std::vector<unsigned> order;
+  std::vector<float> centroids, radii;
+  if (in.pruneTiles)
+  {
+    order = orderReferences(in.refX, in.M, in.D);
+    tileBounds(in.refX, in.M, in.D, I.DP, order, centroids, radii);
+  }
   std::vector<float> padded(in.M * static_cast<std::size_t>(I.DP), 0.f);
   for (std::size_t i = 0; i < in.M; ++i)
   {
-    std::copy(in.refX + i * in.D, in.refX + (i + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * I.DP));
+    const std::size_t from = order.empty() ? i : order[i];
+    std::copy(in.refX + from * in.D, in.refX + (from + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * I.DP));
+  }
+  if (!order.empty())
+  {
+    MCV_CUDA_TRY(cudaMalloc(&I.order.ptr, order.size() * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&I.centroids.ptr, centroids.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.radii.ptr, radii.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.visits.ptr, 2 * sizeof(unsigned long long)));
+    MCV_CUDA_TRY(cudaMemcpy(I.order.ptr, order.data(), order.size() * sizeof(unsigned), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(
+      cudaMemcpy(I.centroids.ptr, centroids.data(), centroids.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.radii.ptr, radii.data(), radii.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemset(I.visits.ptr, 0, 2 * sizeof(unsigned long long)));
   }
   MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
   MCV_CUDA_TRY(cudaMalloc(&I.refX.ptr, in.M * in.D * sizeof(float)));
@@ -596,6 +913,8 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
   RowParams p{ deviceRows, 0, 0, I.dim, I.D, I.gather ? 1 : 0, static_cast<int>(I.M) };
   PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
     deviceNeighbors };
+  const TileParams tp{ I.order.as<unsigned>(), I.centroids.as<float4>(), I.radii.as<float>(),
+    static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), I.visits.as<unsigned long long>() };
   for (std::size_t first = 0; first < n; first += I.chunk)
   {
     p.first = first;
@@ -619,22 +938,22 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
     switch (I.DP)
     {
       case 8:
-        launchCandidates<8>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<8>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
       case 16:
-        launchCandidates<16>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<16>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
       case 24:
-        launchCandidates<24>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<24>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
       case 32:
-        launchCandidates<32>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<32>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
       case 48:
-        launchCandidates<48>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<48>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
       default:
-        launchCandidates<64>(p, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        launchCandidates<64>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
         break;
     }
     MCV_CUDA_TRY(cudaGetLastError());
@@ -663,6 +982,20 @@ bool PlacementOnDevice::radiusScans(std::size_t* count, std::string* error)
     MCV_CUDA_TRY(cudaMemcpy(&total, P->scanTotal.ptr, sizeof total, cudaMemcpyDeviceToHost));
   }
   *count = static_cast<std::size_t>(total);
+  return true;
+}
+
+bool PlacementOnDevice::tileVisits(int* tiles, double* perRow, std::string* error)
+{
+  const Impl& I = *P;
+  *tiles = static_cast<int>((I.M + kTile - 1) / kTile);
+  *perRow = *tiles;
+  if (I.visits.ptr)
+  {
+    unsigned long long v[2] = { 0, 0 };
+    MCV_CUDA_TRY(cudaMemcpy(v, I.visits.ptr, sizeof v, cudaMemcpyDeviceToHost));
+    *perRow = v[1] ? static_cast<double>(v[0]) / static_cast<double>(v[1]) : 0.0;
+  }
   return true;
 }
 
@@ -711,7 +1044,7 @@ bool placeOutOfSample(const PlacementInput& in, float* out, std::uint32_t* neigh
     }
   }
   MCV_CUDA_TRY(cudaDeviceSynchronize());
-  if (!device.radiusScans(&st.radiusScans, error))
+  if (!device.radiusScans(&st.radiusScans, error) || !device.tileVisits(&st.tiles, &st.tilesPerRow, error))
   {
     return false;
   }
