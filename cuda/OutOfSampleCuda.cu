@@ -1,11 +1,13 @@
-// Out-of-sample placement on the GPU: float candidates by a shared-memory tiled kernel,
-// then the canonical rule (ExactKnn.h) in double, the bound check, an exact scan for the
-// rows that fail it, and the barycentric weights, all on the device.
+// Out-of-sample placement on the GPU: float candidates by a shared-memory tiled kernel
+// (by default skipping the reference tiles that cannot hold a candidate, see "Tile
+// pruning"), then the canonical rule (ExactKnn.h) in double, the bound check, an exact scan
+// for the rows that fail it, and the barycentric weights, all on the device.
 #include "OutOfSampleCuda.h"
 
 #include "CudaCheck.h"
 #include "DeviceBuffer.cuh"
 
+#include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
 #include <cub/device/device_select.cuh>
 #include <thrust/iterator/counting_iterator.h>
@@ -75,30 +77,101 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
   return row[gather ? cColumns[c] : c];
 }
 
-// Tile pruning (pruneTiles): the references are ordered at upload so that each tile of
-// kTile is compact (orderReferences) and each tile has a float centroid c and a radius R
-// (the largest distance of its references to c, computed in double and rounded up). For a
-// query q and any reference r of the tile, |q - r| >= |q - c| - R. The kernel computes that
-// bound in float with a relative allowance for rounding, margin = 4 (DP + 4) 2^-24 (the
-// bound of floatDistanceMargin in ExactKnn.h: a float squared distance is within that
-// relative margin of the exact one), and a row "can skip" the tile when
-// lb^2 > (its current 8th float distance) * (1 + 4 margin). Then every reference r of the
-// tile has the float distance the kernel would compute, acc(q, r) >= (1 - margin)^2 |q - r|^2,
-// larger than the current 8th, which only decreases: r is not among the row's final 8 by
-// (float distance, index), so skipping it changes nothing. The block skips a tile only when
-// every active row can (__syncthreads_or of "needs it"). Candidates are inserted by
-// (float distance, original index), which does not depend on the order references are
-// visited in, so the pruned kernel returns exactly the unpruned kernel's candidates (the
-// same indices and float distances in the same slots).
+// Tile pruning (pruneTiles). At upload the references are ordered so that each tile of
+// kPruneTile consecutive ones is compact (orderReferences); per tile its centroid (to rank
+// the tiles) and its bounding box [lo, hi], the exact float minimum and maximum of each
+// coordinate over its references. For a query q and any reference r of the tile,
+// |q - r|^2 >= box(q)^2 = sum_c max(0, lo_c - q_c, q_c - hi_c)^2. (On the brain's 24D
+// features this box prunes far more than the ball |q - c| - R: with the final 8th
+// distance known, a row needs 32 % of the 128-reference tiles by the box, 77 % by the ball.)
+// The float box(q)^2 is at most (1 + (D + 4) 2^-24) times the exact one, and the float
+// distance the kernel computes is acc >= (1 - margin) |q - r|^2 with margin =
+// 4 (DP + 4) 2^-24 (floatDistanceMargin of ExactKnn.h). A row "can skip" the tile when
+// box(q)^2 > (its current 8th float distance) * (1 + 4 margin): then acc > that 8th
+// distance for every r of the tile, and the 8th only decreases, so r is not among the row's
+// final 8 by (float distance, index) and skipping it changes nothing. A warp scans the tile
+// unless all its rows can skip it; the block loads it unless all its rows can. Candidates
+// are kept by (float distance, original index), which does not depend on the order the
+// references are visited in: the pruned kernel returns exactly the unpruned kernel's
+// candidates (the same indices and float distances in the same slots), so the resolve and
+// exact-scan kernels (which see original indices) give the same neighbours and coordinates.
+//
+// So that the 32 rows of a warp are alike (and skip the same tiles), the rows of a chunk
+// are first sorted by their nearest tile centroid (stable: neighbouring voxels stay
+// together); the candidates are still written at each row's own position.
+constexpr int kPruneTile = 32;        // references per tile when pruning
+constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
+
 struct TileParams
 {
-  const unsigned* order;      // sorted position -> original reference index
+  const unsigned* order;      // sorted position -> original reference index; null: no pruning
   const float4* centroids;    // tiles x DP / 4
-  const float* radii;         // tiles, rounded up
+  const float4* lo;           // tiles x DP / 4, the box
+  const float4* hi;
   float margin;               // 4 (DP + 4) 2^-24
-  unsigned long long* visits; // [0] += tiles scanned x rows of the block, [1] += rows
+  const unsigned* rowOrder;   // thread slot -> row of the chunk (sorted by nearest tile)
+  unsigned long long* visits; // [0] += tiles scanned (by a warp) x its rows, [1] += rows
 };
-constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
+
+template <int V>
+__device__ __forceinline__ float squaredDistance(const float* q, const float4* __restrict__ c)
+{
+  float acc = 0.f;
+#pragma unroll
+  for (int v = 0; v < V; ++v)
+  {
+    const float4 r = c[v];
+    acc = fmaf(q[4 * v] - r.x, q[4 * v] - r.x, acc);
+    acc = fmaf(q[4 * v + 1] - r.y, q[4 * v + 1] - r.y, acc);
+    acc = fmaf(q[4 * v + 2] - r.z, q[4 * v + 2] - r.z, acc);
+    acc = fmaf(q[4 * v + 3] - r.w, q[4 * v + 3] - r.w, acc);
+  }
+  return acc;
+}
+
+__device__ __forceinline__ float boxGap(float q, float lo, float hi)
+{
+  return fmaxf(0.f, fmaxf(lo - q, q - hi));
+}
+
+// The rows' keys for the sort: the nearest tile centroid (rows beyond the chunk's list:
+// `tiles`, last).
+template <int DP>
+__global__ void nearestTileKernel(RowParams p, TileParams tp, int tiles, unsigned* __restrict__ keys,
+  unsigned* __restrict__ rows)
+{
+  constexpr int V = DP / 4;
+  const int local = blockIdx.x * blockDim.x + threadIdx.x;
+  if (local >= p.count)
+  {
+    return;
+  }
+  rows[local] = static_cast<unsigned>(local);
+  if (local >= rowsToPlace(p))
+  {
+    keys[local] = static_cast<unsigned>(tiles);
+    return;
+  }
+  const float* row = p.rows + (p.first + static_cast<std::size_t>(rowOf(p, local))) * p.dim;
+  float q[DP];
+#pragma unroll
+  for (int c = 0; c < DP; ++c)
+  {
+    q[c] = c < p.D ? feature(row, c, p.gather) : 0.f;
+  }
+  float best = __int_as_float(0x7f800000);
+  int at = 0;
+  for (int t = 0; t < tiles; ++t)
+  {
+    const float d = squaredDistance<V>(q, tp.centroids + static_cast<std::size_t>(t) * V);
+    if (d < best)
+    {
+      best = d;
+      at = t;
+    }
+  }
+  keys[local] = static_cast<unsigned>(at);
+}
 
 // One query per thread; DP = D padded with zeros (queries and references alike) to a
 // multiple of 4 so a reference is read from shared memory as float4 broadcasts.
@@ -107,18 +180,21 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
   RowParams p, TileParams tp, const float4* __restrict__ refs4, unsigned* __restrict__ cIdx, float* __restrict__ cF)
 {
   constexpr int V = DP / 4;
-  static_assert(kTile * V * sizeof(float4) >= kMaxRankedTiles * sizeof(float), "tile distances alias the tile");
-  __shared__ float4 tile[kTile * V];
-  __shared__ unsigned tileIdx[Prune ? kTile : 1];
+  constexpr int TileN = Prune ? kPruneTile : kTile;
+  __shared__ float4 tile[TileN * V];
+  __shared__ unsigned tileIdx[Prune ? TileN : 1];
   __shared__ unsigned short rankOrder[Prune ? kMaxRankedTiles : 1];
+  __shared__ float dist[Prune ? kMaxRankedTiles : 1];
   __shared__ float q0[Prune ? DP : 1];
+  __shared__ unsigned long long blockVisits;
   const int count = rowsToPlace(p);
   if (static_cast<int>(blockIdx.x) * kThreads >= count)
   {
     return; // the whole block (before any barrier): beyond the rows to place
   }
-  const int local = blockIdx.x * kThreads + threadIdx.x;
-  const bool active = local < count;
+  const int slot = blockIdx.x * kThreads + threadIdx.x;
+  const bool active = slot < count;
+  const int local = Prune && active ? static_cast<int>(tp.rowOrder[slot]) : slot;
   const float* row = p.rows + (p.first + static_cast<std::size_t>(active ? rowOf(p, local) : 0)) * p.dim;
   float q[DP];
 #pragma unroll
@@ -134,13 +210,13 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
     bf[s] = __int_as_float(0x7f800000); // +inf
     bi[s] = kNone;
   }
-  const int tiles = (p.M + kTile - 1) / kTile;
+  const int tiles = (p.M + TileN - 1) / TileN;
   const bool ranked = Prune && tiles <= kMaxRankedTiles;
   if (ranked)
   {
     // The tiles in order of their centroid's distance to thread 0's row (always active):
-    // the block's rows are neighbouring voxels, so near tiles first lower the 8th distances
-    // early and more of the far tiles are skipped. A counting rank, ties by tile.
+    // near tiles first lower the 8th distances early, so more far tiles are skipped. A
+    // counting rank, ties by tile.
     if (threadIdx.x == 0)
     {
 #pragma unroll
@@ -148,22 +224,13 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
       {
         q0[c] = q[c];
       }
+      blockVisits = 0;
     }
     __syncthreads();
-    float* dist = reinterpret_cast<float*>(tile);
     for (int t = threadIdx.x; t < tiles; t += kThreads)
     {
-      float acc = 0.f;
-#pragma unroll
-      for (int v = 0; v < V; ++v)
-      {
-        const float4 c = tp.centroids[t * V + v];
-        acc = fmaf(q0[4 * v] - c.x, q0[4 * v] - c.x, acc);
-        acc = fmaf(q0[4 * v + 1] - c.y, q0[4 * v + 1] - c.y, acc);
-        acc = fmaf(q0[4 * v + 2] - c.z, q0[4 * v + 2] - c.z, acc);
-        acc = fmaf(q0[4 * v + 3] - c.w, q0[4 * v + 3] - c.w, acc);
-      }
-      dist[t] = acc <= 3.4e38f ? acc : __int_as_float(0x7f800000); // NaN ranks last too
+      const float d = squaredDistance<V>(q0, tp.centroids + static_cast<std::size_t>(t) * V);
+      dist[t] = d <= 3.4e38f ? d : __int_as_float(0x7f800000); // NaN ranks last too
     }
     __syncthreads();
     for (int t = threadIdx.x; t < tiles; t += kThreads)
@@ -177,35 +244,43 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
       }
       rankOrder[rank] = static_cast<unsigned short>(t);
     }
-    __syncthreads(); // rankOrder complete; dist (the tile's memory) read by everyone
+    __syncthreads(); // rankOrder complete before anyone reads it
   }
-  unsigned long long visited = 0;
+  else if (Prune && threadIdx.x == 0)
+  {
+    blockVisits = 0; // published by the first barrier of the tile loop
+  }
+  unsigned long long visited = 0; // tiles this warp scanned
   for (int step = 0; step < tiles; ++step)
   {
     const int t = ranked ? rankOrder[step] : step;
-    const int base = t * kTile;
-    const int n = min(kTile, p.M - base);
+    const int base = t * TileN;
+    const int n = min(TileN, p.M - base);
+    bool warpNeeds = true;
     if (Prune)
     {
       bool need = false;
       if (active)
       {
-        float acc = 0.f;
+        const float4* lo = tp.lo + static_cast<std::size_t>(t) * V;
+        const float4* hi = tp.hi + static_cast<std::size_t>(t) * V;
+        float box = 0.f;
 #pragma unroll
         for (int v = 0; v < V; ++v)
         {
-          const float4 c = tp.centroids[t * V + v];
-          acc = fmaf(q[4 * v] - c.x, q[4 * v] - c.x, acc);
-          acc = fmaf(q[4 * v + 1] - c.y, q[4 * v + 1] - c.y, acc);
-          acc = fmaf(q[4 * v + 2] - c.z, q[4 * v + 2] - c.z, acc);
-          acc = fmaf(q[4 * v + 3] - c.w, q[4 * v + 3] - c.w, acc);
+          const float4 l = lo[v], h = hi[v];
+          const float g0 = boxGap(q[4 * v], l.x, h.x), g1 = boxGap(q[4 * v + 1], l.y, h.y);
+          const float g2 = boxGap(q[4 * v + 2], l.z, h.z), g3 = boxGap(q[4 * v + 3], l.w, h.w);
+          box = fmaf(g0, g0, box);
+          box = fmaf(g1, g1, box);
+          box = fmaf(g2, g2, box);
+          box = fmaf(g3, g3, box);
         }
-        // |q - c| from below (its float value less 4 margins), less the radius; the
-        // comparison allows 4 margins more (see TileParams). 1e-36: subnormal rounding.
-        const float lb = sqrtf(acc) * (1.f - 4.f * tp.margin) - tp.radii[t];
-        need = !(lb > 0.f && lb * lb > fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f));
+        // 1e-36: subnormal roundings (absolute, far below any distance that matters).
+        need = !(box > fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f));
       }
-      // Also the barrier that keeps the previous tile until everyone has scanned it.
+      warpNeeds = __any_sync(0xffffffffu, need);
+      // Also the barrier that keeps the previous tile until every warp has scanned it.
       if (!__syncthreads_or(need))
       {
         continue;
@@ -224,6 +299,10 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
       tileIdx[threadIdx.x] = tp.order[base + threadIdx.x];
     }
     __syncthreads();
+    if (!warpNeeds)
+    {
+      continue; // every row of this warp can skip the tile
+    }
     ++visited;
 #pragma unroll 2
     for (int j = 0; j < n; ++j)
@@ -268,11 +347,19 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
       }
     }
   }
-  if (Prune && threadIdx.x == 0 && tp.visits)
+  if (Prune && tp.visits)
   {
-    const unsigned long long rows = static_cast<unsigned long long>(min(kThreads, count - static_cast<int>(blockIdx.x) * kThreads));
-    atomicAdd(tp.visits, visited * rows);
-    atomicAdd(tp.visits + 1, rows);
+    const unsigned rows = __popc(__ballot_sync(0xffffffffu, active));
+    if ((threadIdx.x & 31) == 0)
+    {
+      atomicAdd(&blockVisits, visited * rows);
+    }
+    __syncthreads();
+    if (threadIdx.x == 0)
+    {
+      atomicAdd(tp.visits, blockVisits);
+      atomicAdd(tp.visits + 1, static_cast<unsigned long long>(min(kThreads, count - static_cast<int>(blockIdx.x) * kThreads)));
+    }
   }
   if (active)
   {
@@ -572,20 +659,46 @@ __global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __r
   }
 }
 
+// The rows' nearest-tile keys and their sort (pruning only), then the candidates.
+struct SortScratch
+{
+  unsigned *keys, *keysOut, *rows, *rowsOut;
+  void* temp;
+  std::size_t tempBytes;
+  int tiles, keyBits;
+};
+
 template <int DP>
-void launchCandidates(
-  const RowParams& p, const TileParams& tp, const float* refsPadded, unsigned* cIdx, float* cF, cudaStream_t stream)
+cudaError_t launchCandidates(const RowParams& p, TileParams tp, const SortScratch& ss, const float* refsPadded,
+  unsigned* cIdx, float* cF, cudaStream_t stream)
 {
   const int blocks = (p.count + kThreads - 1) / kThreads;
   const float4* refs4 = reinterpret_cast<const float4*>(refsPadded);
   if (tp.order)
   {
+    nearestTileKernel<DP><<<blocks, kThreads, 0, stream>>>(p, tp, ss.tiles, ss.keys, ss.rows);
+    cudaError_t e = cudaGetLastError();
+    if (e != cudaSuccess)
+    {
+      return e;
+    }
+    // Double buffers: no copy of the keys in the temporary storage; the sorted rows end in
+    // whichever buffer the passes leave them (known on the host).
+    std::size_t bytes = ss.tempBytes;
+    cub::DoubleBuffer<unsigned> keys(ss.keys, ss.keysOut), rows(ss.rows, ss.rowsOut);
+    e = cub::DeviceRadixSort::SortPairs(ss.temp, bytes, keys, rows, p.count, 0, ss.keyBits, stream);
+    if (e != cudaSuccess)
+    {
+      return e;
+    }
+    tp.rowOrder = rows.Current();
     candidatesKernel<DP, true><<<blocks, kThreads, 0, stream>>>(p, tp, refs4, cIdx, cF);
   }
   else
   {
     candidatesKernel<DP, false><<<blocks, kThreads, 0, stream>>>(p, tp, refs4, cIdx, cF);
   }
+  return cudaGetLastError();
 }
 
 int paddedDimension(int D)
@@ -593,9 +706,9 @@ int paddedDimension(int D)
   return D <= 8 ? 8 : D <= 16 ? 16 : D <= 24 ? 24 : D <= 32 ? 32 : D <= 48 ? 48 : 64;
 }
 
-// The references reordered so that each tile of kTile consecutive ones is compact: a node
+// The references reordered so that each tile of kPruneTile consecutive ones is compact: a node
 // of the recursion is split across its principal axis (a few power iterations on its
-// covariance, in double) at a multiple of kTile, by rank along the axis (ties by index),
+// covariance, in double) at a multiple of kPruneTile, by rank along the axis (ties by index),
 // until it is one tile. order[sorted position] = original index; deterministic.
 std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
 {
@@ -616,7 +729,7 @@ std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
     const Node node = todo.back();
     todo.pop_back();
     const std::size_t n = node.hi - node.lo;
-    if (n <= static_cast<std::size_t>(kTile))
+    if (n <= static_cast<std::size_t>(kPruneTile))
     {
       continue;
     }
@@ -686,7 +799,7 @@ std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
       }
       keyed.emplace_back(std::isnan(dot) ? std::numeric_limits<double>::infinity() : dot, order[i]);
     }
-    const std::size_t left = (n + kTile - 1) / kTile / 2 * kTile;
+    const std::size_t left = (n + kPruneTile - 1) / kPruneTile / 2 * kPruneTile;
     std::nth_element(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(left), keyed.end());
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -698,53 +811,46 @@ std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
   return order;
 }
 
-// Per tile of the ordered references: the centroid (float, padded to DP) and the radius,
-// the largest distance of its references to that float centroid, in double, rounded up to
-// a float; +inf for a tile with a value that is not finite (never skipped).
+// Per tile of the ordered references: the centroid and the bounding box (the exact float
+// minimum and maximum of each coordinate), padded to DP with zeros like the rows. A tile
+// with a value that is not finite gets an infinite box (never skipped).
 void tileBounds(const float* X, std::size_t M, int D, int DP, const std::vector<unsigned>& order,
-  std::vector<float>& centroids, std::vector<float>& radii)
+  std::vector<float>& centroids, std::vector<float>& lo, std::vector<float>& hi)
 {
-  const std::size_t tiles = (M + kTile - 1) / kTile;
+  const std::size_t tiles = (M + kPruneTile - 1) / kPruneTile;
   centroids.assign(tiles * static_cast<std::size_t>(DP), 0.f);
-  radii.assign(tiles, 0.f);
+  lo.assign(tiles * static_cast<std::size_t>(DP), 0.f);
+  hi.assign(tiles * static_cast<std::size_t>(DP), 0.f);
   std::vector<double> mean(D);
   for (std::size_t t = 0; t < tiles; ++t)
   {
-    const std::size_t lo = t * kTile, hi = std::min(M, lo + kTile);
+    const std::size_t first = t * kPruneTile, last = std::min(M, first + kPruneTile);
+    float* l = lo.data() + t * DP;
+    float* h = hi.data() + t * DP;
     std::fill(mean.begin(), mean.end(), 0.0);
+    std::fill(l, l + D, std::numeric_limits<float>::infinity());
+    std::fill(h, h + D, -std::numeric_limits<float>::infinity());
     bool finite = true;
-    for (std::size_t i = lo; i < hi; ++i)
+    for (std::size_t i = first; i < last; ++i)
     {
       for (int c = 0; c < D; ++c)
       {
         const float v = X[static_cast<std::size_t>(order[i]) * D + c];
         finite = finite && std::isfinite(v);
         mean[c] += v;
+        l[c] = std::min(l[c], v);
+        h[c] = std::max(h[c], v);
       }
-    }
-    float* centroid = centroids.data() + t * DP;
-    if (!finite)
-    {
-      radii[t] = std::numeric_limits<float>::infinity();
-      continue;
     }
     for (int c = 0; c < D; ++c)
     {
-      centroid[c] = static_cast<float>(mean[c] / static_cast<double>(hi - lo));
-    }
-    double r2 = 0.0;
-    for (std::size_t i = lo; i < hi; ++i)
-    {
-      double s = 0.0;
-      for (int c = 0; c < D; ++c)
+      centroids[t * DP + c] = finite ? static_cast<float>(mean[c] / static_cast<double>(last - first)) : 0.f;
+      if (!finite)
       {
-        const double t0 = static_cast<double>(X[static_cast<std::size_t>(order[i]) * D + c]) - centroid[c];
-        s += t0 * t0;
+        l[c] = -std::numeric_limits<float>::infinity();
+        h[c] = std::numeric_limits<float>::infinity();
       }
-      r2 = std::max(r2, s);
     }
-    // 1e-9: more than the double rounding of the sum; nextafter: up past the float rounding.
-    radii[t] = std::nextafter(static_cast<float>(std::sqrt(r2) * (1.0 + 1e-9)), std::numeric_limits<float>::infinity());
   }
 }
 
@@ -761,15 +867,16 @@ struct PlacementOnDevice::Impl
   {
     DeviceBuffer cIdx, cF, scanRows, scanCount;
     DeviceBuffer headIdx, headOf, list, listCount, temp; // runs of equal rows
+    DeviceBuffer keys, keysOut, rowOrder, rowOrderOut;    // rows sorted by nearest tile
     std::size_t tempBytes = 0;
   };
   DeviceBuffer refs, refX, refY, scanTotal;
   // Tile pruning: refs in tile order, order[sorted] = original index, per-tile centroids
-  // and radii, the visit counters (TileParams::visits). Empty: refs in original order.
-  DeviceBuffer order, centroids, radii, visits;
+  // and boxes, the visit counters (TileParams::visits). Empty: refs in original order.
+  DeviceBuffer order, centroids, lo, hi, visits;
   std::vector<Slot> slots;
   std::size_t M = 0, bytes = 0, chunk = 0;
-  int D = 0, d = 0, k = 0, dim = 0, DP = 0;
+  int D = 0, d = 0, k = 0, dim = 0, DP = 0, tiles = 0, keyBits = 0; // tiles: pruning's, 0 without
   bool gather = false;
   double regularization = 0, margin = 0;
 };
@@ -793,19 +900,19 @@ std::size_t PlacementOnDevice::deviceBytes() const
 
 std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
 {
-  // Candidates and scan list, run heads, run owners, placed list; CUB's temporary storage
-  // (a few KiB per million rows) is bounded by 1 MiB here.
-  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 4) * sizeof(unsigned) +
-    2 * sizeof(unsigned) + (std::size_t(1) << 20);
+  // Candidates and scan list, run heads, run owners, placed list, the sort's keys and rows
+  // (twice); CUB's temporary storage (a few KiB per million rows) is bounded by 2 MiB here.
+  return std::min(kChunkRows, std::max<std::size_t>(1, maxRows)) * (2 * KP + 8) * sizeof(unsigned) +
+    2 * sizeof(unsigned) + (std::size_t(2) << 20);
 }
 
 std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
 {
   // Padded, original and embedding rows, the scan total; with pruning the order, the tiles'
-  // centroids and radii and two visit counters.
-  const std::size_t DP = static_cast<std::size_t>(paddedDimension(D)), tiles = (M + kTile - 1) / kTile;
+  // centroids and boxes and two visit counters.
+  const std::size_t DP = static_cast<std::size_t>(paddedDimension(D)), tiles = (M + kPruneTile - 1) / kPruneTile;
   return M * (DP + D + d) * sizeof(float) + sizeof(unsigned long long) + M * sizeof(unsigned) +
-    tiles * (DP + 1) * sizeof(float) + 2 * sizeof(unsigned long long);
+    tiles * 3 * DP * sizeof(float) + 2 * sizeof(unsigned long long);
 }
 
 bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t maxRows, std::string* error)
@@ -839,11 +946,17 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
   // The padded copy the candidate kernel reads: in tile order when pruning.
   std::vector<unsigned> order;
-  std::vector<float> centroids, radii;
+  std::vector<float> centroids, lo, hi;
   if (in.pruneTiles)
   {
     order = orderReferences(in.refX, in.M, in.D);
-    tileBounds(in.refX, in.M, in.D, I.DP, order, centroids, radii);
+    tileBounds(in.refX, in.M, in.D, I.DP, order, centroids, lo, hi);
+    I.tiles = static_cast<int>(centroids.size() / static_cast<std::size_t>(I.DP));
+    I.keyBits = 1; // the sort's keys: tiles (0 .. tiles - 1, and tiles for no row)
+    while ((1u << I.keyBits) <= static_cast<unsigned>(I.tiles))
+    {
+      ++I.keyBits;
+    }
   }
   std::vector<float> padded(in.M * static_cast<std::size_t>(I.DP), 0.f);
   for (std::size_t i = 0; i < in.M; ++i)
@@ -855,12 +968,14 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   {
     MCV_CUDA_TRY(cudaMalloc(&I.order.ptr, order.size() * sizeof(unsigned)));
     MCV_CUDA_TRY(cudaMalloc(&I.centroids.ptr, centroids.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMalloc(&I.radii.ptr, radii.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.lo.ptr, lo.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.hi.ptr, hi.size() * sizeof(float)));
     MCV_CUDA_TRY(cudaMalloc(&I.visits.ptr, 2 * sizeof(unsigned long long)));
     MCV_CUDA_TRY(cudaMemcpy(I.order.ptr, order.data(), order.size() * sizeof(unsigned), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(
       cudaMemcpy(I.centroids.ptr, centroids.data(), centroids.size() * sizeof(float), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(cudaMemcpy(I.radii.ptr, radii.data(), radii.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.lo.ptr, lo.data(), lo.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.hi.ptr, hi.data(), hi.size() * sizeof(float), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMemset(I.visits.ptr, 0, 2 * sizeof(unsigned long long)));
   }
   MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
@@ -886,6 +1001,19 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
     MCV_CUDA_TRY(cub::DeviceScan::InclusiveScan(nullptr, scanBytes, slot.headIdx.as<unsigned>(),
       slot.headOf.as<unsigned>(), MaxOp{}, static_cast<int>(I.chunk)));
     slot.tempBytes = std::max<std::size_t>(1, std::max(selectBytes, scanBytes));
+    if (I.tiles > 0)
+    {
+      MCV_CUDA_TRY(cudaMalloc(&slot.keys.ptr, I.chunk * sizeof(unsigned)));
+      MCV_CUDA_TRY(cudaMalloc(&slot.keysOut.ptr, I.chunk * sizeof(unsigned)));
+      MCV_CUDA_TRY(cudaMalloc(&slot.rowOrder.ptr, I.chunk * sizeof(unsigned)));
+      MCV_CUDA_TRY(cudaMalloc(&slot.rowOrderOut.ptr, I.chunk * sizeof(unsigned)));
+      std::size_t sortBytes = 0;
+      cub::DoubleBuffer<unsigned> keys(slot.keys.as<unsigned>(), slot.keysOut.as<unsigned>());
+      cub::DoubleBuffer<unsigned> rowOrder(slot.rowOrder.as<unsigned>(), slot.rowOrderOut.as<unsigned>());
+      MCV_CUDA_TRY(
+        cub::DeviceRadixSort::SortPairs(nullptr, sortBytes, keys, rowOrder, static_cast<int>(I.chunk), 0, I.keyBits));
+      slot.tempBytes = std::max(slot.tempBytes, sortBytes);
+    }
     MCV_CUDA_TRY(cudaMalloc(&slot.temp.ptr, slot.tempBytes));
     I.bytes += scratchBytesPerSlot(I.chunk);
   }
@@ -913,8 +1041,10 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
   RowParams p{ deviceRows, 0, 0, I.dim, I.D, I.gather ? 1 : 0, static_cast<int>(I.M) };
   PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
     deviceNeighbors };
-  const TileParams tp{ I.order.as<unsigned>(), I.centroids.as<float4>(), I.radii.as<float>(),
-    static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), I.visits.as<unsigned long long>() };
+  const TileParams tp{ I.order.as<unsigned>(), I.centroids.as<float4>(), I.lo.as<float4>(), I.hi.as<float4>(),
+    static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), nullptr, I.visits.as<unsigned long long>() };
+  const SortScratch ss{ s.keys.as<unsigned>(), s.keysOut.as<unsigned>(), s.rowOrder.as<unsigned>(),
+    s.rowOrderOut.as<unsigned>(), s.temp.ptr, s.tempBytes, I.tiles, I.keyBits };
   for (std::size_t first = 0; first < n; first += I.chunk)
   {
     p.first = first;
@@ -938,22 +1068,22 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
     switch (I.DP)
     {
       case 8:
-        launchCandidates<8>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<8>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
       case 16:
-        launchCandidates<16>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<16>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
       case 24:
-        launchCandidates<24>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<24>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
       case 32:
-        launchCandidates<32>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<32>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
       case 48:
-        launchCandidates<48>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<48>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
       default:
-        launchCandidates<64>(p, tp, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream);
+        MCV_CUDA_TRY(launchCandidates<64>(p, tp, ss, I.refs.as<float>(), s.cIdx.as<unsigned>(), s.cF.as<float>(), stream));
         break;
     }
     MCV_CUDA_TRY(cudaGetLastError());
@@ -988,7 +1118,7 @@ bool PlacementOnDevice::radiusScans(std::size_t* count, std::string* error)
 bool PlacementOnDevice::tileVisits(int* tiles, double* perRow, std::string* error)
 {
   const Impl& I = *P;
-  *tiles = static_cast<int>((I.M + kTile - 1) / kTile);
+  *tiles = static_cast<int>((I.M + kPruneTile - 1) / kPruneTile);
   *perRow = *tiles;
   if (I.visits.ptr)
   {

@@ -10,9 +10,9 @@
 // checks it with the float error bound and computes the barycentric weights and the
 // coordinates; rows whose check fails get an exact double scan of every reference. So the
 // GPU picks the same neighbours as the CPU. With pruneTiles the references are ordered
-// into compact tiles at upload and a block of rows skips a tile that the triangle
-// inequality shows cannot improve any of its rows' candidates: the same candidates, fewer
-// references scanned.
+// into compact tiles at upload, the rows of a chunk are sorted by their nearest tile, and a
+// warp skips a tile whose bounding box shows it cannot improve any of its rows' candidates:
+// the same candidates, fewer references scanned.
 #pragma once
 
 #include <cstddef>
@@ -43,8 +43,8 @@ struct PlacementInput
   int neighbors = 3;
   double regularization = 1e-3;
   double distanceMargin = 0; // floatDistanceMargin(D) of ExactKnn.h
-  // Skip whole tiles of references that cannot hold a candidate (triangle inequality on
-  // compact tiles, see OutOfSampleCuda.cu); the same candidates either way. false: every
+  // Skip whole tiles of references that cannot hold a candidate (a bounding-box lower bound
+  // on compact tiles, see OutOfSampleCuda.cu); the same candidates either way. false: every
   // reference is scanned for every row (the benchmarks' in-run baseline).
   bool pruneTiles = true;
 };
@@ -53,7 +53,7 @@ struct PlacementStats
 {
   double uploadMs = 0, computeMs = 0, downloadMs = 0;
   std::size_t radiusScans = 0; // rows solved by the exact scan
-  int tiles = 0;               // reference tiles (of 128)
+  int tiles = 0;               // reference tiles (of 32, the pruning's)
   double tilesPerRow = 0;      // tiles scanned per row placed (tiles when not pruning)
 };
 

@@ -107,7 +107,7 @@ void placementKernels(mcv::FeatureBricks& bricks, const mcv::ReductionResult& r,
     }
   }
   std::printf("  placement kernels alone on slab %zu (%.2f M rows, every row searched): tile pruning %.1f ms, every "
-              "reference %.1f ms: x%.2f; tiles of 128 scanned per row %.2f of %d; same neighbours and coordinates: %s\n",
+              "reference %.1f ms: x%.2f; tiles of 32 scanned per row %.2f of %d; same neighbours and coordinates: %s\n",
     b, n / 1e6, st[0].computeMs, st[1].computeMs, st[1].computeMs / st[0].computeMs, st[0].tilesPerRow, st[0].tiles,
     nb[0] == nb[1] && out[0] == out[1] ? "yes" : "NO");
   std::fflush(stdout);
