@@ -44,8 +44,9 @@ struct PlacementInput
   double regularization = 1e-3;
   double distanceMargin = 0; // floatDistanceMargin(D) of ExactKnn.h
   // Skip whole tiles of references that cannot hold a candidate (a bounding-box lower bound
-  // on compact tiles, see OutOfSampleCuda.cu); the same candidates either way. false: every
-  // reference is scanned for every row (the benchmarks' in-run baseline).
+  // on compact tiles, see OutOfSampleCuda.cu); the same candidates either way. Only with at
+  // least 32 tiles of 32 references. false: every reference is scanned for every row (the
+  // benchmarks' in-run baseline).
   bool pruneTiles = true;
 };
 
