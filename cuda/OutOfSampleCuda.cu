@@ -99,7 +99,9 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 // So that the 32 rows of a warp are alike (and skip the same tiles), the rows of a chunk
 // are first sorted by their nearest tile centroid (stable: neighbouring voxels stay
 // together); the candidates are still written at each row's own position.
-constexpr int kPruneTile = 32;        // references per tile when pruning
+// References per tile when pruning: 32 placed a 2.64 M-row brain slab (10000 references,
+// 24D) 2.37x faster than the unpruned kernel, 64: 2.25x, 16: 1.93x (H200, one call).
+constexpr int kPruneTile = 32;
 constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
 // Fewer tiles: every reference is scanned (the sort and the checks do not pay: 360
 // references of a lattice, 12 tiles, took 0.4 ms pruned and 0.3 ms unpruned on an H100).
