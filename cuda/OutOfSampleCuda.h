@@ -9,7 +9,10 @@
 // canonical rule of ExactKnn.h (double distances rounded like the CPU's, ties by index),
 // checks it with the float error bound and computes the barycentric weights and the
 // coordinates; rows whose check fails get an exact double scan of every reference. So the
-// GPU picks the same neighbours as the CPU.
+// GPU picks the same neighbours as the CPU. With pruneTiles the references are ordered
+// into compact tiles at upload, the rows of a chunk are sorted by their nearest tile, and a
+// warp skips a tile whose bounding box shows it cannot improve any of its rows' candidates:
+// the same candidates, fewer references scanned.
 #pragma once
 
 #include <cstddef>
@@ -40,12 +43,19 @@ struct PlacementInput
   int neighbors = 3;
   double regularization = 1e-3;
   double distanceMargin = 0; // floatDistanceMargin(D) of ExactKnn.h
+  // Skip whole tiles of references that cannot hold a candidate (a bounding-box lower bound
+  // on compact tiles, see OutOfSampleCuda.cu); the same candidates either way. Only with at
+  // least 32 tiles of 32 references. false: every reference is scanned for every row (the
+  // benchmarks' in-run baseline).
+  bool pruneTiles = true;
 };
 
 struct PlacementStats
 {
   double uploadMs = 0, computeMs = 0, downloadMs = 0;
   std::size_t radiusScans = 0; // rows solved by the exact scan
+  int tiles = 0;               // reference tiles (of 32, the pruning's)
+  double tilesPerRow = 0;      // tiles scanned per row placed (tiles when not pruning)
 };
 
 // out: n x d floats; neighbors (optional): n x k references each row was placed by.
@@ -79,6 +89,8 @@ public:
     void* stream, bool mergeEqualRows, std::string* error);
   // Rows solved by the exact scan since upload (waits for the device).
   bool radiusScans(std::size_t* count, std::string* error);
+  // Reference tiles, and tiles scanned per row placed since upload (waits for the device).
+  bool tileVisits(int* tiles, double* perRow, std::string* error);
   // Device bytes held: upload's, and what it needs for M references and per slot.
   std::size_t deviceBytes() const;
   static std::size_t referenceBytes(std::size_t M, int D, int d);

@@ -27,6 +27,10 @@
 // coordinates down) with the statistics and fit of the compare size (the same brain, tiled);
 // --merge-baseline adds that stage with every voxel searched (the in-run baseline of runs of
 // equal voxels placed once).
+//
+// The placement's tile pruning (PlacementInput::pruneTiles) has its in-run baseline twice:
+// the large GPU stage runs with and without it, and at the compare size the placement
+// kernels alone place one slab's rows both ways (tiles scanned per row, same neighbours).
 #include "BrainFeatures.h"
 #include "CommandLine.h"
 #include "ScaledBrain.h"
@@ -35,6 +39,7 @@
 #include "ExactKnn.h"
 #include "cuda/FusedPlacementCuda.h"
 #include "cuda/HarrisCuda.h"
+#include "cuda/OutOfSampleCuda.h"
 
 #include <cuda_runtime.h>
 #include <omp.h>
@@ -66,6 +71,49 @@ struct ChainRun
   std::vector<float> refX;      // the reference sample's features (used columns)
   double statisticsS = 0, reduceS = 0, wholeS = 0;
 };
+
+// The placement alone (cuda::placeOutOfSample: rows up, kernels, coordinates down; every
+// row searched) on the middle slab's normalised rows, with and without tile pruning.
+void placementKernels(mcv::FeatureBricks& bricks, const mcv::ReductionResult& r, const std::vector<float>& refX)
+{
+  const std::size_t b = bricks.blockCount() / 2, first = bricks.blockBegin(b), n = bricks.blockBegin(b + 1) - first;
+  const float* rows = bricks.block(b);
+  std::vector<float> refY;
+  for (std::int64_t id : r.referenceIndices)
+    for (int c = 0; c < 3; ++c)
+      refY.push_back(r.coordinates[static_cast<std::size_t>(id) * 3 + static_cast<std::size_t>(c)]);
+  mcv::cuda::PlacementInput in;
+  in.refX = refX.data();
+  in.refY = refY.data();
+  in.M = r.referenceIndices.size();
+  in.D = static_cast<int>(r.usedColumns.size());
+  in.d = 3;
+  in.rows = rows;
+  in.n = n;
+  in.dim = bricks.cols();
+  in.columns = in.D == bricks.cols() ? nullptr : r.usedColumns.data();
+  in.distanceMargin = mcv::floatDistanceMargin(in.D);
+  std::vector<float> out[2];
+  std::vector<std::uint32_t> nb[2];
+  mcv::cuda::PlacementStats st[2];
+  for (int pass = 0; pass < 2; ++pass)
+  {
+    in.pruneTiles = pass == 0;
+    out[pass].resize(n * 3);
+    nb[pass].resize(n * 3);
+    std::string error;
+    if (!mcv::cuda::placeOutOfSample(in, out[pass].data(), nb[pass].data(), {}, &st[pass], &error))
+    {
+      std::printf("  placement kernels failed: %s\n", error.c_str());
+      return;
+    }
+  }
+  std::printf("  placement kernels alone on slab %zu (%.2f M rows, every row searched): tile pruning %.1f ms, every "
+              "reference %.1f ms: x%.2f; tiles of 32 scanned per row %.2f of %d; same neighbours and coordinates: %s\n",
+    b, n / 1e6, st[0].computeMs, st[1].computeMs, st[1].computeMs / st[0].computeMs, st[0].tilesPerRow, st[0].tiles,
+    nb[0] == nb[1] && out[0] == out[1] ? "yes" : "NO");
+  std::fflush(stdout);
+}
 
 ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t reference, std::size_t deviceBytes)
 {
@@ -146,6 +194,8 @@ ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t r
   for (std::size_t i = 0; i < index.size(); ++i)
     for (int c : run.result.usedColumns)
       run.refX.push_back(rows[i * static_cast<std::size_t>(bricks.cols()) + static_cast<std::size_t>(c)]);
+  if (run.result.deviceUsed == mcv::Device::GPU)
+    placementKernels(bricks, run.result, run.refX);
   return run;
 }
 
@@ -154,7 +204,8 @@ ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t r
 // scales and the fit of `fitted` (a smaller tiling of the same brain, whose statistics are
 // nearly the same). Reference i's embedding is the coordinate of its own voxel (the
 // placement returns a reference's embedding exactly).
-void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t deviceBytes, bool mergeEqualRows)
+double stageOnly(
+  const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t deviceBytes, bool mergeEqualRows, bool pruneTiles)
 {
   const mcv::ReductionResult& r = fitted.result;
   const std::size_t M = r.referenceIndices.size();
@@ -182,6 +233,7 @@ void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t 
   in.dim = 24;
   in.columns = static_cast<int>(r.usedColumns.size()) == 24 ? nullptr : r.usedColumns.data();
   in.distanceMargin = mcv::floatDistanceMargin(in.D);
+  in.pruneTiles = pruneTiles;
   const std::vector<mcv::ChannelView> views = t.views();
   const mcv::cuda::FusedChannelFill fill = [&](int c, std::size_t first, std::size_t count, float* values) {
     mcv::ChannelView v = views[static_cast<std::size_t>(c)];
@@ -198,12 +250,13 @@ void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t 
   if (!ok)
   {
     std::printf("GPU stage failed after %zu rows: %s\n", done, error.c_str());
-    return;
+    return 0;
   }
   const double voxels = static_cast<double>(t.grid.voxelCount());
-  std::printf("  GPU stage (channels -> features -> placement -> coordinates%s): %.2f s, %.2f ns/voxel, %.1f M "
+  std::printf("  GPU stage (channels -> features -> placement -> coordinates%s%s): %.2f s, %.2f ns/voxel, %.1f M "
               "voxels/s\n",
-    mergeEqualRows ? "" : ", every voxel searched", s, s * 1e9 / voxels, voxels / s / 1e6);
+    mergeEqualRows ? "" : ", every voxel searched", pruneTiles ? ", tile pruning" : ", every reference scanned", s,
+    s * 1e9 / voxels, voxels / s / 1e6);
   std::printf("    %zu slabs of %d slices; setup %.2f s, host conversion %.2f s, waiting for the device %.2f s; %zu rows "
               "needed the exact scan\n",
     st.slabs, st.slabSlices, st.setupMs / 1e3, st.fillMs / 1e3, st.waitMs / 1e3, st.radiusScans);
@@ -217,6 +270,7 @@ void stageOnly(const mt::ScaledChannels& t, const ChainRun& fitted, std::size_t 
               "size; fit %.2f s; whole chain estimate %.1f s\n",
     perVoxelCpu * 1e9, perVoxelCpu * voxels, fitted.result.fitMs / 1e3, perVoxelCpu * voxels + fitted.result.fitMs / 1e3 + s);
   std::fflush(stdout);
+  return s;
 }
 
 } // namespace
@@ -294,9 +348,14 @@ int main(int argc, char** argv)
     if (!gpuSmall.refX.empty() &&
       (mcv::testing::hasFlag(argc, argv, "--stage-only") || mcv::testing::hasFlag(argc, argv, "--merge-baseline")))
     {
-      stageOnly(t, gpuSmall, deviceBytes, true);
+      const double pruned = stageOnly(t, gpuSmall, deviceBytes, true, true);
+      // The in-run baseline of the tile pruning: every reference scanned for every row.
+      const double all = stageOnly(t, gpuSmall, deviceBytes, true, false);
+      if (pruned > 0 && all > 0)
+        std::printf("GPU stage, every reference scanned / tile pruning: x%.2f (%.2f s / %.2f s, same call)\n",
+          all / pruned, all, pruned);
       if (mcv::testing::hasFlag(argc, argv, "--merge-baseline"))
-        stageOnly(t, gpuSmall, deviceBytes, false); // the in-run baseline of equal runs placed once
+        stageOnly(t, gpuSmall, deviceBytes, false, true); // the in-run baseline of equal runs placed once
     }
   }
   return 0;

@@ -1,16 +1,22 @@
 // GPU out-of-sample placement against the CPU path: the same neighbours (the canonical
 // (double distance, index) rule is computed with the same roundings on both), coordinates
 // within 1e-4 of the embedding's range (only the 3x3 solve differs: Cholesky on the GPU,
-// Eigen's LDLT on the CPU), on random data, on exact ties, and on the real brain.
+// Eigen's LDLT on the CPU), on random data, on exact ties, and on the real brain. The
+// tile pruning (PlacementInput::pruneTiles) against every reference scanned: the same
+// neighbours and the same coordinates, bit for bit, with fewer tiles scanned.
 #include "BrainFeatures.h"
+#include "ExactKnn.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
 #include "RequireGpu.h"
+#include "cuda/OutOfSampleCuda.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <random>
 
@@ -95,6 +101,50 @@ void expectGpuMatchesCpu(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& ref
   EXPECT_EQ(sameNb, m);
   EXPECT_GE(static_cast<double>(close), minClose * static_cast<double>(m));
 }
+// cuda::placeOutOfSample with tile pruning on and off: the same neighbours and the same
+// coordinates (the candidates are the same, so everything after them is too). Returns the
+// pruned run's tiles scanned per row as a fraction of the tiles.
+double expectPruningChangesNothing(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& refY, const float* rows,
+  std::size_t n, int dim, const std::vector<int>& columns)
+{
+  mcv::cuda::PlacementInput in;
+  in.refX = refX.data();
+  in.refY = refY.data();
+  in.M = static_cast<std::size_t>(refX.rows());
+  in.D = static_cast<int>(refX.cols());
+  in.d = static_cast<int>(refY.cols());
+  in.rows = rows;
+  in.n = n;
+  in.dim = dim;
+  in.columns = columns.empty() ? nullptr : columns.data();
+  in.distanceMargin = mcv::floatDistanceMargin(in.D);
+  const std::size_t d = static_cast<std::size_t>(in.d);
+  std::vector<float> yPruned(n * d), yAll(n * d);
+  std::vector<std::uint32_t> nbPruned(n * 3), nbAll(n * 3);
+  mcv::cuda::PlacementStats pruned, all;
+  std::string error;
+  in.pruneTiles = true;
+  EXPECT_TRUE(mcv::cuda::placeOutOfSample(in, yPruned.data(), nbPruned.data(), {}, &pruned, &error)) << error;
+  in.pruneTiles = false;
+  EXPECT_TRUE(mcv::cuda::placeOutOfSample(in, yAll.data(), nbAll.data(), {}, &all, &error)) << error;
+  std::size_t sameNb = 0, sameY = 0;
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    sameNb += std::equal(nbPruned.begin() + i * 3, nbPruned.begin() + i * 3 + 3, nbAll.begin() + i * 3);
+    sameY += std::memcmp(yPruned.data() + i * d, yAll.data() + i * d, d * sizeof(float)) == 0;
+  }
+  std::printf("[ pruning ] D=%d M=%zu: %zu rows, same neighbours %zu, same coordinates %zu; tiles scanned per row "
+              "%.2f of %d (unpruned %.2f); compute %.1f ms pruned, %.1f ms unpruned (x%.2f); radius scans %zu / %zu\n",
+    in.D, in.M, n, sameNb, sameY, pruned.tilesPerRow, pruned.tiles, all.tilesPerRow, pruned.computeMs, all.computeMs,
+    all.computeMs / pruned.computeMs, pruned.radiusScans, all.radiusScans);
+  EXPECT_EQ(sameNb, n);
+  EXPECT_EQ(sameY, n);
+  EXPECT_EQ(pruned.radiusScans, all.radiusScans);
+  EXPECT_EQ(all.tilesPerRow, all.tiles); // no pruning: every tile
+  EXPECT_EQ(pruned.tiles, all.tiles);
+  EXPECT_GE(pruned.tilesPerRow, 1.0);
+  return pruned.tilesPerRow / std::max(1, pruned.tiles);
+}
 } // namespace
 
 TEST(OutOfSampleGPU, MatchesCpuOnRandomData)
@@ -114,6 +164,37 @@ TEST(OutOfSampleGPU, MatchesCpuOnRandomData)
     for (int i = 0; i < 500; ++i)
       for (int c = 0; c < 3; ++c)
         ASSERT_EQ(gpu.y[i * 3 + c], refY(i, c));
+  }
+}
+
+TEST(OutOfSampleGPU, TilePruningChangesNothingOnClusteredData)
+{
+  MCV_REQUIRE_GPU();
+  // 40 clusters (centres N(0, 4^2) per coordinate, spread N(0, 1)), references and rows drawn
+  // from them, rows in runs of one cluster like neighbouring voxels of one tissue; plus
+  // rows far from every reference, exact matches and exactly tied copies.
+  for (int D : { 6, 24 })
+  {
+    SCOPED_TRACE("D = " + std::to_string(D));
+    std::mt19937 rng(7 + D);
+    const int clusters = 40;
+    const mcv::RowMatrixF centres = randomMatrix(clusters, D, rng) * 4.f;
+    std::uniform_int_distribution<int> pick(0, clusters - 1);
+    mcv::RowMatrixF refX = randomMatrix(10000, D, rng);
+    for (Eigen::Index r = 0; r < refX.rows(); ++r)
+      refX.row(r) += centres.row(pick(rng));
+    refX.row(17) = refX.row(4000); // a duplicated reference: an exact tie for every row
+    const mcv::RowMatrixF refY = randomMatrix(10000, 3, rng);
+    mcv::RowMatrixF q = randomMatrix(100000, D, rng);
+    for (Eigen::Index r = 0; r < q.rows(); ++r)
+      q.row(r) += centres.row((r / 1000) % clusters);
+    q.topRows(500) = refX.topRows(500);
+    q.middleRows(500, 300) *= 100.f; // far from everything
+    const double scanned =
+      expectPruningChangesNothing(refX, refY, q.data(), static_cast<std::size_t>(q.rows()), D, {});
+    // Clusters far apart relative to their spread: most tiles are skipped.
+    EXPECT_LT(scanned, 0.5);
+    expectGpuMatchesCpu(refX, refY, q.data(), static_cast<std::size_t>(q.rows()), D, {}, 5);
   }
 }
 
@@ -147,6 +228,32 @@ TEST(OutOfSampleGPU, ExactTiesBreakByIndexLikeTheCpu)
   expectGpuMatchesCpu(refX, refY, rows.data(), 20000, 6, {}, 1, 0.995);
 }
 
+TEST(OutOfSampleGPU, TilePruningKeepsExactTiesByIndex)
+{
+  MCV_REQUIRE_GPU();
+  // 2000 points of the lattice {0,1,2,3}^6 (63 tiles of 32, enough to prune), rows on the
+  // half-integer lattice: many references at exactly the same float distance, in different
+  // tiles visited in a different order than the index order; candidates are kept by
+  // (distance, index), so pruning must change nothing, ties and exact scans included.
+  std::mt19937 rng(3);
+  std::vector<int> perm(4096);
+  std::iota(perm.begin(), perm.end(), 0);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  mcv::RowMatrixF refX(2000, 6);
+  for (int r = 0; r < 2000; ++r)
+  {
+    int x = perm[r];
+    for (int c = 0; c < 6; ++c, x /= 4)
+      refX(r, c) = static_cast<float>(x % 4);
+  }
+  const mcv::RowMatrixF refY = randomMatrix(2000, 2, rng);
+  std::uniform_int_distribution<int> v(0, 7);
+  std::vector<float> rows(50000 * 6);
+  for (float& x : rows)
+    x = static_cast<float>(v(rng)) * 0.5f;
+  expectPruningChangesNothing(refX, refY, rows.data(), 50000, 6, {});
+}
+
 TEST(OutOfSampleGPU, MatchesCpuOnTheWholeBrain)
 {
   MCV_REQUIRE_GPU();
@@ -176,8 +283,12 @@ TEST(OutOfSampleGPU, MatchesCpuOnTheWholeBrain)
       for (int c = 1; c < 24; ++c)
         columns.push_back(c);
       expectGpuMatchesCpu(sub, refY, f.values.data(), f.rows, D, columns, 16);
+      expectPruningChangesNothing(sub, refY, f.values.data(), f.rows, D, columns);
     }
     else
+    {
       expectGpuMatchesCpu(refX, refY, f.values.data(), f.rows, D, {}, 16);
+      expectPruningChangesNothing(refX, refY, f.values.data(), f.rows, D, {});
+    }
   }
 }
