@@ -197,68 +197,92 @@ __global__ void nonFiniteCountKernel(const float* channels, int C, std::int64_t 
 // Exact integer sums per exponent field (a float is m 2^(e - 150), |m| < 2^24), extremes and
 // non-finite values of the normalised features; integer atomics only, so any order gives the
 // same result. firstRow: the slab's first row in the volume (for the first non-finite value).
+// A thread keeps the exponents of kWindow in registers; the others go to the block's bins in
+// shared memory (cols x 256, when sharedBins; else straight to the global ones), which the
+// block adds to the global bins at its end: few global atomics, so no contention there.
 __global__ void exactSumsKernel(const float* __restrict__ features, std::int64_t rows, int cols, int S,
   std::uint64_t firstRow, unsigned long long* bins, int* minKey, int* maxKey, unsigned long long* nonFinite,
-  unsigned long long* firstBad)
+  unsigned long long* firstBad, int sharedBins)
 {
-  const int t = blockIdx.x * blockDim.x + threadIdx.x;
-  if (t >= S)
+  extern __shared__ unsigned long long blockBins[];
+  const int binCount = cols * kExactExponents;
+  if (sharedBins)
   {
-    return;
-  }
-  const int col = t % cols;
-  long long window[kWindow];
-#pragma unroll
-  for (int w = 0; w < kWindow; ++w)
-  {
-    window[w] = 0;
-  }
-  float lo = INFINITY, hi = -INFINITY;
-  unsigned long long bad = 0, firstBadHere = ~0ull;
-  const std::int64_t elements = rows * cols;
-  for (std::int64_t e = t; e < elements; e += S)
-  {
-    const float x = features[e];
-    if (!isfinite(x))
+    for (int i = threadIdx.x; i < binCount; i += blockDim.x)
     {
-      ++bad;
-      firstBadHere = min(firstBadHere, static_cast<unsigned long long>(firstRow * cols + e));
-      continue;
+      blockBins[i] = 0ull;
     }
-    lo = fminf(lo, x);
-    hi = fmaxf(hi, x);
-    const unsigned bits = __float_as_uint(x);
-    const int ex = static_cast<int>((bits >> 23) & 0xFFu);
-    const long long mag = static_cast<long long>((bits & 0x7FFFFFu) | (ex != 0 ? 0x800000u : 0u));
-    const long long m = (bits >> 31) != 0 ? -mag : mag;
-    const int w = ex - kWindowLow;
-    if (w >= 0 && w < kWindow)
-    {
+    __syncthreads();
+  }
+  unsigned long long* const spill = sharedBins ? blockBins : bins;
+  const int t = blockIdx.x * blockDim.x + threadIdx.x;
+  if (t < S)
+  {
+    const int col = t % cols;
+    long long window[kWindow];
 #pragma unroll
-      for (int k = 0; k < kWindow; ++k)
+    for (int w = 0; w < kWindow; ++w)
+    {
+      window[w] = 0;
+    }
+    float lo = INFINITY, hi = -INFINITY;
+    unsigned long long bad = 0, firstBadHere = ~0ull;
+    const std::int64_t elements = rows * cols;
+    for (std::int64_t e = t; e < elements; e += S)
+    {
+      const float x = features[e];
+      if (!isfinite(x))
       {
-        window[k] += (k == w) ? m : 0;
+        ++bad;
+        firstBadHere = min(firstBadHere, static_cast<unsigned long long>(firstRow * cols + e));
+        continue;
+      }
+      lo = fminf(lo, x);
+      hi = fmaxf(hi, x);
+      const unsigned bits = __float_as_uint(x);
+      const int ex = static_cast<int>((bits >> 23) & 0xFFu);
+      const long long mag = static_cast<long long>((bits & 0x7FFFFFu) | (ex != 0 ? 0x800000u : 0u));
+      const long long m = (bits >> 31) != 0 ? -mag : mag;
+      const int w = ex - kWindowLow;
+      if (w >= 0 && w < kWindow)
+      {
+#pragma unroll
+        for (int k = 0; k < kWindow; ++k)
+        {
+          window[k] += (k == w) ? m : 0;
+        }
+      }
+      else if (m != 0)
+      {
+        atomicAdd(&spill[col * kExactExponents + max(ex, 1)], static_cast<unsigned long long>(m));
       }
     }
-    else if (m != 0)
-    {
-      atomicAdd(&bins[col * kExactExponents + max(ex, 1)], static_cast<unsigned long long>(m));
-    }
-  }
 #pragma unroll
-  for (int w = 0; w < kWindow; ++w)
-  {
-    if (window[w] != 0)
+    for (int w = 0; w < kWindow; ++w)
     {
-      atomicAdd(&bins[col * kExactExponents + kWindowLow + w], static_cast<unsigned long long>(window[w]));
+      if (window[w] != 0)
+      {
+        atomicAdd(&spill[col * kExactExponents + kWindowLow + w], static_cast<unsigned long long>(window[w]));
+      }
+    }
+    atomicMin(&minKey[col], orderedKey(lo));
+    atomicMax(&maxKey[col], orderedKey(hi));
+    if (bad > 0)
+    {
+      atomicAdd(nonFinite, bad);
+      atomicMin(firstBad, firstBadHere);
     }
   }
-  atomicMin(&minKey[col], orderedKey(lo));
-  atomicMax(&maxKey[col], orderedKey(hi));
-  if (bad > 0)
+  if (sharedBins)
   {
-    atomicAdd(nonFinite, bad);
-    atomicMin(firstBad, firstBadHere);
+    __syncthreads();
+    for (int i = threadIdx.x; i < binCount; i += blockDim.x)
+    {
+      if (blockBins[i] != 0ull)
+      {
+        atomicAdd(&bins[i], blockBins[i]);
+      }
+    }
   }
 }
 
@@ -313,7 +337,7 @@ void copyStats(const SlabStreamStats& from, FusedPassStats* to)
   if (to)
   {
     *to = FusedPassStats{ from.slabSlices, from.slabs, from.bytesToDevice, from.bytesFromDevice, from.deviceBytes,
-      from.totalMs, from.fillMs, from.waitMs };
+      from.deviceUsedPeak, from.pinnedBytes, from.setupMs, from.fillMs, from.waitMs, from.totalMs };
   }
 }
 
@@ -460,11 +484,22 @@ bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, 
     MCV_CUDA_TRY(cudaMemcpy(nonFinite, none, sizeof none, cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMemcpy(minKey, keys.data(), keys.size() * sizeof(int), cudaMemcpyHostToDevice));
   }
+  // The block's bins in shared memory where they fit (24 columns: 48 KiB).
+  const std::size_t sharedBytes = static_cast<std::size_t>(F) * kExactExponents * sizeof(unsigned long long);
+  int sharedLimit = 0, device = 0;
+  MCV_CUDA_TRY(cudaGetDevice(&device));
+  MCV_CUDA_TRY(cudaDeviceGetAttribute(&sharedLimit, cudaDevAttrMaxSharedMemoryPerBlockOptin, device));
+  const bool sharedBins = sharedBytes <= static_cast<std::size_t>(sharedLimit);
+  if (sharedBins)
+  {
+    MCV_CUDA_TRY(cudaFuncSetAttribute(exactSumsKernel, cudaFuncAttributeMaxDynamicSharedMemorySize,
+      static_cast<int>(sharedBytes)));
+  }
   const auto launch = [&](Slab& s) -> bool {
     const int S = reduceThreads(F, s.rows);
-    exactSumsKernel<<<(S + kThreads - 1) / kThreads, kThreads, 0, s.stream>>>(s.features,
+    exactSumsKernel<<<(S + kThreads - 1) / kThreads, kThreads, sharedBins ? sharedBytes : 0, s.stream>>>(s.features,
       static_cast<std::int64_t>(s.rows), F, S, static_cast<std::uint64_t>(s.firstRow), bins, minKey, maxKey, nonFinite,
-      firstBad);
+      firstBad, sharedBins ? 1 : 0);
     MCV_CUDA_TRY(cudaGetLastError());
     return true;
   };

@@ -48,8 +48,8 @@ struct FusedPassSetup
 struct FusedPassStats
 {
   int slabSlices = 0;
-  std::size_t slabs = 0, bytesToDevice = 0, bytesFromDevice = 0, deviceBytes = 0;
-  double totalMs = 0, fillMs = 0, waitMs = 0;
+  std::size_t slabs = 0, bytesToDevice = 0, bytesFromDevice = 0, deviceBytes = 0, deviceUsedPeak = 0, pinnedBytes = 0;
+  double setupMs = 0, fillMs = 0, waitMs = 0, totalMs = 0; // fill: host conversion; wait: for the device
 };
 
 // The statistics pass: one ColumnStats per slab (sqdev about the slab's own mean), the

@@ -183,6 +183,12 @@ ChainRun runChain(const mt::ScaledChannels& t, mcv::Device device, std::size_t r
     const double voxels = static_cast<double>(run.result.coordinates.size() / 3);
     std::printf("    placement rate %.1f M voxels/s, %.2f ns/voxel\n", voxels / place / 1e6, place * 1e9 / voxels);
   }
+  for (const mcv::FeatureBricks::DevicePass& p : bricks.devicePasses())
+    std::printf("    GPU pass %-11s %6.2f s: setup %.2f s, host conversion %.2f s, waiting for the device %.2f s; %zu "
+                "slabs of %d slices; %.2f GB up, %.2f GB down; %.2f GiB held\n",
+      p.name.c_str(), p.stats.totalMs / 1e3, p.stats.setupMs / 1e3, p.stats.fillMs / 1e3, p.stats.waitMs / 1e3,
+      p.stats.slabs, p.stats.slabSlices, p.stats.bytesToDevice / 1e9, p.stats.bytesFromDevice / 1e9,
+      p.stats.deviceBytes / 1073741824.0);
   std::printf("  WHOLE CHAIN (statistics + reduction): %.2f s (%.1f ns/voxel)\n", run.wholeS,
     run.wholeS * 1e9 / static_cast<double>(t.grid.voxelCount()));
   std::fflush(stdout);

@@ -66,6 +66,12 @@ cuda::FusedChannelFill channelFill(const std::vector<ChannelView>& channels)
 #endif
 
 #ifdef MCV_HAS_CUDA
+FeatureBricks::DeviceStats statsOf(const cuda::FusedPassStats& p)
+{
+  return FeatureBricks::DeviceStats{ p.slabSlices, p.slabs, p.bytesToDevice, p.bytesFromDevice, p.deviceBytes,
+    p.deviceUsedPeak, p.pinnedBytes, p.setupMs, p.fillMs, p.waitMs, p.totalMs };
+}
+
 cuda::ResidentChannels* residentOf(const std::shared_ptr<void>& resident)
 {
   return static_cast<cuda::ResidentChannels*>(resident.get());
@@ -340,7 +346,10 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
   setup.deviceBytes = deviceBytes_;
   setup.resident = residentOf(resident_);
   cuda::RawStatistics raw;
-  if (!cuda::fusedRawStatistics(setup, channelFill(channels_), &raw, options_.progress, nullptr, &error))
+  cuda::FusedPassStats stats;
+  const bool ok = cuda::fusedRawStatistics(setup, channelFill(channels_), &raw, options_.progress, &stats, &error);
+  devicePasses_.push_back(DevicePass{ "statistics", statsOf(stats) });
+  if (!ok)
   {
     if (error.empty())
     {
@@ -394,9 +403,12 @@ DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(doub
   }
   out.attempted = true;
   cuda::ExactColumnSums sums;
-  if (!cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
+  cuda::FusedPassStats stats;
+  const bool ok = cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
                                  residentOf(resident_)),
-        channelFill(channels_), &sums, progress, nullptr, &out.error))
+        channelFill(channels_), &sums, progress, &stats, &out.error);
+  devicePasses_.push_back(DevicePass{ "column sums", statsOf(stats) });
+  if (!ok)
   {
     if (out.error.empty())
     {
@@ -432,9 +444,12 @@ DevicePassReport FeatureBricks::strataOnDevice(const DeviceStrata& request)
   r.eligible = request.eligible;
   r.notEligible = request.notEligible;
   r.stratum = request.stratum;
-  if (!cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
+  cuda::FusedPassStats stats;
+  const bool ok = cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
                                  residentOf(resident_)),
-        channelFill(channels_), r, request.progress, nullptr, &out.error))
+        channelFill(channels_), r, request.progress, &stats, &out.error);
+  devicePasses_.push_back(DevicePass{ "strata", statsOf(stats) });
+  if (!ok)
   {
     if (out.error.empty())
     {
@@ -501,6 +516,7 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   deviceStats_ = DeviceStats{ stats.slabSlices, stats.slabs, stats.bytesToDevice, stats.bytesFromDevice,
     stats.deviceBytes, stats.deviceUsedPeak, stats.pinnedBytes, stats.setupMs, stats.fillMs, stats.waitMs,
     stats.totalMs };
+  devicePasses_.push_back(DevicePass{ "placement", deviceStats_ });
 #else
   (void)request;
 #endif

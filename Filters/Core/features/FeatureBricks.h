@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace mcv
@@ -79,6 +80,13 @@ public:
     double setupMs = 0, fillMs = 0, waitMs = 0, totalMs = 0;
   };
   const DeviceStats& deviceStats() const { return deviceStats_; }
+  // Every GPU pass so far, in order: "statistics", "column sums", "strata", "placement".
+  struct DevicePass
+  {
+    std::string name;
+    DeviceStats stats;
+  };
+  const std::vector<DevicePass>& devicePasses() const { return devicePasses_; }
 
   int slabSlices() const { return slices_; }
   // The bytes one slab holds at a time (features with ghost slices, a float channel, masks):
@@ -110,6 +118,7 @@ private:
   std::size_t deviceBytes_ = 0;
   DeviceStats deviceStats_;
   int passesOnDevice_ = 0;
+  std::vector<DevicePass> devicePasses_;
   // CUDA builds: the channels kept on the device from the statistics pass to the placement
   // when they fit (cuda::ResidentChannels, type-erased so that this header needs no CUDA).
   std::shared_ptr<void> resident_;

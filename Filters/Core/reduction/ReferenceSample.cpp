@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -259,7 +260,10 @@ private:
   int S_;
   std::size_t D_ = 0;
   std::size_t share_ = 0;             // sample per stratum
-  std::vector<std::uint8_t> stratum_; // per row; kNotOwned for rows of other processes
+  // Per row; kNotOwned for rows of other processes. Not a std::vector, whose resize would
+  // zero it on one thread: one byte per voxel of a giga-voxel volume is a gigabyte, whose
+  // pages the threads that fill it (OpenMP, or the GPU pass's copies) should touch first.
+  std::unique_ptr<std::uint8_t[]> stratum_;
   std::vector<LocalList> lists_;      // 0: every voxel; 1 + s: stratum s
   std::vector<std::string> warnings_;
 };
@@ -332,7 +336,15 @@ std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
 // Every owned row's stratum; returns this process's voxels per list.
 std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
 {
-  stratum_.assign(rows_.size(), kNotOwned);
+  const long long n = static_cast<long long>(rows_.size());
+  stratum_.reset(new std::uint8_t[rows_.size()]);
+  const auto notOwned = [&] {
+#pragma omp parallel for schedule(static)
+    for (long long r = 0; r < n; ++r)
+    {
+      stratum_[static_cast<std::size_t>(r)] = kNotOwned;
+    }
+  };
   bool onDevice = false;
   if (options_.strataOnDevice && !comm_)
   {
@@ -342,15 +354,18 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
     request.edges = edges;
     request.eligible = options_.eligible;
     request.notEligible = kNotOwned;
-    request.stratum = stratum_.data();
+    request.stratum = stratum_.get(); // every row written (notEligible where not eligible)
     request.progress = options_.progress;
     const DevicePassReport device = source_.strataOnDevice(request);
     onDevice = device.attempted && device.error.empty();
     if (device.attempted && !onDevice)
     {
       warnings_.push_back("The GPU strata of the reference sample failed (" + device.error + "); they ran on the CPU.");
-      stratum_.assign(rows_.size(), kNotOwned);
     }
+  }
+  if (!onDevice)
+  {
+    notOwned();
   }
   // Block by block: the fused path computes each block's features once for this pass.
   for (std::size_t b = 0; b < (onDevice ? 0 : source_.blockCount()); ++b)
@@ -368,7 +383,6 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
   }
   // Voxels per stratum (a giga-voxel volume: over threads, each counting a part).
   std::vector<std::size_t> count(static_cast<std::size_t>(S_) + 1, 0);
-  const long long n = static_cast<long long>(stratum_.size());
 #pragma omp parallel
   {
     std::vector<std::size_t> mine(count.size(), 0);
@@ -455,9 +469,19 @@ void Sampler::collect(const std::vector<std::size_t>& which)
     std::size_t list;
     Entry entry;
   };
+  // Most rows are above every limit: one comparison settles them.
+  std::uint64_t highest = 0;
+  for (std::size_t i : which)
+  {
+    highest = std::max(highest, lists_[i].limit);
+  }
   const std::vector<Found> found =
     collectOwned<Found>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
       const std::uint64_t key = sampleKey(options_.seed, g);
+      if (key > highest)
+      {
+        return;
+      }
       for (std::size_t w = 0; w < which.size(); ++w)
       {
         const LocalList& l = lists_[which[w]];
