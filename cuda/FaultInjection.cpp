@@ -31,7 +31,7 @@ static_assert(classifyCudaCall("cudaEventRecord(e, stream)") == CudaCall::Other,
 namespace
 {
 
-const char* const kStages[] = { "harris", "features", "gaussiantf", "outofsample", "umaplayout", "fused", "fusedpasses" };
+const char* const kStages[] = { "harris", "features", "gaussiantf", "outofsample", "umaplayout", "fused", "fusedpasses", "samplekeys" };
 
 struct InjectionState
 {
@@ -96,7 +96,7 @@ bool parseSpec(const std::string& spec, std::string& stage, CudaCall& kind, long
     return false;
   };
   const std::string usage = "expected <stage>:<n> or <stage>:<kind>:<n> with stage harris, "
-                            "features, gaussiantf, outofsample, umaplayout, fused or fusedpasses, kind any, alloc, copy, launch, "
+                            "features, gaussiantf, outofsample, umaplayout, fused, fusedpasses or samplekeys, kind any, alloc, copy, launch, "
                             "sync or other, n >= 1";
   const auto first = spec.find(':'), last = spec.rfind(':');
   if (first == std::string::npos)

@@ -23,9 +23,11 @@ namespace
 {
 
 constexpr int kThreads = 256;
-// Threads of a statistics kernel: about 32 elements each, at most 256 blocks -- fixed by the
-// slab, not by the card, so the order of the sums (hence their bits) is the same everywhere.
-constexpr int kReduceBlocks = 256;
+// Threads of a statistics kernel: about 32 elements each, at most 1024 blocks (enough warps
+// per SM to hide the loads' latency: 256 blocks left the column sums latency-bound) -- fixed
+// by the slab, not by the card, so the order of the sums (hence their bits) is the same
+// everywhere.
+constexpr int kReduceBlocks = 1024;
 constexpr std::size_t kElementsPerThread = 32;
 // Exponent fields whose exact sums a thread keeps in registers: |x| in [2^-7, 2^9), where
 // normalised features mostly lie; the others go straight to the global bins.
@@ -228,6 +230,7 @@ __global__ void exactSumsKernel(const float* __restrict__ features, std::int64_t
     float lo = INFINITY, hi = -INFINITY;
     unsigned long long bad = 0, firstBadHere = ~0ull;
     const std::int64_t elements = rows * cols;
+#pragma unroll 4
     for (std::int64_t e = t; e < elements; e += S)
     {
       const float x = features[e];

@@ -776,7 +776,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   so.seed = options.randomSeed;
   so.eligible = mask;
   so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
-  so.strataOnDevice = devicePasses;
+  so.onDevice = devicePasses;
   ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
   result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
   if (!sample.error.empty())

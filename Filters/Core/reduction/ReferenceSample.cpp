@@ -1,4 +1,9 @@
 #include "ReferenceSample.h"
+
+#ifdef MCV_HAS_CUDA
+#include "cuda/SampleKeysCuda.h"
+#endif
+#include "HugePageBuffer.h"
 #include "SeededRandom.h"
 
 #include <algorithm>
@@ -240,6 +245,7 @@ private:
   float norm(const float* x, bool fullRow) const;
   std::vector<float> usedVectors(const std::vector<std::size_t>& rows);
   std::vector<float> edgeSubsample(double total);
+  bool deviceKeyScan(std::uint64_t limit, std::vector<std::size_t>& rows);
   std::vector<float> strataEdges(std::vector<float> norms) const;
   std::vector<double> assignStrata(const std::vector<float>& edges);
   std::vector<std::size_t> firstWants(const std::vector<double>& mine, const std::vector<double>& all) const;
@@ -262,10 +268,13 @@ private:
   std::size_t share_ = 0;             // sample per stratum
   // Per row; kNotOwned for rows of other processes. Not a std::vector, whose resize would
   // zero it on one thread: one byte per voxel of a giga-voxel volume is a gigabyte, whose
-  // pages the threads that fill it (OpenMP, or the GPU pass's copies) should touch first.
-  std::unique_ptr<std::uint8_t[]> stratum_;
+  // pages the threads that fill it (OpenMP, or the GPU pass's copies) touch first, in huge
+  // pages where the system allows (a quarter of a million 4 KB page faults otherwise).
+  std::unique_ptr<HugePageBuffer> strataStorage_;
+  std::uint8_t* stratum_ = nullptr;
   std::vector<LocalList> lists_;      // 0: every voxel; 1 + s: stratum s
   std::vector<std::string> warnings_;
+  bool deviceKeysFailed_ = false;
 };
 
 // The norm of the used, centred features: of a row of dim_ features, or of D_ used ones.
@@ -303,13 +312,16 @@ std::vector<float> Sampler::usedVectors(const std::vector<std::size_t>& rows)
 std::vector<float> Sampler::edgeSubsample(double total)
 {
   const std::uint64_t limit = keyLimit(kEdgeSubsample / total);
-  const std::vector<std::size_t> picked =
-    collectOwned<std::size_t>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<std::size_t>& found) {
+  std::vector<std::size_t> picked;
+  if (!deviceKeyScan(limit, picked))
+  {
+    picked = collectOwned<std::size_t>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<std::size_t>& found) {
       if (sampleKey(options_.seed, g) <= limit)
       {
         found.push_back(row);
       }
     });
+  }
   const std::vector<float> vectors = usedVectors(picked);
   std::vector<float> norms(picked.size());
   for (std::size_t i = 0; i < picked.size(); ++i)
@@ -317,6 +329,37 @@ std::vector<float> Sampler::edgeSubsample(double total)
     norms[i] = norm(vectors.data() + i * D_, false);
   }
   return norms;
+}
+
+// The owned eligible rows whose key is at most `limit`, ascending, from the GPU's scan of every
+// key (cuda/SampleKeysCuda.h) where the options ask for the device and this process owns
+// every row (so row r's global index is the first's plus r); false when the caller scans on
+// the CPU (no device, or it failed: said once in the warnings).
+bool Sampler::deviceKeyScan(std::uint64_t limit, std::vector<std::size_t>& rows)
+{
+#ifdef MCV_HAS_CUDA
+  if (!options_.onDevice || comm_ || deviceKeysFailed_ || rows_.size() == 0 || rows_.ownedCount() != rows_.size())
+  {
+    return false;
+  }
+  std::string error;
+  if (!cuda::rowsWithKeyAtMost(options_.seed, rows_.run(0).global, rows_.size(), limit, &rows, &error))
+  {
+    warnings_.push_back("The GPU key scan of the reference sample failed (" + error + "); it ran on the CPU.");
+    deviceKeysFailed_ = true;
+    return false;
+  }
+  if (options_.eligible)
+  {
+    rows.erase(std::remove_if(rows.begin(), rows.end(), [&](std::size_t r) { return !isEligible(options_.eligible, r); }),
+      rows.end());
+  }
+  return true;
+#else
+  (void)limit;
+  (void)rows;
+  return false;
+#endif
 }
 
 // Stratum edges at the quantiles 1/2, 3/4, 7/8, ... of the subsample's norms.
@@ -337,7 +380,8 @@ std::vector<float> Sampler::strataEdges(std::vector<float> norms) const
 std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
 {
   const long long n = static_cast<long long>(rows_.size());
-  stratum_.reset(new std::uint8_t[rows_.size()]);
+  strataStorage_.reset(new HugePageBuffer((rows_.size() + sizeof(double) - 1) / sizeof(double)));
+  stratum_ = reinterpret_cast<std::uint8_t*>(strataStorage_->data()); // bytes of its storage
   const auto notOwned = [&] {
 #pragma omp parallel for schedule(static)
     for (long long r = 0; r < n; ++r)
@@ -346,7 +390,7 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
     }
   };
   bool onDevice = false;
-  if (options_.strataOnDevice && !comm_)
+  if (options_.onDevice && !comm_)
   {
     DeviceStrata request;
     request.columns = columns_;
@@ -354,7 +398,7 @@ std::vector<double> Sampler::assignStrata(const std::vector<float>& edges)
     request.edges = edges;
     request.eligible = options_.eligible;
     request.notEligible = kNotOwned;
-    request.stratum = stratum_.get(); // every row written (notEligible where not eligible)
+    request.stratum = stratum_; // every row written (notEligible where not eligible)
     request.progress = options_.progress;
     const DevicePassReport device = source_.strataOnDevice(request);
     onDevice = device.attempted && device.error.empty();
@@ -475,22 +519,36 @@ void Sampler::collect(const std::vector<std::size_t>& which)
   {
     highest = std::max(highest, lists_[i].limit);
   }
-  const std::vector<Found> found =
-    collectOwned<Found>(rows_, options_.eligible, [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
-      const std::uint64_t key = sampleKey(options_.seed, g);
-      if (key > highest)
+  const auto visit = [&](std::size_t row, std::int64_t g, std::vector<Found>& out) {
+    const std::uint64_t key = sampleKey(options_.seed, g);
+    if (key > highest)
+    {
+      return;
+    }
+    for (std::size_t w = 0; w < which.size(); ++w)
+    {
+      const LocalList& l = lists_[which[w]];
+      if (key <= l.limit && (l.stratum < 0 || l.stratum == stratum_[row]))
       {
-        return;
+        out.push_back({ w, { key, g, row } });
       }
-      for (std::size_t w = 0; w < which.size(); ++w)
-      {
-        const LocalList& l = lists_[which[w]];
-        if (key <= l.limit && (l.stratum < 0 || l.stratum == stratum_[row]))
-        {
-          out.push_back({ w, { key, g, row } });
-        }
-      }
-    });
+    }
+  };
+  std::vector<Found> found;
+  std::vector<std::size_t> candidates;
+  if (deviceKeyScan(highest, candidates))
+  {
+    // The GPU found the rows below the highest limit; the lists take theirs from them.
+    const std::int64_t first = rows_.run(0).global;
+    for (std::size_t row : candidates)
+    {
+      visit(row, first + static_cast<std::int64_t>(row), found);
+    }
+  }
+  else
+  {
+    found = collectOwned<Found>(rows_, options_.eligible, visit);
+  }
   std::vector<std::vector<Entry>> perList(which.size());
   for (const Found& f : found)
   {

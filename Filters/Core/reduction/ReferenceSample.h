@@ -92,9 +92,11 @@ struct ReferenceSampleOptions
   // Optional: the pass over the source's blocks (the strata) reports its fraction here, on
   // the calling thread, before each block (FeatureRows with several blocks only).
   std::function<void(double)> progress;
-  // The strata pass on the source's device (FeatureRows::strataOnDevice) when it has one; a
-  // serial caller whose process owns every row sets it (reduceDimension on the GPU).
-  bool strataOnDevice = false;
+  // The passes over every row on the GPU: the strata on the source's device
+  // (FeatureRows::strataOnDevice) when it has one, the key scans in a CUDA build (a failure
+  // falls back to the CPU with a warning). A serial caller whose process owns every row sets
+  // it (reduceDimension on the GPU).
+  bool onDevice = false;
 };
 
 struct ReferenceSample
