@@ -322,15 +322,7 @@ __global__ void strataKernel(const float* __restrict__ features, std::int64_t ro
 
 SlabStreamSetup streamSetup(const FusedPassSetup& s, const SlabPassBytes& pass)
 {
-  SlabStreamSetup st;
-  st.grid = s.grid;
-  st.channels = s.channels;
-  st.selection = s.selection;
-  st.cols = s.cols;
-  st.offset = s.offset;
-  st.scale = s.scale;
-  st.deviceBytes = s.deviceBytes;
-  st.resident = s.resident;
+  SlabStreamSetup st = slabStreamSetup(s);
   st.pass = pass;
   return st;
 }
@@ -451,12 +443,14 @@ bool fusedRawStatistics(const FusedPassSetup& setup, const FusedChannelFill& fil
   return ok;
 }
 
-bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, ExactColumnSums* out,
+bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, DeviceColumnSums* out,
   const std::function<void(double)>& progress, FusedPassStats* stats, std::string* error)
 {
   FaultStage stage("fusedpasses");
   const int F = setup.cols;
-  *out = ExactColumnSums{};
+  out->bins.clear();
+  out->minimum.clear();
+  out->maximum.clear();
   if (!fill || F < 1 || setup.offset.size() != static_cast<std::size_t>(F))
   {
     return detail::fail(error, "invalid arguments of the GPU column sums");
@@ -536,8 +530,8 @@ bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, 
   return true;
 }
 
-bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, const StrataRequest& request,
-  const std::function<void(double)>& progress, FusedPassStats* stats, std::string* error)
+bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, const DeviceStrata& request,
+  FusedPassStats* stats, std::string* error)
 {
   FaultStage stage("fusedpasses");
   const int F = setup.cols, D = static_cast<int>(request.columns.size());
@@ -603,7 +597,7 @@ bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, cons
   };
   const auto done = [&](const Slab& s) -> bool {
     detail::stagingCopy(request.stratum + s.firstRow, s.pinned, s.rows);
-    reportProgress(progress, s, setup.grid);
+    reportProgress(request.progress, s, setup.grid);
     return true;
   };
   const bool ok = stream.run(fill, launch, done, error);

@@ -23,6 +23,8 @@
 
 #include "FusedPlacementCuda.h"
 
+#include "../Filters/Core/common/FeatureRows.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -63,32 +65,18 @@ struct RawStatistics
 bool fusedRawStatistics(const FusedPassSetup& setup, const FusedChannelFill& fill, RawStatistics* out,
   const std::function<void(double)>& progress, FusedPassStats* stats, std::string* error);
 
-// The column check: kExponents integer sums per column (column c's at bins[c * exponents]),
+// The column check (FeatureRows.h's DeviceColumnSums, without `attempted` and `error`):
+// kExactExponents integer sums per column (column c's at bins[c * kExactExponents]),
 // extremes, non-finite values and the first one (row * cols + column; +inf when none).
 constexpr int kExactExponents = 256;
-struct ExactColumnSums
-{
-  std::vector<std::int64_t> bins;
-  std::vector<double> minimum, maximum;
-  double nonFinite = 0;
-  double firstBad = 0;
-};
-bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, ExactColumnSums* out,
+bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, DeviceColumnSums* out,
   const std::function<void(double)>& progress, FusedPassStats* stats, std::string* error);
 
-// The strata: stratum[row] = the number of edges <= the row's centred norm (float) for the
-// rows with eligible[row] != 0 (all when eligible is null), `notEligible` for the others.
-struct StrataRequest
-{
-  std::vector<int> columns;    // the used columns
-  std::vector<double> center;  // their means (empty: no centring)
-  std::vector<float> edges;    // ascending
-  const unsigned char* eligible = nullptr;
-  std::uint8_t notEligible = 0xFF;
-  std::uint8_t* stratum = nullptr; // voxels of the grid
-};
-bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, const StrataRequest& request,
-  const std::function<void(double)>& progress, FusedPassStats* stats, std::string* error);
+// The strata (FeatureRows.h's DeviceStrata): stratum[row] = the number of edges <= the row's
+// centred norm (float) for the rows with eligible[row] != 0 (all when eligible is null),
+// notEligible for the others.
+bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, const DeviceStrata& request,
+  FusedPassStats* stats, std::string* error);
 
 } // namespace cuda
 } // namespace mcv

@@ -19,15 +19,7 @@ namespace
 // The placement's part of the slab stream: its references, scratch and coordinates.
 SlabStreamSetup streamSetup(const FusedPlacementSetup& s)
 {
-  SlabStreamSetup st;
-  st.grid = s.grid;
-  st.channels = s.channels;
-  st.selection = s.selection;
-  st.cols = s.cols;
-  st.offset = s.offset;
-  st.scale = s.scale;
-  st.deviceBytes = s.deviceBytes;
-  st.resident = s.resident;
+  SlabStreamSetup st = slabStreamSetup(s);
   const PlacementInput& r = s.references;
   st.pass.fixedDevice = PlacementOnDevice::referenceBytes(r.M, r.D, r.d);
   // Coordinates on the device and in pinned memory, per row; the placement's scratch per slot.

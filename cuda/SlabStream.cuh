@@ -54,6 +54,22 @@ struct SlabStreamSetup
   ResidentChannels* resident = nullptr;
 };
 
+// The stream's part of a pass's setup (FusedPlacementSetup, FusedPassSetup: the same names).
+template <class PassSetup>
+SlabStreamSetup slabStreamSetup(const PassSetup& s)
+{
+  SlabStreamSetup st;
+  st.grid = s.grid;
+  st.channels = s.channels;
+  st.selection = s.selection;
+  st.cols = s.cols;
+  st.offset = s.offset;
+  st.scale = s.scale;
+  st.deviceBytes = s.deviceBytes;
+  st.resident = s.resident;
+  return st;
+}
+
 // One slab in its slot, as the pass's callbacks see it.
 struct Slab
 {

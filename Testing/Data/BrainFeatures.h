@@ -69,18 +69,31 @@ struct BrainFeatureMatrix
   FeatureResult result;
 };
 
-// Z-scored features of the channels (SixD or TwentyFourD) on `device`.
-inline BrainFeatureMatrix brainFeatures(const std::vector<Volume>& ch, FeaturePreset preset, Device device)
+// Views of float channels (the brain as the loader gives it).
+inline std::vector<ChannelView> floatViews(const std::vector<Volume>& volumes)
 {
-  BrainFeatureMatrix f;
   std::vector<ChannelView> views;
-  for (const auto& v : ch)
+  for (const Volume& v : volumes)
   {
     ChannelView cv;
     cv.data = v.values.data();
     cv.type = ScalarType::Float32;
     views.push_back(cv);
   }
+  return views;
+}
+
+// The 40-slice piece of the brain the GPU tests compare the CPU with (z 70..109).
+inline std::vector<Volume> brainPiece()
+{
+  return cropBrain(loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
+}
+
+// Z-scored features of the channels (SixD or TwentyFourD) on `device`.
+inline BrainFeatureMatrix brainFeatures(const std::vector<Volume>& ch, FeaturePreset preset, Device device)
+{
+  BrainFeatureMatrix f;
+  const std::vector<ChannelView> views = floatViews(ch);
   FeatureOptions o;
   o.preset = preset;
   o.device = device;

@@ -121,15 +121,8 @@ TEST(FusedGPU, RealBrainManySlabsMatchesTheCpu)
   MCV_REQUIRE_GPU();
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
-  std::vector<mcv::ChannelView> views;
-  for (const mt::Volume& v : brain)
-  {
-    mcv::ChannelView cv;
-    cv.data = v.values.data();
-    cv.type = mcv::ScalarType::Float32;
-    views.push_back(cv);
-  }
+  const std::vector<mt::Volume> brain = mt::brainPiece();
+  const std::vector<mcv::ChannelView> views = mt::floatViews(brain);
   const mcv::ImageGrid& grid = brain[0].grid;
   const mt::FusedRun cpu = mt::runFused(views, grid, mt::isomapOptions(2000, Device::CPU), 0);
   const std::size_t budget = mt::budgetForSlices(grid, 3, 24, 2000, 3, 4);

@@ -24,19 +24,6 @@ namespace
 namespace mt = mcv::testing;
 using mcv::Device;
 
-std::vector<mcv::ChannelView> floatViews(const std::vector<mt::Volume>& volumes)
-{
-  std::vector<mcv::ChannelView> views;
-  for (const mt::Volume& v : volumes)
-  {
-    mcv::ChannelView cv;
-    cv.data = v.values.data();
-    cv.type = mcv::ScalarType::Float32;
-    views.push_back(cv);
-  }
-  return views;
-}
-
 double relativeDifference(const std::vector<double>& a, const std::vector<double>& b)
 {
   double worst = a.size() == b.size() ? 0.0 : INFINITY;
@@ -80,8 +67,8 @@ TEST(FusedPassesGPU, StatisticsAgreeWithTheCpu)
   expectSameStatistics(t.views(), t.grid);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
-  expectSameStatistics(floatViews(brain), brain[0].grid);
+  const std::vector<mt::Volume> brain = mt::brainPiece();
+  expectSameStatistics(mt::floatViews(brain), brain[0].grid);
 }
 
 // The reference of the column check: DimensionReduction.cpp's exact sums, from the CPU blocks.
@@ -198,8 +185,8 @@ TEST(FusedPassesGPU, ColumnSumsAndStrataAreTheCpus)
   expectSameColumnSumsAndStrata(t.views(), t.grid);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
-  expectSameColumnSumsAndStrata(floatViews(brain), brain[0].grid);
+  const std::vector<mt::Volume> brain = mt::brainPiece();
+  expectSameColumnSumsAndStrata(mt::floatViews(brain), brain[0].grid);
 }
 
 // Every pass on the GPU against every pass on the CPU.
@@ -228,8 +215,8 @@ TEST(FusedPassesGPU, WholeChainOnTheGpuMatchesTheCpu)
   expectSameChain(t.views(), t.grid, 600);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
-  expectSameChain(floatViews(brain), brain[0].grid, 2000);
+  const std::vector<mt::Volume> brain = mt::brainPiece();
+  expectSameChain(mt::floatViews(brain), brain[0].grid, 2000);
 }
 
 // The channels kept on the device from the statistics pass to the placement (a budget with
@@ -241,8 +228,8 @@ TEST(FusedPassesGPU, ResidentChannelsGiveTheStreamedResult)
   MCV_REQUIRE_GPU();
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::cropBrain(mt::loadBrain(), { 0, 0, 70 }, { 181, 217, 110 });
-  const std::vector<mcv::ChannelView> views = floatViews(brain);
+  const std::vector<mt::Volume> brain = mt::brainPiece();
+  const std::vector<mcv::ChannelView> views = mt::floatViews(brain);
   const mcv::ImageGrid& grid = brain[0].grid;
   const std::size_t channelBytes = grid.voxelCount() * 3 * sizeof(float);
   // The thickest slabs whose budget leaves no room for the channels (they fit in half of it).

@@ -66,6 +66,23 @@ cuda::FusedChannelFill channelFill(const std::vector<ChannelView>& channels)
 #endif
 
 #ifdef MCV_HAS_CUDA
+// A GPU pass over the channels; offset and scale empty for the statistics pass.
+cuda::FusedPassSetup passSetup(const ImageGrid& grid, std::size_t channels, const FeatureSelection& selection,
+  int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes,
+  cuda::ResidentChannels* resident)
+{
+  cuda::FusedPassSetup setup;
+  setup.grid = grid;
+  setup.channels = static_cast<int>(channels);
+  setup.selection = selection;
+  setup.cols = cols;
+  setup.offset = offset;
+  setup.scale = scale;
+  setup.deviceBytes = deviceBytes;
+  setup.resident = resident;
+  return setup;
+}
+
 FeatureBricks::DeviceStats statsOf(const cuda::FusedPassStats& p)
 {
   return FeatureBricks::DeviceStats{ p.slabSlices, p.slabs, p.bytesToDevice, p.bytesFromDevice, p.deviceBytes,
@@ -318,6 +335,25 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
   }
 }
 
+bool FeatureBricks::recordDevicePass(const char* name, const DeviceStats& stats, bool ok, std::string& error)
+{
+  devicePasses_.push_back(DevicePass{ name, stats });
+  if (ok)
+  {
+    ++passesOnDevice_;
+  }
+  else if (error.empty())
+  {
+    error = "unknown CUDA failure";
+  }
+  return ok;
+}
+
+bool FeatureBricks::normalisedPassesApply() const
+{
+  return offset_.size() == static_cast<std::size_t>(cols_) && wholeVolumeHere();
+}
+
 bool FeatureBricks::wholeVolumeHere() const
 {
   const GridPiece& piece = options_.piece;
@@ -338,30 +374,19 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
   {
     resident_ = resident;
   }
-  cuda::FusedPassSetup setup;
-  setup.grid = grid_;
-  setup.channels = static_cast<int>(channels_.size());
-  setup.selection = selection_;
-  setup.cols = cols_;
-  setup.deviceBytes = deviceBytes_;
-  setup.resident = residentOf(resident_);
   cuda::RawStatistics raw;
   cuda::FusedPassStats stats;
-  const bool ok = cuda::fusedRawStatistics(setup, channelFill(channels_), &raw, options_.progress, &stats, &error);
-  devicePasses_.push_back(DevicePass{ "statistics", statsOf(stats) });
-  if (!ok)
+  const bool ok = cuda::fusedRawStatistics(
+    passSetup(grid_, channels_.size(), selection_, cols_, {}, {}, deviceBytes_, residentOf(resident_)), channelFill(channels_),
+    &raw, options_.progress, &stats, &error);
+  if (!recordDevicePass("statistics", statsOf(stats), ok, error))
   {
-    if (error.empty())
-    {
-      error = "unknown CUDA failure";
-    }
     resident_.reset();
     return false;
   }
   parts = std::move(raw.slabs);
   badPerChannel = std::move(raw.badPerChannel);
   badVoxels = raw.badVoxels;
-  ++passesOnDevice_;
   return true;
 #else
   (void)parts;
@@ -372,56 +397,21 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
 #endif
 }
 
-#ifdef MCV_HAS_CUDA
-namespace
-{
-cuda::FusedPassSetup normalisedPassSetup(const ImageGrid& grid, std::size_t channels, const FeatureSelection& selection,
-  int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes,
-  cuda::ResidentChannels* resident)
-{
-  cuda::FusedPassSetup setup;
-  setup.resident = resident;
-  setup.grid = grid;
-  setup.channels = static_cast<int>(channels);
-  setup.selection = selection;
-  setup.cols = cols;
-  setup.offset = offset;
-  setup.scale = scale;
-  setup.deviceBytes = deviceBytes;
-  return setup;
-}
-} // namespace
-#endif
 
 DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(double)>& progress)
 {
   DeviceColumnSums out;
 #ifdef MCV_HAS_CUDA
-  if (offset_.size() != static_cast<std::size_t>(cols_) || !wholeVolumeHere())
+  if (!normalisedPassesApply())
   {
     return out;
   }
   out.attempted = true;
-  cuda::ExactColumnSums sums;
+  const cuda::FusedPassSetup setup =
+    passSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_, residentOf(resident_));
   cuda::FusedPassStats stats;
-  const bool ok = cuda::fusedColumnSums(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
-                                 residentOf(resident_)),
-        channelFill(channels_), &sums, progress, &stats, &out.error);
-  devicePasses_.push_back(DevicePass{ "column sums", statsOf(stats) });
-  if (!ok)
-  {
-    if (out.error.empty())
-    {
-      out.error = "unknown CUDA failure";
-    }
-    return out;
-  }
-  out.bins = std::move(sums.bins);
-  out.minimum = std::move(sums.minimum);
-  out.maximum = std::move(sums.maximum);
-  out.nonFinite = sums.nonFinite;
-  out.firstBad = sums.firstBad;
-  ++passesOnDevice_;
+  const bool ok = cuda::fusedColumnSums(setup, channelFill(channels_), &out, progress, &stats, &out.error);
+  recordDevicePass("column sums", statsOf(stats), ok, out.error);
 #else
   (void)progress;
 #endif
@@ -432,32 +422,16 @@ DevicePassReport FeatureBricks::strataOnDevice(const DeviceStrata& request)
 {
   DevicePassReport out;
 #ifdef MCV_HAS_CUDA
-  if (offset_.size() != static_cast<std::size_t>(cols_) || !wholeVolumeHere())
+  if (!normalisedPassesApply())
   {
     return out;
   }
   out.attempted = true;
-  cuda::StrataRequest r;
-  r.columns = request.columns;
-  r.center = request.center;
-  r.edges = request.edges;
-  r.eligible = request.eligible;
-  r.notEligible = request.notEligible;
-  r.stratum = request.stratum;
+  const cuda::FusedPassSetup setup =
+    passSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_, residentOf(resident_));
   cuda::FusedPassStats stats;
-  const bool ok = cuda::fusedStrata(normalisedPassSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_,
-                                 residentOf(resident_)),
-        channelFill(channels_), r, request.progress, &stats, &out.error);
-  devicePasses_.push_back(DevicePass{ "strata", statsOf(stats) });
-  if (!ok)
-  {
-    if (out.error.empty())
-    {
-      out.error = "unknown CUDA failure";
-    }
-    return out;
-  }
-  ++passesOnDevice_;
+  const bool ok = cuda::fusedStrata(setup, channelFill(channels_), request, &stats, &out.error);
+  recordDevicePass("strata", statsOf(stats), ok, out.error);
 #else
   (void)request;
 #endif

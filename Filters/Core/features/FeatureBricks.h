@@ -103,6 +103,10 @@ private:
   float* rawSlab(int z0, int z1, std::vector<double>* badPerChannel);
   // One process holds the whole volume: the GPU passes apply.
   bool wholeVolumeHere() const;
+  // ... and prepare() has run: the column sums and strata may run on the GPU.
+  bool normalisedPassesApply() const;
+  // Logs a GPU pass (devicePasses, passesOnDevice); a failure without a message gets one.
+  bool recordDevicePass(const char* name, const DeviceStats& stats, bool ok, std::string& error);
   // The statistics pass on the GPU; false (with error) leaves the CPU to run it.
   bool deviceStatistics(std::vector<detail::ColumnStats>& parts, std::vector<double>& badPerChannel,
     double& badVoxels, std::string& error);
