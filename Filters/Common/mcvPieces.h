@@ -43,6 +43,7 @@ struct PieceLayout
   int NumberOfPieces = 1;
   int Whole[6] = { 0, -1, 0, -1, 0, -1 };
   int Owned[6] = { 0, -1, 0, -1, 0, -1 }; // whole-volume indices, inclusive
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 }; // the piece's extent: Owned + the shared layer
   bool IsSplit() const { return this->Controller != nullptr; }
 };
 
@@ -75,6 +76,7 @@ inline PieceLayout pieceLayout(vtkInformation* outInfo, vtkInformation* inInfo)
   vtkNew<vtkExtentTranslator> translator;
   translator->PieceToExtentThreadSafe(piece, pieces, 0, layout.Whole, layout.Owned,
     vtkExtentTranslator::BLOCK_MODE, 0);
+  std::copy(layout.Owned, layout.Owned + 6, layout.Extent);
   for (int a = 0; a < 3; ++a)
   {
     if (layout.Owned[2 * a + 1] < layout.Whole[2 * a + 1])
@@ -111,6 +113,14 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
   if (!layout.IsSplit())
   {
     return requestWholeExtent(inputVector);
+  }
+  // A piece request (ParaView's UpdatePipeline, representations) leaves the output's
+  // UPDATE_EXTENT at the whole extent: taken as an extent request it would make every
+  // process ask its input for the whole volume. The output then holds the piece's extent
+  // (shared upper layer included, which the next process owns), so that is what is asked.
+  if (requested && std::equal(requested, requested + 6, layout.Whole))
+  {
+    requested = layout.Extent;
   }
   int block[6];
   for (int a = 0; a < 3; ++a)
