@@ -96,14 +96,29 @@ inline bool fromSplitFilter(vtkInformation* inInfo)
     (producer->IsA("vtkMultichannelFeatures") || producer->IsA("vtkDimensionReduction"));
 }
 
+// True when the input produces whatever sub-extent it is asked for on its own
+// (CAN_PRODUCE_SUB_EXTENT, set by the XML image readers, the Wavelet source...).
+inline bool producesSubExtents(vtkInformation* inInfo)
+{
+  return inInfo->Has(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) &&
+    inInfo->Get(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) != 0;
+}
+
 // RequestUpdateExtent of a filter that can run split: asks the input for this process's
 // owned voxels, plus the extent asked of an image output (`requested`, may be null),
 // padded by `ghostLayers` and clipped to the volume; the whole volume when not split.
 // The piece numbers go upstream to the suite's own filters, so that they split the same
-// way. Any other source is asked for piece 0 of 1 with the extent: most of ParaView's
-// image readers (NIfTI, raw, DEN) produce data for piece 0 only and nothing for the
-// others, whereas asked for one piece they read the whole volume, or just the extent
-// when they can (the XML image readers): either way the block is there.
+// way. A source that produces sub-extents (producesSubExtents: the XML image readers read
+// just the block) is asked for piece 0 of 1 with the block. Any other input is asked for
+// piece 0 of 1 with the WHOLE extent, the same request on every process: most of
+// ParaView's image readers (NIfTI, raw, DEN) produce data for piece 0 only and read the
+// whole volume anyway, and a parallel filter may need one request everywhere:
+// vtkPResampleToImage (ResampleToImage) splits the UPDATE_EXTENT it is asked for into DIY
+// blocks and sends each process the points of its block as computed from the SENDER's
+// request; asked a different extent on each process, it writes those points outside its
+// output's arrays (ParaView 5.11: heap corruption in vtkPResampleToImage::RequestData,
+// "free(): invalid next size"). Such an input delivers its own split, which gatherBlock
+// (mcvGatherBlock.h) reassembles.
 inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, int ghostLayers, const int* requested = nullptr)
 {
@@ -135,6 +150,10 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
     block[2 * a + 1] = std::min(layout.Whole[2 * a + 1], hi + ghostLayers);
   }
   const bool split = fromSplitFilter(inInfo);
+  if (!split && !producesSubExtents(inInfo))
+  {
+    std::copy(layout.Whole, layout.Whole + 6, block);
+  }
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), block, 6);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), split ? layout.Piece : 0);
   inInfo->Set(
