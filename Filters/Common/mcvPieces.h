@@ -89,8 +89,8 @@ inline PieceLayout pieceLayout(vtkInformation* outInfo, vtkInformation* inInfo)
 
 // The output information of the algorithm that really makes the input: ParaView puts a
 // vtkPVPostFilter (array conversions on demand, a pass-through that forwards the requests)
-// after every source and filter, and that one hides the real producer and its keys
-// (CAN_PRODUCE_SUB_EXTENT of the XML image reader).
+// after every source and filter, and that one hides the real producer (a filter of the
+// suite) and its keys (CAN_PRODUCE_SUB_EXTENT of the XML image reader).
 inline vtkInformation* pastPostFilter(vtkInformation* inInfo)
 {
   vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(inInfo);
@@ -106,11 +106,7 @@ inline vtkInformation* pastPostFilter(vtkInformation* inInfo)
 // True when the input comes straight from another filter of the suite that can run split.
 inline bool fromSplitFilter(vtkInformation* inInfo)
 {
-  // Under ParaView this sees the post filter, never the suite's filter: those upstream are
-  // asked for piece 0 of 1 and run unsplit on what they get. Looking pastPostFilter() splits
-  // them, but then a process that owns no voxel gets an empty block from them and stops
-  // ("empty extent", test_mpi --thin): not done yet (docs/benchmarks.md §7.2).
-  vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(inInfo);
+  vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(pastPostFilter(inInfo));
   vtkAlgorithm* producer = executive ? executive->GetAlgorithm() : nullptr;
   return producer &&
     (producer->IsA("vtkMultichannelFeatures") || producer->IsA("vtkDimensionReduction"));
@@ -169,6 +165,14 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
     }
     block[2 * a] = std::max(layout.Whole[2 * a], lo - ghostLayers);
     block[2 * a + 1] = std::min(layout.Whole[2 * a + 1], hi + ghostLayers);
+    // A process that owns no voxel (more processes than the volume splits in) still asks
+    // for one: a split filter of the suite upstream crops its output to what is asked,
+    // and an empty block would stop this one ("empty extent") instead of letting it take
+    // part with nothing.
+    if (block[2 * a] > block[2 * a + 1])
+    {
+      block[2 * a] = block[2 * a + 1] = layout.Whole[2 * a];
+    }
   }
   const bool split = fromSplitFilter(inInfo);
   if (!split && !producesSubExtents(inInfo))
