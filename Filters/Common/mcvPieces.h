@@ -43,6 +43,7 @@ struct PieceLayout
   int NumberOfPieces = 1;
   int Whole[6] = { 0, -1, 0, -1, 0, -1 };
   int Owned[6] = { 0, -1, 0, -1, 0, -1 }; // whole-volume indices, inclusive
+  int Extent[6] = { 0, -1, 0, -1, 0, -1 }; // the piece's extent: Owned + the shared layer
   bool IsSplit() const { return this->Controller != nullptr; }
 };
 
@@ -75,6 +76,7 @@ inline PieceLayout pieceLayout(vtkInformation* outInfo, vtkInformation* inInfo)
   vtkNew<vtkExtentTranslator> translator;
   translator->PieceToExtentThreadSafe(piece, pieces, 0, layout.Whole, layout.Owned,
     vtkExtentTranslator::BLOCK_MODE, 0);
+  std::copy(layout.Owned, layout.Owned + 6, layout.Extent);
   for (int a = 0; a < 3; ++a)
   {
     if (layout.Owned[2 * a + 1] < layout.Whole[2 * a + 1])
@@ -85,23 +87,55 @@ inline PieceLayout pieceLayout(vtkInformation* outInfo, vtkInformation* inInfo)
   return layout;
 }
 
-// True when the input comes straight from another filter of the suite that can run split.
-inline bool fromSplitFilter(vtkInformation* inInfo)
+// The output information of the algorithm that really makes the input: ParaView puts a
+// vtkPVPostFilter (array conversions on demand, a pass-through that forwards the requests)
+// after every source and filter, and that one hides the real producer (a filter of the
+// suite) and its keys (CAN_PRODUCE_SUB_EXTENT of the XML image reader).
+inline vtkInformation* pastPostFilter(vtkInformation* inInfo)
 {
   vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(inInfo);
   vtkAlgorithm* producer = executive ? executive->GetAlgorithm() : nullptr;
+  if (producer && producer->IsA("vtkPVPostFilter") &&
+    producer->GetNumberOfInputConnections(0) == 1)
+  {
+    return producer->GetInputInformation(0, 0);
+  }
+  return inInfo;
+}
+
+// True when the input comes straight from another filter of the suite that can run split.
+inline bool fromSplitFilter(vtkInformation* inInfo)
+{
+  vtkExecutive* executive = vtkExecutive::PRODUCER()->GetExecutive(pastPostFilter(inInfo));
+  vtkAlgorithm* producer = executive ? executive->GetAlgorithm() : nullptr;
   return producer &&
     (producer->IsA("vtkMultichannelFeatures") || producer->IsA("vtkDimensionReduction"));
+}
+
+// True when the input produces whatever sub-extent it is asked for on its own
+// (CAN_PRODUCE_SUB_EXTENT, set by the XML image readers, the Wavelet source...).
+inline bool producesSubExtents(vtkInformation* inInfo)
+{
+  vtkInformation* info = pastPostFilter(inInfo);
+  return info->Has(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) &&
+    info->Get(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT()) != 0;
 }
 
 // RequestUpdateExtent of a filter that can run split: asks the input for this process's
 // owned voxels, plus the extent asked of an image output (`requested`, may be null),
 // padded by `ghostLayers` and clipped to the volume; the whole volume when not split.
 // The piece numbers go upstream to the suite's own filters, so that they split the same
-// way. Any other source is asked for piece 0 of 1 with the extent: most of ParaView's
-// image readers (NIfTI, raw, DEN) produce data for piece 0 only and nothing for the
-// others, whereas asked for one piece they read the whole volume, or just the extent
-// when they can (the XML image readers): either way the block is there.
+// way. A source that produces sub-extents (producesSubExtents: the XML image readers read
+// just the block) is asked for piece 0 of 1 with the block. Any other input is asked for
+// piece 0 of 1 with the WHOLE extent, the same request on every process: most of
+// ParaView's image readers (NIfTI, raw, DEN) produce data for piece 0 only and read the
+// whole volume anyway, and a parallel filter may need one request everywhere:
+// vtkPResampleToImage (ResampleToImage) splits the UPDATE_EXTENT it is asked for into DIY
+// blocks and sends each process the points of its block as computed from the SENDER's
+// request; asked a different extent on each process, it writes those points outside its
+// output's arrays (ParaView 5.11: heap corruption in vtkPResampleToImage::RequestData,
+// "free(): invalid next size"). Such an input delivers its own split, which gatherBlock
+// (mcvGatherBlock.h) reassembles.
 inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
   vtkInformationVector* outputVector, int ghostLayers, const int* requested = nullptr)
 {
@@ -111,6 +145,14 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
   if (!layout.IsSplit())
   {
     return requestWholeExtent(inputVector);
+  }
+  // A piece request (ParaView's UpdatePipeline, representations) leaves the output's
+  // UPDATE_EXTENT at the whole extent: taken as an extent request it would make every
+  // process ask its input for the whole volume. The output then holds the piece's extent
+  // (shared upper layer included, which the next process owns), so that is what is asked.
+  if (requested && std::equal(requested, requested + 6, layout.Whole))
+  {
+    requested = layout.Extent;
   }
   int block[6];
   for (int a = 0; a < 3; ++a)
@@ -123,8 +165,20 @@ inline int requestPieceWithGhosts(vtkInformationVector** inputVector,
     }
     block[2 * a] = std::max(layout.Whole[2 * a], lo - ghostLayers);
     block[2 * a + 1] = std::min(layout.Whole[2 * a + 1], hi + ghostLayers);
+    // A process that owns no voxel (more processes than the volume splits in) still asks
+    // for one: a split filter of the suite upstream crops its output to what is asked,
+    // and an empty block would stop this one ("empty extent") instead of letting it take
+    // part with nothing.
+    if (block[2 * a] > block[2 * a + 1])
+    {
+      block[2 * a] = block[2 * a + 1] = layout.Whole[2 * a];
+    }
   }
   const bool split = fromSplitFilter(inInfo);
+  if (!split && !producesSubExtents(inInfo))
+  {
+    std::copy(layout.Whole, layout.Whole + 6, block);
+  }
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), block, 6);
   inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), split ? layout.Piece : 0);
   inInfo->Set(

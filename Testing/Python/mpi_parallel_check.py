@@ -16,7 +16,10 @@ Run twice on the real 3-channel brain (Colin27 ch2 + AAL + Brodmann):
       one-process coordinates also equal the chain's;
       and both on the brain resampled by ParaView's ResampleToImage, which splits its
       output its own way (DIY blocks) whatever extent the filters ask for: each process
-      then assembles its block from the others' pieces.
+      then assembles its block from the others' pieces; and DimensionReduction on the
+      features of the resampled brain, which asks its piece of MultichannelFeatures, which
+      must still ask ResampleToImage the same extent on every process (vtkPResampleToImage
+      corrupts its heap otherwise: mcvPieces.h).
 With --thin, a 2 x 2 x 2 synthetic volume instead (PCA): more processes than the volume
 splits in, so some own no voxel and must take part with nothing.
 Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
@@ -137,6 +140,13 @@ def main():
         for key, value in REDUCTION.items():
             setattr(resampled_fused, key, value)
         timings["resampled fused reduction"] = timed(resampled_fused)
+        # A split filter asks its input (a filter of the suite) for its piece, which then
+        # asks ResampleToImage: that request must stay the same on every process.
+        resampled_chain = DimensionReduction(Input=resampled_feats)
+        messages.append(T.Messages(resampled_chain))
+        for key, value in REDUCTION.items():
+            setattr(resampled_chain, key, value)
+        timings["resampled chain reduction"] = timed(resampled_chain)
     errors = [e for m in messages for e in m.errors]
     C.check(not errors, "no error from the features or the reductions %s" % errors)
 
@@ -165,6 +175,10 @@ def main():
                     with open(os.path.join(args.reference, "resampled_" + name + ".values"),
                               "wb") as f:
                         values_of(out.GetPointData().GetArray(name), code).tofile(f)
+            out = resampled_chain.GetClientSideObject().GetOutputDataObject(0)
+            with open(os.path.join(args.reference, "resampled_chain_ReducedCoordinates.values"),
+                      "wb") as f:
+                values_of(out.GetPointData().GetArray("ReducedCoordinates")).tofile(f)
         chain = values_of(image.GetPointData().GetArray("ReducedCoordinates"))
         own = values_of(fused_image.GetPointData().GetArray("ReducedCoordinates"))
         span = max(chain) - min(chain)
@@ -194,6 +208,8 @@ def main():
                        "resampled_")
         compare_pieces(C, resampled_fused, R, RESAMPLED_DIMS, (("ReducedCoordinates", "f"),),
                        args.compare, "resampled_")
+        compare_pieces(C, resampled_chain, R, RESAMPLED_DIMS, (("ReducedCoordinates", "f"),),
+                       args.compare, "resampled_chain_")
     print("timings (%d processes): " % R + ", ".join("%s %.2f s" % kv for kv in timings.items()))
     print("timings (1 process):   " + ", ".join("%s %.2f s" % kv
                                                 for kv in ref["timings"].items()))
