@@ -6,6 +6,7 @@
 
 #include "CudaCheck.h"
 #include "FeatureKernels.cuh"
+#include "OrderedKey.cuh"
 
 #include <algorithm>
 #include <cmath>
@@ -24,17 +25,6 @@ namespace
 constexpr int kThreads = 256;
 constexpr int kStatBlocks = 1024;
 constexpr int kMaxStatColumns = 1024; // 5 doubles per column in shared memory (40 KiB)
-
-// Order-preserving float <-> int key (its own inverse), for integer atomicMin/Max.
-__device__ __forceinline__ int orderedKey(float f)
-{
-  const int k = __float_as_int(f);
-  return k >= 0 ? k : k ^ 0x7fffffff;
-}
-__device__ __forceinline__ float fromOrderedKey(int k)
-{
-  return __int_as_float(k >= 0 ? k : k ^ 0x7fffffff);
-}
 
 // Thread t of the grid handles elements t, t + S, t + 2S, ... with S a multiple of cols:
 // always the same column (t % cols). Per-block partials: [block][col] for count, sum, min,

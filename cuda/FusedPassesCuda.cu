@@ -6,6 +6,7 @@
 
 #include "CudaCheck.h"
 #include "DeviceBuffer.cuh"
+#include "OrderedKey.cuh"
 #include "SlabStream.cuh"
 #include "StagingCopy.h"
 
@@ -41,26 +42,6 @@ int reduceThreads(int cols, std::size_t rows)
   const std::size_t wanted = std::max<std::size_t>(1, rows * static_cast<std::size_t>(cols) / kElementsPerThread);
   const std::size_t most = static_cast<std::size_t>(kReduceBlocks) * kThreads;
   return static_cast<int>(std::max<std::size_t>(1, std::min(wanted, most) / static_cast<std::size_t>(cols))) * cols;
-}
-
-// Order-preserving float <-> int key (its own inverse), for integer atomicMin/Max.
-__device__ __forceinline__ int orderedKey(float f)
-{
-  const int k = __float_as_int(f);
-  return k >= 0 ? k : k ^ 0x7fffffff;
-}
-__host__ __device__ inline float fromOrderedKey(int k)
-{
-  const int bits = k >= 0 ? k : k ^ 0x7fffffff;
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
-int hostOrderedKey(float f)
-{
-  int k;
-  std::memcpy(&k, &f, sizeof k);
-  return k >= 0 ? k : k ^ 0x7fffffff;
 }
 
 __device__ __forceinline__ bool rowHasNonFinite(const float* channels, int C, std::int64_t plane, std::int64_t at)
@@ -474,8 +455,8 @@ bool fusedColumnSums(const FusedPassSetup& setup, const FusedChannelFill& fill, 
   int* maxKey = minKey + F;
   {
     std::vector<int> keys(2 * static_cast<std::size_t>(F));
-    std::fill(keys.begin(), keys.begin() + F, hostOrderedKey(std::numeric_limits<float>::infinity()));
-    std::fill(keys.begin() + F, keys.end(), hostOrderedKey(-std::numeric_limits<float>::infinity()));
+    std::fill(keys.begin(), keys.begin() + F, orderedKey(std::numeric_limits<float>::infinity()));
+    std::fill(keys.begin() + F, keys.end(), orderedKey(-std::numeric_limits<float>::infinity()));
     const unsigned long long none[2] = { 0ull, ~0ull };
     MCV_CUDA_TRY(cudaMemset(bins, 0, binBytes));
     MCV_CUDA_TRY(cudaMemcpy(nonFinite, none, sizeof none, cudaMemcpyHostToDevice));

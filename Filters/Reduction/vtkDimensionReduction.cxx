@@ -619,34 +619,9 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     }
   }
   // The channel arrays are the input's own (or kept by `channels`, which ends here): a
-  // converted channel would dangle, so keep every converted copy with the rows.
-  struct Rows final : mcv::FeatureRows
-  {
-    std::unique_ptr<mcv::FeatureBricks> bricks;
-    mcv::vtkhelpers::ChannelArrays channels;
-    std::size_t rows() const override { return bricks->rows(); }
-    int cols() const override { return bricks->cols(); }
-    std::size_t blockCount() const override { return bricks->blockCount(); }
-    std::size_t blockBegin(std::size_t b) const override { return bricks->blockBegin(b); }
-    const float* block(std::size_t b) override { return bricks->block(b); }
-    void gather(const std::size_t* index, std::size_t n, float* out) override { bricks->gather(index, n, out); }
-    mcv::DevicePlacementReport placeOnDevice(const mcv::DevicePlacement& request) override
-    {
-      return bricks->placeOnDevice(request);
-    }
-    mcv::DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override
-    {
-      return bricks->columnSumsOnDevice(progress);
-    }
-    mcv::DevicePassReport strataOnDevice(const mcv::DeviceStrata& request) override
-    {
-      return bricks->strataOnDevice(request);
-    }
-  };
-  std::unique_ptr<Rows> out(new Rows);
-  out->bricks = std::move(bricks);
-  out->channels = std::move(channels);
-  return std::unique_ptr<mcv::FeatureRows>(out.release());
+  // converted channel would dangle, so the bricks keep every converted copy.
+  bricks->keepAlive(std::make_shared<mcv::vtkhelpers::ChannelArrays>(std::move(channels)));
+  return std::unique_ptr<mcv::FeatureRows>(bricks.release());
 }
 
 //------------------------------------------------------------------------------

@@ -63,9 +63,7 @@ cuda::FusedChannelFill channelFill(const std::vector<ChannelView>& channels)
     return detail::channelToFloat(fromVoxel(channels[static_cast<std::size_t>(c)], first), count, values, nullptr);
   };
 }
-#endif
 
-#ifdef MCV_HAS_CUDA
 // A GPU pass over the channels; offset and scale empty for the statistics pass.
 cuda::FusedPassSetup passSetup(const ImageGrid& grid, std::size_t channels, const FeatureSelection& selection,
   int cols, const std::vector<double>& offset, const std::vector<double>& scale, std::size_t deviceBytes,
@@ -337,16 +335,18 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
 
 bool FeatureBricks::recordDevicePass(const char* name, const DeviceStats& stats, bool ok, std::string& error)
 {
-  devicePasses_.push_back(DevicePass{ name, stats });
-  if (ok)
-  {
-    ++passesOnDevice_;
-  }
-  else if (error.empty())
+  devicePasses_.push_back(DevicePass{ name, ok, stats });
+  if (!ok && error.empty())
   {
     error = "unknown CUDA failure";
   }
   return ok;
+}
+
+int FeatureBricks::passesOnDevice() const
+{
+  return static_cast<int>(std::count_if(devicePasses_.begin(), devicePasses_.end(),
+    [](const DevicePass& p) { return p.ok && p.name != "placement"; }));
 }
 
 bool FeatureBricks::normalisedPassesApply() const
@@ -396,7 +396,6 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
   return false;
 #endif
 }
-
 
 DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(double)>& progress)
 {
@@ -481,16 +480,16 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
   }
   cuda::FusedPlacementStats stats;
   std::string error;
-  if (!cuda::placeFused(setup, fill, request.out, request.progress, &stats, &report.rowsDone, &error))
-  {
-    report.error = error.empty() ? std::string("unknown CUDA failure") : error;
-  }
+  const bool ok = cuda::placeFused(setup, fill, request.out, request.progress, &stats, &report.rowsDone, &error);
   resident_.reset(); // the last pass over the volume
   report.radiusScans = stats.radiusScans;
   deviceStats_ = DeviceStats{ stats.slabSlices, stats.slabs, stats.bytesToDevice, stats.bytesFromDevice,
     stats.deviceBytes, stats.deviceUsedPeak, stats.pinnedBytes, stats.setupMs, stats.fillMs, stats.waitMs,
     stats.totalMs };
-  devicePasses_.push_back(DevicePass{ "placement", deviceStats_ });
+  if (!recordDevicePass("placement", deviceStats_, ok, error))
+  {
+    report.error = error;
+  }
 #else
   (void)request;
 #endif

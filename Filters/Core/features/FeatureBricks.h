@@ -38,9 +38,9 @@ namespace mcv
 class FeatureBricks final : public FeatureRows
 {
 public:
-  // `options` as for computeFeatures (Device is ignored: the CPU computes; communicator
-  // and piece for a split volume). slabBytes: the feature buffer of one slab (at least
-  // one slice is taken).
+  // `options` as for computeFeatures (Device: where the GPU passes may run, see prepare();
+  // communicator and piece for a split volume). slabBytes: the feature buffer of one slab
+  // (at least one slice is taken). The channels' memory must outlive the bricks (keepAlive).
   FeatureBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& options,
     std::size_t slabBytes = kDefaultSlabBytes);
 
@@ -66,8 +66,12 @@ public:
   // in a build without CUDA, before prepare(), or for one process's piece of a volume.
   DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override;
   DevicePassReport strataOnDevice(const DeviceStrata& request) override;
-  // Passes over the volume that ran on the GPU (statistics, column sums, strata).
-  int passesOnDevice() const { return passesOnDevice_; }
+  // Passes over the volume before the placement that ran on the GPU (statistics, column
+  // sums, strata).
+  int passesOnDevice() const;
+  // Holds `owner` (what the channel views point into, e.g. converted copies) as long as the
+  // bricks live, so that a caller can hand the bricks on alone.
+  void keepAlive(std::shared_ptr<void> owner) { owner_ = std::move(owner); }
 
   // Device memory the GPU path may use (0: the free memory less a margin).
   void setDeviceBytes(std::size_t bytes) { deviceBytes_ = bytes; }
@@ -84,6 +88,7 @@ public:
   struct DevicePass
   {
     std::string name;
+    bool ok = false;
     DeviceStats stats;
   };
   const std::vector<DevicePass>& devicePasses() const { return devicePasses_; }
@@ -105,7 +110,7 @@ private:
   bool wholeVolumeHere() const;
   // ... and prepare() has run: the column sums and strata may run on the GPU.
   bool normalisedPassesApply() const;
-  // Logs a GPU pass (devicePasses, passesOnDevice); a failure without a message gets one.
+  // Logs a GPU pass (devicePasses); a failure without a message gets one.
   bool recordDevicePass(const char* name, const DeviceStats& stats, bool ok, std::string& error);
   // The statistics pass on the GPU; false (with error) leaves the CPU to run it.
   bool deviceStatistics(std::vector<detail::ColumnStats>& parts, std::vector<double>& badPerChannel,
@@ -121,8 +126,8 @@ private:
   std::vector<double> offset_, scale_;
   std::size_t deviceBytes_ = 0;
   DeviceStats deviceStats_;
-  int passesOnDevice_ = 0;
   std::vector<DevicePass> devicePasses_;
+  std::shared_ptr<void> owner_;
   // CUDA builds: the channels kept on the device from the statistics pass to the placement
   // when they fit (cuda::ResidentChannels, type-erased so that this header needs no CUDA).
   std::shared_ptr<void> resident_;
