@@ -97,8 +97,35 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 // exact-scan kernels (which see original indices) give the same neighbours and coordinates.
 //
 // So that the 32 rows of a warp are alike (and skip the same tiles), the rows of a chunk
-// are first sorted by their nearest tile centroid (stable: neighbouring voxels stay
-// together); the candidates are still written at each row's own position.
+// are first sorted by their two nearest tile centroids (nearestTileKernel; stable:
+// neighbouring voxels stay together); the candidates are still written at each row's own
+// position.
+//
+// The per-row box check costs about a distance per tile (on the brain's slab it was a third
+// of the kernel's instructions: every row checks all 313 tiles to scan 45), so with
+// warpFilter a warp first checks the box of its rows, [qlo, qhi] per coordinate, against
+// the next kWarpBatch tiles at once, one tile per lane: the gap max(0, lo - qhi, qlo - hi)
+// is at most every row's max(0, lo - q, q - hi) (float rounding is monotone), summed in the
+// same order, so box(warp)^2 <= box(q)^2 for each of its rows; with the largest of the rows'
+// thresholds, box(warp)^2 > that threshold means every row of the warp can skip the tile.
+// Only the tiles a warp cannot rule out this way get the per-row check; a tile no warp of the
+// block needs is passed over without a barrier. The same tiles are skipped or scanned for
+// each row's candidates as without it (a skipped tile could not hold any), so the
+// candidates are the same.
+//
+// Dot-product filter (dotFilter). The exact float distance costs a subtraction and an FMA
+// per coordinate; |q - r|^2 = |q|^2 + |r|^2 - 2 q.r costs one FMA with |r|^2 known, but
+// rounds relative to |q|^2 + |r|^2, not to the distance, so it only decides which references
+// need the exact distance: a reference is ruled out when e = fl(|r|^2 - 2 fl(q.r)) exceeds
+// limit = 8th distance (1 + 4 margin + 2^-19) + eps - fl(|q|^2). With the FMA chains' error
+// bounds (gamma_n = n u / (1 - n u), u = 2^-24), |e - (|r|^2 - 2 q.r)| <= (D + 3) u (|q| + |r|)^2
+// and |fl(|q|^2) - |q|^2| <= D u |q|^2, so eps = (2 DP + 24) u (|q| + R)^2, R the tile's
+// largest |r| rounded up, covers both with room for the roundings of limit itself (the
+// 2^-19 term covers those of the 8th distance). Then e > limit means |q - r|^2 > 8th
+// distance (1 + 4 margin), so its float distance exceeds the 8th (as for a skipped tile): not
+// a candidate. The others get the exact float distance (in the tile's order), so
+// the candidates are those of the full scan. Not finite anywhere: limit or e is not a
+// number or infinite, and the comparison keeps the reference.
 // References per tile when pruning: 32 placed a 2.64 M-row brain slab (10000 references,
 // 24D) 2.37x faster than the unpruned kernel, 64: 2.25x, 16: 1.93x (H200, one call).
 constexpr int kPruneTile = 32;
@@ -106,6 +133,8 @@ constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's ord
 // Fewer tiles: every reference is scanned (the sort and the checks do not pay: 360
 // references of a lattice, 12 tiles, took 0.4 ms pruned and 0.3 ms unpruned on an H100).
 constexpr int kMinPruneTiles = 32;
+constexpr int kWarps = kThreads / 32;
+constexpr int kWarpBatch = 32; // tiles per warp check (one per lane)
 
 bool pruneWith(std::size_t M)
 {
@@ -121,6 +150,11 @@ struct TileParams
   float margin;               // 4 (DP + 4) 2^-24
   const unsigned* rowOrder;   // thread slot -> row of the chunk (sorted by nearest tile)
   unsigned long long* visits; // [0] += tiles scanned (by a warp) x its rows, [1] += rows
+  int warpFilter;             // 1: the warp's box of rows is checked first (see candidatesKernel)
+  const float* norms;         // |r|^2 of the references in tile order (float of the double sum)
+  const float* radius;        // per tile, max |r| rounded up
+  const float* centroidNorms; // per tile, |centroid|^2 (the rows' sort keys)
+  int dotFilter;              // 1: the dot-product filter (see "Dot-product filter")
 };
 
 template <int V>
@@ -144,10 +178,41 @@ __device__ __forceinline__ float boxGap(float q, float lo, float hi)
   return fmaxf(0.f, fmaxf(lo - q, q - hi));
 }
 
-// The rows' keys for the sort: the nearest tile centroid (rows beyond the chunk's list:
-// `tiles`, last).
+// Keeps reference idx at float distance acc among a row's KP best, sorted by (distance,
+// original index) whatever order the references come in; an equal distance to a kept +inf is
+// not kept (as the scan in index order did).
+template <int K>
+__device__ __forceinline__ void offerCandidate(float acc, unsigned idx, float (&bf)[K], unsigned (&bi)[K])
+{
+  if (acc <= bf[K - 1] && (acc < bf[K - 1] || (idx < bi[K - 1] && bi[K - 1] != kNone)))
+  {
+    bf[K - 1] = acc;
+    bi[K - 1] = idx;
+#pragma unroll
+    for (int s = K - 1; s > 0; --s)
+    {
+      if (bf[s] < bf[s - 1] || (bf[s] == bf[s - 1] && bi[s] < bi[s - 1]))
+      {
+        const float tf = bf[s];
+        bf[s] = bf[s - 1];
+        bf[s - 1] = tf;
+        const unsigned ti = bi[s];
+        bi[s] = bi[s - 1];
+        bi[s - 1] = ti;
+      }
+    }
+  }
+}
+
+// The rows' keys for the sort: the nearest tile centroid t1 and the second nearest t2, key
+// t1 * tiles + t2 (pairKeys), else t1; rows beyond the chunk's list: the largest key, last.
+// Rows that share both tiles are alike, so the 32 rows of a warp skip the same tiles more
+// often than rows that share only the nearest (the brain's 7.1 M rows, 23D, H200: 47.0
+// instead of 51.2 tiles of 313 scanned per row, 53.9 instead of 56.8 ms). The
+// keys only group rows (the candidates do not depend on the order), so the centroids are
+// ranked by |c|^2 - 2 q.c, one FMA per coordinate.
 template <int DP>
-__global__ void nearestTileKernel(RowParams p, TileParams tp, int tiles, unsigned* __restrict__ keys,
+__global__ void nearestTileKernel(RowParams p, TileParams tp, int tiles, bool pairKeys, unsigned* __restrict__ keys,
   unsigned* __restrict__ rows)
 {
   constexpr int V = DP / 4;
@@ -159,7 +224,7 @@ __global__ void nearestTileKernel(RowParams p, TileParams tp, int tiles, unsigne
   rows[local] = static_cast<unsigned>(local);
   if (local >= rowsToPlace(p))
   {
-    keys[local] = static_cast<unsigned>(tiles);
+    keys[local] = static_cast<unsigned>(pairKeys ? tiles * tiles : tiles);
     return;
   }
   const float* row = p.rows + (p.first + static_cast<std::size_t>(rowOf(p, local))) * p.dim;
@@ -169,18 +234,36 @@ __global__ void nearestTileKernel(RowParams p, TileParams tp, int tiles, unsigne
   {
     q[c] = c < p.D ? feature(row, c, p.gather) : 0.f;
   }
-  float best = __int_as_float(0x7f800000);
-  int at = 0;
+  float best = __int_as_float(0x7f800000), second = best;
+  int at = 0, next = 0;
   for (int t = 0; t < tiles; ++t)
   {
-    const float d = squaredDistance<V>(q, tp.centroids + static_cast<std::size_t>(t) * V);
+    const float4* c = tp.centroids + static_cast<std::size_t>(t) * V;
+    float dot = 0.f;
+#pragma unroll
+    for (int v = 0; v < V; ++v)
+    {
+      const float4 r = c[v];
+      dot = fmaf(q[4 * v], r.x, dot);
+      dot = fmaf(q[4 * v + 1], r.y, dot);
+      dot = fmaf(q[4 * v + 2], r.z, dot);
+      dot = fmaf(q[4 * v + 3], r.w, dot);
+    }
+    const float d = fmaf(-2.f, dot, tp.centroidNorms[t]);
     if (d < best)
     {
+      second = best;
+      next = at;
       best = d;
       at = t;
     }
+    else if (d < second)
+    {
+      second = d;
+      next = t;
+    }
   }
-  keys[local] = static_cast<unsigned>(at);
+  keys[local] = static_cast<unsigned>(pairKeys ? at * tiles + next : at);
 }
 
 // One query per thread; DP = D padded with zeros (queries and references alike) to a
@@ -193,9 +276,12 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
   constexpr int TileN = Prune ? kPruneTile : kTile;
   __shared__ float4 tile[TileN * V];
   __shared__ unsigned tileIdx[Prune ? TileN : 1];
+  __shared__ float tileNorm[Prune ? TileN : 1];
   __shared__ unsigned short rankOrder[Prune ? kMaxRankedTiles : 1];
   __shared__ float dist[Prune ? kMaxRankedTiles : 1];
   __shared__ float q0[Prune ? DP : 1];
+  __shared__ float4 warpLo[Prune ? kWarps * V : 1], warpHi[Prune ? kWarps * V : 1]; // the warps' boxes of rows
+  __shared__ unsigned warpMask[Prune ? kWarps : 1]; // bit b: the warp may need tile step batch + b
   __shared__ unsigned long long blockVisits;
   const int count = rowsToPlace(p);
   if (static_cast<int>(blockIdx.x) * kThreads >= count)
@@ -220,6 +306,15 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
     bf[s] = __int_as_float(0x7f800000); // +inf
     bi[s] = kNone;
   }
+  // The dot-product filter's |q|^2, |q| and eps / (|q| + R)^2.
+  float qq = 0.f;
+#pragma unroll
+  for (int c = 0; c < DP; ++c)
+  {
+    qq = fmaf(q[c], q[c], qq);
+  }
+  const float qNorm = sqrtf(qq);
+  constexpr float dotSlack = (2 * DP + 24) * 0x1p-24f;
   const int tiles = (p.M + TileN - 1) / TileN;
   const bool ranked = Prune && tiles <= kMaxRankedTiles;
   if (ranked)
@@ -260,7 +355,35 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
   {
     blockVisits = 0; // published by the first barrier of the tile loop
   }
+  const int warp = threadIdx.x >> 5, lane = threadIdx.x & 31;
+  if (Prune && tp.warpFilter)
+  {
+    // The box of the warp's active rows; a coordinate that is not finite in any of them
+    // makes that coordinate's range infinite (gap 0, as the per-row check's gap is >= 0).
+    float* wlo = reinterpret_cast<float*>(warpLo + warp * V);
+    float* whi = reinterpret_cast<float*>(warpHi + warp * V);
+#pragma unroll
+    for (int c = 0; c < DP; ++c)
+    {
+      const bool finite = isfinite(q[c]);
+      float l = !active ? __int_as_float(0x7f800000) : finite ? q[c] : __int_as_float(0xff800000);
+      float h = !active ? __int_as_float(0xff800000) : finite ? q[c] : __int_as_float(0x7f800000);
+#pragma unroll
+      for (int offset = 16; offset > 0; offset >>= 1)
+      {
+        l = fminf(l, __shfl_xor_sync(0xffffffffu, l, offset));
+        h = fmaxf(h, __shfl_xor_sync(0xffffffffu, h, offset));
+      }
+      if (lane == 0)
+      {
+        wlo[c] = l;
+        whi[c] = h;
+      }
+    }
+    __syncwarp();
+  }
   unsigned long long visited = 0; // tiles this warp scanned
+  int batch = 0, nextCheck = 0;   // the warp masks' first step, the next check's
   for (int step = 0; step < tiles; ++step)
   {
     const int t = ranked ? rankOrder[step] : step;
@@ -269,8 +392,68 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
     bool warpNeeds = true;
     if (Prune)
     {
+      bool mine = true; // this warp's rows may need the tile
+      if (tp.warpFilter)
+      {
+        // Step 0 alone (no distance is known before it), then kWarpBatch steps per check.
+        if (step == nextCheck)
+        {
+          batch = step;
+          nextCheck = step == 0 ? 1 : step + kWarpBatch;
+          float limit = active ? fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f) : __int_as_float(0xff800000);
+#pragma unroll
+          for (int offset = 16; offset > 0; offset >>= 1)
+          {
+            limit = fmaxf(limit, __shfl_xor_sync(0xffffffffu, limit, offset));
+          }
+          bool may = false;
+          const int mineStep = step + lane;
+          if (mineStep < nextCheck && mineStep < tiles)
+          {
+            const int u = ranked ? rankOrder[mineStep] : mineStep;
+            const float4* lo = tp.lo + static_cast<std::size_t>(u) * V;
+            const float4* hi = tp.hi + static_cast<std::size_t>(u) * V;
+            const float4* ql = warpLo + warp * V;
+            const float4* qh = warpHi + warp * V;
+            float box = 0.f;
+#pragma unroll
+            for (int v = 0; v < V; ++v)
+            {
+              const float4 l = lo[v], h = hi[v], a = ql[v], b = qh[v];
+              const float g0 = fmaxf(0.f, fmaxf(l.x - b.x, a.x - h.x));
+              const float g1 = fmaxf(0.f, fmaxf(l.y - b.y, a.y - h.y));
+              const float g2 = fmaxf(0.f, fmaxf(l.z - b.z, a.z - h.z));
+              const float g3 = fmaxf(0.f, fmaxf(l.w - b.w, a.w - h.w));
+              box = fmaf(g0, g0, box);
+              box = fmaf(g1, g1, box);
+              box = fmaf(g2, g2, box);
+              box = fmaf(g3, g3, box);
+            }
+            may = !(box > limit);
+          }
+          const unsigned mask = __ballot_sync(0xffffffffu, may);
+          __syncthreads(); // every warp is done with the previous batch's masks
+          if (lane == 0)
+          {
+            warpMask[warp] = mask;
+          }
+          __syncthreads();
+        }
+        const unsigned bit = 1u << (step - batch);
+        unsigned any = 0;
+#pragma unroll
+        for (int w = 0; w < kWarps; ++w)
+        {
+          any |= warpMask[w];
+        }
+        if (!(any & bit))
+        {
+          continue; // no warp of the block needs it (the same decision in every thread)
+        }
+        mine = (warpMask[warp] & bit) != 0;
+      }
       bool need = false;
-      if (active)
+      if (active && mine)
       {
         const float4* lo = tp.lo + static_cast<std::size_t>(t) * V;
         const float4* hi = tp.hi + static_cast<std::size_t>(t) * V;
@@ -307,6 +490,10 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
     if (Prune && threadIdx.x < n)
     {
       tileIdx[threadIdx.x] = tp.order[base + threadIdx.x];
+      if (tp.dotFilter)
+      {
+        tileNorm[threadIdx.x] = tp.norms[base + threadIdx.x];
+      }
     }
     __syncthreads();
     if (!warpNeeds)
@@ -314,47 +501,41 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
       continue; // every row of this warp can skip the tile
     }
     ++visited;
+    if (Prune && tp.dotFilter)
+    {
+      // Only the references the dot-product bound cannot rule out get the exact float
+      // distance (see "Dot-product filter"); their bits, then those in index order.
+      const float reach = qNorm + tp.radius[t];
+      const float eps = dotSlack * reach * reach;
+      const float limit = fmaf(bf[KP - 1], 1.f + 4.f * tp.margin + 0x1p-19f, eps - qq);
+      unsigned pass = 0;
+#pragma unroll 4
+      for (int j = 0; j < n; ++j)
+      {
+        float dot = 0.f;
+#pragma unroll
+        for (int v = 0; v < V; ++v)
+        {
+          const float4 r = tile[j * V + v];
+          dot = fmaf(q[4 * v], r.x, dot);
+          dot = fmaf(q[4 * v + 1], r.y, dot);
+          dot = fmaf(q[4 * v + 2], r.z, dot);
+          dot = fmaf(q[4 * v + 3], r.w, dot);
+        }
+        pass |= static_cast<unsigned>(!(fmaf(-2.f, dot, tileNorm[j]) > limit)) << j;
+      }
+      while (pass)
+      {
+        const int j = __ffs(pass) - 1;
+        pass &= pass - 1;
+        offerCandidate<KP>(squaredDistance<V>(q, tile + j * V), tileIdx[j], bf, bi);
+      }
+      continue;
+    }
 #pragma unroll 2
     for (int j = 0; j < n; ++j)
     {
-      float acc = 0.f;
-#pragma unroll
-      for (int v = 0; v < V; ++v)
-      {
-        const float4 r = tile[j * V + v];
-        const float t0 = q[4 * v] - r.x;
-        const float t1 = q[4 * v + 1] - r.y;
-        const float t2 = q[4 * v + 2] - r.z;
-        const float t3 = q[4 * v + 3] - r.w;
-        acc = fmaf(t0, t0, acc);
-        acc = fmaf(t1, t1, acc);
-        acc = fmaf(t2, t2, acc);
-        acc = fmaf(t3, t3, acc);
-      }
-      if (acc <= bf[KP - 1])
-      {
-        // Kept by (distance, original index) whatever order the references come in; an
-        // equal distance to a kept +inf is not kept (as the scan in index order did).
-        const unsigned idx = Prune ? tileIdx[j] : static_cast<unsigned>(base + j);
-        if (acc < bf[KP - 1] || (idx < bi[KP - 1] && bi[KP - 1] != kNone))
-        {
-          bf[KP - 1] = acc;
-          bi[KP - 1] = idx;
-#pragma unroll
-          for (int s = KP - 1; s > 0; --s)
-          {
-            if (bf[s] < bf[s - 1] || (bf[s] == bf[s - 1] && bi[s] < bi[s - 1]))
-            {
-              const float tf = bf[s];
-              bf[s] = bf[s - 1];
-              bf[s - 1] = tf;
-              const unsigned ti = bi[s];
-              bi[s] = bi[s - 1];
-              bi[s - 1] = ti;
-            }
-          }
-        }
-      }
+      offerCandidate<KP>(squaredDistance<V>(q, tile + j * V), Prune ? tileIdx[j] : static_cast<unsigned>(base + j), bf, bi);
     }
   }
   if (Prune && tp.visits)
@@ -676,6 +857,7 @@ struct SortScratch
   void* temp;
   std::size_t tempBytes;
   int tiles, keyBits;
+  bool pairKeys;
 };
 
 template <int DP>
@@ -686,7 +868,7 @@ cudaError_t launchCandidates(const RowParams& p, TileParams tp, const SortScratc
   const float4* refs4 = reinterpret_cast<const float4*>(refsPadded);
   if (tp.order)
   {
-    nearestTileKernel<DP><<<blocks, kThreads, 0, stream>>>(p, tp, ss.tiles, ss.keys, ss.rows);
+    nearestTileKernel<DP><<<blocks, kThreads, 0, stream>>>(p, tp, ss.tiles, ss.pairKeys, ss.keys, ss.rows);
     cudaError_t e = cudaGetLastError();
     if (e != cudaSuccess)
     {
@@ -864,6 +1046,38 @@ void tileBounds(const float* X, std::size_t M, int D, int DP, const std::vector<
   }
 }
 
+// The dot-product filter's |r|^2 per reference (tile order; the double sum rounded to float,
+// within u of the exact one) and per tile the largest |r|, rounded up to a float (infinite
+// when a value is not finite, so the filter rules nothing out there).
+void referenceNorms(const float* X, std::size_t M, int D, const std::vector<unsigned>& order,
+  std::vector<float>& norms, std::vector<float>& radius)
+{
+  norms.assign(M, 0.f);
+  radius.assign((M + kPruneTile - 1) / kPruneTile, 0.f);
+  for (std::size_t i = 0; i < M; ++i)
+  {
+    double sum = 0.0;
+    for (int c = 0; c < D; ++c)
+    {
+      const double v = X[static_cast<std::size_t>(order[i]) * D + c];
+      sum += v * v;
+    }
+    norms[i] = static_cast<float>(sum);
+    const double length = std::sqrt(sum);
+    float up = static_cast<float>(length);
+    if (!std::isfinite(up))
+    {
+      up = std::numeric_limits<float>::infinity();
+    }
+    else if (static_cast<double>(up) < length)
+    {
+      up = std::nextafter(up, std::numeric_limits<float>::infinity());
+    }
+    float& r = radius[i / kPruneTile];
+    r = std::isnan(length) ? std::numeric_limits<float>::infinity() : std::max(r, up);
+  }
+}
+
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t)
 {
@@ -883,11 +1097,12 @@ struct PlacementOnDevice::Impl
   DeviceBuffer refs, refX, refY, scanTotal;
   // Tile pruning: refs in tile order, order[sorted] = original index, per-tile centroids
   // and boxes, the visit counters (TileParams::visits). Empty: refs in original order.
-  DeviceBuffer order, centroids, lo, hi, visits;
+  DeviceBuffer order, centroids, lo, hi, visits, norms, radius, centroidNorms;
   std::vector<Slot> slots;
   std::size_t M = 0, bytes = 0, chunk = 0;
   int D = 0, d = 0, k = 0, dim = 0, DP = 0, tiles = 0, keyBits = 0; // tiles: pruning's, 0 without
-  bool gather = false;
+  bool pairKeys = false;
+  bool gather = false, warpFilter = true, dotFilter = true;
   double regularization = 0, margin = 0;
 };
 
@@ -918,11 +1133,13 @@ std::size_t PlacementOnDevice::scratchBytesPerSlot(std::size_t maxRows)
 
 std::size_t PlacementOnDevice::referenceBytes(std::size_t M, int D, int d)
 {
-  // Padded, original and embedding rows, the scan total; with pruning the order, the tiles'
-  // centroids and boxes and two visit counters.
+  // Padded, original and embedding rows, the scan total; with pruning the order and norms,
+  // the tiles' centroids, their norms, boxes and radii and two visit counters.
   const std::size_t DP = static_cast<std::size_t>(paddedDimension(D)), tiles = (M + kPruneTile - 1) / kPruneTile;
   return M * (DP + D + d) * sizeof(float) + sizeof(unsigned long long) +
-    (pruneWith(M) ? M * sizeof(unsigned) + tiles * 3 * DP * sizeof(float) + 2 * sizeof(unsigned long long) : 0);
+    (pruneWith(M) ? M * (sizeof(unsigned) + sizeof(float)) + tiles * (3 * DP + 2) * sizeof(float) +
+        2 * sizeof(unsigned long long)
+                  : 0);
 }
 
 bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t maxRows, std::string* error)
@@ -951,19 +1168,26 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   I.dim = in.dim;
   I.DP = paddedDimension(in.D);
   I.gather = in.columns != nullptr;
+  I.warpFilter = in.warpBoxFilter;
+  I.dotFilter = in.dotProductFilter;
   I.regularization = in.regularization;
   I.margin = in.distanceMargin;
   I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
   // The padded copy the candidate kernel reads: in tile order when pruning.
   std::vector<unsigned> order;
-  std::vector<float> centroids, lo, hi;
+  std::vector<float> centroids, lo, hi, norms, radius;
   if (in.pruneTiles && pruneWith(in.M))
   {
     order = orderReferences(in.refX, in.M, in.D);
     tileBounds(in.refX, in.M, in.D, I.DP, order, centroids, lo, hi);
+    referenceNorms(in.refX, in.M, in.D, order, norms, radius);
     I.tiles = static_cast<int>(centroids.size() / static_cast<std::size_t>(I.DP));
-    I.keyBits = 1; // the sort's keys: tiles (0 .. tiles - 1, and tiles for no row)
-    while ((1u << I.keyBits) <= static_cast<unsigned>(I.tiles))
+    // The sort's keys: tile pairs (0 .. tiles^2 - 1, and tiles^2 for no row) up to 4096 tiles
+    // (24 bits), else tiles (0 .. tiles - 1, and tiles).
+    I.pairKeys = I.tiles <= 4096;
+    const unsigned largestKey = static_cast<unsigned>(I.pairKeys ? I.tiles * I.tiles : I.tiles);
+    I.keyBits = 1;
+    while (I.keyBits < 32 && (1u << I.keyBits) <= largestKey)
     {
       ++I.keyBits;
     }
@@ -987,6 +1211,23 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
     MCV_CUDA_TRY(cudaMemcpy(I.lo.ptr, lo.data(), lo.size() * sizeof(float), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMemcpy(I.hi.ptr, hi.data(), hi.size() * sizeof(float), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMemset(I.visits.ptr, 0, 2 * sizeof(unsigned long long)));
+    std::vector<float> centroidNorms(static_cast<std::size_t>(I.tiles));
+    for (std::size_t t = 0; t < centroidNorms.size(); ++t)
+    {
+      double sum = 0.0;
+      for (int c = 0; c < I.DP; ++c)
+      {
+        sum += static_cast<double>(centroids[t * I.DP + c]) * centroids[t * I.DP + c];
+      }
+      centroidNorms[t] = static_cast<float>(sum);
+    }
+    MCV_CUDA_TRY(cudaMalloc(&I.centroidNorms.ptr, centroidNorms.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMemcpy(
+      I.centroidNorms.ptr, centroidNorms.data(), centroidNorms.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMalloc(&I.norms.ptr, norms.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.radius.ptr, radius.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMemcpy(I.norms.ptr, norms.data(), norms.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.radius.ptr, radius.data(), radius.size() * sizeof(float), cudaMemcpyHostToDevice));
   }
   MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
   MCV_CUDA_TRY(cudaMalloc(&I.refX.ptr, in.M * in.D * sizeof(float)));
@@ -1052,9 +1293,11 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
   PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
     deviceNeighbors };
   const TileParams tp{ I.order.as<unsigned>(), I.centroids.as<float4>(), I.lo.as<float4>(), I.hi.as<float4>(),
-    static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), nullptr, I.visits.as<unsigned long long>() };
+    static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), nullptr, I.visits.as<unsigned long long>(),
+    I.warpFilter ? 1 : 0, I.norms.as<float>(), I.radius.as<float>(), I.centroidNorms.as<float>(),
+    I.dotFilter ? 1 : 0 };
   const SortScratch ss{ s.keys.as<unsigned>(), s.keysOut.as<unsigned>(), s.rowOrder.as<unsigned>(),
-    s.rowOrderOut.as<unsigned>(), s.temp.ptr, s.tempBytes, I.tiles, I.keyBits };
+    s.rowOrderOut.as<unsigned>(), s.temp.ptr, s.tempBytes, I.tiles, I.keyBits, I.pairKeys };
   for (std::size_t first = 0; first < n; first += I.chunk)
   {
     p.first = first;

@@ -10,7 +10,7 @@
 // checks it with the float error bound and computes the barycentric weights and the
 // coordinates; rows whose check fails get an exact double scan of every reference. So the
 // GPU picks the same neighbours as the CPU. With pruneTiles the references are ordered
-// into compact tiles at upload, the rows of a chunk are sorted by their nearest tile, and a
+// into compact tiles at upload, the rows of a chunk are sorted by their two nearest tiles, and a
 // warp skips a tile whose bounding box shows it cannot improve any of its rows' candidates:
 // the same candidates, fewer references scanned.
 #pragma once
@@ -48,6 +48,14 @@ struct PlacementInput
   // least 32 tiles of 32 references. false: every reference is scanned for every row (the
   // benchmarks' in-run baseline).
   bool pruneTiles = true;
+  // With pruneTiles: a warp checks the box of its rows against 32 tiles at once before the
+  // per-row checks (OutOfSampleCuda.cu); the same candidates. false: every row checks every
+  // tile (the benchmark's in-run baseline).
+  bool warpBoxFilter = true;
+  // With pruneTiles: the exact float distance only for references that a bound from the dot
+  // product q.r does not rule out (OutOfSampleCuda.cu); the same candidates. false: the
+  // exact distance to every reference of a scanned tile (the benchmark's in-run baseline).
+  bool dotProductFilter = true;
 };
 
 struct PlacementStats

@@ -30,7 +30,9 @@
 //
 // The placement's tile pruning (PlacementInput::pruneTiles) has its in-run baseline twice:
 // the large GPU stage runs with and without it, and at the compare size the placement
-// kernels alone place one slab's rows both ways (tiles scanned per row, same neighbours).
+// kernels alone place one slab's rows both ways (tiles scanned per row, same neighbours), and
+// pruned with and without the warps' box check and the dot-product filter
+// (PlacementInput::warpBoxFilter, dotProductFilter).
 #include "BrainFeatures.h"
 #include "CommandLine.h"
 #include "ScaledBrain.h"
@@ -93,12 +95,18 @@ void placementKernels(mcv::FeatureBricks& bricks, const mcv::ReductionResult& r,
   in.dim = bricks.cols();
   in.columns = in.D == bricks.cols() ? nullptr : r.usedColumns.data();
   in.distanceMargin = mcv::floatDistanceMargin(in.D);
-  std::vector<float> out[2];
-  std::vector<std::uint32_t> nb[2];
-  mcv::cuda::PlacementStats st[2];
-  for (int pass = 0; pass < 2; ++pass)
+  // Tile pruning 0: with both filters (the default), 1: with the warps' box check alone,
+  // 2: with neither (per-row checks, every reference of a scanned tile measured exactly);
+  // 3: every reference scanned.
+  const char* names[] = { "both filters", "warp box check alone", "per-row checks alone", "every reference" };
+  std::vector<float> out[4];
+  std::vector<std::uint32_t> nb[4];
+  mcv::cuda::PlacementStats st[4];
+  for (int pass = 0; pass < 4; ++pass)
   {
-    in.pruneTiles = pass == 0;
+    in.pruneTiles = pass < 3;
+    in.warpBoxFilter = pass < 2;
+    in.dotProductFilter = pass == 0;
     out[pass].resize(n * 3);
     nb[pass].resize(n * 3);
     std::string error;
@@ -108,10 +116,15 @@ void placementKernels(mcv::FeatureBricks& bricks, const mcv::ReductionResult& r,
       return;
     }
   }
-  std::printf("  placement kernels alone on slab %zu (%.2f M rows, every row searched): tile pruning %.1f ms, every "
-              "reference %.1f ms: x%.2f; tiles of 32 scanned per row %.2f of %d; same neighbours and coordinates: %s\n",
-    b, n / 1e6, st[0].computeMs, st[1].computeMs, st[1].computeMs / st[0].computeMs, st[0].tilesPerRow, st[0].tiles,
-    nb[0] == nb[1] && out[0] == out[1] ? "yes" : "NO");
+  std::printf("  placement kernels alone on slab %zu (%.2f M rows, every row searched; tiles of 32 scanned per row "
+              "%.2f of %d):\n", b, n / 1e6, st[0].tilesPerRow, st[0].tiles);
+  for (int pass = 0; pass < 4; ++pass)
+  {
+    std::printf("    %-22s %7.1f ms  (x%.2f of it)  tiles per row %6.2f  same neighbours and coordinates as every "
+                "reference: %s\n",
+      names[pass], st[pass].computeMs, st[pass].computeMs / st[0].computeMs, st[pass].tilesPerRow,
+      nb[pass] == nb[3] && out[pass] == out[3] ? "yes" : "NO");
+  }
   std::fflush(stdout);
 }
 

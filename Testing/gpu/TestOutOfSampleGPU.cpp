@@ -2,8 +2,10 @@
 // (double distance, index) rule is computed with the same roundings on both), coordinates
 // within 1e-4 of the embedding's range (only the 3x3 solve differs: Cholesky on the GPU,
 // Eigen's LDLT on the CPU), on random data, on exact ties, and on the real brain. The
-// tile pruning (PlacementInput::pruneTiles) against every reference scanned: the same
-// neighbours and the same coordinates, bit for bit, with fewer tiles scanned.
+// tile pruning (PlacementInput::pruneTiles, with and without warpBoxFilter and
+// dotProductFilter) against every
+// reference scanned: the same neighbours and the same coordinates, bit for bit, with fewer
+// tiles scanned.
 #include "BrainFeatures.h"
 #include "ExactKnn.h"
 #include "OutOfSample.h"
@@ -101,9 +103,10 @@ void expectGpuMatchesCpu(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& ref
   EXPECT_EQ(sameNb, m);
   EXPECT_GE(static_cast<double>(close), minClose * static_cast<double>(m));
 }
-// cuda::placeOutOfSample with tile pruning on and off: the same neighbours and the same
-// coordinates (the candidates are the same, so everything after them is too). Returns the
-// pruned run's tiles scanned per row as a fraction of the tiles.
+// cuda::placeOutOfSample with tile pruning (with both filters, the warps' box check and
+// the dot-product filter; with the box check alone; with neither) and without: the same
+// neighbours and the same coordinates (the candidates are the same, so everything after
+// them is too), and the warp check scans exactly the tiles the per-row checks scan. Returns the pruned run's tiles scanned per row as a fraction of the tiles.
 double expectPruningChangesNothing(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& refY, const float* rows,
   std::size_t n, int dim, const std::vector<int>& columns)
 {
@@ -119,31 +122,46 @@ double expectPruningChangesNothing(const mcv::RowMatrixF& refX, const mcv::RowMa
   in.columns = columns.empty() ? nullptr : columns.data();
   in.distanceMargin = mcv::floatDistanceMargin(in.D);
   const std::size_t d = static_cast<std::size_t>(in.d);
-  std::vector<float> yPruned(n * d), yAll(n * d);
-  std::vector<std::uint32_t> nbPruned(n * 3), nbAll(n * 3);
-  mcv::cuda::PlacementStats pruned, all;
-  std::string error;
-  in.pruneTiles = true;
-  EXPECT_TRUE(mcv::cuda::placeOutOfSample(in, yPruned.data(), nbPruned.data(), {}, &pruned, &error)) << error;
-  in.pruneTiles = false;
-  EXPECT_TRUE(mcv::cuda::placeOutOfSample(in, yAll.data(), nbAll.data(), {}, &all, &error)) << error;
-  std::size_t sameNb = 0, sameY = 0;
-  for (std::size_t i = 0; i < n; ++i)
+  enum Run { Filters, WarpBox, PerRow, Unpruned };
+  const char* names[] = { "both filters", "warp box first", "per-row checks" };
+  std::vector<float> y[4];
+  std::vector<std::uint32_t> nb[4];
+  mcv::cuda::PlacementStats st[4];
+  for (int run : { Filters, WarpBox, PerRow, Unpruned })
   {
-    sameNb += std::equal(nbPruned.begin() + i * 3, nbPruned.begin() + i * 3 + 3, nbAll.begin() + i * 3);
-    sameY += std::memcmp(yPruned.data() + i * d, yAll.data() + i * d, d * sizeof(float)) == 0;
+    in.pruneTiles = run != Unpruned;
+    in.warpBoxFilter = run == Filters || run == WarpBox;
+    in.dotProductFilter = run == Filters;
+    y[run].resize(n * d);
+    nb[run].resize(n * 3);
+    std::string error;
+    EXPECT_TRUE(mcv::cuda::placeOutOfSample(in, y[run].data(), nb[run].data(), {}, &st[run], &error)) << error;
   }
-  std::printf("[ pruning ] D=%d M=%zu: %zu rows, same neighbours %zu, same coordinates %zu; tiles scanned per row "
-              "%.2f of %d (unpruned %.2f); compute %.1f ms pruned, %.1f ms unpruned (x%.2f); radius scans %zu / %zu\n",
-    in.D, in.M, n, sameNb, sameY, pruned.tilesPerRow, pruned.tiles, all.tilesPerRow, pruned.computeMs, all.computeMs,
-    all.computeMs / pruned.computeMs, pruned.radiusScans, all.radiusScans);
-  EXPECT_EQ(sameNb, n);
-  EXPECT_EQ(sameY, n);
-  EXPECT_EQ(pruned.radiusScans, all.radiusScans);
-  EXPECT_EQ(all.tilesPerRow, all.tiles); // no pruning: every tile
-  EXPECT_EQ(pruned.tiles, all.tiles);
-  EXPECT_GE(pruned.tilesPerRow, 1.0);
-  return pruned.tilesPerRow / std::max(1, pruned.tiles);
+  for (int run : { Filters, WarpBox, PerRow })
+  {
+    std::size_t sameNb = 0, sameY = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+      sameNb += std::equal(nb[run].begin() + i * 3, nb[run].begin() + i * 3 + 3, nb[Unpruned].begin() + i * 3);
+      sameY += std::memcmp(y[run].data() + i * d, y[Unpruned].data() + i * d, d * sizeof(float)) == 0;
+    }
+    std::printf("[ pruning ] D=%d M=%zu, %s: %zu rows, same neighbours %zu, same coordinates %zu; tiles scanned per "
+                "row %.2f of %d (unpruned %.2f); compute %.1f ms pruned, %.1f ms unpruned (x%.2f); radius scans %zu / "
+                "%zu\n",
+      in.D, in.M, names[run], n, sameNb, sameY, st[run].tilesPerRow,
+      st[run].tiles, st[Unpruned].tilesPerRow, st[run].computeMs, st[Unpruned].computeMs,
+      st[Unpruned].computeMs / st[run].computeMs, st[run].radiusScans, st[Unpruned].radiusScans);
+    EXPECT_EQ(sameNb, n);
+    EXPECT_EQ(sameY, n);
+    EXPECT_EQ(st[run].radiusScans, st[Unpruned].radiusScans);
+    EXPECT_EQ(st[run].tiles, st[Unpruned].tiles);
+    EXPECT_GE(st[run].tilesPerRow, 1.0);
+  }
+  EXPECT_EQ(st[Unpruned].tilesPerRow, st[Unpruned].tiles); // no pruning: every tile
+  // The warp check only passes over tiles every row of the warp would skip.
+  EXPECT_EQ(st[WarpBox].tilesPerRow, st[PerRow].tilesPerRow);
+  EXPECT_EQ(st[Filters].tilesPerRow, st[PerRow].tilesPerRow);
+  return st[Filters].tilesPerRow / std::max(1, st[Filters].tiles);
 }
 } // namespace
 
@@ -195,6 +213,12 @@ TEST(OutOfSampleGPU, TilePruningChangesNothingOnClusteredData)
     // Clusters far apart relative to their spread: most tiles are skipped.
     EXPECT_LT(scanned, 0.5);
     expectGpuMatchesCpu(refX, refY, q.data(), static_cast<std::size_t>(q.rows()), D, {}, 5);
+    // Everything moved by 30 per coordinate: the distances are unchanged but |q|^2 + |r|^2
+    // is ~1000 times larger, so the dot-product filter's rounding bound (~0.4 here) is
+    // close to the gaps between candidates; still the same candidates.
+    refX.array() += 30.f;
+    q.array() += 30.f;
+    expectPruningChangesNothing(refX, refY, q.data(), static_cast<std::size_t>(q.rows()), D, {});
   }
 }
 
