@@ -23,6 +23,7 @@ namespace
 {
 
 constexpr int kThreads = 256;
+static_assert(kThreads == kFeatureThreads, "the feature kernel's blocks are counted in kThreads");
 constexpr int kStatBlocks = 1024;
 constexpr int kMaxStatColumns = 1024; // 5 doubles per column in shared memory (40 KiB)
 
@@ -208,11 +209,11 @@ bool FeatureMatrixGpu::addChannel(const float* hostValues, bool hasNonFinite,
   const int blocks = blocksFor(static_cast<std::int64_t>(P->rows));
   if (hasNonFinite)
   {
-    channelFeaturesKernel<true><<<blocks, kThreads>>>(P->channel, P->out, p);
+    channelFeaturesKernel<true><<<blocks, kFeatureThreads>>>(P->channel, P->out, p);
   }
   else
   {
-    channelFeaturesKernel<false><<<blocks, kThreads>>>(P->channel, P->out, p);
+    channelFeaturesKernel<false><<<blocks, kFeatureThreads>>>(P->channel, P->out, p);
   }
   MCV_CUDA_TRY(cudaGetLastError());
   return true;

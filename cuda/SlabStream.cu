@@ -16,6 +16,7 @@ namespace
 {
 
 constexpr int kThreads = 256;
+static_assert(kThreads == kFeatureThreads, "the feature kernel's blocks are counted in kThreads");
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t)
@@ -319,12 +320,12 @@ bool SlabStream::run(const FusedChannelFill& fill, const Launch& launch, const D
       const float* channel = s.channels + static_cast<std::size_t>(c) * s.plane;
       if (s.nonFinite[static_cast<std::size_t>(c)])
       {
-        channelFeaturesKernel<true><<<slabBlocksFor(static_cast<std::int64_t>(s.rows)), kThreads, 0, s.stream>>>(
+        channelFeaturesKernel<true><<<slabBlocksFor(static_cast<std::int64_t>(s.rows)), kFeatureThreads, 0, s.stream>>>(
           channel, features_[i], p);
       }
       else
       {
-        channelFeaturesKernel<false><<<slabBlocksFor(static_cast<std::int64_t>(s.rows)), kThreads, 0, s.stream>>>(
+        channelFeaturesKernel<false><<<slabBlocksFor(static_cast<std::int64_t>(s.rows)), kFeatureThreads, 0, s.stream>>>(
           channel, features_[i], p);
       }
       MCV_CUDA_TRY(cudaGetLastError());
