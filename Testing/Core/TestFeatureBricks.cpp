@@ -211,6 +211,36 @@ TEST(FeatureBricks, FusedReductionEqualsTheChain)
   }
 }
 
+// The slab budget by default: the whole volume's 256 MiB shared out by the voxels a process
+// owns, at least 4 slices, at most 256 MiB; the constructor takes it.
+TEST(FeatureBricks, SlabBudgetFollowsTheOwnedShare)
+{
+  const Volume v = makeVolume(false);
+  const std::size_t slice = sliceBytes(v, 24); // 23 x 19 voxels x 24 floats = 41952 bytes
+  const std::size_t whole = mcv::FeatureBricks::kDefaultSlabBytes;
+  // One process, the whole volume: 256 MiB, as before; the constructor's 17 slices (all).
+  mcv::GridPiece piece = mcv::GridPiece::whole(v.grid);
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), whole);
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, mcv::GridPiece(), 24), whole);
+  // The block owned is 1/1000 of the volume: 268435 bytes, 6 slices.
+  piece.wholeDims[2] = 17 * 1000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), whole / 1000);
+  mcv::FeatureOptions o = options24D();
+  o.piece = piece;
+  EXPECT_EQ(mcv::FeatureBricks(v.views(), v.grid, o).slabSlices(), 6);
+  // 1/100000: the floor of 4 slices.
+  piece.wholeDims[2] = 17 * 100000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), 4 * slice);
+  o.piece = piece;
+  EXPECT_EQ(mcv::FeatureBricks(v.views(), v.grid, o).slabSlices(), 4);
+  // Slices so large that 4 exceed 256 MiB: 256 MiB.
+  mcv::ImageGrid huge;
+  huge.dims = { 20000, 20000, 8 };
+  mcv::GridPiece tiny = mcv::GridPiece::whole(huge);
+  tiny.wholeDims[2] = 8000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(huge, tiny, 24), whole);
+}
+
 TEST(FeatureBricks, BadArgumentsAreErrors)
 {
   const Volume v = makeVolume(false);
