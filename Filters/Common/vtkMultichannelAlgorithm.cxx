@@ -6,6 +6,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLogger.h"
+#include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 
@@ -372,15 +373,64 @@ bool vtkMultichannelAlgorithm::SelectChannels(
 }
 
 //------------------------------------------------------------------------------
-void vtkMultichannelAlgorithm::CropToRequestedExtent(
-  vtkImageData* output, vtkInformationVector* outputVector)
+void vtkMultichannelAlgorithm::GetOutputExtent(
+  vtkImageData* block, vtkInformationVector* outputVector, int extent[6])
 {
+  block->GetExtent(extent);
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  if (this->Internals->Layout.IsSplit() &&
-    outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
+  if (!this->Internals->Layout.IsSplit() ||
+    !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()))
   {
-    output->Crop(outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT()));
+    return;
   }
+  int requested[6];
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
+  for (int a = 0; a < 3; ++a)
+  {
+    const int lo = std::max(extent[2 * a], requested[2 * a]);
+    const int hi = std::min(extent[2 * a + 1], requested[2 * a + 1]);
+    // vtkImageData::Crop leaves an axis it could not cut (an empty intersection) as it is.
+    if (lo <= hi)
+    {
+      extent[2 * a] = lo;
+      extent[2 * a + 1] = hi;
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkMultichannelAlgorithm::PassInputAtExtent(vtkImageData* input, const int extent[6],
+  vtkImageData* output, const std::vector<std::string>& leaveOut)
+{
+  vtkNew<vtkImageData> pass;
+  pass->ShallowCopy(input);
+  for (const std::string& name : leaveOut)
+  {
+    pass->GetPointData()->RemoveArray(name.c_str());
+  }
+  int inputExtent[6];
+  input->GetExtent(inputExtent);
+  if (!std::equal(inputExtent, inputExtent + 6, extent))
+  {
+    pass->Crop(extent);
+  }
+  output->ShallowCopy(pass);
+}
+
+//------------------------------------------------------------------------------
+vtkSmartPointer<vtkDataArray> vtkMultichannelAlgorithm::CropPointArray(
+  vtkDataArray* array, const int from[6], const int to[6])
+{
+  if (!array || std::equal(from, from + 6, to))
+  {
+    return array;
+  }
+  // vtkImageData::Crop on an image that holds this array alone.
+  vtkNew<vtkImageData> one;
+  one->SetExtent(const_cast<int*>(from));
+  one->GetPointData()->AddArray(array);
+  one->Crop(to);
+  return one->GetPointData()->GetArray(0);
 }
 
 //------------------------------------------------------------------------------

@@ -31,6 +31,7 @@
 
 #include "mcvFiltersCommonModule.h" // for export macro
 #include "vtkImageAlgorithm.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
 
 #include <cstddef>    // for std::size_t
 #include <functional> // for std::function
@@ -126,8 +127,23 @@ protected:
   // vtkImageData <requirement>".
   vtkImageData* GetInputImage(vtkInformationVector** inputVector, const char* requirement);
 
-  // A split run's image output holds the extent asked of it, not the ghost layers.
-  void CropToRequestedExtent(vtkImageData* output, vtkInformationVector* outputVector);
+  // The extent the image output holds: in a split run the extent asked of it, within the
+  // block the input delivered (as vtkImageData::Crop clips it), so not the ghost layers;
+  // otherwise the block's own extent.
+  void GetOutputExtent(vtkImageData* block, vtkInformationVector* outputVector, int extent[6]);
+
+  // `output` := `input` at `extent` (within the input's extent): geometry, field data, point
+  // and cell arrays, but for the point arrays named in `leaveOut`. Shared when the extents
+  // are equal; otherwise copies of the extent, made while the input keeps its own. The
+  // filter's own block-sized arrays go through CropPointArray one at a time instead, so no
+  // moment holds every array twice (ShallowCopy then Crop did: docs/benchmarks.md §7.2).
+  void PassInputAtExtent(vtkImageData* input, const int extent[6], vtkImageData* output,
+    const std::vector<std::string>& leaveOut);
+
+  // `array` (one tuple per voxel of extent `from`) cut to `to` (within `from`): a new array
+  // of `to`'s voxels, or `array` itself when the extents are equal.
+  static vtkSmartPointer<vtkDataArray> CropPointArray(
+    vtkDataArray* array, const int from[6], const int to[6]);
 
 // The core's types stay out of the wrappers' view.
 #ifndef __VTK_WRAP__

@@ -170,8 +170,9 @@ int vtkMultichannelFeatures::RequestMultichannelData(
     return 0;
   }
 
-  // The core writes straight into the output array's own memory.
-  vtkNew<vtkFloatArray> features;
+  // The core writes straight into the array's own memory (the block's; a split run's output
+  // gets its piece cut from it below).
+  vtkSmartPointer<vtkFloatArray> features = vtkSmartPointer<vtkFloatArray>::New();
   features->SetName(kOutputName);
   features->SetNumberOfComponents(F);
   if (!features->Allocate(static_cast<vtkIdType>(count) * F))
@@ -207,6 +208,14 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(result.nonFiniteVoxels);
   this->ComputeTime = result.totalMs;
   this->SetDeviceUsed(result.deviceUsed);
+  // The output's extent (a split run: the piece without the ghost layers). The block's
+  // features are let go once cut, before anything else is made.
+  int blockExtent[6], outputExtent[6];
+  image->GetExtent(blockExtent);
+  this->GetOutputExtent(image, outputVector, outputExtent);
+  vtkSmartPointer<vtkDataArray> outputFeatures =
+    this->CropPointArray(features, blockExtent, outputExtent);
+  features = nullptr;
 
   // ---- The background mask (collective, like the features' statistics) -----------------
   vtkSmartPointer<vtkUnsignedCharArray> foreground;
@@ -228,15 +237,15 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   }
 
   // ---- Output: the input plus Features (and Foreground) ----------------------------------
-  output->ShallowCopy(image);
-  output->GetPointData()->AddArray(features);
   // A mask from upstream would describe other channels or settings: ours, or none.
-  output->GetPointData()->RemoveArray(kMaskName);
-  if (foreground)
+  vtkSmartPointer<vtkDataArray> mask = this->CropPointArray(foreground, blockExtent, outputExtent);
+  foreground = nullptr;
+  this->PassInputAtExtent(image, outputExtent, output, { kOutputName, kMaskName });
+  output->GetPointData()->AddArray(outputFeatures);
+  if (mask)
   {
-    output->GetPointData()->AddArray(foreground);
+    output->GetPointData()->AddArray(mask);
   }
-  this->CropToRequestedExtent(output, outputVector);
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -210,6 +210,16 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
   const std::size_t count = grid.voxelCount();
   const mcv::vtkhelpers::PieceLayout& layout = this->GetPieceLayout();
+  // A split run's output holds its piece, not the ghost layers: the coordinates are made
+  // at that extent, the other arrays cut to it (PassInputAtExtent).
+  int blockExtent[6], outputExtent[6];
+  image->GetExtent(blockExtent);
+  this->GetOutputExtent(image, outputVector, outputExtent);
+  std::size_t outputCount = 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    outputCount *= static_cast<std::size_t>(outputExtent[2 * a + 1] - outputExtent[2 * a] + 1);
+  }
 
   vtkPointData* pd = image->GetPointData();
   if (pd->GetNumberOfArrays() == 0)
@@ -273,6 +283,11 @@ int vtkDimensionReduction::RequestMultichannelData(
     options.communicator = this->GetCommunicator();
     options.piece = piece;
     options.block.dims = grid.dims;
+    for (int a = 0; a < 3; ++a)
+    {
+      options.outputLo[a] = outputExtent[2 * a] - blockExtent[2 * a];
+      options.outputHi[a] = outputExtent[2 * a + 1] - blockExtent[2 * a];
+    }
   }
 
   // ---- The core ----------------------------------------------------------------------
@@ -295,7 +310,7 @@ int vtkDimensionReduction::RequestMultichannelData(
     const std::string name = "dim" + std::to_string(c + 1);
     reduced->SetComponentName(c, name.c_str());
   }
-  reduced->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  reduced->SetNumberOfTuples(static_cast<vtkIdType>(outputCount));
   if (half)
   {
     options.coordinatesHalfOutput = static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0);
@@ -306,6 +321,9 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
 
   const mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
+  // The slab buffers and a converted feature array go before the output is assembled.
+  rows.reset();
+  this->Internals->ConvertedFeatures = nullptr;
   this->SetProgressText(nullptr);
   this->ReportWarnings(result.warnings);
   if (!result.ok())
@@ -337,15 +355,17 @@ int vtkDimensionReduction::RequestMultichannelData(
     spectrum->SetValue(static_cast<vtkIdType>(i), result.eigenvalues[i]);
   }
 
-  output->ShallowCopy(image);
-  if (fromChannels)
+  // A mask from upstream would describe other channels or settings: ours, or none. Ours
+  // (block-sized, the sample's) is cut to the output's extent first and let go.
+  vtkSmartPointer<vtkDataArray> mask =
+    this->CropPointArray(foreground, blockExtent, outputExtent);
+  foreground = nullptr;
+  this->PassInputAtExtent(image, outputExtent, output,
+    fromChannels ? std::vector<std::string>{ kMaskName, kCoordinatesName }
+                 : std::vector<std::string>{ kCoordinatesName });
+  if (mask)
   {
-    // A mask from upstream would describe other channels or settings: ours, or none.
-    output->GetPointData()->RemoveArray(kMaskName);
-    if (foreground)
-    {
-      output->GetPointData()->AddArray(foreground);
-    }
+    output->GetPointData()->AddArray(mask);
   }
   output->GetPointData()->AddArray(reduced);
   vtkFieldData* fd = output->GetFieldData();
@@ -363,7 +383,7 @@ int vtkDimensionReduction::RequestMultichannelData(
     // (finite ones; this process's piece, which ParaView merges across processes) goes
     // with them as ReducedCoordinatesRange, a tuple of minima and one of maxima.
     mcv::CoordinateRange range;
-    range.AddHalf(static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0), count, this->OutputDimension);
+    range.AddHalf(static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0), outputCount, this->OutputDimension);
     vtkNew<vtkDoubleArray> bounds;
     bounds->SetName((std::string(kCoordinatesName) + "Range").c_str());
     bounds->SetNumberOfComponents(this->OutputDimension);
@@ -375,7 +395,6 @@ int vtkDimensionReduction::RequestMultichannelData(
     }
     fd->AddArray(bounds);
   }
-  this->CropToRequestedExtent(output, outputVector);
 
   // ---- Output port 1: the spectrum table (one process of a split run: no copies) ------
   if (layout.IsSplit() && layout.Piece != 0)
@@ -577,7 +596,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     return nullptr;
   }
   const std::size_t slab =
-    mcv::FeatureBricks::workingBytes(grid, F, mcv::FeatureBricks::kDefaultSlabBytes);
+    mcv::FeatureBricks::workingBytes(grid, F, mcv::FeatureBricks::slabBytesFor(grid, piece, F));
   if (this->ReportError(mcv::checkFusedReductionMemory(
         count, F, this->OutputDimension, slab, this->CoordinatePrecision == FLOAT16)))
   {

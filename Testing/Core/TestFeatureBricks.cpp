@@ -10,9 +10,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace
@@ -209,6 +211,107 @@ TEST(FeatureBricks, FusedReductionEqualsTheChain)
     }
     EXPECT_LE(maxDifference(fused.coordinates, chain.coordinates), 1e-5f * (hi - lo));
   }
+}
+
+// The fused reduction with a box of the block as output (a split run's piece without its
+// ghost layers) keeps exactly the box's rows of the whole block's coordinates, float32 and
+// float16. Device Auto takes the GPU fused placement in a CUDA build (its block-sized
+// staging array), the CPU's chunks otherwise.
+TEST(FeatureBricks, BoxedOutputKeepsTheBlocksRows)
+{
+  const Volume v = makeVolume(false);
+  const mcv::FeatureOptions o = options24D();
+  const std::array<int, 3> lo{ 3, 2, 4 }, hi{ 18, 15, 12 };
+  for (mcv::Device device : { mcv::Device::CPU, mcv::Device::Auto })
+  {
+    for (bool half : { false, true })
+    {
+      SCOPED_TRACE(std::string(device == mcv::Device::CPU ? "CPU" : "Auto") + (half ? ", float16" : ", float32"));
+      mcv::ReductionOptions ro;
+      ro.method = mcv::ReductionMethod::Isomap;
+      ro.referenceSampleSize = 600;
+      ro.numberOfNeighbors = 10;
+      ro.numberOfLandmarks = 100;
+      ro.device = device;
+      ro.block = v.grid;
+      ro.piece = mcv::GridPiece::whole(v.grid);
+      const std::size_t n = v.grid.voxelCount();
+      const std::size_t kept = std::size_t(16) * 14 * 9;
+      std::vector<std::uint16_t> wholeHalves(n * 3), boxHalves(kept * 3, 0xFFFF);
+      std::vector<float> wholeFloats(n * 3), boxFloats(kept * 3, std::nanf(""));
+      for (bool boxed : { false, true })
+      {
+        mcv::FeatureBricks bricks(v.views(), v.grid, o, 3 * sliceBytes(v, 24));
+        mcv::FeatureResult r;
+        ASSERT_TRUE(bricks.prepare(r)) << r.error;
+        mcv::ReductionOptions run = ro;
+        if (boxed)
+        {
+          run.outputLo = lo;
+          run.outputHi = hi;
+        }
+        if (half)
+        {
+          run.coordinatesHalfOutput = boxed ? boxHalves.data() : wholeHalves.data();
+        }
+        else
+        {
+          run.coordinatesOutput = boxed ? boxFloats.data() : wholeFloats.data();
+        }
+        const mcv::ReductionResult result = mcv::reduceDimension(bricks, run);
+        ASSERT_TRUE(result.ok()) << result.error;
+      }
+      std::size_t to = 0;
+      for (int k = lo[2]; k <= hi[2]; ++k)
+        for (int j = lo[1]; j <= hi[1]; ++j)
+          for (int i = lo[0]; i <= hi[0]; ++i, ++to)
+          {
+            const std::size_t from = (static_cast<std::size_t>(k) * 19 + static_cast<std::size_t>(j)) * 23 + static_cast<std::size_t>(i);
+            for (std::size_t c = 0; c < 3; ++c)
+            {
+              if (half)
+              {
+                ASSERT_EQ(boxHalves[to * 3 + c], wholeHalves[from * 3 + c]) << "voxel " << i << " " << j << " " << k;
+              }
+              else
+              {
+                ASSERT_EQ(boxFloats[to * 3 + c], wholeFloats[from * 3 + c]) << "voxel " << i << " " << j << " " << k;
+              }
+            }
+          }
+      ASSERT_EQ(to, kept);
+    }
+  }
+}
+
+// The slab budget by default: the whole volume's 256 MiB shared out by the voxels a process
+// owns, at least 4 slices, at most 256 MiB; the constructor takes it.
+TEST(FeatureBricks, SlabBudgetFollowsTheOwnedShare)
+{
+  const Volume v = makeVolume(false);
+  const std::size_t slice = sliceBytes(v, 24); // 23 x 19 voxels x 24 floats = 41952 bytes
+  const std::size_t whole = mcv::FeatureBricks::kDefaultSlabBytes;
+  // One process, the whole volume: 256 MiB, as before; the constructor's 17 slices (all).
+  mcv::GridPiece piece = mcv::GridPiece::whole(v.grid);
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), whole);
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, mcv::GridPiece(), 24), whole);
+  // The block owned is 1/1000 of the volume: 268435 bytes, 6 slices.
+  piece.wholeDims[2] = 17 * 1000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), whole / 1000);
+  mcv::FeatureOptions o = options24D();
+  o.piece = piece;
+  EXPECT_EQ(mcv::FeatureBricks(v.views(), v.grid, o).slabSlices(), 6);
+  // 1/100000: the floor of 4 slices.
+  piece.wholeDims[2] = 17 * 100000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), 4 * slice);
+  o.piece = piece;
+  EXPECT_EQ(mcv::FeatureBricks(v.views(), v.grid, o).slabSlices(), 4);
+  // Slices so large that 4 exceed 256 MiB: 256 MiB.
+  mcv::ImageGrid huge;
+  huge.dims = { 20000, 20000, 8 };
+  mcv::GridPiece tiny = mcv::GridPiece::whole(huge);
+  tiny.wholeDims[2] = 8000;
+  EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(huge, tiny, 24), whole);
 }
 
 TEST(FeatureBricks, BadArgumentsAreErrors)

@@ -105,7 +105,8 @@ FeatureBricks::FeatureBricks(const std::vector<ChannelView>& channels, const Ima
   , options_(options)
   , selection_(FeatureSelection::forPreset(options.preset, options.custom))
   , cols_(featureCount(channels.size(), options))
-  , slices_(slicesFor(grid, featureCount(channels.size(), options), slabBytes))
+  , slices_(slicesFor(grid, featureCount(channels.size(), options),
+      slabBytes == kScaledSlab ? slabBytesFor(grid, options.piece, featureCount(channels.size(), options)) : slabBytes))
 {
   if (options_.channelNames.empty())
   {
@@ -121,6 +122,17 @@ int FeatureBricks::slicesFor(const ImageGrid& grid, int features, std::size_t sl
   const std::size_t perSlice = sliceVoxels(grid) * static_cast<std::size_t>(std::max(1, features)) * sizeof(float);
   const std::size_t slices = perSlice > 0 ? slabBytes / perSlice : 1;
   return static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(slices, static_cast<std::size_t>(std::max(1, grid.dims[2])))));
+}
+
+std::size_t FeatureBricks::slabBytesFor(const ImageGrid& grid, const GridPiece& piece, int features)
+{
+  const GridPiece owned = piece.wholeDims[0] > 0 ? piece : GridPiece::whole(grid);
+  const double whole = static_cast<double>(GridPiece::whole(ImageGrid{ owned.wholeDims }).ownedCount());
+  const double share = whole > 0 ? std::min(1.0, static_cast<double>(owned.ownedCount()) / whole) : 1.0;
+  const std::size_t shared = static_cast<std::size_t>(share * static_cast<double>(kDefaultSlabBytes));
+  const std::size_t fourSlices =
+    4 * sliceVoxels(grid) * static_cast<std::size_t>(std::max(1, features)) * sizeof(float);
+  return std::min(kDefaultSlabBytes, std::max(shared, fourSlices));
 }
 
 std::size_t FeatureBricks::workingBytes(const ImageGrid& grid, int features, std::size_t slabBytes)

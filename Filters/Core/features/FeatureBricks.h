@@ -24,6 +24,7 @@
 #include "ChannelView.h"
 #include "FeatureRows.h"
 #include "FeatureVectors.h"
+#include "GridPiece.h"
 #include "ImageGrid.h"
 
 #include <cstddef>
@@ -40,9 +41,10 @@ class FeatureBricks final : public FeatureRows
 public:
   // `options` as for computeFeatures (Device: where the GPU passes may run, see prepare();
   // communicator and piece for a split volume). slabBytes: the feature buffer of one slab
-  // (at least one slice is taken). The channels' memory must outlive the bricks (keepAlive).
+  // (at least one slice is taken); kScaledSlab: slabBytesFor(grid, options.piece, ...). The
+  // channels' memory must outlive the bricks (keepAlive).
   FeatureBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& options,
-    std::size_t slabBytes = kDefaultSlabBytes);
+    std::size_t slabBytes = kScaledSlab);
 
   // Collective: checks the arguments and runs the statistics pass (progress per slab through
   // options.progress). Fills result (names, offsets and scales, warnings) as
@@ -99,7 +101,19 @@ public:
   std::size_t workingBytes() const;
   static std::size_t workingBytes(const ImageGrid& grid, int features, std::size_t slabBytes);
 
+  // The slab budget of the whole volume (one process), and the constructor's default.
   static constexpr std::size_t kDefaultSlabBytes = std::size_t(256) << 20;
+  static constexpr std::size_t kScaledSlab = 0;
+  // The slab budget of a block of which `piece` says what the process owns: the whole
+  // volume's kDefaultSlabBytes shared out in proportion to the voxels owned, so that a
+  // process of a split run (1/R of the voxels) holds about 1/R of the working set, as it
+  // holds 1/R of the coordinates; a fixed 256 MiB kept the peak per process far above 1/R
+  // (docs/benchmarks.md §7.2). At least 4 slices of the block, unless that exceeds
+  // kDefaultSlabBytes: a slab computes one ghost slice on each side, so thinner slabs would
+  // spend more than half their time on ghosts (4 slices is what one process pays at
+  // 57 M voxels). One process (whole piece): kDefaultSlabBytes, as before. The slab size
+  // never changes the features, only how many slabs compute them.
+  static std::size_t slabBytesFor(const ImageGrid& grid, const GridPiece& piece, int features);
 
 private:
   // Raw features of slices [z0, z1) of the grid, computed on [z0 - 1, z1 + 1) clipped to

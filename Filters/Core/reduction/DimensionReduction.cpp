@@ -7,6 +7,7 @@
 
 #include "HalfCoordinates.h"
 #include "IsomapEmbedding.h"
+#include "KeptRows.h"
 #include "LLEEmbedding.h"
 #include "OutOfSample.h"
 #include "PCAEmbedding.h"
@@ -94,7 +95,22 @@ std::string checkRows(const FeatureRows& f, const ReductionOptions& o)
         dimsText(b.dims) + " voxels.";
     }
   }
+  const bool boxSet = o.outputLo[0] <= o.outputHi[0] && o.outputLo[1] <= o.outputHi[1] && o.outputLo[2] <= o.outputHi[2];
+  for (int a = 0; a < 3 && boxSet; ++a)
+  {
+    if (o.outputLo[a] < 0 || o.outputHi[a] >= b.dims[a])
+    {
+      return "The output box " + dimsText(o.outputLo) + " to " + dimsText(o.outputHi) + " lies outside the block of " +
+        dimsText(b.dims) + " voxels.";
+    }
+  }
   return {};
+}
+
+// The rows the coordinates output holds (ReductionOptions::outputLo/outputHi).
+KeptRows keptRows(const ReductionOptions& o, std::size_t rows)
+{
+  return hasGrid(o) ? KeptRows(o.block.dims, o.outputLo, o.outputHi) : KeptRows(rows);
 }
 
 // Collective: the processes must agree on the number of features and on the volume, or their
@@ -824,19 +840,22 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   const std::size_t du = static_cast<std::size_t>(d);
   // float16 output: each piece of rows is placed into `scratch` (one chunk) and rounded
   // into the caller's binary16 array; `coordinates` stays null.
+  // A box of the block as output (a split run's piece): each chunk is placed into
+  // `scratch` and its kept rows copied out, as for float16.
+  const KeptRows kept = keptRows(options, n);
   std::uint16_t* const halves = options.coordinatesHalfOutput;
   std::vector<float> scratch;
   std::size_t overflow = 0;
   float* coordinates = options.coordinatesOutput;
   if (!coordinates && !halves)
   {
-    result.coordinates.resize(n * du);
+    result.coordinates.resize(kept.rows() * du);
     coordinates = result.coordinates.data();
   }
   // Where rows [begin, begin + count) are to be written as float (count <= the chunk for
-  // float16), and their hand-over once written.
+  // float16 or a box), and their hand-over once written.
   auto floatsFor = [&](std::size_t begin, std::size_t count) -> float* {
-    if (!halves)
+    if (!halves && kept.all())
     {
       return coordinates + begin * du;
     }
@@ -844,12 +863,24 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     return scratch.data();
   };
   auto written = [&](std::size_t begin, std::size_t count, const float* values) {
-    if (halves)
+    if (!halves && kept.all())
     {
-      overflow += floatsToHalves(values, count * du, halves + begin * du);
+      return;
     }
+    kept.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+      const float* source = values + (from - begin) * du;
+      if (halves)
+      {
+        overflow += floatsToHalves(source, rowsKept * du, halves + to * du);
+      }
+      else
+      {
+        std::copy(source, source + rowsKept * du, coordinates + to * du);
+      }
+    });
   };
-  const std::size_t chunkRows = halves ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
+  const std::size_t chunkRows =
+    halves || !kept.all() ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
   if (options.method == ReductionMethod::PCA && options.device == Device::GPU)
   {
     result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
@@ -884,11 +915,32 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       request.d = d;
       request.columns = gatherColumns.empty() ? nullptr : gatherColumns.data();
       request.distanceMargin = floatDistanceMargin(static_cast<int>(D));
-      request.out = coordinates;
-      request.outHalf = halves;
+      // The device writes every row of the block: a box as output takes them through a
+      // block-sized staging array (the GPU path keeps the block's memory, the CPU's not).
+      std::vector<float> stagedFloats;
+      std::vector<std::uint16_t> stagedHalves;
+      if (!kept.all())
+      {
+        (halves ? stagedHalves.resize(n * du) : stagedFloats.resize(n * du));
+      }
+      request.out = kept.all() ? coordinates : (halves ? nullptr : stagedFloats.data());
+      request.outHalf = kept.all() ? halves : (halves ? stagedHalves.data() : nullptr);
       request.progress = [&](double f) { report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
       report("Out-of-sample placement (GPU)", 0.6);
       const DevicePlacementReport placed = features.placeOnDevice(request);
+      if (!kept.all() && placed.attempted)
+      {
+        kept.runs(0, placed.error.empty() ? n : std::min(n, placed.rowsDone), [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+          if (halves)
+          {
+            std::copy(stagedHalves.data() + from * du, stagedHalves.data() + (from + rowsKept) * du, halves + to * du);
+          }
+          else
+          {
+            std::copy(stagedFloats.data() + from * du, stagedFloats.data() + (from + rowsKept) * du, coordinates + to * du);
+          }
+        });
+      }
       overflow += placed.halfOverflow;
       if (placed.attempted)
       {

@@ -13,6 +13,7 @@
 #include "HalfCoordinates.h"
 #include "ImageGrid.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -88,6 +89,14 @@ struct ReductionOptions
   // order (global index = rows of the lower ranks + row).
   GridPiece piece;
   ImageGrid block;
+  // Optional, with piece and block: the box of the block (block voxel indices, inclusive)
+  // whose coordinates the output holds, x fastest: a split run's output extent without its
+  // ghost layers, so that coordinatesOutput / coordinatesHalfOutput / result.coordinates
+  // are sized for the piece, not for the block, and no block-sized array has to be cropped
+  // afterwards. The rows outside are placed with their chunk but not kept. Left at the
+  // defaults (outputHi < outputLo): every row.
+  std::array<int, 3> outputLo{ 0, 0, 0 };
+  std::array<int, 3> outputHi{ -1, -1, -1 };
 };
 
 struct ReductionResult
