@@ -6,6 +6,7 @@
 
 #include "CudaCheck.h"
 #include "DeviceBuffer.cuh"
+#include "ReferenceTiles.h"
 
 #include <cub/device/device_radix_sort.cuh>
 #include <cub/device/device_scan.cuh>
@@ -78,7 +79,7 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 }
 
 // Tile pruning (pruneTiles). At upload the references are ordered so that each tile of
-// kPruneTile consecutive ones is compact (orderReferences); per tile its centroid (to rank
+// kPruneTile consecutive ones is compact (ReferenceTiles.h); per tile its centroid (to rank
 // the tiles) and its bounding box [lo, hi], the exact float minimum and maximum of each
 // coordinate over its references. For a query q and any reference r of the tile,
 // |q - r|^2 >= box(q)^2 = sum_c max(0, lo_c - q_c, q_c - hi_c)^2. (On the brain's 24D
@@ -126,9 +127,7 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 // a candidate. The others get the exact float distance (in the tile's order), so
 // the candidates are those of the full scan. Not finite anywhere: limit or e is not a
 // number or infinite, and the comparison keeps the reference.
-// References per tile when pruning: 32 placed a 2.64 M-row brain slab (10000 references,
-// 24D) 2.37x faster than the unpruned kernel, 64: 2.25x, 16: 1.93x (H200, one call).
-constexpr int kPruneTile = 32;
+constexpr int kPruneTile = kReferenceTile;
 constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
 // Fewer tiles: every reference is scanned (the sort and the checks do not pay: 360
 // references of a lattice, 12 tiles, took 0.4 ms pruned and 0.3 ms unpruned on an H100).
@@ -898,186 +897,6 @@ int paddedDimension(int D)
   return D <= 8 ? 8 : D <= 16 ? 16 : D <= 24 ? 24 : D <= 32 ? 32 : D <= 48 ? 48 : 64;
 }
 
-// The references reordered so that each tile of kPruneTile consecutive ones is compact: a node
-// of the recursion is split across its principal axis (a few power iterations on its
-// covariance, in double) at a multiple of kPruneTile, by rank along the axis (ties by index),
-// until it is one tile. order[sorted position] = original index; deterministic.
-std::vector<unsigned> orderReferences(const float* X, std::size_t M, int D)
-{
-  std::vector<unsigned> order(M);
-  for (std::size_t i = 0; i < M; ++i)
-  {
-    order[i] = static_cast<unsigned>(i);
-  }
-  std::vector<double> mean(D), axis(D), next(D), x(D);
-  std::vector<std::pair<double, unsigned>> keyed;
-  struct Node
-  {
-    std::size_t lo, hi;
-  };
-  std::vector<Node> todo{ { 0, M } };
-  while (!todo.empty())
-  {
-    const Node node = todo.back();
-    todo.pop_back();
-    const std::size_t n = node.hi - node.lo;
-    if (n <= static_cast<std::size_t>(kPruneTile))
-    {
-      continue;
-    }
-    std::fill(mean.begin(), mean.end(), 0.0);
-    for (std::size_t i = node.lo; i < node.hi; ++i)
-    {
-      for (int c = 0; c < D; ++c)
-      {
-        mean[c] += X[static_cast<std::size_t>(order[i]) * D + c];
-      }
-    }
-    for (int c = 0; c < D; ++c)
-    {
-      mean[c] /= static_cast<double>(n);
-    }
-    // Start from the widest coordinate (by variance) and iterate axis <- C axis.
-    std::fill(axis.begin(), axis.end(), 0.0);
-    for (std::size_t i = node.lo; i < node.hi; ++i)
-    {
-      for (int c = 0; c < D; ++c)
-      {
-        const double t = X[static_cast<std::size_t>(order[i]) * D + c] - mean[c];
-        axis[c] += t * t;
-      }
-    }
-    const int widest = static_cast<int>(std::max_element(axis.begin(), axis.end()) - axis.begin());
-    std::fill(axis.begin(), axis.end(), 0.0);
-    axis[widest] = 1.0;
-    for (int iteration = 0; iteration < 8; ++iteration)
-    {
-      std::fill(next.begin(), next.end(), 0.0);
-      for (std::size_t i = node.lo; i < node.hi; ++i)
-      {
-        double dot = 0.0;
-        for (int c = 0; c < D; ++c)
-        {
-          x[c] = X[static_cast<std::size_t>(order[i]) * D + c] - mean[c];
-          dot += x[c] * axis[c];
-        }
-        for (int c = 0; c < D; ++c)
-        {
-          next[c] += dot * x[c];
-        }
-      }
-      double norm = 0.0;
-      for (double v : next)
-      {
-        norm += v * v;
-      }
-      if (!(norm > 0.0) || !std::isfinite(norm))
-      {
-        break; // all equal (or not finite): keep the last axis
-      }
-      norm = std::sqrt(norm);
-      for (int c = 0; c < D; ++c)
-      {
-        axis[c] = next[c] / norm;
-      }
-    }
-    keyed.clear();
-    for (std::size_t i = node.lo; i < node.hi; ++i)
-    {
-      double dot = 0.0;
-      for (int c = 0; c < D; ++c)
-      {
-        dot += (X[static_cast<std::size_t>(order[i]) * D + c] - mean[c]) * axis[c];
-      }
-      keyed.emplace_back(std::isnan(dot) ? std::numeric_limits<double>::infinity() : dot, order[i]);
-    }
-    const std::size_t left = (n + kPruneTile - 1) / kPruneTile / 2 * kPruneTile;
-    std::nth_element(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(left), keyed.end());
-    for (std::size_t i = 0; i < n; ++i)
-    {
-      order[node.lo + i] = keyed[i].second;
-    }
-    todo.push_back({ node.lo, node.lo + left });
-    todo.push_back({ node.lo + left, node.hi });
-  }
-  return order;
-}
-
-// Per tile of the ordered references: the centroid and the bounding box (the exact float
-// minimum and maximum of each coordinate), padded to DP with zeros like the rows. A tile
-// with a value that is not finite gets an infinite box (never skipped).
-void tileBounds(const float* X, std::size_t M, int D, int DP, const std::vector<unsigned>& order,
-  std::vector<float>& centroids, std::vector<float>& lo, std::vector<float>& hi)
-{
-  const std::size_t tiles = (M + kPruneTile - 1) / kPruneTile;
-  centroids.assign(tiles * static_cast<std::size_t>(DP), 0.f);
-  lo.assign(tiles * static_cast<std::size_t>(DP), 0.f);
-  hi.assign(tiles * static_cast<std::size_t>(DP), 0.f);
-  std::vector<double> mean(D);
-  for (std::size_t t = 0; t < tiles; ++t)
-  {
-    const std::size_t first = t * kPruneTile, last = std::min(M, first + kPruneTile);
-    float* l = lo.data() + t * DP;
-    float* h = hi.data() + t * DP;
-    std::fill(mean.begin(), mean.end(), 0.0);
-    std::fill(l, l + D, std::numeric_limits<float>::infinity());
-    std::fill(h, h + D, -std::numeric_limits<float>::infinity());
-    bool finite = true;
-    for (std::size_t i = first; i < last; ++i)
-    {
-      for (int c = 0; c < D; ++c)
-      {
-        const float v = X[static_cast<std::size_t>(order[i]) * D + c];
-        finite = finite && std::isfinite(v);
-        mean[c] += v;
-        l[c] = std::min(l[c], v);
-        h[c] = std::max(h[c], v);
-      }
-    }
-    for (int c = 0; c < D; ++c)
-    {
-      centroids[t * DP + c] = finite ? static_cast<float>(mean[c] / static_cast<double>(last - first)) : 0.f;
-      if (!finite)
-      {
-        l[c] = -std::numeric_limits<float>::infinity();
-        h[c] = std::numeric_limits<float>::infinity();
-      }
-    }
-  }
-}
-
-// The dot-product filter's |r|^2 per reference (tile order; the double sum rounded to float,
-// within u of the exact one) and per tile the largest |r|, rounded up to a float (infinite
-// when a value is not finite, so the filter rules nothing out there).
-void referenceNorms(const float* X, std::size_t M, int D, const std::vector<unsigned>& order,
-  std::vector<float>& norms, std::vector<float>& radius)
-{
-  norms.assign(M, 0.f);
-  radius.assign((M + kPruneTile - 1) / kPruneTile, 0.f);
-  for (std::size_t i = 0; i < M; ++i)
-  {
-    double sum = 0.0;
-    for (int c = 0; c < D; ++c)
-    {
-      const double v = X[static_cast<std::size_t>(order[i]) * D + c];
-      sum += v * v;
-    }
-    norms[i] = static_cast<float>(sum);
-    const double length = std::sqrt(sum);
-    float up = static_cast<float>(length);
-    if (!std::isfinite(up))
-    {
-      up = std::numeric_limits<float>::infinity();
-    }
-    else if (static_cast<double>(up) < length)
-    {
-      up = std::nextafter(up, std::numeric_limits<float>::infinity());
-    }
-    float& r = radius[i / kPruneTile];
-    r = std::isnan(length) ? std::numeric_limits<float>::infinity() : std::max(r, up);
-  }
-}
-
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t)
 {
@@ -1174,14 +993,11 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   I.margin = in.distanceMargin;
   I.chunk = std::min(kChunkRows, std::max<std::size_t>(1, maxRows));
   // The padded copy the candidate kernel reads: in tile order when pruning.
-  std::vector<unsigned> order;
-  std::vector<float> centroids, lo, hi, norms, radius;
+  ReferenceTiles rt; // empty: no pruning
   if (in.pruneTiles && pruneWith(in.M))
   {
-    order = orderReferences(in.refX, in.M, in.D);
-    tileBounds(in.refX, in.M, in.D, I.DP, order, centroids, lo, hi);
-    referenceNorms(in.refX, in.M, in.D, order, norms, radius);
-    I.tiles = static_cast<int>(centroids.size() / static_cast<std::size_t>(I.DP));
+    rt = buildReferenceTiles(in.refX, in.M, in.D, I.DP);
+    I.tiles = static_cast<int>(rt.tiles());
     // The sort's keys: tile pairs (0 .. tiles^2 - 1, and tiles^2 for no row) up to 4096 tiles
     // (24 bits), else tiles (0 .. tiles - 1, and tiles).
     I.pairKeys = I.tiles <= 4096;
@@ -1195,39 +1011,27 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
   std::vector<float> padded(in.M * static_cast<std::size_t>(I.DP), 0.f);
   for (std::size_t i = 0; i < in.M; ++i)
   {
-    const std::size_t from = order.empty() ? i : order[i];
+    const std::size_t from = rt.order.empty() ? i : rt.order[i];
     std::copy(in.refX + from * in.D, in.refX + (from + 1) * in.D, padded.begin() + static_cast<std::ptrdiff_t>(i * I.DP));
   }
-  if (!order.empty())
+  if (!rt.order.empty())
   {
-    MCV_CUDA_TRY(cudaMalloc(&I.order.ptr, order.size() * sizeof(unsigned)));
-    MCV_CUDA_TRY(cudaMalloc(&I.centroids.ptr, centroids.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMalloc(&I.lo.ptr, lo.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMalloc(&I.hi.ptr, hi.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.order.ptr, rt.order.size() * sizeof(unsigned)));
+    MCV_CUDA_TRY(cudaMalloc(&I.centroids.ptr, rt.centroids.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.centroidNorms.ptr, rt.centroidNorms.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.lo.ptr, rt.lo.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.hi.ptr, rt.hi.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.norms.ptr, rt.norms.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&I.radius.ptr, rt.radius.size() * sizeof(float)));
+    MCV_CUDA_TRY(cudaMemcpy(I.order.ptr, rt.order.data(), rt.order.size() * sizeof(unsigned), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.centroids.ptr, rt.centroids.data(), rt.centroids.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.centroidNorms.ptr, rt.centroidNorms.data(), rt.centroidNorms.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.lo.ptr, rt.lo.data(), rt.lo.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.hi.ptr, rt.hi.data(), rt.hi.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.norms.ptr, rt.norms.data(), rt.norms.size() * sizeof(float), cudaMemcpyHostToDevice));
+    MCV_CUDA_TRY(cudaMemcpy(I.radius.ptr, rt.radius.data(), rt.radius.size() * sizeof(float), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMalloc(&I.visits.ptr, 2 * sizeof(unsigned long long)));
-    MCV_CUDA_TRY(cudaMemcpy(I.order.ptr, order.data(), order.size() * sizeof(unsigned), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(
-      cudaMemcpy(I.centroids.ptr, centroids.data(), centroids.size() * sizeof(float), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(cudaMemcpy(I.lo.ptr, lo.data(), lo.size() * sizeof(float), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(cudaMemcpy(I.hi.ptr, hi.data(), hi.size() * sizeof(float), cudaMemcpyHostToDevice));
     MCV_CUDA_TRY(cudaMemset(I.visits.ptr, 0, 2 * sizeof(unsigned long long)));
-    std::vector<float> centroidNorms(static_cast<std::size_t>(I.tiles));
-    for (std::size_t t = 0; t < centroidNorms.size(); ++t)
-    {
-      double sum = 0.0;
-      for (int c = 0; c < I.DP; ++c)
-      {
-        sum += static_cast<double>(centroids[t * I.DP + c]) * centroids[t * I.DP + c];
-      }
-      centroidNorms[t] = static_cast<float>(sum);
-    }
-    MCV_CUDA_TRY(cudaMalloc(&I.centroidNorms.ptr, centroidNorms.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMemcpy(
-      I.centroidNorms.ptr, centroidNorms.data(), centroidNorms.size() * sizeof(float), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(cudaMalloc(&I.norms.ptr, norms.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMalloc(&I.radius.ptr, radius.size() * sizeof(float)));
-    MCV_CUDA_TRY(cudaMemcpy(I.norms.ptr, norms.data(), norms.size() * sizeof(float), cudaMemcpyHostToDevice));
-    MCV_CUDA_TRY(cudaMemcpy(I.radius.ptr, radius.data(), radius.size() * sizeof(float), cudaMemcpyHostToDevice));
   }
   MCV_CUDA_TRY(cudaMalloc(&I.refs.ptr, padded.size() * sizeof(float)));
   MCV_CUDA_TRY(cudaMalloc(&I.refX.ptr, in.M * in.D * sizeof(float)));
