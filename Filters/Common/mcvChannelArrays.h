@@ -17,6 +17,7 @@
 #include "vtkType.h"
 
 #include "OpacityFunction.h" // mcv::ChannelView, mcv::ScalarType (Filters/Core)
+#include "mcvInternalArrays.h" // isInternalArray
 
 #include <algorithm>
 #include <cstddef>
@@ -112,12 +113,6 @@ public:
 private:
   std::vector<std::string> Names;
 };
-
-// ParaView's bookkeeping arrays, never channels.
-inline bool isInternalArray(const char* name)
-{
-  return name && (std::string(name) == "vtkGhostType" || std::string(name) == "vtkValidPointMask");
-}
 
 // The arrays a filter works on: the named point arrays (each must exist and be numeric;
 // duplicates once), or, when no name is given, what `defaults` picks. Returns "" or the

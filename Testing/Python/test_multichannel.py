@@ -5,7 +5,8 @@ grid, a real 3-channel volume.
   view: every component of every array is a channel;
 * the order of the channels does not matter (maximum over channels);
 * a channel that is zero everywhere changes nothing (and is reported as constant);
-* the multichannel result is valid, the camera follows it, the screenshot is not blank.
+* the multichannel result is valid, the camera follows it, the screenshot is not blank;
+* the Channels lists leave out ParaView's bookkeeping arrays (after ResampleToImage).
 """
 import os
 import sys
@@ -114,5 +115,24 @@ if os.path.exists(dwi_path):
     C.check(msgs.any_warning("fewer"), "65 channels: 'fewer than N' warning")
 else:
     print("note: %s not found; 65-channel case skipped" % dwi_path)
+
+# The Channels lists offer the channels only: after ResampleToImage (which adds
+# vtkValidPointMask, and vtkGhostType under MPI) the three filters' lists and their
+# defaults are the three atlases' arrays, not ParaView's bookkeeping arrays.
+resampled = ResampleToImage(Input=merged)
+resampled.SamplingDimensions = [40, 48, 40]
+resampled.UpdatePipeline()
+print("resampled arrays:", resampled.PointData.keys())
+C.check("vtkValidPointMask" in resampled.PointData.keys(),
+        "ResampleToImage adds vtkValidPointMask (what the lists must leave out)")
+for make in (BestViewpoint, MultichannelFeatures, DimensionReduction):
+    proxy = make(Input=resampled)
+    domain = proxy.GetProperty("Channels").SMProperty.GetDomain("array_list")
+    offered = [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+    label = proxy.GetXMLLabel()
+    C.check(sorted(offered) == sorted(names), "%s offers the channels only: %s" % (label, offered))
+    C.check(sorted(proxy.Channels) == sorted(names), "%s selects them by default: %s" % (label, list(proxy.Channels)))
+    Delete(proxy)
+Delete(resampled)
 
 C.finish()

@@ -1,0 +1,35 @@
+/**
+ * @class   vtkSMChannelArrayListDomain
+ * @brief   the input's point arrays a filter of the suite may take as channels
+ *
+ * An ArrayListDomain (XML element ChannelArrayListDomain, the same attributes and required
+ * properties) that leaves out VTK's bookkeeping arrays, vtkGhostType and ResampleToImage's
+ * vtkValidPointMask (mcvInternalArrays.h). The filters never take those as channels, but
+ * the plain domain listed them and, as a repeatable property's default is every array of
+ * the domain, showed them checked in the Channels list.
+ */
+#ifndef vtkSMChannelArrayListDomain_h
+#define vtkSMChannelArrayListDomain_h
+
+#include "mcvServerManagerDomainsModule.h" // export macro
+#include "vtkSMArrayListDomain.h"
+
+class MCVSERVERMANAGERDOMAINS_EXPORT vtkSMChannelArrayListDomain : public vtkSMArrayListDomain
+{
+public:
+  static vtkSMChannelArrayListDomain* New();
+  vtkTypeMacro(vtkSMChannelArrayListDomain, vtkSMArrayListDomain);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+protected:
+  vtkSMChannelArrayListDomain();
+  ~vtkSMChannelArrayListDomain() override;
+
+  bool IsFilteredArray(vtkPVDataInformation* info, int association, const char* arrayName) override;
+
+private:
+  vtkSMChannelArrayListDomain(const vtkSMChannelArrayListDomain&) = delete;
+  void operator=(const vtkSMChannelArrayListDomain&) = delete;
+};
+
+#endif
