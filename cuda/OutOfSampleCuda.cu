@@ -177,6 +177,14 @@ __device__ __forceinline__ float boxGap(float q, float lo, float hi)
   return fmaxf(0.f, fmaxf(lo - q, q - hi));
 }
 
+// A row can skip a tile whose box(q)^2 exceeds this (its 8th float distance grown by the
+// margins, see "Tile pruning"); the warps' box check compares with the largest of its rows'.
+// 1e-36: subnormal roundings (absolute, far below any distance that matters).
+__device__ __forceinline__ float skipAbove(float eighth, float margin)
+{
+  return fmaf(eighth, 1.f + 4.f * margin, 1e-36f);
+}
+
 // Keeps reference idx at float distance acc among a row's KP best, sorted by (distance,
 // original index) whatever order the references come in; an equal distance to a kept +inf is
 // not kept (as the scan in index order did).
@@ -399,7 +407,7 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
         {
           batch = step;
           nextCheck = step == 0 ? 1 : step + kWarpBatch;
-          float limit = active ? fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f) : __int_as_float(0xff800000);
+          float limit = active ? skipAbove(bf[KP - 1], tp.margin) : __int_as_float(0xff800000);
 #pragma unroll
           for (int offset = 16; offset > 0; offset >>= 1)
           {
@@ -468,8 +476,7 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(
           box = fmaf(g2, g2, box);
           box = fmaf(g3, g3, box);
         }
-        // 1e-36: subnormal roundings (absolute, far below any distance that matters).
-        need = !(box > fmaf(bf[KP - 1], 1.f + 4.f * tp.margin, 1e-36f));
+        need = !(box > skipAbove(bf[KP - 1], tp.margin));
       }
       warpNeeds = __any_sync(0xffffffffu, need);
       // Also the barrier that keeps the previous tile until every warp has scanned it.

@@ -13,6 +13,7 @@
 #include "vtkPointData.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStructuredData.h"
 #include "vtkStringArray.h"
 #include "vtkTable.h"
 #include "vtkTypeUInt16Array.h"
@@ -215,11 +216,7 @@ int vtkDimensionReduction::RequestMultichannelData(
   int blockExtent[6], outputExtent[6];
   image->GetExtent(blockExtent);
   this->GetOutputExtent(image, outputVector, outputExtent);
-  std::size_t outputCount = 1;
-  for (int a = 0; a < 3; ++a)
-  {
-    outputCount *= static_cast<std::size_t>(outputExtent[2 * a + 1] - outputExtent[2 * a] + 1);
-  }
+  const std::size_t outputCount = static_cast<std::size_t>(vtkStructuredData::GetNumberOfPoints(outputExtent));
 
   vtkPointData* pd = image->GetPointData();
   if (pd->GetNumberOfArrays() == 0)

@@ -21,6 +21,7 @@
 #include "WidgetSeeding.h"
 
 #include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
+#include "../Common/mcvInternalArrays.h"   // vtkGhostType, vtkValidPointMask
 #include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
@@ -373,8 +374,8 @@ int vtkReducedDomain::RequestMultichannelData(
   {
     vtkAbstractArray* array = inPD->GetAbstractArray(a);
     const std::string name = array && array->GetName() ? array->GetName() : "";
-    if (array && array != coordinates && name != "Features" && name != "vtkValidPointMask" &&
-      name != "vtkGhostType")
+    if (array && array != coordinates && name != "Features" &&
+      !mcv::vtkhelpers::isInternalArray(name.c_str()))
     {
       channels->AddArray(array);
     }
