@@ -31,6 +31,11 @@ packages=(
   # ... and the core, its tests, benchmarks and the data fetch.
   xvfb xauth libgtest-dev googletest libbenchmark-dev ninja-build cmake g++ make
   python3-numpy
+  # GUI tests and screenshot scripts: xwd (x11-apps), ImageMagick's convert, xdotool.
+  x11-apps imagemagick xdotool
+  # Microscopy formats: the tests write ImageJ hyperstacks, OME-TIFF and OME-Zarr with
+  # tifffile and zarr; the OME-Zarr reader decodes Blosc chunks with libblosc.
+  python3-tifffile python3-zarr python3-numcodecs libblosc-dev
   # The main job's spectrum.png and methods.png (Examples/report_figures.py).
   python3-matplotlib
   # Dimensionality reduction: kNN (nanoflann), sparse eigensolver (Spectra), Isomap's
