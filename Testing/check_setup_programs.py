@@ -268,10 +268,7 @@ def module_owner(module):
     if spec is None or not spec.origin:
         return None, None
     path = spec.origin if spec.origin != "namespace" else list(spec.submodule_search_locations)[0]
-    r = subprocess.run(["dpkg", "-S", path], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-                       text=True)
-    owners = [l for l in r.stdout.splitlines() if not l.startswith("diversion")]
-    return path, owners[0].split(":")[0].strip() if owners else "(no package)"
+    return path, file_owner(path) or "(no package)"
 
 
 def setup_packages(setup):
@@ -315,6 +312,34 @@ def installed_closure(roots):
     return seen
 
 
+_OWNERS = {}
+
+
+def file_owner(path):
+    """The package that installed `path` (dpkg's file lists, read once: one `dpkg -S` per
+    file takes a second); also under the other half of Debian's merged /usr (/bin = /usr/bin)
+    and the path a symbolic link points to. None when no package lists it."""
+    if not _OWNERS:
+        info = "/var/lib/dpkg/info"
+        for name in os.listdir(info):
+            if name.endswith(".list"):
+                package = name[:-len(".list")].split(":")[0]
+                with open(os.path.join(info, name), encoding="utf-8", errors="replace") as f:
+                    for line in f:
+                        _OWNERS.setdefault(line.rstrip("\n"), package)
+    candidates = [path, os.path.realpath(path)]
+    for c in list(candidates):
+        for a, b in (("/usr/bin/", "/bin/"), ("/usr/sbin/", "/sbin/"), ("/usr/lib/", "/lib/")):
+            if c.startswith(a):
+                candidates.append(b + c[len(a):])
+            elif c.startswith(b):
+                candidates.append(a + c[len(b):])
+    for c in candidates:
+        if c in _OWNERS:
+            return _OWNERS[c]
+    return None
+
+
 def owner(program):
     """(path, package) of the program on Debian's PATH; (None, None) when not installed."""
     for d in ("/usr/bin", "/bin", "/usr/sbin", "/sbin"):
@@ -323,25 +348,7 @@ def owner(program):
             break
     else:
         return None, None
-    candidates = [path, os.path.realpath(path)]
-    candidates += [c.replace("/usr/bin/", "/bin/") for c in candidates] + \
-        [c.replace("/bin/", "/usr/bin/") for c in candidates if c.startswith("/bin/")]
-    for c in candidates:
-        r = subprocess.run(["dpkg", "-S", c], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
-                           text=True)
-        owners = [l for l in r.stdout.splitlines() if not l.startswith("diversion")]
-        if r.returncode == 0 and owners:
-            return path, owners[0].split(":")[0].split(",")[0].strip()
-    # update-alternatives links (e.g. /usr/bin/convert -> /etc/alternatives/convert).
-    r = subprocess.run(["update-alternatives", "--query", program], stdout=subprocess.PIPE,
-                       stderr=subprocess.DEVNULL, text=True)
-    m = re.search(r"^Value: (\S+)", r.stdout, re.M)
-    if m:
-        r = subprocess.run(["dpkg", "-S", m.group(1)], stdout=subprocess.PIPE,
-                           stderr=subprocess.DEVNULL, text=True)
-        if r.returncode == 0:
-            return path, r.stdout.split(":")[0].strip()
-    return path, "(no package)"
+    return path, file_owner(path) or "(no package)"
 
 
 def main(argv):
