@@ -87,11 +87,13 @@ std::string typeName(int bits, int format)
   return std::string(format == 3 ? "float" : format == 2 ? "int" : "uint") + std::to_string(bits);
 }
 
-// Decodes the current page of `tiff` into `page` (height rows of width samples of `sample`
-// bytes) through libtiff, strips or tiles, any compression libtiff decodes. "" on success,
-// else the problem.
-std::string readPage(
-  TIFF* tiff, std::size_t width, std::size_t height, std::size_t sample, unsigned char* page)
+// Decodes rows y0..y1 of the current page of `tiff` into `page` (a whole page: height rows
+// of width samples of `sample` bytes; other rows are left as they are) through libtiff, any
+// compression it decodes. Only the strips, or the tiles, that hold those rows are decoded,
+// so that a process of a parallel run decodes about its share. "" on success, else the
+// problem.
+std::string readPage(TIFF* tiff, std::size_t width, std::size_t height, std::size_t sample,
+  std::size_t y0, std::size_t y1, unsigned char* page)
 {
   const std::size_t row = width * sample;
   if (TIFFIsTiled(tiff))
@@ -104,46 +106,49 @@ std::string readPage(
       return "has tiles of 0 pixels";
     }
     std::vector<unsigned char> tile(static_cast<std::size_t>(tw) * th * sample);
-    for (std::size_t y0 = 0; y0 < height; y0 += th)
+    for (std::size_t ty = y0 - y0 % th; ty <= y1; ty += th)
     {
-      for (std::size_t x0 = 0; x0 < width; x0 += tw)
+      for (std::size_t tx = 0; tx < width; tx += tw)
       {
-        const ttile_t index = TIFFComputeTile(tiff, static_cast<std::uint32_t>(x0),
-          static_cast<std::uint32_t>(y0), 0, 0);
+        const ttile_t index = TIFFComputeTile(
+          tiff, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
         if (TIFFReadEncodedTile(tiff, index, tile.data(), static_cast<tmsize_t>(tile.size())) < 0)
         {
-          return "has a tile that libtiff cannot decode (tile " + std::to_string(index) + ")";
+          return "has a tile that libtiff cannot decode (tile " + std::to_string(index + 1) + ")";
         }
-        const std::size_t w = std::min<std::size_t>(tw, width - x0);
-        for (std::size_t y = y0; y < std::min<std::size_t>(y0 + th, height); ++y)
+        const std::size_t w = std::min<std::size_t>(tw, width - tx);
+        for (std::size_t y = std::max(ty, y0); y < std::min<std::size_t>(ty + th, y1 + 1); ++y)
         {
-          std::memcpy(page + y * row + x0 * sample, tile.data() + (y - y0) * tw * sample, w * sample);
+          std::memcpy(page + y * row + tx * sample, tile.data() + (y - ty) * tw * sample, w * sample);
         }
       }
     }
     return "";
   }
   std::uint32_t rowsPerStrip = 0;
-  if (!TIFFGetFieldDefaulted(tiff, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip) || rowsPerStrip == 0)
+  if (!TIFFGetFieldDefaulted(tiff, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip) || rowsPerStrip == 0 ||
+    rowsPerStrip > height)
   {
     rowsPerStrip = static_cast<std::uint32_t>(height);
   }
   const tstrip_t strips = TIFFNumberOfStrips(tiff);
-  for (tstrip_t s = 0; s < strips; ++s)
+  for (tstrip_t s = static_cast<tstrip_t>(y0 / rowsPerStrip);
+       s < strips && static_cast<std::size_t>(s) * rowsPerStrip <= y1; ++s)
   {
-    const std::size_t y0 = static_cast<std::size_t>(s) * rowsPerStrip;
-    if (y0 >= height)
-    {
-      break;
-    }
-    const std::size_t rows = std::min<std::size_t>(rowsPerStrip, height - y0);
+    const std::size_t first = static_cast<std::size_t>(s) * rowsPerStrip;
+    const std::size_t rows = std::min<std::size_t>(rowsPerStrip, height - first);
     const tmsize_t wanted = static_cast<tmsize_t>(rows * row);
-    const tmsize_t got = TIFFReadEncodedStrip(tiff, s, page + y0 * row, wanted);
+    const tmsize_t got = TIFFReadEncodedStrip(tiff, s, page + first * row, wanted);
     if (got < wanted)
     {
       return "has a strip that libtiff cannot decode whole (strip " + std::to_string(s + 1) +
         ": " + std::to_string(got < 0 ? 0 : got) + " of " + std::to_string(wanted) + " bytes)";
     }
+  }
+  if (static_cast<std::size_t>(strips) * rowsPerStrip < y1 + 1)
+  {
+    return "has " + std::to_string(strips) + " strips of " + std::to_string(rowsPerStrip) +
+      " rows, fewer than its " + std::to_string(height) + " rows";
   }
   return "";
 }
@@ -636,7 +641,8 @@ int vtkCheckedTIFFReader::ReadPlanes(vtkInformation* outInfo)
       }
       if (problem.empty())
       {
-        problem = readPage(tiff, width, height, sample, page.data());
+        problem = readPage(tiff, width, height, sample, static_cast<std::size_t>(extent[2]),
+          static_cast<std::size_t>(extent[3]), page.data());
       }
       if (!problem.empty())
       {
