@@ -103,7 +103,7 @@ bool entryValues(TiffFile& file, const unsigned char* entry, std::vector<std::ui
 
 // The bytes of one directory entry (inline or at its offset); false when they lie beyond
 // the end of the file.
-bool entryBytes(TiffFile& file, const unsigned char* entry, std::string& bytes)
+bool rawEntryBytes(TiffFile& file, const unsigned char* entry, std::string& bytes)
 {
   const int countBytes = file.Big ? 8 : 4;
   const std::uint64_t count = file.Number(entry + 4, countBytes);
@@ -236,7 +236,7 @@ std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& 
       std::string bytes;
       if (pages.empty() && text)
       {
-        if (!entryBytes(file, entry, bytes))
+        if (!rawEntryBytes(file, entry, bytes))
         {
           msg << "is truncated: tag " << tag << " of page " << page
               << " points beyond its end (" << file.Size << " bytes)";
