@@ -256,6 +256,7 @@ std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& 
       }
     }
     p.BigEndian = file.BigEndian;
+    p.DirectoryOffset = next;
     if (offsets.empty() || offsets.size() != counts.size())
     {
       msg << "has no usable image data on page " << page << " (" << offsets.size()

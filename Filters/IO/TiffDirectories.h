@@ -24,6 +24,7 @@ struct TiffPage
   std::uint64_t DataBytes = 0; // the strips' (or tiles') byte counts, summed
   std::vector<std::uint64_t> DataOffsets; // where each strip (or tile) starts
   int PageCount = 0;           // the total of the PageNumber tag (0 when absent)
+  std::uint64_t DirectoryOffset = 0; // where the page's directory starts in the file
 
   // Read on the first page only (where ImageJ and OME-TIFF keep what the file holds):
   std::string Description;     // ImageDescription (270), "" when absent

@@ -153,6 +153,16 @@ std::string readPage(TIFF* tiff, std::size_t width, std::size_t height, std::siz
   return "";
 }
 
+std::vector<std::uint64_t> directoryOffsets(const std::vector<mcv::TiffPage>& pages)
+{
+  std::vector<std::uint64_t> offsets;
+  for (const mcv::TiffPage& page : pages)
+  {
+    offsets.push_back(page.DirectoryOffset);
+  }
+  return offsets;
+}
+
 std::string pixels(const mcv::TiffPage& p)
 {
   std::ostringstream text;
@@ -246,6 +256,9 @@ public:
   bool HasMap = false;
   mcv::TiffPlaneMap Map;
   std::vector<std::string> Paths; // the map's Files, as paths
+  // Where each page's directory starts, per file: libtiff goes to a page by its offset
+  // at once (TIFFSetDirectory would walk the chain from the first page every time).
+  std::vector<std::vector<std::uint64_t>> Directories;
   int Bits = 0;
   int Format = 0;
 
@@ -316,6 +329,7 @@ public:
     // The other files of an OME-TIFF set, in the folder of this one.
     const std::string folder = vtksys::SystemTools::GetFilenamePath(name);
     this->Paths.assign(1, name);
+    this->Directories.assign(1, directoryOffsets(pages));
     std::vector<std::uint64_t> pageCounts(1, pages.size());
     for (std::size_t f = 1; f < this->Map.Files.size(); ++f)
     {
@@ -332,6 +346,7 @@ public:
         return "names in its OME-XML a file '" + path + "' that " + problem;
       }
       this->Paths.push_back(path);
+      this->Directories.push_back(directoryOffsets(other));
       pageCounts.push_back(other.size());
     }
     problem = mcv::checkPlaneMap(this->Map, pageCounts);
@@ -635,7 +650,8 @@ int vtkCheckedTIFFReader::ReadPlanes(vtkInformation* outInfo)
         openFile = ref.File;
       }
       std::string problem = tiff ? "" : "cannot be opened by libtiff";
-      if (problem.empty() && !TIFFSetDirectory(tiff, static_cast<tdir_t>(ref.Page)))
+      if (problem.empty() &&
+        !TIFFSetSubDirectory(tiff, in.Directories[ref.File][static_cast<std::size_t>(ref.Page)]))
       {
         problem = "has no page " + std::to_string(ref.Page + 1) + " that libtiff can read";
       }
