@@ -235,7 +235,7 @@ def write_planes(name, planes, description):
     with tifffile.TiffWriter(name) as tif:
         for i, plane in enumerate(planes):
             tif.write(plane, photometric="minisblack", metadata=None,
-                      description=description if i == 0 else None)
+                      description=description.encode("utf-8") if description and i == 0 else None)
 
 
 # Bio-Formats style: XYZTC, one TiffData per plane (listed in reverse), 2 frames
@@ -318,7 +318,7 @@ refused("OME SizeC=4 with 3 Channel elements", path("bad_sizec.ome.tif"),
 write_planes(path("bad_sizec_planes.ome.tif"), planes_czt,
              bioformats_xml("XYCZT", 4, [], '<TiffData/>'))
 refused("OME SizeC=4 with the pages of 3 channels", path("bad_sizec_planes.ome.tif"),
-        ["page %d" % (4 * Z * 2), "holds %d pages" % (3 * Z * 2)])
+        ["page %d of" % (3 * Z * 2 + 1), "holds %d pages" % (3 * Z * 2)])
 write_planes(path("bad_ifd.ome.tif"), planes_czt,
              bioformats_xml("XYCZT", 3, NAMES,
                             '<TiffData IFD="0" PlaneCount="%d"/>'
@@ -334,9 +334,10 @@ refused("OME file set with a file missing", os.path.join(folder, "set_t0.ome.tif
         ["set_t1.ome.tif", "cannot be opened"])
 
 os.environ["MCV_MEMORY_LIMIT_MB"] = "4"
-# One frame of the TZCYX file: 91 x 109 x 91 x 3 float32 = 10.3 MiB.
+# One frame of the TZCYX file (not both): 91 x 109 x 91 x 3 float32 = 10.33 MiB, which
+# the memory check rounds up.
 refused("ImageJ TZCYX under a 4 MiB limit", path("tzcyx.tif"),
-        ["needs 10.3 MiB", "only 4.0 MiB is available"])
+        ["needs 10.4 MiB for its %d voxels" % (3 * X * Y * Z), "only 4.0 MiB is available"])
 del os.environ["MCV_MEMORY_LIMIT_MB"]
 
 C.finish()
