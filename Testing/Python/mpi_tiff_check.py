@@ -2,14 +2,14 @@
 
   pvbatch mpi_tiff_check.py --reference DIR
       one process: writes DIR/brain_tzcyx.tif (the real 3-channel brain on a 2 mm grid,
-      ImageJ TZCYX, uint16, 2 frames: frame 1 = frame 0 + 100, LZW-compressed pages of 8
+      ImageJ TZCYX, uint16, 2 frames: frame 1 = frame 0 + 100, zlib-compressed pages of 8
       rows per strip) and the written values DIR/written.npy; reads the file whole at both
       times and checks it against them (bit for bit);
   mpiexec -np R pvbatch --mpi mpi_tiff_check.py --compare DIR
       R processes, each reading its piece (the reader produces any sub-extent): each
       process's piece, brought to the first process (Fetch of that process) and placed by
       its extent, equals the written values at both times (ForceTime); the pieces cover the
-      volume once; with R > 1 no process holds the whole volume.
+      volume (sharing boundary layers only); with R > 1 no process holds the whole volume.
 Test driver: test_tiff_mpi.sh.
 """
 import argparse
@@ -54,7 +54,7 @@ def write(folder):
     written = np.stack([f0, f0 + 100])                       # (T, C, Z, Y, X)
     tifffile.imwrite(os.path.join(folder, "brain_tzcyx.tif"),
                      np.ascontiguousarray(written.transpose(0, 2, 1, 3, 4)), imagej=True,
-                     compression="lzw", rowsperstrip=8, resolution=(1 / 2.0, 1 / 2.0),
+                     compression="zlib", rowsperstrip=8, resolution=(1 / 2.0, 1 / 2.0),
                      metadata={"axes": "TZCYX", "spacing": 2.0, "unit": "um",
                                "finterval": TIMES[1]})
     np.save(os.path.join(folder, "written.npy"), written)
@@ -100,9 +100,12 @@ def main():
             same = same and list(got.keys()) == list(NAMES) and all(
                 np.array_equal(got[n], written[f, c][box]) for c, n in enumerate(NAMES))
         C.check(same, "frame %d: every piece's C1..C3 equal the written values bit for bit" % f)
-        C.check(bool((count == 1).all()), "frame %d: the %d pieces cover the volume once "
-                "(voxels covered 0 / more than once: %d / %d)"
-                % (f, R, int((count == 0).sum()), int((count > 1).sum())))
+        # Image pieces share their boundary layer of points (VTK's extents): each voxel is
+        # in one piece, or two on a shared layer.
+        shared = int((count > 1).sum())
+        C.check(bool((count >= 1).all()) and shared <= (R - 1) * max(X * Y, Y * Z, X * Z),
+                "frame %d: the %d pieces cover the volume (voxels in none: %d; on shared "
+                "layers: %d)" % (f, R, int((count == 0).sum()), shared))
         if R > 1:
             C.check(all(p.GetNumberOfPoints() < X * Y * Z for p in pieces),
                     "frame %d: no process holds the whole volume (%s points)"
