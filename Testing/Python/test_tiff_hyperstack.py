@@ -17,7 +17,9 @@ written:
   .ome.tif and .ome.tiff;
 - bad files, each an error naming the file and the problem, 0 points: images= other than
   channels x slices x frames, missing pages, an unknown unit, OME SizeC other than the
-  planes, a TiffData beyond the pages, one frame larger than the memory (MCV_MEMORY_LIMIT_MB).
+  Channel elements or the planes, a TiffData beyond the pages, an OME Type other than the
+  pages', a file of a set missing, one frame larger than the memory (MCV_MEMORY_LIMIT_MB);
+- the time keeper (the GUI's time) shows a hyperstack's time steps.
 """
 import os
 import sys
@@ -278,6 +280,14 @@ for name in (path("tczyx.ome.tif"), path("zcyx.ome.tiff"), path("bioformats.ome.
     simple.Delete(proxy)
 
 
+# The GUI's time: the time keeper takes the reader's TimestepValues.
+proxy = simple.OpenDataFile(path("tzcyx.tif"))
+proxy.UpdatePipelineInformation()
+keeper = [float(t) for t in simple.GetTimeKeeper().TimestepValues]
+C.check(keeper == [0.0, 0.5], "the time keeper shows the hyperstack's time steps %s" % keeper)
+simple.Delete(proxy)
+
+
 # ---- bad files ------------------------------------------------------------------------
 def refused(label, name, words):
     proxy, msgs = open_checked(name)
@@ -329,6 +339,10 @@ write_planes(path("bad_unit.ome.tif"), planes_czt,
              bioformats_xml("XYCZT", 3, NAMES, '<TiffData/>', unit="furlong"))
 refused("OME unknown unit", path("bad_unit.ome.tif"),
         ['PhysicalSizeZUnit="furlong"', "does not know"])
+write_planes(path("bad_type.ome.tif"), [p.astype(np.float32) for p in planes_czt],
+             bioformats_xml("XYCZT", 3, NAMES, '<TiffData/>'))
+refused("OME Type uint16 over float32 pages", path("bad_type.ome.tif"),
+        ["uint16 in its OME-XML", "pages hold float32"])
 os.rename(os.path.join(folder, "set_t1.ome.tif"), os.path.join(folder, "moved.ome.tif"))
 refused("OME file set with a file missing", os.path.join(folder, "set_t0.ome.tif"),
         ["set_t1.ome.tif", "cannot be opened"])
