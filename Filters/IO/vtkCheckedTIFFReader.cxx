@@ -119,7 +119,8 @@ std::string readPage(TIFF* tiff, std::size_t width, std::size_t height, std::siz
         const std::size_t w = std::min<std::size_t>(tw, width - tx);
         for (std::size_t y = std::max(ty, y0); y < std::min<std::size_t>(ty + th, y1 + 1); ++y)
         {
-          std::memcpy(page + y * row + tx * sample, tile.data() + (y - ty) * tw * sample, w * sample);
+          std::memcpy(
+            page + y * row + tx * sample, tile.data() + (y - ty) * tw * sample, w * sample);
         }
       }
     }
@@ -322,8 +323,10 @@ public:
       (this->Map.BitsPerSample != first.BitsPerSample ||
         this->Map.SampleFormat != std::max(first.SampleFormat, 1)))
     {
-      msg << "declares samples of type " << typeName(this->Map.BitsPerSample, this->Map.SampleFormat)
-          << " in its OME-XML, but its pages hold " << typeName(first.BitsPerSample, first.SampleFormat);
+      msg << "declares samples of type "
+          << typeName(this->Map.BitsPerSample, this->Map.SampleFormat)
+          << " in its OME-XML, but its pages hold "
+          << typeName(first.BitsPerSample, first.SampleFormat);
       return msg.str();
     }
     // The other files of an OME-TIFF set, in the folder of this one.
@@ -333,7 +336,8 @@ public:
     std::vector<std::uint64_t> pageCounts(1, pages.size());
     for (std::size_t f = 1; f < this->Map.Files.size(); ++f)
     {
-      const std::string path = folder.empty() ? this->Map.Files[f] : folder + "/" + this->Map.Files[f];
+      const std::string& file = this->Map.Files[f];
+      const std::string path = folder.empty() ? file : folder + "/" + file;
       std::vector<mcv::TiffPage> other;
       problem = mcv::readTiffDirectories(path, other);
       problem = problem.empty() ? checkPages(path, other) : problem;

@@ -49,7 +49,8 @@ void addLabels(mcv::ImageJTags& tags, const std::vector<std::string>& labels, bo
     return b;
   };
   tags.BigEndian = bigEndian;
-  tags.Metadata = u32(0x494a494a) + u32(0x6c61626c) + u32(static_cast<std::uint32_t>(labels.size()));
+  tags.Metadata = u32(0x494a494a) + u32(0x6c61626c) + // "IJIJ", "labl"
+    u32(static_cast<std::uint32_t>(labels.size()));
   tags.MetadataByteCounts = { 12 };
   for (const std::string& label : labels)
   {
@@ -156,7 +157,8 @@ TEST(ImageJHyperstack, BadDescriptionsAreRefused)
   EXPECT_TRUE(contains(unit, "does not know")) << unit;
   EXPECT_NE(mcv::parseImageJ(imagej("ImageJ=1.11a\nimages=2\nchannels=x\n"), 2, map), "");
   EXPECT_NE(mcv::parseImageJ(imagej("ImageJ=1.11a\nimages=2\nslices=2\nspacing=0\n"), 2, map), "");
-  EXPECT_NE(mcv::parseImageJ(imagej("ImageJ=1.11a\nimages=2\nframes=2\nfinterval=-1\n"), 2, map), "");
+  EXPECT_NE(
+    mcv::parseImageJ(imagej("ImageJ=1.11a\nimages=2\nframes=2\nfinterval=-1\n"), 2, map), "");
 }
 
 // OME-XML as tifffile writes it for axes TCZYX (DimensionOrder XYZCT), with PhysicalSize in nm.
@@ -285,10 +287,12 @@ TEST(OMETiffMetadata, BadFilesAreRefused)
   const std::string channels = mcv::parseOME(tifffileOME("XYZCT", "", "3"), "x.ome.tif", map);
   EXPECT_TRUE(contains(channels, "SizeC=3 in its OME-XML but 2 Channel elements")) << channels;
   const std::string past = mcv::parseOME(
-    tifffileOME("XYZCT", "", "2", "nm", "<TiffData IFD=\"0\" PlaneCount=\"13\"/>"), "x.ome.tif", map);
+    tifffileOME("XYZCT", "", "2", "nm", "<TiffData IFD=\"0\" PlaneCount=\"13\"/>"), "x.ome.tif",
+    map);
   EXPECT_TRUE(contains(past, "TiffData (number 1)")) << past;
   EXPECT_TRUE(contains(past, "past the SizeZ x SizeC x SizeT = 12 planes")) << past;
-  const std::string unit = mcv::parseOME(tifffileOME("XYZCT", "", "2", "furlong"), "x.ome.tif", map);
+  const std::string unit =
+    mcv::parseOME(tifffileOME("XYZCT", "", "2", "furlong"), "x.ome.tif", map);
   EXPECT_TRUE(contains(unit, "PhysicalSizeXUnit=\"furlong\"")) << unit;
   const std::string order = mcv::parseOME(tifffileOME("XYZZT"), "x.ome.tif", map);
   EXPECT_TRUE(contains(order, "DimensionOrder=\"XYZZT\"")) << order;
