@@ -133,6 +133,14 @@ std::string parseOME(const std::string& xml, const std::string& fileName, TiffPl
     sizes[i] = static_cast<std::uint64_t>(value);
   }
   map.Format = "OME-TIFF";
+  const std::size_t images = children(ome, "Image").size();
+  if (images > 1)
+  {
+    std::ostringstream warning;
+    warning << "holds " << images << " images (series) in its OME-XML; only the first ('"
+            << image.attribute("Name").value() << "') is read";
+    map.Warning = warning.str();
+  }
   map.SizeX = sizes[0];
   map.SizeY = sizes[1];
   map.SizeZ = static_cast<int>(sizes[2]);

@@ -1,6 +1,6 @@
 // The plane map of an OME-TIFF file: the OME-XML of its first ImageDescription (written by
 // Bio-Formats, Fiji's "Save As OME-TIFF", tifffile's imwrite(..., ome=True)). Read: the first
-// Image's Pixels (DimensionOrder, SizeX/Y/Z/C/T, Type, PhysicalSizeX/Y/Z and their units,
+// Image (series; the map's Warning says when there are more) and its Pixels (DimensionOrder, SizeX/Y/Z/C/T, Type, PhysicalSizeX/Y/Z and their units,
 // TimeIncrement and its unit), its Channel names and its TiffData elements (IFD, FirstZ,
 // FirstC, FirstT, PlaneCount, and UUID FileName for a set of files in one folder).
 //

@@ -40,6 +40,9 @@ struct TiffPlaneMap
   // float); 0 when it declares none (ImageJ: the pages tell).
   int BitsPerSample = 0;
   int SampleFormat = 0;
+  // What the reader should warn about while reading the file (e.g. the other series of a
+  // multi-series OME-TIFF, which are not read); "" when nothing.
+  std::string Warning;
 
   // Sizes Planes (every plane missing), TimeValues (0, 1, 2...) and ChannelNames (C1...)
   // for SizeC, SizeZ and SizeT; false when they are not all positive or their product is

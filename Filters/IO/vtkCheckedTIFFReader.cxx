@@ -504,6 +504,10 @@ int vtkCheckedTIFFReader::RequestInformation(
     }
     if (this->Internals->HasMap)
     {
+      if (!this->Internals->Map.Warning.empty())
+      {
+        vtkWarningMacro(<< this->Describe() << " " << this->Internals->Map.Warning << ".");
+      }
       return this->PlaneMapInformation(outInfo);
     }
     if (!this->Superclass::RequestInformation(request, inputVector, outputVector))

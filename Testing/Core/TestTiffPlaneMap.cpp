@@ -209,6 +209,13 @@ TEST(OMETiffMetadata, TifffileFileXYZCT)
   EXPECT_EQ(map.ChannelNames, (std::vector<std::string>{ "ch2", "aal" }));
   EXPECT_EQ(map.Files, (std::vector<std::string>{ "x.ome.tif" }));
   EXPECT_EQ(mcv::checkPlaneMap(map, { 12 }), "");
+  EXPECT_EQ(map.Warning, "");
+  // A second image (series): the first is read, with a warning that names the count.
+  std::string two = tifffileOME();
+  two.insert(two.find("</OME>"), "<Image ID=\"Image:1\" Name=\"Image1\"/>");
+  ASSERT_EQ(mcv::parseOME(two, "x.ome.tif", map), "");
+  EXPECT_EQ(map.Warning,
+    "holds 2 images (series) in its OME-XML; only the first ('Image0') is read");
 }
 
 TEST(OMETiffMetadata, AllSixDimensionOrders)

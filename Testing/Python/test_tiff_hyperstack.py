@@ -267,6 +267,20 @@ check_volume("OME file set (UUID FileName)", proxy, msgs, bf, list(NAMES), (2.0,
              "µm", times=[0.0, 1.5], time_unit="s")
 simple.Delete(proxy)
 
+# Two series (images) in one file: the first is read, with a warning that says so.
+with tifffile.TiffWriter(path("two_series.ome.tif"), ome=True) as tif:
+    tif.write(zcyx, photometric="minisblack",
+              metadata={"axes": "CZYX", "Channel": {"Name": list(NAMES)}})
+    tif.write(zcyx[:, :10], photometric="minisblack", metadata={"axes": "CZYX"})
+proxy, msgs = open_checked(path("two_series.ome.tif"))
+got = volume_arrays(output(proxy))
+C.check(not msgs.errors and list(got.keys()) == list(NAMES) and
+        all(np.array_equal(got[n], zcyx[c]) for c, n in enumerate(NAMES)) and
+        msgs.any_warning("two_series.ome.tif", "holds 2 images (series)", "only the first"),
+        "two series: the first read whole, a warning names the file and the count (%s)"
+        % [w.split("): ", 1)[-1].strip() for w in msgs.warnings])
+simple.Delete(proxy)
+
 # OpenDataFile picks the checked reader for OME-TIFF (not GDAL, not the OMETIFFReader).
 for name in (path("tczyx.ome.tif"), path("zcyx.ome.tiff"), path("bioformats.ome.tif"),
              path("zcyx.tif")):
