@@ -26,7 +26,8 @@ range). A file with several channels (a hyperstack, an OME file) is shown as a c
 composite, as a microscope's software shows it: each channel from black to its own colour
 (the file's colours where it has them, OME-Zarr's omero colours; else ImageJ's composite
 order red, green, blue, grey, cyan, magenta, yellow), over the same percentile ramp as a
-single channel, the colours added and the opacity the largest of the channels'. Time
+single channel, the colours added and the opacity the largest of the channels' (at most a
+quarter per voxel, so that what lies inside an outer channel shows through). Time
 series: the first time step is shown and the record says how many there are.
 
 Rendering: a linear opacity ramp and the Grayscale colour map from the 1st to the 99.5th
@@ -394,7 +395,10 @@ def run_worker(spec_json):
             display.MapScalars = 0  # the RGB components are the colours
             display.MultiComponentsMapping = 1  # ... and the 4th goes through the opacity
             pwf = simple.GetOpacityTransferFunction("ChannelComposite")
-            pwf.Points = [0.0, 0.0, 0.5, 0.0, 255.0, 1.0, 0.5, 0.0]
+            # At most a quarter opaque per voxel: a channel that fills the outside (a T1's
+            # skin, a membrane stain) lets the channels inside show through. ParaView
+            # 5.11's volume representation has no maximum intensity projection.
+            pwf.Points = [0.0, 0.0, 0.5, 0.0, 255.0, 0.25, 0.5, 0.0]
             opacity = simple.CreatePiecewiseFunction(Points=[0.0, 0.0, 0.5, 0.0,
                                                              1.0, 1.0, 0.5, 0.0])
             view_properties = {"Channels": ["CompositeOpacity"], "OpacityFunction": opacity}
