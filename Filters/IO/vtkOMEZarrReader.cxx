@@ -175,7 +175,7 @@ int vtkOMEZarrReader::RequestInformation(
       mcv::zarr::parseArrayMeta(std::string(bytes.begin(), bytes.end()), in.Array);
     if (!problem.empty())
     {
-      return "has a .zarray for " + in.LevelName(level) + " that cannot be read: it " + problem;
+      return "has " + in.LevelName(level) + " whose .zarray " + problem;
     }
     const std::size_t axes = in.Image.Axes.size();
     if (in.Array.Shape.size() != axes)
@@ -493,8 +493,7 @@ int vtkOMEZarrReader::RequestData(
       const std::string problem = mcv::zarr::decodeChunk(a, stored, decoded);
       if (!problem.empty())
       {
-        return refuse("has a chunk '" + key + "' in " + in.LevelName(in.Level) +
-          " that cannot be read: it " + problem);
+        return refuse("has " + in.LevelName(in.Level) + " whose chunk '" + key + "' " + problem);
       }
       if (swap)
       {
