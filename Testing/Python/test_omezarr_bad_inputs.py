@@ -51,15 +51,18 @@ def edit_json(path, change):
 def refused(folder, what, *words, level=None):
     """Opens `folder` with the OME-Zarr reader (named, as OpenDataFile may not pick it for a
     broken folder) and checks one error with `words` and the folder, and 0 points."""
-    reader = simple.OMEZarrReader(FileName=folder)
+    reader = simple.OMEZarrReader()  # observed before it reads the folder's metadata
+    msgs = T.Messages(reader)
     if level is not None:
         reader.ResolutionLevel = level
-    msgs = T.Messages(reader)
+    reader.FileName = folder
     reader.UpdatePipeline()
     points = reader.GetDataInformation().GetNumberOfPoints()
     hit = [e for e in msgs.errors if folder in e and all(w.lower() in e.lower() for w in words)]
+    shown = [line for e in (hit or msgs.errors or ["(no error)"]) for line in e.splitlines()
+             if "OME-Zarr folder" in line or e.startswith("(no")][:1] or ["?"]
     C.check(bool(hit) and points == 0, "%s: error naming the folder and %s, %d points: %s"
-            % (what, words, points, (hit or msgs.errors or ["(no error)"])[0].strip()[-260:]))
+            % (what, words, points, shown[0].replace(OUT + "/", "")))
     simple.Delete(reader)
 
 

@@ -134,8 +134,9 @@ C.check(reader.GetPropertyValue("LevelRead") == 1 and image.GetDimensions() == (
         "under 10 MiB the default reads level 1: LevelRead %s, dimensions %s"
         % (reader.GetPropertyValue("LevelRead"), image.GetDimensions()))
 os.environ["MCV_MEMORY_LIMIT_MB"] = "1"
-reader = simple.OpenDataFile(folder)
+reader = simple.OMEZarrReader()  # observed before it reads the folder's metadata
 msgs = T.Messages(reader)
+reader.FileName = folder
 reader.UpdatePipeline()
 C.check(msgs.any_error(folder, "no resolution level that fits in memory", "level 1"),
         "under 1 MiB: an error naming the folder and the coarsest level (%s)" % msgs.errors[:1])
