@@ -34,8 +34,8 @@ folder = Z.write_image(os.path.join(OUT, "brain.ome.zarr"),
                        scales=[[1, 1, 1, 1], [1, 2, 2, 2]], chunks=(1, 48, 48, 48))
 zarr_volume = simple.OpenDataFile(folder)
 zarr_volume.ResolutionLevel = 1
-nifti_volume = simple.ExtractSubset(Input=T.brain_channels(), SampleRateI=2, SampleRateJ=2,
-                                    SampleRateK=2)
+nifti_volume = simple.ExtractSubset(Input=T.brain_channels(), VOI=[0, 180, 0, 216, 0, 180],
+                                    SampleRateI=2, SampleRateJ=2, SampleRateK=2)
 
 REDUCTION = dict(FeatureSet="6D", Method="PCA", OutputDimension=3,
                  ReferenceSampleSize=5000, RandomSeed=7)
