@@ -22,7 +22,6 @@
 #include <algorithm>
 #include <cstring>
 #include <set>
-#include <sstream>
 #include <vector>
 
 vtkStandardNewMacro(vtkOMEZarrReader);

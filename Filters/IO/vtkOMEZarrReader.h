@@ -53,7 +53,10 @@ public:
   /**
    * The resolution level to read: 0 is the finest (full resolution), 1 the next coarser,
    * and so on. -1 (the default): the finest level whose one time point fits in the memory
-   * this process may use (MemoryBudget).
+   * this process may use (MemoryBudget). The whole level is counted, also when several
+   * processes share it: every process must choose the same level, and what one process
+   * sees of the others' memory is not known when the level is chosen. RequestData checks
+   * the extent it is asked for.
    */
   vtkSetMacro(ResolutionLevel, int);
   vtkGetMacro(ResolutionLevel, int);
