@@ -12,13 +12,22 @@ volume under --input (searched recursively) it renders a thumbnail from the best
   OUTPUT/thumbnails/*.png   one per volume
   OUTPUT/records/*.json     one per volume (what resuming looks at)
 
-Volumes: NIfTI (.nii, .nii.gz), VolPack (.den), MetaImage (.mhd with its .raw, .mha) and
-TIFF through the plugin's readers, which read a file whole or refuse it with the reason
-(a truncated or corrupt file is an error entry that says why); VTK image data (.vti)
-through ParaView's reader.
+Volumes: NIfTI (.nii, .nii.gz), VolPack (.den), MetaImage (.mhd with its .raw, .mha),
+TIFF (plain multi-page files, ImageJ hyperstacks), OME-TIFF (.ome.tif, .ome.tiff) and
+OME-Zarr folders (.zarr, .ome.zarr) through the plugin's readers, which read a file whole or
+refuse it with the reason (a truncated or corrupt file is an error entry that says why); VTK
+image data (.vti) through ParaView's reader.
 TIFF files of one folder whose names differ only in a trailing number (slice_000.tif,
 slice_001.tif, ...) are one volume (a stack); any other .tif is a volume of its own.
 Other files (.raw, .txt, ...) are ignored.
+
+Channels: every channel of every file is listed by name in the index (with its type and
+range). A file with several channels (a hyperstack, an OME file) is shown as a channel
+composite, as a microscope's software shows it: each channel from black to its own colour
+(the file's colours where it has them, OME-Zarr's omero colours; else ImageJ's composite
+order red, green, blue, grey, cyan, magenta, yellow), over the same percentile ramp as a
+single channel, the colours added and the opacity the largest of the channels'. Time
+series: the first time step is shown and the record says how many there are.
 
 Rendering: a linear opacity ramp and the Grayscale colour map from the 1st to the 99.5th
 percentile of the non-empty voxels (those above the volume's minimum), as a user would set
@@ -56,11 +65,19 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from example_support import load_plugin, render_view  # noqa: E402
 
 THIS = os.path.abspath(__file__)
-RECORD_VERSION = 1
+RECORD_VERSION = 2  # 2: channels listed by name (channel_list), composites
 BAR_WIDTH = 20
 # Extension -> format label. .raw/.img are data halves of a header file: not volumes.
 FORMATS = [(".nii.gz", "NIfTI"), (".nii", "NIfTI"), (".den", "VolPack"), (".vti", "VTK image"),
-           (".mhd", "MetaImage"), (".mha", "MetaImage"), (".tiff", "TIFF"), (".tif", "TIFF")]
+           (".mhd", "MetaImage"), (".mha", "MetaImage"), (".ome.tiff", "OME-TIFF"),
+           (".ome.tif", "OME-TIFF"), (".tiff", "TIFF"), (".tif", "TIFF")]
+# Folders that are one volume each (never searched inside).
+FOLDER_FORMATS = [(".ome.zarr", "OME-Zarr"), (".zarr", "OME-Zarr")]
+# ImageJ's composite colours, in its channel order (C1 red, C2 green, ...).
+CHANNEL_COLORS = [(1, 0, 0), (0, 1, 0), (0, 0, 1), (0.75, 0.75, 0.75), (0, 1, 1), (1, 0, 1),
+                  (1, 1, 0)]
+# ParaView's and VTK's bookkeeping arrays, never channels.
+INTERNAL_ARRAYS = ("vtkGhostType", "vtkValidPointMask")
 
 
 def _format_of(name):
@@ -86,6 +103,13 @@ def discover(input_dir, output_dir):
         # Never index our own output when it lies inside the input folder.
         dirs[:] = sorted(d for d in dirs
                          if os.path.realpath(os.path.join(root, d)) != out_real)
+        for d in list(dirs):
+            label = next((l for ext, l in FOLDER_FORMATS if d.lower().endswith(ext)), None)
+            if label:
+                path = os.path.join(root, d)
+                volumes.append({"name": os.path.relpath(path, input_dir), "format": label,
+                                "files": [path]})
+                dirs.remove(d)
         tiff_groups = {}
         for f in sorted(files):
             ext, label = _format_of(f)
@@ -94,7 +118,7 @@ def discover(input_dir, output_dir):
                 continue
             path = os.path.join(root, f)
             rel = os.path.relpath(path, input_dir)
-            if label == "TIFF":
+            if label == "TIFF":  # never OME-TIFF: its planes are in one file or named in it
                 m = re.match(r"^(.*?)(\d+)(\.tiff?)$", f, re.IGNORECASE)
                 key = (m.group(1), m.group(3).lower()) if m else (f, "")
                 tiff_groups.setdefault(key, []).append(path)
@@ -118,11 +142,22 @@ def discover(input_dir, output_dir):
     return volumes, ignored
 
 
+def _all_files(files):
+    """The files themselves, and every file inside a folder volume (OME-Zarr)."""
+    for f in files:
+        if os.path.isdir(f):
+            for root, _, names in os.walk(f):
+                for n in names:
+                    yield os.path.join(root, n)
+        else:
+            yield f
+
+
 def signature(files):
     """Total size and newest modification time of a volume's files: a changed file is
     redone on resume."""
     size, mtime = 0, 0
-    for f in files:
+    for f in _all_files(files):
         st = os.stat(f)
         size += st.st_size
         mtime = max(mtime, st.st_mtime_ns)
@@ -202,12 +237,75 @@ def _open_volume(simple, spec):
     if data.GetNumberOfPoints() < 2:
         raise VolumeError("the reader produced no voxels: %s" % (
             errors[0] if errors else "unreadable or corrupt file"))
-    scalars = data.GetPointData().GetScalars()
-    if scalars is None and data.GetPointData().GetNumberOfArrays() > 0:
-        scalars = data.GetPointData().GetArray(0)
-    if scalars is None or scalars.GetName() is None:
+    channels = channel_arrays(data)
+    if not channels:
         raise VolumeError("the file holds no voxel values (no point data array)")
+    scalars = data.GetPointData().GetScalars()
+    if scalars is None or scalars.GetName() not in [c.GetName() for c in channels]:
+        scalars = channels[0]
     return reader, data, scalars
+
+
+def channel_arrays(data):
+    """The named point arrays of the volume that are channels, in file order."""
+    pd = data.GetPointData()
+    arrays = [pd.GetArray(i) for i in range(pd.GetNumberOfArrays())]
+    return [a for a in arrays if a is not None and a.GetName()
+            and a.GetName() not in INTERNAL_ARRAYS]
+
+
+def channel_colors(data, count):
+    """The channels' display colours: the file's (field data ChannelColors, hex RGB as
+    OME-Zarr's omero and OME-TIFF give them), else ImageJ's composite order."""
+    colors = [CHANNEL_COLORS[i % len(CHANNEL_COLORS)] for i in range(count)]
+    given = data.GetFieldData().GetAbstractArray("ChannelColors")
+    if given is not None and given.GetNumberOfValues() == count:
+        for i in range(count):
+            text = str(given.GetValue(i)).strip().lstrip("#")
+            if re.match(r"^[0-9A-Fa-f]{6}([0-9A-Fa-f]{2})?$", text):
+                colors[i] = tuple(int(text[k:k + 2], 16) / 255.0 for k in (0, 2, 4))
+    return colors
+
+
+def composite_source(simple, data, channels, colors):
+    """A source of the volume's channel composite: a uint8 RGBA array ChannelComposite
+    (each channel from black to its colour over its percentile ramp, the colours added,
+    alpha the largest normalised channel) and the same alpha as float CompositeOpacity
+    (what the best viewpoint looks at). Returns (source, ramps)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    rgb = np.zeros((data.GetNumberOfPoints(), 3))
+    alpha = np.zeros(data.GetNumberOfPoints())
+    ramps = []
+    for array, color in zip(channels, colors):
+        low, high = robust_ramp(array)
+        ramps.append([low, high])
+        values = vtk_to_numpy(array).astype(np.float64).reshape(-1)
+        level = np.clip((values - low) / (high - low if high > low else 1.0), 0.0, 1.0)
+        level[~np.isfinite(level)] = 0.0
+        rgb += level[:, None] * np.asarray(color)[None, :]
+        alpha = np.maximum(alpha, level)
+    rgba = np.empty((rgb.shape[0], 4), dtype=np.uint8)
+    rgba[:, :3] = np.round(255 * np.clip(rgb, 0.0, 1.0))
+    rgba[:, 3] = np.round(255 * alpha)
+    # The ray caster scales each component by its own range before using it as a colour:
+    # one transparent voxel that spans 0..255 in R, G and B keeps the colours as they are.
+    rgba[0, :3] = 255
+    rgba[0, 3] = 0
+    image = vtkImageData()
+    image.CopyStructure(data)
+    composite = numpy_to_vtk(rgba, deep=True)
+    composite.SetName("ChannelComposite")
+    image.GetPointData().AddArray(composite)
+    opacity = numpy_to_vtk(alpha.astype(np.float32), deep=True)
+    opacity.SetName("CompositeOpacity")
+    image.GetPointData().AddArray(opacity)
+    producer = simple.PVTrivialProducer()
+    producer.GetClientSideObject().SetOutput(image)
+    producer.UpdatePipeline()
+    return producer, ramps
 
 
 def robust_ramp(scalars, low_percentile=1.0, high_percentile=99.5):
@@ -245,10 +343,21 @@ def run_worker(spec_json):
 
         mce = load_plugin(spec.get("plugin"))
         reader, data, scalars = _open_volume(simple, spec)
+        channels = channel_arrays(data)
+        times = list(getattr(reader, "TimestepValues", None) or [])
+        record["time_steps"] = len(times) if len(times) > 1 else 1
+        record["channel_list"] = [{
+            "name": a.GetName(), "scalar_type": a.GetDataTypeAsString(),
+            "components": a.GetNumberOfComponents(),
+            "range": [float(x) for x in a.GetRange(0)]} for a in channels]
+        unit = data.GetFieldData().GetAbstractArray("LengthUnit")
+        if unit is not None and unit.GetNumberOfValues() > 0:
+            record["unit"] = str(unit.GetValue(0))
+        composite = len(channels) > 1 and all(a.GetNumberOfComponents() == 1 for a in channels)
         ncomp = scalars.GetNumberOfComponents()
         array = scalars.GetName()
         source = reader
-        if ncomp > 1:
+        if ncomp > 1 and not composite:
             # A 4D / multi-component volume: its first component (see the docstring).
             source = simple.ExtractComponent(Input=reader, InputArray=["POINTS", array],
                                              Component=0, OutputArrayName=array + "_0")
@@ -262,27 +371,48 @@ def run_worker(spec_json):
             "origin": [float(s) for s in data.GetOrigin()],
             "scalar_type": scalars.GetDataTypeAsString(),
             "components": ncomp,
-            "component_used": 0 if ncomp > 1 else None,
+            "component_used": 0 if ncomp > 1 and not composite else None,
             "array": array,
             "range": [float(x) for x in scalars.GetRange(0)],
         })
-        if record["range"][1] <= record["range"][0]:
+        if all(c["range"][1] <= c["range"][0] for c in record["channel_list"]) or \
+                record["range"][1] <= record["range"][0] and not composite:
             raise VolumeError("constant volume (all voxels %g): nothing to see"
                               % record["range"][0])
 
         view = render_view(spec["size"])
-        display = simple.Show(source, view)
-        display.SetRepresentationType("Volume")
-        simple.ColorBy(display, ("POINTS", array))
-        low, high = robust_ramp(scalars)
-        record["ramp"] = [low, high]
-        lut = simple.GetColorTransferFunction(array)
-        lut.ApplyPreset("Grayscale", True)
-        lut.RescaleTransferFunction(low, high)
-        pwf = simple.GetOpacityTransferFunction(array)
-        pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
+        if composite:
+            colors = channel_colors(data, len(channels))
+            source, ramps = composite_source(simple, data, channels, colors)
+            for entry, color, ramp in zip(record["channel_list"], colors, ramps):
+                entry["color"] = "#%02x%02x%02x" % tuple(int(round(255 * c)) for c in color)
+                entry["ramp"] = ramp
+            record["composite"] = True
+            display = simple.Show(source, view)
+            display.SetRepresentationType("Volume")
+            simple.ColorBy(display, ("POINTS", "ChannelComposite"))
+            display.MapScalars = 0  # the RGB components are the colours
+            display.MultiComponentsMapping = 1  # ... and the 4th goes through the opacity
+            pwf = simple.GetOpacityTransferFunction("ChannelComposite")
+            pwf.Points = [0.0, 0.0, 0.5, 0.0, 255.0, 1.0, 0.5, 0.0]
+            opacity = simple.CreatePiecewiseFunction(Points=[0.0, 0.0, 0.5, 0.0,
+                                                             1.0, 1.0, 0.5, 0.0])
+            view_properties = {"Channels": ["CompositeOpacity"], "OpacityFunction": opacity}
+        else:
+            display = simple.Show(source, view)
+            display.SetRepresentationType("Volume")
+            simple.ColorBy(display, ("POINTS", array))
+            low, high = robust_ramp(scalars)
+            record["ramp"] = [low, high]
+            lut = simple.GetColorTransferFunction(array)
+            lut.ApplyPreset("Grayscale", True)
+            lut.RescaleTransferFunction(low, high)
+            pwf = simple.GetOpacityTransferFunction(array)
+            pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
+            view_properties = {}
 
-        best = mce.apply_best_viewpoint(source, view, which="best", disambiguate=True)
+        best = mce.apply_best_viewpoint(source, view, which="best", disambiguate=True,
+                                        **view_properties)
         if not best.valid:
             raise VolumeError("no best viewpoint: flat or constant opacity")
         tmp_png = spec["thumbnail"] + ".part.png"
@@ -436,12 +566,23 @@ def write_index(records, paths, input_dir, started):
         rows = [("format", r.get("format", ""))]
         if "dimensions" in r:
             rows.append(("dimensions", " &times; ".join(str(d) for d in r["dimensions"])))
-            rows.append(("spacing", e(_vec(r["spacing"], "%.4g"))))
+            rows.append(("spacing", e(_vec(r["spacing"], "%.4g") + (
+                " " + r["unit"] if r.get("unit") else ""))))
             comp = ""
             if r.get("components", 1) > 1:
                 comp = " (component %d of %d)" % (r["component_used"], r["components"])
-            rows.append(("scalars", e("%s, range %.6g .. %.6g%s" % (
-                r["scalar_type"], r["range"][0], r["range"][1], comp))))
+            if len(r.get("channel_list", [])) > 1:
+                rows.append(("channels", "<br>".join(
+                    '%s<b>%s</b> %s, %.6g .. %.6g' % (
+                        '<span class="swatch" style="background:%s"></span>' % c["color"]
+                        if c.get("color") else "", e(c["name"]), e(c["scalar_type"]),
+                        c["range"][0], c["range"][1]) for c in r["channel_list"])))
+            else:
+                rows.append(("scalars", e("%s%s, range %.6g .. %.6g%s" % (
+                    r["array"] + ": " if r.get("array") else "", r["scalar_type"],
+                    r["range"][0], r["range"][1], comp))))
+            if r.get("time_steps", 1) > 1:
+                rows.append(("time steps", "%d (the first shown)" % r["time_steps"]))
         if r["status"] == "ok":
             rows.append(("best direction", e(_vec(r["best_direction"]))))
             eig = r["eigenvalues"]
@@ -476,6 +617,7 @@ h2{font-size:14px;word-break:break-all;margin:6px 0}
 table{font-size:12px;border-collapse:collapse}
 th{text-align:left;padding-right:8px;vertical-align:top;color:#555;font-weight:normal}
 .bar{display:inline-block;height:8px;background:#4a7;margin-right:3px}
+.swatch{display:inline-block;width:10px;height:10px;margin-right:4px;border:1px solid #888}
 pre.error{color:#b00;white-space:pre-wrap;margin:0;font-size:11px}
 </style></head><body>
 <h1>Volume snapshots</h1>

@@ -3,7 +3,9 @@
     xvfb-run -a pvbatch Examples/transfer_function.py [--output DIR] [options]
 
 Default input: the real 3-channel brain of Debian's mricron-data (Colin27 T1 ch2 + the
-AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh.
+AAL and Brodmann atlases on the same grid), fetched by scripts/fetch-data.sh. Your own
+data: --channels A B C (one file per channel, on one grid) or --input FILE (one multichannel
+file: an ImageJ hyperstack, an OME-TIFF, an OME-Zarr folder; its channels are its arrays).
 
  0. with --upsample F, the channels resampled by F along each axis (ParaView's own
     trilinear ResampleToImage): the same brain as a larger volume (F = 2: 57 M voxels);
@@ -52,6 +54,11 @@ parser.add_argument("--channels", nargs="+", metavar="VOLUME",
                              ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")],
                     help="volumes on one grid, one channel each (default: Colin27 T1, "
                          "AAL, Brodmann)")
+parser.add_argument("--input", metavar="FILE", default=None,
+                    help="one multichannel file instead of --channels: an ImageJ hyperstack "
+                         "or OME-TIFF (.tif, .ome.tif), an OME-Zarr folder (.zarr), or any "
+                         "volume ParaView opens; its point arrays are the channels, its first "
+                         "time step is used")
 parser.add_argument("--output", default=os.path.join("output", "transfer_function"))
 parser.add_argument("--features", default="24D", choices=["6D", "24D"])
 parser.add_argument("--chain", default="fused", choices=["fused", "features"],
@@ -84,7 +91,8 @@ parser.add_argument("--methods-sample", type=int, default=20000,
                     help="methods.png: voxels drawn per method (default 20000)")
 args = parser.parse_args(sys.argv[1:])
 
-for path in args.channels:
+inputs = [args.input] if args.input else args.channels
+for path in inputs:
     require(path)
 os.makedirs(args.output, exist_ok=True)
 mce = load_plugin(args.plugin)
@@ -113,7 +121,9 @@ def timed(name, function):
 
 
 # 1. Channels on one grid, and their feature vectors.
-readers = [OpenDataFile(p) for p in args.channels]
+readers = [OpenDataFile(p) for p in inputs]
+if None in readers:
+    sys.exit("no reader for %s" % inputs[readers.index(None)])
 volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
 timed("read", volume.UpdatePipeline)
 if args.upsample != 1.0:
@@ -264,7 +274,7 @@ if args.methods:
 # Report.
 bvp = best.filter
 report = {
-    "channels": [os.path.abspath(p) for p in args.channels],
+    "channels": [os.path.abspath(p) for p in inputs],
     "voxels": volume.GetDataInformation().GetNumberOfPoints(),
     "upsample": args.upsample,
     "chain": args.chain,

@@ -100,6 +100,41 @@ bool entryValues(TiffFile& file, const unsigned char* entry, std::vector<std::ui
   }
   return true;
 }
+
+// The bytes of one directory entry (inline or at its offset); false when they lie beyond
+// the end of the file.
+bool rawEntryBytes(TiffFile& file, const unsigned char* entry, std::string& bytes)
+{
+  const int countBytes = file.Big ? 8 : 4;
+  const std::uint64_t count = file.Number(entry + 4, countBytes);
+  const int size = typeBytes(file.Number(entry + 2, 2));
+  bytes.clear();
+  if (size == 0 || count == 0 || count > (std::uint64_t(1) << 26))
+  {
+    return true;
+  }
+  const unsigned char* inline_ = entry + 4 + countBytes;
+  bytes.resize(static_cast<std::size_t>(count * size));
+  if (bytes.size() <= static_cast<std::size_t>(countBytes))
+  {
+    bytes.assign(reinterpret_cast<const char*>(inline_), bytes.size());
+    return true;
+  }
+  return file.Read(file.Number(inline_, countBytes), bytes.size(),
+    reinterpret_cast<unsigned char*>(&bytes[0]));
+}
+
+// A RATIONAL entry's first value; 0 when absent or its denominator is 0.
+double rational(TiffFile& file, const std::string& bytes)
+{
+  if (bytes.size() < 8)
+  {
+    return 0;
+  }
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  const double den = static_cast<double>(file.Number(p + 4, 4));
+  return den == 0 ? 0 : static_cast<double>(file.Number(p, 4)) / den;
+}
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -197,7 +232,31 @@ std::string readTiffDirectories(const std::string& name, std::vector<TiffPage>& 
         case 279: case 325: counts = values; break;
         default: break;
       }
+      const bool text = tag == 270 || tag == 282 || tag == 283 || tag == 50839;
+      std::string bytes;
+      if (pages.empty() && text)
+      {
+        if (!rawEntryBytes(file, entry, bytes))
+        {
+          msg << "is truncated: tag " << tag << " of page " << page
+              << " points beyond its end (" << file.Size << " bytes)";
+          return msg.str();
+        }
+        switch (tag)
+        {
+          case 270: p.Description = bytes.substr(0, bytes.find('\0')); break;
+          case 282: p.XResolution = rational(file, bytes); break;
+          case 283: p.YResolution = rational(file, bytes); break;
+          default: p.IJMetadata = bytes; break;
+        }
+      }
+      if (pages.empty() && tag == 50838)
+      {
+        p.IJMetadataByteCounts = values;
+      }
     }
+    p.BigEndian = file.BigEndian;
+    p.DirectoryOffset = next;
     if (offsets.empty() || offsets.size() != counts.size())
     {
       msg << "has no usable image data on page " << page << " (" << offsets.size()

@@ -24,6 +24,15 @@ struct TiffPage
   std::uint64_t DataBytes = 0; // the strips' (or tiles') byte counts, summed
   std::vector<std::uint64_t> DataOffsets; // where each strip (or tile) starts
   int PageCount = 0;           // the total of the PageNumber tag (0 when absent)
+  std::uint64_t DirectoryOffset = 0; // where the page's directory starts in the file
+
+  // Read on the first page only (where ImageJ and OME-TIFF keep what the file holds):
+  std::string Description;     // ImageDescription (270), "" when absent
+  double XResolution = 0;      // pixels per unit (282); 0 when absent
+  double YResolution = 0;      // (283)
+  std::vector<std::uint64_t> IJMetadataByteCounts; // ImageJ's IJMetadataByteCounts (50838)
+  std::string IJMetadata;      // ImageJ's IJMetadata (50839), raw bytes
+  bool BigEndian = false;      // the file's byte order (IJMetadata's text follows it)
 };
 
 // True when the file starts with a TIFF or BigTIFF header (either byte order).

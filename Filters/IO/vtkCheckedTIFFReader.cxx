@@ -1,16 +1,29 @@
 #include "vtkCheckedTIFFReader.h"
 
 #include "CheckedReading.h"
+#include "ImageJHyperstack.h"
+#include "OMETiffMetadata.h"
 #include "TiffDirectories.h"
+#include "TiffPlaneMap.h"
 
+#include "vtkDataArray.h"
+#include "vtkFieldData.h"
+#include "vtkImageData.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkStringArray.h"
 #include "vtk_tiff.h"
 #include "vtksys/SystemTools.hxx"
 
+#include <algorithm>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 
 vtkStandardNewMacro(vtkCheckedTIFFReader);
@@ -51,6 +64,105 @@ private:
 
   TIFFErrorHandler Previous;
 };
+
+// The VTK type of samples of `bits` bits in TIFF's SampleFormat (1 unsigned, 2 signed, 3
+// float); -1 when none.
+int vtkTypeOf(int bits, int format)
+{
+  switch (bits * 10 + format)
+  {
+    case 81: return VTK_UNSIGNED_CHAR;
+    case 82: return VTK_SIGNED_CHAR;
+    case 161: return VTK_UNSIGNED_SHORT;
+    case 162: return VTK_SHORT;
+    case 321: return VTK_UNSIGNED_INT;
+    case 322: return VTK_INT;
+    case 323: return VTK_FLOAT;
+    default: return -1;
+  }
+}
+
+std::string typeName(int bits, int format)
+{
+  return std::string(format == 3 ? "float" : format == 2 ? "int" : "uint") + std::to_string(bits);
+}
+
+// Decodes rows y0..y1 of the current page of `tiff` into `page` (a whole page: height rows
+// of width samples of `sample` bytes; other rows are left as they are) through libtiff, any
+// compression it decodes. Only the strips, or the tiles, that hold those rows are decoded,
+// so that a process of a parallel run decodes about its share. "" on success, else the
+// problem.
+std::string readPage(TIFF* tiff, std::size_t width, std::size_t height, std::size_t sample,
+  std::size_t y0, std::size_t y1, unsigned char* page)
+{
+  const std::size_t row = width * sample;
+  if (TIFFIsTiled(tiff))
+  {
+    std::uint32_t tw = 0, th = 0;
+    TIFFGetField(tiff, TIFFTAG_TILEWIDTH, &tw);
+    TIFFGetField(tiff, TIFFTAG_TILELENGTH, &th);
+    if (tw == 0 || th == 0)
+    {
+      return "has tiles of 0 pixels";
+    }
+    std::vector<unsigned char> tile(static_cast<std::size_t>(tw) * th * sample);
+    for (std::size_t ty = y0 - y0 % th; ty <= y1; ty += th)
+    {
+      for (std::size_t tx = 0; tx < width; tx += tw)
+      {
+        const ttile_t index = TIFFComputeTile(
+          tiff, static_cast<std::uint32_t>(tx), static_cast<std::uint32_t>(ty), 0, 0);
+        if (TIFFReadEncodedTile(tiff, index, tile.data(), static_cast<tmsize_t>(tile.size())) < 0)
+        {
+          return "has a tile that libtiff cannot decode (tile " + std::to_string(index + 1) + ")";
+        }
+        const std::size_t w = std::min<std::size_t>(tw, width - tx);
+        for (std::size_t y = std::max(ty, y0); y < std::min<std::size_t>(ty + th, y1 + 1); ++y)
+        {
+          std::memcpy(
+            page + y * row + tx * sample, tile.data() + (y - ty) * tw * sample, w * sample);
+        }
+      }
+    }
+    return "";
+  }
+  std::uint32_t rowsPerStrip = 0;
+  if (!TIFFGetFieldDefaulted(tiff, TIFFTAG_ROWSPERSTRIP, &rowsPerStrip) || rowsPerStrip == 0 ||
+    rowsPerStrip > height)
+  {
+    rowsPerStrip = static_cast<std::uint32_t>(height);
+  }
+  const tstrip_t strips = TIFFNumberOfStrips(tiff);
+  for (tstrip_t s = static_cast<tstrip_t>(y0 / rowsPerStrip);
+       s < strips && static_cast<std::size_t>(s) * rowsPerStrip <= y1; ++s)
+  {
+    const std::size_t first = static_cast<std::size_t>(s) * rowsPerStrip;
+    const std::size_t rows = std::min<std::size_t>(rowsPerStrip, height - first);
+    const tmsize_t wanted = static_cast<tmsize_t>(rows * row);
+    const tmsize_t got = TIFFReadEncodedStrip(tiff, s, page + first * row, wanted);
+    if (got < wanted)
+    {
+      return "has a strip that libtiff cannot decode whole (strip " + std::to_string(s + 1) +
+        ": " + std::to_string(got < 0 ? 0 : got) + " of " + std::to_string(wanted) + " bytes)";
+    }
+  }
+  if (static_cast<std::size_t>(strips) * rowsPerStrip < y1 + 1)
+  {
+    return "has " + std::to_string(strips) + " strips of " + std::to_string(rowsPerStrip) +
+      " rows, fewer than its " + std::to_string(height) + " rows";
+  }
+  return "";
+}
+
+std::vector<std::uint64_t> directoryOffsets(const std::vector<mcv::TiffPage>& pages)
+{
+  std::vector<std::uint64_t> offsets;
+  for (const mcv::TiffPage& page : pages)
+  {
+    offsets.push_back(page.DirectoryOffset);
+  }
+  return offsets;
+}
 
 std::string pixels(const mcv::TiffPage& p)
 {
@@ -138,6 +250,134 @@ std::string checkPages(const std::string& name, const std::vector<mcv::TiffPage>
 } // namespace
 
 //------------------------------------------------------------------------------
+// The plane map of the file being read, when it is an ImageJ hyperstack or an OME-TIFF.
+class vtkCheckedTIFFReader::vtkInternals
+{
+public:
+  bool HasMap = false;
+  mcv::TiffPlaneMap Map;
+  std::vector<std::string> Paths; // the map's Files, as paths
+  // Where each page's directory starts, per file: libtiff goes to a page by its offset
+  // at once (TIFFSetDirectory would walk the chain from the first page every time).
+  std::vector<std::vector<std::uint64_t>> Directories;
+  int Bits = 0;
+  int Format = 0;
+
+  // Builds the map of the file `name` (whose directories are `pages`) when its first page's
+  // description is ImageJ's or OME-XML, and checks the files and pages it names. "" when
+  // done, or when the file is neither (HasMap false); else the problem.
+  std::string Build(const std::string& name, const std::vector<mcv::TiffPage>& pages)
+  {
+    this->HasMap = false;
+    this->Map = mcv::TiffPlaneMap();
+    const mcv::TiffPage& first = pages[0];
+    const std::string base = vtksys::SystemTools::GetFilenameName(name);
+    std::string problem;
+    if (mcv::isOMEDescription(first.Description))
+    {
+      problem = mcv::parseOME(first.Description, base, this->Map);
+    }
+    else if (mcv::isImageJDescription(first.Description))
+    {
+      mcv::ImageJTags tags;
+      tags.Description = first.Description;
+      tags.XResolution = first.XResolution;
+      tags.YResolution = first.YResolution;
+      tags.MetadataByteCounts = first.IJMetadataByteCounts;
+      tags.Metadata = first.IJMetadata;
+      tags.BigEndian = first.BigEndian;
+      problem = mcv::parseImageJ(tags, pages.size(), this->Map);
+      this->Map.Files.assign(1, base);
+      this->Map.SizeX = first.Width;
+      this->Map.SizeY = first.Height;
+      // RGB pages (ImageJ's RGB stacks) stay as vtkTIFFReader reads them, unless they
+      // claim channels or frames that would then be folded into the slices.
+      if (problem.empty() && first.SamplesPerPixel != 1 && this->Map.SizeC == 1 &&
+        this->Map.SizeT == 1)
+      {
+        return "";
+      }
+    }
+    else
+    {
+      return "";
+    }
+    if (!problem.empty())
+    {
+      return problem;
+    }
+    std::ostringstream msg;
+    if (first.SamplesPerPixel != 1)
+    {
+      msg << "has pages of " << first.SamplesPerPixel << " samples per pixel (RGB) in an "
+          << this->Map.Format << ", which this reader does not read (one sample expected)";
+      return msg.str();
+    }
+    if (this->Map.SizeX != first.Width || this->Map.SizeY != first.Height)
+    {
+      msg << "has SizeX x SizeY = " << this->Map.SizeX << " x " << this->Map.SizeY
+          << " in its OME-XML, but pages of " << pixels(first);
+      return msg.str();
+    }
+    if (this->Map.BitsPerSample &&
+      (this->Map.BitsPerSample != first.BitsPerSample ||
+        this->Map.SampleFormat != std::max(first.SampleFormat, 1)))
+    {
+      msg << "declares samples of type "
+          << typeName(this->Map.BitsPerSample, this->Map.SampleFormat)
+          << " in its OME-XML, but its pages hold "
+          << typeName(first.BitsPerSample, first.SampleFormat);
+      return msg.str();
+    }
+    // The other files of an OME-TIFF set, in the folder of this one.
+    const std::string folder = vtksys::SystemTools::GetFilenamePath(name);
+    this->Paths.assign(1, name);
+    this->Directories.assign(1, directoryOffsets(pages));
+    std::vector<std::uint64_t> pageCounts(1, pages.size());
+    for (std::size_t f = 1; f < this->Map.Files.size(); ++f)
+    {
+      const std::string& file = this->Map.Files[f];
+      const std::string path = folder.empty() ? file : folder + "/" + file;
+      std::vector<mcv::TiffPage> other;
+      problem = mcv::readTiffDirectories(path, other);
+      problem = problem.empty() ? checkPages(path, other) : problem;
+      if (problem.empty() && !sameKind(other[0], first))
+      {
+        problem = "is " + pixels(other[0]) + " where the first file is " + pixels(first);
+      }
+      if (!problem.empty())
+      {
+        return "names in its OME-XML a file '" + path + "' that " + problem;
+      }
+      this->Paths.push_back(path);
+      this->Directories.push_back(directoryOffsets(other));
+      pageCounts.push_back(other.size());
+    }
+    problem = mcv::checkPlaneMap(this->Map, pageCounts);
+    if (!problem.empty())
+    {
+      return problem;
+    }
+    this->Bits = first.BitsPerSample;
+    this->Format = std::max(first.SampleFormat, 1);
+    this->HasMap = true;
+    return "";
+  }
+};
+
+//------------------------------------------------------------------------------
+vtkCheckedTIFFReader::vtkCheckedTIFFReader()
+  : Internals(new vtkInternals)
+{
+}
+
+//------------------------------------------------------------------------------
+vtkCheckedTIFFReader::~vtkCheckedTIFFReader()
+{
+  delete this->Internals;
+}
+
+//------------------------------------------------------------------------------
 void vtkCheckedTIFFReader::AddFileName(const char* name)
 {
   this->Stack.emplace_back(name ? name : "");
@@ -165,15 +405,6 @@ void vtkCheckedTIFFReader::RemoveAllFileNames()
 //------------------------------------------------------------------------------
 int vtkCheckedTIFFReader::CanReadFile(const char* name)
 {
-  const std::string lower = vtksys::SystemTools::LowerCase(name ? name : "");
-  for (const char* ome : { ".ome.tif", ".ome.tiff" })
-  {
-    const std::string tail = ome;
-    if (lower.size() > tail.size() && lower.compare(lower.size() - tail.size(), tail.size(), tail) == 0)
-    {
-      return 0;
-    }
-  }
   if (this->Superclass::CanReadFile(name))
   {
     return 1;
@@ -232,9 +463,20 @@ std::string vtkCheckedTIFFReader::CheckFiles()
       problem = "is " + pixels(pages[0]) + " where the first file is " + pixels(first) +
         " (the slices of a stack must match)";
     }
+    if (problem.empty() && files.size() == 1)
+    {
+      problem = this->Internals->Build(files[0], pages);
+    }
     if (!problem.empty())
     {
       return which.str() + problem;
+    }
+    if (this->Internals->HasMap) // one frame of all channels is held at a time
+    {
+      const mcv::TiffPlaneMap& map = this->Internals->Map;
+      return mcv::checkFitsInMemory(
+        static_cast<double>(map.SizeX) * map.SizeY * map.SizeZ * map.SizeC,
+        this->Internals->Bits / 8.0);
     }
     first = i == 0 ? pages[0] : first;
     slices += files.size() > 1 ? 1.0 : static_cast<double>(pages.size());
@@ -247,12 +489,26 @@ std::string vtkCheckedTIFFReader::CheckFiles()
 int vtkCheckedTIFFReader::RequestInformation(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // No time steps or pieces left from an earlier file that had them.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
+  outInfo->Remove(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT());
+  this->Internals->HasMap = false;
   // The files first: libtiff would stop quietly at a cut directory.
   this->Refused = !mcv::checkedRequestInformation(this, outputVector, this->Describe(), [&] {
     const std::string problem = this->CheckFiles();
     if (!problem.empty())
     {
       return problem;
+    }
+    if (this->Internals->HasMap)
+    {
+      if (!this->Internals->Map.Warning.empty())
+      {
+        vtkWarningMacro(<< this->Describe() << " " << this->Internals->Map.Warning << ".");
+      }
+      return this->PlaneMapInformation(outInfo);
     }
     if (!this->Superclass::RequestInformation(request, inputVector, outputVector))
     {
@@ -271,7 +527,9 @@ int vtkCheckedTIFFReader::RequestData(
 {
   return mcv::checkedRequestData(this, outputVector, this->Describe(), this->Refused, [&] {
     LibtiffErrors errors;
-    const int ok = this->Superclass::RequestData(request, inputVector, outputVector);
+    const int ok = this->Internals->HasMap
+      ? this->ReadPlanes(outputVector->GetInformationObject(0))
+      : this->Superclass::RequestData(request, inputVector, outputVector);
     if (!LibtiffErrors::First().empty())
     {
       vtkErrorMacro(<< LibtiffErrors::First()); // caught by checkedRequestData
@@ -290,3 +548,165 @@ std::string vtkCheckedTIFFReader::Describe()
   }
   return "TIFF file '" + (files.empty() ? std::string() : files[0]) + "'";
 }
+
+//------------------------------------------------------------------------------
+std::string vtkCheckedTIFFReader::PlaneMapInformation(vtkInformation* outInfo)
+{
+  const mcv::TiffPlaneMap& map = this->Internals->Map;
+  double spacing[3] = { map.Spacing[0], map.Spacing[1], map.Spacing[2] };
+  if (this->GetSpacingSpecifiedFlag())
+  {
+    std::copy(this->GetDataSpacing(), this->GetDataSpacing() + 3, spacing);
+  }
+  const std::string problem = mcv::checkSpacing(spacing, 3,
+    this->GetSpacingSpecifiedFlag() ? "CustomDataSpacing" : "the spacing of the file");
+  if (!problem.empty())
+  {
+    return problem;
+  }
+  if (map.SizeX > 2147483647u || map.SizeY > 2147483647u)
+  {
+    return "has planes of " + std::to_string(map.SizeX) + " x " + std::to_string(map.SizeY) +
+      " pixels, beyond the extent of VTK's image data";
+  }
+  const int extent[6] = { 0, static_cast<int>(map.SizeX) - 1, 0, static_cast<int>(map.SizeY) - 1,
+    0, map.SizeZ - 1 };
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  outInfo->Set(vtkDataObject::ORIGIN(), this->GetDataOrigin(), 3);
+  vtkDataObject::SetPointDataActiveScalarInfo(
+    outInfo, vtkTypeOf(this->Internals->Bits, this->Internals->Format), 1);
+  // Any extent is read from its own slices: each process of a parallel run reads its slab.
+  outInfo->Set(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT(), 1);
+  if (map.SizeT > 1)
+  {
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_STEPS(), map.TimeValues.data(), map.SizeT);
+    const double range[2] = { map.TimeValues.front(), map.TimeValues.back() };
+    outInfo->Set(vtkStreamingDemandDrivenPipeline::TIME_RANGE(), range, 2);
+  }
+  return "";
+}
+
+//------------------------------------------------------------------------------
+int vtkCheckedTIFFReader::ReadPlanes(vtkInformation* outInfo)
+{
+  const vtkInternals& in = *this->Internals;
+  const mcv::TiffPlaneMap& map = in.Map;
+  vtkImageData* output = vtkImageData::GetData(outInfo);
+  int extent[6];
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
+  double spacing[3];
+  outInfo->Get(vtkDataObject::SPACING(), spacing);
+  output->Initialize();
+  output->SetExtent(extent);
+  output->SetSpacing(spacing);
+  output->SetOrigin(this->GetDataOrigin());
+
+  // The frame: the last whose time is at or before the requested time (as ParaView's
+  // readers snap), the first before it.
+  int frame = 0;
+  if (map.SizeT > 1 && outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
+  {
+    const double time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+    for (int t = 0; t < map.SizeT; ++t)
+    {
+      frame = map.TimeValues[t] <= time ? t : frame;
+    }
+  }
+  if (map.SizeT > 1)
+  {
+    output->GetInformation()->Set(vtkDataObject::DATA_TIME_STEP(), map.TimeValues[frame]);
+  }
+
+  const int nx = extent[1] - extent[0] + 1;
+  const int ny = extent[3] - extent[2] + 1;
+  const int nz = extent[5] - extent[4] + 1;
+  const bool empty = nx <= 0 || ny <= 0 || nz <= 0;
+  const vtkIdType voxels = empty ? 0 : static_cast<vtkIdType>(nx) * ny * nz;
+  const int type = vtkTypeOf(in.Bits, in.Format);
+  const std::size_t sample = static_cast<std::size_t>(in.Bits / 8);
+  std::vector<vtkSmartPointer<vtkDataArray>> arrays;
+  for (int c = 0; c < map.SizeC; ++c)
+  {
+    vtkSmartPointer<vtkDataArray> array =
+      vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(type));
+    array->SetName(map.ChannelNames[c].c_str());
+    array->SetNumberOfTuples(voxels);
+    arrays.push_back(array);
+  }
+
+  // The pages of the requested slices of this frame, one file open at a time.
+  const std::size_t width = static_cast<std::size_t>(map.SizeX);
+  const std::size_t height = static_cast<std::size_t>(map.SizeY);
+  std::vector<unsigned char> page(empty ? 0 : width * height * sample);
+  TIFF* tiff = nullptr;
+  int openFile = -1;
+  bool ok = true;
+  for (int z = extent[4]; ok && !empty && z <= extent[5]; ++z)
+  {
+    for (int c = 0; ok && c < map.SizeC; ++c)
+    {
+      const mcv::TiffPlaneRef& ref = map.At(c, z, frame);
+      const std::string& path = in.Paths[ref.File];
+      if (ref.File != openFile)
+      {
+        if (tiff)
+        {
+          TIFFClose(tiff);
+        }
+        tiff = TIFFOpen(path.c_str(), "r");
+        openFile = ref.File;
+      }
+      std::string problem = tiff ? "" : "cannot be opened by libtiff";
+      if (problem.empty() &&
+        !TIFFSetSubDirectory(tiff, in.Directories[ref.File][static_cast<std::size_t>(ref.Page)]))
+      {
+        problem = "has no page " + std::to_string(ref.Page + 1) + " that libtiff can read";
+      }
+      if (problem.empty())
+      {
+        problem = readPage(tiff, width, height, sample, static_cast<std::size_t>(extent[2]),
+          static_cast<std::size_t>(extent[3]), page.data());
+      }
+      if (!problem.empty())
+      {
+        vtkErrorMacro(<< "'" << path << "' " << problem << " (channel " << c + 1 << ", slice "
+                      << z + 1 << ", frame " << frame + 1 << ")");
+        ok = false;
+        break;
+      }
+      // Row r of a page is y = r (as vtkTIFFReader reads these files).
+      auto* out = static_cast<unsigned char*>(arrays[c]->GetVoidPointer(0));
+      for (int y = extent[2]; y <= extent[3]; ++y)
+      {
+        const unsigned char* from = page.data() + (y * width + extent[0]) * sample;
+        unsigned char* to = out +
+          ((static_cast<std::size_t>(z - extent[4]) * ny + (y - extent[2])) * nx) * sample;
+        std::memcpy(to, from, nx * sample);
+      }
+    }
+  }
+  if (tiff)
+  {
+    TIFFClose(tiff);
+  }
+  if (!ok)
+  {
+    return 0;
+  }
+  for (int c = 0; c < map.SizeC; ++c)
+  {
+    output->GetPointData()->AddArray(arrays[c]);
+  }
+  output->GetPointData()->SetActiveScalars(map.ChannelNames[0].c_str());
+  for (const auto& unit : { std::make_pair("LengthUnit", map.LengthUnit),
+         std::make_pair("TimeUnit", map.TimeUnit) })
+  {
+    vtkNew<vtkStringArray> text;
+    text->SetName(unit.first);
+    text->InsertNextValue(unit.second);
+    output->GetFieldData()->AddArray(text);
+  }
+  return 1;
+}
+

@@ -20,6 +20,19 @@
  * One file: its pages are the slices (as vtkTIFFReader reads them). Several files
  * (AddFileName, the FileNames property in ParaView): one slice each, in the order given,
  * as ParaView's TIFF Series Reader with ReadAsImageStack.
+ *
+ * Two kinds of file hold channels and time points in their pages, and say so in the
+ * ImageDescription of their first page:
+ * - an ImageJ hyperstack (ImageJ/Fiji, tifffile's imagej=True; ImageJHyperstack.h), and
+ * - an OME-TIFF (Bio-Formats, Fiji's OME-TIFF export, tifffile's ome=True; one file, or a
+ *   set of files in one folder named by the OME-XML; OMETiffMetadata.h).
+ * Their pages are mapped to planes (TiffPlaneMap.h) and read with libtiff (any compression
+ * it decodes, strips or tiles): one point array per channel, named after the file's channel
+ * names (C1, C2... when it has none); the file's voxel spacing (ImageJ: in its unit; OME:
+ * in µm), the unit in the field data arrays LengthUnit and TimeUnit; frames as time steps
+ * (TIME_STEPS, from the frame interval, else 0, 1, 2...), of which each update reads only
+ * the requested frame, and only the slices of the requested extent (a process of a
+ * parallel run reads its own slab). The memory check counts one frame.
  */
 #ifndef vtkCheckedTIFFReader_h
 #define vtkCheckedTIFFReader_h
@@ -46,15 +59,14 @@ public:
   ///@}
 
   /**
-   * As vtkTIFFReader, and also a TIFF that is cut or broken (its error then says why); but
-   * OME-TIFF files (.ome.tif, .ome.tiff) are left to ParaView's OME TIFF reader, which
-   * knows their channels and time steps.
+   * As vtkTIFFReader, and also a TIFF that is cut or broken (its error then says why),
+   * OME-TIFF files (.ome.tif, .ome.tiff) included.
    */
   int CanReadFile(VTK_FILEPATH const char* name) override;
 
 protected:
-  vtkCheckedTIFFReader() = default;
-  ~vtkCheckedTIFFReader() override = default;
+  vtkCheckedTIFFReader();
+  ~vtkCheckedTIFFReader() override;
 
   int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
     vtkInformationVector* outputVector) override;
@@ -71,9 +83,14 @@ private:
   std::string CheckFiles();
   // "TIFF file '<name>'" or "TIFF stack of N files", the start of every error.
   std::string Describe();
+  // RequestInformation and RequestData of a file read through its plane map.
+  std::string PlaneMapInformation(vtkInformation* outInfo);
+  int ReadPlanes(vtkInformation* outInfo);
 
   std::vector<std::string> Stack;
   bool Refused = false;
+  class vtkInternals;
+  vtkInternals* Internals;
 };
 
 #endif

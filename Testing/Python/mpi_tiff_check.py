@@ -1,0 +1,121 @@
+"""An ImageJ hyperstack read by the checked TIFF reader under ParaView's parallel engine.
+
+  pvbatch mpi_tiff_check.py --reference DIR
+      one process: writes DIR/brain_tzcyx.tif (the real 3-channel brain on a 2 mm grid,
+      ImageJ TZCYX, uint16, 2 frames: frame 1 = frame 0 + 100, zlib-compressed pages of 8
+      rows per strip) and the written values DIR/written.npy; reads the file whole at both
+      times and checks it against them (bit for bit);
+  mpiexec -np R pvbatch --mpi mpi_tiff_check.py --compare DIR
+      R processes, each reading its piece (the reader produces any sub-extent): each
+      process's piece, brought to the first process (Fetch of that process) and placed by
+      its extent, equals the written values at both times (ForceTime); the pieces cover the
+      volume (sharing boundary layers only); with R > 1 no process holds the whole volume.
+Test driver: test_tiff_mpi.sh.
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+
+from paraview import servermanager, simple  # noqa: E402
+
+import numpy as np  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+NAMES = ("C1", "C2", "C3")
+TIMES = (0.0, 0.25)
+
+
+def processes():
+    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+
+
+def piece_arrays(image):
+    e = image.GetExtent()
+    shape = (e[5] - e[4] + 1, e[3] - e[2] + 1, e[1] - e[0] + 1)
+    pd = image.GetPointData()
+    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).reshape(shape)
+            for i in range(pd.GetNumberOfArrays())}
+
+
+def write(folder):
+    import tifffile
+
+    source = []
+    for n in ("ch2", "aal", "brodmann"):
+        reader = simple.OpenDataFile(T.data_file(n + ".nii.gz"))
+        image = servermanager.Fetch(reader, 0)
+        values = list(piece_arrays(image).values())[0]
+        source.append(np.ascontiguousarray(values[::2, ::2, ::2]).astype(np.uint16))
+        simple.Delete(reader)
+    f0 = np.stack(source)                                    # (C, Z, Y, X)
+    written = np.stack([f0, f0 + 100])                       # (T, C, Z, Y, X)
+    tifffile.imwrite(os.path.join(folder, "brain_tzcyx.tif"),
+                     np.ascontiguousarray(written.transpose(0, 2, 1, 3, 4)), imagej=True,
+                     compression="zlib", rowsperstrip=8, resolution=(1 / 2.0, 1 / 2.0),
+                     metadata={"axes": "TZCYX", "spacing": 2.0, "unit": "um",
+                               "finterval": TIMES[1]})
+    np.save(os.path.join(folder, "written.npy"), written)
+    return written
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--reference")
+    mode.add_argument("--compare")
+    args = parser.parse_args()
+    T.load_plugin(globals())
+    R = processes()
+    C = T.Checker("mpi_tiff_check (%d process%s)" % (R, "es" if R > 1 else ""))
+    folder = args.reference or args.compare
+    if args.reference:
+        os.makedirs(folder, exist_ok=True)
+        written = write(folder)
+    else:
+        written = np.load(os.path.join(folder, "written.npy"))
+    _, _, Z, Y, X = written.shape
+
+    reader = simple.CheckedTIFFReader(FileNames=[os.path.join(folder, "brain_tzcyx.tif")])
+    reader.UpdatePipelineInformation()
+    C.check([float(t) for t in reader.TimestepValues] == list(TIMES),
+            "time steps %s" % list(reader.TimestepValues))
+    for f, time in enumerate(TIMES):
+        forced = simple.ForceTime(Input=reader, ForcedTime=time, IgnorePipelineTime=1)
+        forced.UpdatePipeline()
+        pieces = [servermanager.Fetch(forced, r) for r in range(R)]
+        extents = [tuple(p.GetExtent()) for p in pieces]
+        print("frame %d: piece extents %s" % (f, extents))
+        count = np.zeros((Z, Y, X), dtype=np.int32)
+        same = True
+        for piece in pieces:
+            if piece.GetNumberOfPoints() == 0:
+                continue
+            e = piece.GetExtent()
+            box = (slice(e[4], e[5] + 1), slice(e[2], e[3] + 1), slice(e[0], e[1] + 1))
+            count[box] += 1
+            got = piece_arrays(piece)
+            same = same and list(got.keys()) == list(NAMES) and all(
+                np.array_equal(got[n], written[f, c][box]) for c, n in enumerate(NAMES))
+        C.check(same, "frame %d: every piece's C1..C3 equal the written values bit for bit" % f)
+        # Image pieces share their boundary layer of points (VTK's extents): each voxel is
+        # in one piece, or two on a shared layer.
+        shared = int((count > 1).sum())
+        C.check(bool((count >= 1).all()) and shared <= (R - 1) * max(X * Y, Y * Z, X * Z),
+                "frame %d: the %d pieces cover the volume (voxels in none: %d; on shared "
+                "layers: %d)" % (f, R, int((count == 0).sum()), shared))
+        if R > 1:
+            C.check(all(p.GetNumberOfPoints() < X * Y * Z for p in pieces),
+                    "frame %d: no process holds the whole volume (%s points)"
+                    % (f, [p.GetNumberOfPoints() for p in pieces]))
+        simple.Delete(forced)
+    if R > 1:
+        C.finish_parallel()
+    else:
+        C.finish()
+
+
+if __name__ == "__main__":
+    main()
