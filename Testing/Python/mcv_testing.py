@@ -37,6 +37,41 @@ def data_file(name):
     return path
 
 
+BRAIN = ("ch2", "aal", "brodmann")  # the real 3-channel brain: Colin27 T1, AAL, Brodmann
+
+
+def volume_arrays(image):
+    """{array name: values as a (z, y, x) numpy array} of a vtkImageData's point arrays."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    nx, ny, nz = image.GetDimensions()
+    pd = image.GetPointData()
+    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).reshape(nz, ny, nx)
+            for i in range(pd.GetNumberOfArrays())}
+
+
+def field_strings(image, name):
+    """The values of the field data array `name` as a list; None when there is none."""
+    a = image.GetFieldData().GetAbstractArray(name)
+    return None if a is None else [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+
+
+def brain_arrays(names=BRAIN, step=1):
+    """The real volumes `names` (ch2, aal, brodmann: 181 x 217 x 181, one grid) read with the
+    plugin's NIfTI reader, every `step`-th voxel per axis, as one (c, z, y, x) numpy array
+    of their own type. Exits with SKIP when a volume is missing."""
+    import numpy as np
+    from paraview import servermanager, simple
+
+    channels = []
+    for n in names:
+        reader = simple.NIfTIImageReader(FileName=data_file(n + ".nii.gz"))
+        values = list(volume_arrays(servermanager.Fetch(reader)).values())[0]
+        channels.append(np.ascontiguousarray(values[::step, ::step, ::step]))
+        simple.Delete(reader)
+    return np.stack(channels)
+
+
 def load_plugin(ns):
     """Loads the plugin (unless PV_PLUGIN_PATH already did) and returns the module."""
     from paraview import simple

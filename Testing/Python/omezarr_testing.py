@@ -20,20 +20,9 @@ COLORS = ["FFFFFF", "FF0000", "00FF00"]
 
 
 def brain_arrays(names=NAMES):
-    """The channels as numpy arrays in NGFF order (z, y, x), read with the plugin's NIfTI
+    """The channels as numpy arrays in NGFF order (c, z, y, x), read with the plugin's NIfTI
     reader and fetched to the client."""
-    from paraview import servermanager, simple
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-
-    channels = []
-    for n in names:
-        reader = simple.NIfTIImageReader(FileName=T.data_file(n))
-        image = servermanager.Fetch(reader)
-        nx, ny, nz = image.GetDimensions()
-        values = vtk_to_numpy(image.GetPointData().GetScalars())
-        channels.append(values.reshape(nz, ny, nx).copy())
-        simple.Delete(reader)
-    return np.stack(channels)  # (c, z, y, x)
+    return T.brain_arrays([n[:-len(".nii.gz")] for n in names])
 
 
 def compressor_of(name):

@@ -49,17 +49,8 @@ def read(folder, level=None, time=None, extent=None):
     return reader, out
 
 
-def channels_of(image):
-    """{name: numpy array in (z, y, x) order}."""
-    nx, ny, nz = image.GetDimensions()
-    pd = image.GetPointData()
-    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).reshape(nz, ny, nx)
-            for i in range(pd.GetNumberOfArrays())}
-
-
-def field_strings(image, name):
-    a = image.GetFieldData().GetAbstractArray(name)
-    return None if a is None else [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+channels_of = T.volume_arrays
+field_strings = T.field_strings
 
 
 def field_value(image, name):

@@ -37,17 +37,7 @@ from vtkmodules.vtkIOImage import vtkPNGReader  # noqa: E402
 NAMES = ("ch2", "aal", "brodmann")
 
 
-def channel(name):
-    """The real volume every 2nd voxel per axis, as a (z, y, x) uint16 array."""
-    reader = simple.OpenDataFile(T.data_file(name + ".nii.gz"))
-    reader.UpdatePipeline()
-    image = reader.GetClientSideObject().GetOutputDataObject(0)
-    dims = image.GetDimensions()
-    values = vtk_to_numpy(image.GetPointData().GetArray(0)).reshape(dims[2], dims[1], dims[0])
-    return np.ascontiguousarray(values[::2, ::2, ::2]).astype(np.uint16)
-
-
-brain = np.stack([channel(n) for n in NAMES])  # (c, z, y, x)
+brain = T.brain_arrays(NAMES, step=2).astype(np.uint16)  # (c, z, y, x)
 zeros = np.zeros_like(brain[0])
 print("channels", brain.shape, [int(c.max()) for c in brain])
 

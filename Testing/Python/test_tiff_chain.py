@@ -32,17 +32,7 @@ os.makedirs(OUT, exist_ok=True)
 NAMES = ("ch2", "aal", "brodmann")
 
 
-def scalars(proxy):
-    image = servermanager.Fetch(proxy, 0)
-    nx, ny, nz = image.GetDimensions()
-    return vtk_to_numpy(image.GetPointData().GetScalars()).reshape(nz, ny, nx)
-
-
-channels = []
-for n in NAMES:
-    reader = simple.OpenDataFile(T.data_file(n + ".nii.gz"))
-    channels.append(np.ascontiguousarray(scalars(reader)[::2, ::2, ::2]).astype(np.uint16))
-    simple.Delete(reader)
+channels = list(T.brain_arrays(NAMES, step=2).astype(np.uint16))
 Z, Y, X = channels[0].shape
 
 hyperstack = os.path.join(OUT, "brain_zcyx.tif")

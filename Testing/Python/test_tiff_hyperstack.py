@@ -44,27 +44,16 @@ def path(name):
     return os.path.join(OUT, name)
 
 
-def volume_arrays(image):
-    """{array name: values as (z, y, x)} of a vtkImageData's point arrays."""
-    nx, ny, nz = image.GetDimensions()
-    pd = image.GetPointData()
-    return {pd.GetArrayName(i): vtk_to_numpy(pd.GetArray(i)).reshape(nz, ny, nx)
-            for i in range(pd.GetNumberOfArrays())}
+volume_arrays = T.volume_arrays
 
 
 def field_text(image, name):
-    a = image.GetFieldData().GetAbstractArray(name)
-    return a.GetValue(0) if a is not None and a.GetNumberOfValues() else None
+    values = T.field_strings(image, name)
+    return values[0] if values else None
 
 
 # ---- the source: the real brain on a 2 mm grid ----------------------------------------
-SOURCE = {}
-for n in NAMES:
-    reader = simple.OpenDataFile(T.data_file(n + ".nii.gz"))
-    image = servermanager.Fetch(reader, 0)  # process 0's data as it is (image data)
-    values = list(volume_arrays(image).values())[0]
-    SOURCE[n] = np.ascontiguousarray(values[::2, ::2, ::2])
-    simple.Delete(reader)
+SOURCE = dict(zip(NAMES, T.brain_arrays(NAMES, step=2)))
 Z, Y, X = SOURCE["ch2"].shape
 C.check((X, Y, Z) == (91, 109, 91), "the brain on a 2 mm grid: %d x %d x %d" % (X, Y, Z))
 
