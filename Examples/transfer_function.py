@@ -102,6 +102,9 @@ parser.add_argument("--methods-stride", type=int, default=3,
                     help="methods.png: every N-th voxel per axis is reduced (default 3)")
 parser.add_argument("--methods-sample", type=int, default=20000,
                     help="methods.png: voxels drawn per method (default 20000)")
+parser.add_argument("--no-memory-check", dest="memory_check", action="store_false",
+                    help="skip the job's estimate of its peak memory before it starts (the "
+                         "filters still check theirs)")
 args = parser.parse_args(sys.argv[1:])
 
 inputs = [args.input] if args.input else args.channels
@@ -234,7 +237,8 @@ def main():
     readers = [OpenDataFile(p) for p in inputs]
     if None in readers:
         raise B.JobError("no reader for %s" % inputs[readers.index(None)])
-    check_memory(readers)
+    if args.memory_check:
+        check_memory(readers)
     volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
     job.watch(volume)
     timed("read", volume.UpdatePipeline)
