@@ -27,7 +27,8 @@ The package, one module per capability (every public name is also here, at the t
                         set_camera_direction, turn_camera, follow_best_viewpoint,
                         stop_following
     images              image_entropy, image_statistics (and PNG reading)
-    transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+    transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf,
+                        check_widget_values (nan, inf, absurd widget values: an error)
     reduction           reduce_multichannel
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
@@ -54,7 +55,8 @@ from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
 from .probing import PROBE_MARKER, add_widget_at, palette_color, probe
 from .reduction import reduce_multichannel
 from .seeding import auto_widgets
-from .transfer_function import GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
+                                show_gaussian_tf)
 from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_filter,
                         follow_best_viewpoint, set_camera_direction, stop_following,
                         turn_camera)
@@ -76,6 +78,7 @@ __all__ = [
     "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",
+    "check_widget_values",
     "show_dual_domain",
     "follow_best_viewpoint",
     "stop_following",

@@ -10,7 +10,7 @@ from ._common import _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
 from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
-                                _widget_values)
+                                _domain_size, _widget_values, check_widget_values)
 from .viewpoint import ViewpointResult
 
 __all__ = [
@@ -174,12 +174,13 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     coords = [float(c) for c in coords]
     if len(coords) not in (2, 3):
         raise ValueError("widget coordinates are 2 or 3 numbers, not %r" % (coords,))
+    size = _domain_size(source, _coordinates_name(display))
     if sigma is None:
-        ranges = _coordinate_range(source, _coordinates_name(display))
-        sigma = 0.05 * (max(hi - lo for lo, hi in ranges) or 1.0)
+        sigma = 0.05 * (size or 1.0)
     widgets = _widget_values(display)
     rgb = list(color) if color is not None else _unused_color(widgets)
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
+    check_widget_values(widget, "add_widget_at", size)
     values = widgets + widget
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.
