@@ -329,10 +329,11 @@ class RunFolder(object):
         room = free_bytes(self.staging)
         if exc is not None or room < min_free_bytes:
             self.abandon()
+            full = exc is None or is_disk_full(exc)
             raise JobError("cannot write the results into %s: %s" % (
-                parent, cause_of(exc) if exc is not None else
-                "disk full (%s free, the outputs need about %s)"
-                % (_human(room), _human(min_free_bytes))))
+                parent, "%s (%s free, the outputs need about %s)"
+                % (cause_of(exc) if exc is not None else "disk full", _human(room),
+                   _human(min_free_bytes)) if full else cause_of(exc)))
         self.committed = False
 
     def _remove_stale(self):
@@ -387,6 +388,18 @@ class RunFolder(object):
 
 # ---------------------------------------------------------------------------------------
 # Signals and VTK errors.
+
+class signals_held(object):
+    """with signals_held(): SIGINT and SIGTERM wait until the block is done (a file rename
+    or an index write is then never cut in half by them)."""
+
+    def __enter__(self):
+        self._old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+
+    def __exit__(self, *exc):
+        signal.pthread_sigmask(signal.SIG_SETMASK, self._old)
+        return False
+
 
 class StopSignals(object):
     """SIGINT and SIGTERM set `signum` instead of ending the process at once. Python runs the
@@ -474,11 +487,12 @@ def _meminfo(key):
     return None
 
 
-def _vm_size():
+def _vm_size(key="VmSize"):
+    """The process's virtual size (VmSize), or its peak so far (key "VmPeak"), in bytes."""
     try:
         with open("/proc/self/status") as f:
             for line in f:
-                if line.startswith("VmSize:"):
+                if line.startswith(key + ":"):
                     return int(line.split()[1]) * 1024
     except (OSError, ValueError):
         pass

@@ -663,13 +663,15 @@ def catch_stop_signals():
         signal.signal(s, _raise_interrupted)
 
 
-def index_entries(volumes, records, paths):
+def index_entries(volumes, records, paths, stored=None):
     """Every volume of the folder, in order: this run's record, else the stored one that is
-    still valid, else {"status": "pending"} (not yet tried)."""
+    still valid (from `stored`, name -> record, when given: read once at the run's start),
+    else {"status": "pending"} (not yet tried)."""
     done = {r["name"]: r for r in records}
     entries = []
     for vol in volumes:
-        r = done.get(vol["name"]) or load_finished(vol, paths)
+        r = done.get(vol["name"]) or (stored.get(vol["name"]) if stored is not None
+                                      else load_finished(vol, paths))
         if r is None:
             r = {"name": vol["name"], "id": vol["id"], "format": vol["format"],
                  "status": "pending"}
@@ -706,9 +708,12 @@ def load_finished(vol, paths):
             return None  # the file changed since
     except OSError:
         return None
-    if record.get("status") == "ok" and not os.path.exists(
-            os.path.join(paths["output"], record.get("thumbnail", ""))):
-        return None
+    if record.get("status") == "ok":
+        thumbnail = os.path.join(paths["output"], record.get("thumbnail", ""))
+        if not os.path.isfile(thumbnail):
+            return None
+        if "thumbnail_bytes" in record and os.path.getsize(thumbnail) != record["thumbnail_bytes"]:
+            return None  # a thumbnail of another render than the record's (a cut commit)
     return record
 
 
@@ -726,6 +731,11 @@ def write_index(records, paths, input_dir, started, state="complete"):
     """index.json and index.html of `records` (every volume of the folder: index_entries),
     with the run's `state` ("complete", "in progress (pid N)", "interrupted (SIGINT)",
     "stopped: disk full") in the summary."""
+    with B.signals_held():  # no index.json.part left behind by a signal
+        _write_index(records, paths, input_dir, state)
+
+
+def _write_index(records, paths, input_dir, state):
     ok = sum(1 for r in records if r["status"] == "ok")
     summary = run_summary(records, state)
     index = {"input": os.path.abspath(input_dir), "generated": time.strftime("%Y-%m-%d %H:%M:%S"),
@@ -879,8 +889,9 @@ def drive(volumes, args, paths, started):
     records, processed, skipped = [], 0, 0
     state, code = "complete", None
     try:
-        write_index(index_entries(volumes, records, paths), paths, args.input, started,
-                    "in progress (pid %d)" % os.getpid())
+        stored = {v["name"]: load_finished(v, paths) for v in volumes}
+        write_index(index_entries(volumes, records, paths, stored), paths, args.input,
+                    started, "in progress (pid %d)" % os.getpid())
         for i, vol in enumerate(volumes):
             forced = force_all or vol["name"] in force_names
             record = None if forced else load_finished(vol, paths)
@@ -905,8 +916,9 @@ def drive(volumes, args, paths, started):
             print(progress(i + 1, total, vol["name"], status))
             sys.stdout.flush()
             # A partial index survives a stop, and says the run is not finished.
-            write_index(index_entries(volumes, records, paths), paths, args.input, started,
-                        "in progress (pid %d)" % os.getpid() if i + 1 < total else state)
+            write_index(index_entries(volumes, records, paths, stored), paths, args.input,
+                        started, "in progress (pid %d)" % os.getpid() if i + 1 < total
+                        else state)
     except B.Interrupted as exc:
         state, code = "interrupted (%s)" % signal.Signals(exc.signum).name, exc.exit_code
     except (StopRun, B.JobError, OSError) as exc:

@@ -112,6 +112,7 @@ for path in inputs:
     require(path)
 stages = {}
 peak_gib = {}  # the process's peak resident memory at the end of each stage
+memory_estimate = {}  # check_memory's estimate, what was available, the virtual size then
 # What the job writes into the output folder (a previous run's copies are replaced).
 OWN_FILES = ("best.png", "worst.png", "dual_domain.png", "domain.png", "spectrum.png",
              "methods.png", "report.json")
@@ -210,6 +211,10 @@ def check_memory(readers):
                               args.chain == "features", args.float16_coordinates,
                               tuple(args.size), args.methods, args.methods_stride)
     available = B.available_memory()
+    memory_estimate.update(needed_gib=round(need / 2.0 ** 30, 3),
+                           available_gib=round(available / 2.0 ** 30, 3)
+                           if available is not None else None,
+                           vm_size_at_check_gib=round((B._vm_size() or 0) / 2.0 ** 30, 3))
     if available is not None and need > available:
         raise B.JobError("the job needs %s of memory for %d voxels x %d channels (%s "
                          "features, %s chain), %s available: subsample (--upsample below "
@@ -413,6 +418,8 @@ def main():
         "stage_seconds": stages,
         "stage_peak_rss_gib": peak_gib,
         "peak_rss_gib": peak_rss_gib(),
+        "memory_estimate": dict(memory_estimate,
+                                vm_peak_gib=round((B._vm_size("VmPeak") or 0) / 2.0 ** 30, 3)),
         "images": {k: job.run.final(k + ".png") for k in images},
         "spectrum_figure": {"bars": spectrum_bars, "kept": 3,
                             "kept_colour": list(report_figures.KEPT_COLOUR),
