@@ -129,34 +129,62 @@ def write_failure(name, folder, detail=None):
 # ---------------------------------------------------------------------------------------
 # Checked files.
 
-def check_png(path, size=None):
-    """None when `path` is a PNG that decodes (at `size` = (width, height) when given), else
-    what is wrong with it."""
-    if not os.path.isfile(path):
-        return "missing"
-    if os.path.getsize(path) == 0:
-        return "empty (0 bytes)"
-    from vtkmodules.vtkIOImage import vtkPNGReader
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+# Samples per pixel of each PNG colour type (grey, RGB, palette, grey+alpha, RGBA).
+_PNG_CHANNELS = {0: 1, 2: 3, 3: 1, 4: 2, 6: 4}
 
-    reader = vtkPNGReader()
-    if not reader.CanReadFile(path):
+
+def check_png(path, size=None):
+    """None when `path` is a complete PNG (at `size` = (width, height) when given), else
+    what is wrong with it. Every chunk's CRC is checked, the image data is inflated (zlib)
+    and must hold exactly the rows IHDR announces, and the file must end with IEND.
+    Checked here with the standard library rather than vtkPNGReader, which crashes the
+    process (libpng's error longjmp) on a file cut short, the very case to find."""
+    import struct
+    import zlib
+
+    try:
+        with open(path, "rb") as f:
+            data = f.read()
+    except OSError as exc:
+        return "missing" if not os.path.exists(path) else "unreadable (%s)" % cause_of(exc)
+    if not data:
+        return "empty (0 bytes)"
+    if not data.startswith(_PNG_SIGNATURE):
         return "not a PNG"
-    errors = []
-    reader.AddObserver("ErrorEvent", lambda obj, event: errors.append(event))
-    reader.SetFileName(path)
-    reader.Update()
-    image = reader.GetOutput()
-    dims = image.GetDimensions()
-    if errors or image.GetNumberOfPoints() == 0:
-        return "does not decode (truncated or corrupt)"
-    if size is not None and (dims[0], dims[1]) != (int(size[0]), int(size[1])):
-        return "%dx%d pixels instead of %dx%d" % (dims[0], dims[1], size[0], size[1])
-    # libpng reads a file cut inside its last image chunk without an error: the decoded
-    # rows then end early. Every PNG written here ends with its IEND chunk.
-    with open(path, "rb") as f:
-        f.seek(-12, os.SEEK_END)
-        if f.read(12)[4:8] != b"IEND":
-            return "truncated (no IEND chunk)"
+    pos, header, idat, ended = len(_PNG_SIGNATURE), None, [], False
+    while pos + 12 <= len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        crc = data[pos + 8 + length:pos + 12 + length]
+        if len(body) != length or len(crc) != 4:
+            return "truncated (inside its %s chunk)" % kind.decode("latin-1")
+        if zlib.crc32(kind + body) & 0xffffffff != struct.unpack(">I", crc)[0]:
+            return "corrupt (bad CRC of its %s chunk)" % kind.decode("latin-1")
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat.append(body)
+        elif kind == b"IEND":
+            ended = True
+            break
+        pos += 12 + length
+    if header is None:
+        return "corrupt (no IHDR chunk)"
+    if not ended:
+        return "truncated (no IEND chunk)"
+    width, height, depth, colour, _, _, interlace = header
+    try:
+        pixels = zlib.decompress(b"".join(idat))
+    except zlib.error as exc:
+        return "does not decode (%s)" % exc
+    if not interlace and colour in _PNG_CHANNELS:
+        row = 1 + (width * _PNG_CHANNELS[colour] * depth + 7) // 8
+        if len(pixels) != row * height:
+            return "does not decode (%d bytes of pixels instead of %d)" % (
+                len(pixels), row * height)
+    if size is not None and (width, height) != (int(size[0]), int(size[1])):
+        return "%dx%d pixels instead of %dx%d" % (width, height, size[0], size[1])
     return None
 
 
@@ -325,7 +353,7 @@ class RunFolder(object):
             raise JobError("cannot write into %s (the output folder's parent, where the run "
                            "is written before it replaces %s): %s"
                            % (parent, base, cause_of(exc)))
-        exc = probe_write(self.staging, max(65536, min(min_free_bytes, 1 << 20)))
+        exc = probe_write(self.staging, max(4096, min(min_free_bytes, 1 << 20)))
         room = free_bytes(self.staging)
         if exc is not None or room < min_free_bytes:
             self.abandon()
