@@ -567,24 +567,29 @@ def available_memory():
     return min(room) if room else None
 
 
-# Rendering's and the figures' share of the address space, beyond the voxels: the render
-# windows' buffers, Mesa's llvmpipe threads and its shader compiler, matplotlib's figures.
-# Measured on the small job (VmPeak minus VmSize when the estimate is taken, less the
-# per-voxel part below): see docs/reliability.md.
-RENDER_SHARE_BYTES = 600 << 20
+# Rendering's and the figures' share of the address space, beyond the voxels: the GL
+# context (Mesa's llvmpipe: its threads' stacks and LLVM), the render windows' buffers,
+# matplotlib. Measured under Xvfb on the 2-core dev VM: pvbatch's VmSize grows from 0.92 to
+# 1.81 GB when it opens a 240 x 180 render view and renders; with less address space left,
+# VTK aborts the process ("Cannot create GLX context. Aborting.", exit 134), so the job must
+# refuse before that. See docs/reliability.md.
+RENDER_SHARE_BYTES = 1 << 30
 
 
-def job_memory_bytes(voxels, channels, features, features_chain, half_coordinates, size,
-                     methods, methods_stride):
+def job_memory_bytes(read_voxels, voxels, channels, features, features_chain,
+                     half_coordinates, size, methods, methods_stride):
     """The main job's estimated peak beyond what the process holds when it starts, in bytes:
-    per voxel the channels as read and merged (4 bytes each, twice), the Features array
-    (--chain features), the reduced coordinates (12 or 6 bytes), the foreground mask and the
-    sample's strata (2), the best viewpoint's opacity and Harris response (8), the volume
-    mapper's copy of the coordinates as a texture (12) and the widgets' opacity (4); the
-    methods' coarse grid (its share of all that); and the rendering share."""
-    per_voxel = (8 * channels + (4 * features if features_chain else 0)
+    per voxel read, the channels as read and merged (4 bytes each, twice); per voxel of the
+    chain (after --upsample), the resampled channels (4 bytes each, when resampled), the
+    Features array (--chain features), the reduced coordinates (12 or 6 bytes), the
+    foreground mask and the sample's strata (2), the best viewpoint's opacity and Harris
+    response (8), the volume mapper's copy of the coordinates as a texture (12) and the
+    widgets' opacity (4); the methods' coarse grid (its share of that); and the rendering
+    share (RENDER_SHARE_BYTES and the screenshots' buffers)."""
+    per_voxel = ((4 * channels if voxels != read_voxels else 0)
+                 + (4 * features if features_chain else 0)
                  + (6 if half_coordinates else 12) + 2 + 8 + 12 + 4)
-    total = voxels * per_voxel
+    total = read_voxels * 8 * channels + voxels * per_voxel
     if methods:
         total += voxels * per_voxel // max(1, methods_stride) ** 3
     total += 4 * 4 * 2 * size[0] * size[1] + RENDER_SHARE_BYTES

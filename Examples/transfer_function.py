@@ -206,8 +206,8 @@ def check_memory(readers):
         voxels = max(voxels, count)
         channels += max(1, len(reader.PointData.keys()) if hasattr(reader, "PointData")
                         else 1)
-    voxels = int(voxels * max(1.0, args.upsample) ** 3)
-    need = B.job_memory_bytes(voxels, channels, 24 if args.features == "24D" else 6,
+    read_voxels, voxels = voxels, int(voxels * args.upsample ** 3)
+    need = B.job_memory_bytes(read_voxels, voxels, channels, 24 if args.features == "24D" else 6,
                               args.chain == "features", args.float16_coordinates,
                               tuple(args.size), args.methods, args.methods_stride)
     available = B.available_memory()
