@@ -480,10 +480,18 @@ class VtkErrors(object):
 
         @calldata_type(VTK_STRING)
         def on_error(caller, event, text):
-            lines = str(text).strip().splitlines()
-            source, _, message = (lines[1] if len(lines) > 1 else lines[0]).partition("): ")
-            if not source.split(" ")[0].endswith(("Pipeline", "Executive")):
-                self.messages.append((message or source).strip())
+            # pvbatch sends Python's sys.stderr through the output window too: only VTK's
+            # own errors ("ERROR: In file, line N" then "vtkClass (0x...): message") count.
+            # Nothing may raise here: the traceback would go to sys.stderr, hence here again.
+            try:
+                lines = [l for l in str(text).strip().splitlines() if l.strip()]
+                if len(lines) < 2 or not lines[0].startswith("ERROR: In "):
+                    return
+                source, _, message = lines[1].partition("): ")
+                if not source.split(" ")[0].endswith(("Pipeline", "Executive")):
+                    self.messages.append(" ".join([message or source] + lines[2:]).strip())
+            except Exception:  # noqa: BLE001 (see above)
+                pass
 
         self._callback = on_error
         self._window = vtkOutputWindow.GetInstance()
