@@ -7,7 +7,6 @@ present and valid, the previous output intact).
 import hashlib
 import json
 import os
-import resource
 import subprocess
 import sys
 import threading
@@ -89,19 +88,51 @@ def content(folder):
     return out
 
 
+# A pvbatch that could not open its window (an X server lost or refused under load: VTK
+# aborts) says one of these; such a run is no result of the job and is started again.
+X_FAILURES = ("bad X server connection", "Cannot create GLX context", "Xvfb failed to start",
+              "Can't open display", "cannot open display", "CreateAWindow")
+
+
+def x_failure(output):
+    return any(words in output for words in X_FAILURES)
+
+
+def _pvbatch_in_group(pgid):
+    """The pid of the pvbatch process of process group `pgid` (under xvfb-run), or None."""
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                stat = f.read()
+        except OSError:
+            continue
+        comm = stat[stat.index("(") + 1:stat.rindex(")")]
+        fields = stat[stat.rindex(")") + 2:].split()
+        if comm == "pvbatch" and int(fields[2]) == pgid:
+            return int(entry)
+    return None
+
+
 class Job(object):
-    """A job started as a child process (its own process group), its output collected line
-    by line; signal_at(text, signum) sends `signum` when a line containing `text` appears
-    (or at once when `text` is None); wait() returns (exit code, output)."""
+    """A pvbatch job started under its own X server (xvfb-run -a, its own process group),
+    its output collected line by line; signal_at(text, signum) sends `signum` to the pvbatch
+    process when a line starting with `text` appears (or after `delay` seconds when `text`
+    is None); wait() returns (exit code, output). Exit codes are the shell's: 128 + N for a
+    process ended by signal N (SIGKILL: 137). `memory_limit`: pvbatch's address-space limit
+    in bytes (ulimit -v), not the X server's."""
 
     def __init__(self, command, memory_limit=None, env=None):
-        def limit():
-            if memory_limit:
-                resource.setrlimit(resource.RLIMIT_AS, (memory_limit, memory_limit))
-
+        if memory_limit:  # pvbatch's own limit, not the X server's
+            command = ["sh", "-c", 'ulimit -v %d && exec "$@"' % (memory_limit // 1024),
+                       "sh"] + list(command)
+        display = 100 + int.from_bytes(os.urandom(2), "little") % 800
+        command = ["xvfb-run", "-a", "-n", str(display), "-s", "-screen 0 1280x1024x24"] + \
+            list(command)
         self.proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                                     universal_newlines=True, preexec_fn=limit,
-                                     start_new_session=True, env=env)
+                                     universal_newlines=True, start_new_session=True,
+                                     env=env)
         self.lines = []
         self.triggers = []
         self.sent = None
@@ -116,16 +147,23 @@ class Job(object):
                     self._send(signum)
 
     def _send(self, signum):
+        """To the job's pvbatch (not xvfb-run, not the snapshot tool's workers)."""
+        for _ in range(100):
+            pid = _pvbatch_in_group(self.proc.pid)
+            if pid is not None or self.proc.poll() is not None:
+                break
+            time.sleep(0.1)
+        if pid is None:
+            return
         self.sent = signum
         try:
-            os.kill(self.proc.pid, signum)  # the job itself (pvbatch), not its workers
+            os.kill(pid, signum)
         except OSError:
             pass
 
     def signal_at(self, text, signum, delay=0.0):
         if text is None:
-            time.sleep(delay)
-            self._send(signum)
+            threading.Timer(delay, self._send, (signum,)).start()
         else:
             self.triggers.append((text, signum))
 
@@ -137,6 +175,20 @@ class Job(object):
             self.proc.wait()
         self._reader.join()
         return self.proc.returncode, "".join(self.lines)
+
+
+def run(command, at=None, signum=None, delay=0.0, attempts=3, **kw):
+    """Runs a Job (signalled at the line `at`, or after `delay` s when `at` is None and
+    `signum` is given); a run whose pvbatch could not open its window is started again, up
+    to `attempts` times. Returns (exit code, output, the signal sent or None)."""
+    for attempt in range(attempts):
+        job = Job(command, **kw)
+        if signum is not None:
+            job.signal_at(at, signum, delay)
+        code, output = job.wait()
+        if code == 0 or not x_failure(output) or attempt == attempts - 1:
+            return code, output, job.sent
+        print("(pvbatch could not open its window: started again)")
 
 
 def main_job_outputs_valid(folder, checker, label):

@@ -15,8 +15,12 @@ After a complete run into OUT, each fault hits a second run into the same OUT:
     is read;
   - a second job on the same output folder while the first holds its lock: exit code 1,
     "in use by another run";
-  - a filter's error (MCV_MEMORY_LIMIT_MB=1: DimensionReduction "needs ... but only 1.0 MiB
-    is available"): exit code 1 with that message, OUT as it was.
+  - memory: the job's estimate refusing it before anything is read (MCV_MEMORY_LIMIT_MB=1),
+    a filter's own check stopping it (--no-memory-check, MCV_MEMORY_LIMIT_MB=8: the readers
+    fit, DimensionReduction "needs 41.1 MiB ... but only 8.0 MiB is available"), and ulimit -v
+    at 0.5, 1, 1.5, 2 and 4 GB: exit code 1 with the message (127 with the loader's message
+    where pvbatch cannot even start), or 0 with everything complete; never a crash; OUT as
+    it was after each failure.
 After each: no file report.json lists is missing or invalid.
 """
 import os
@@ -50,11 +54,12 @@ def job_command(output):
 
 
 def run_job(output, extra=(), **kw):
-    return R.Job(job_command(output) + list(extra), **kw)
+    """(exit code, output, signal sent) of the job on `output` (R.run: its own X server)."""
+    return R.run(job_command(output) + list(extra), **kw)
 
 
 def complete_run(output, label):
-    code, text = run_job(output).wait()
+    code, text, _ = run_job(output)
     print(text[-1500:])
     C.check(code == 0, "%s: exit code 0 (%d)" % (label, code))
     R.main_job_outputs_valid(output, C, label)
@@ -74,10 +79,8 @@ moments = [("read ", signal.SIGINT), ("reduction ", signal.SIGTERM),
            (None, signal.SIGINT)]
 for text, signum in moments:
     label = "%s at %s" % (signal.Signals(signum).name, text.strip() if text else "start")
-    job = run_job(out)
-    job.signal_at(text, signum, delay=1.0)
-    code, output = job.wait()
-    C.check(code == 128 + signum or (code == 0 and job.sent is None),
+    code, output, sent = run_job(out, at=text, signum=signum, delay=3.0)
+    C.check(code == 128 + signum or (code == 0 and sent is None),
             "%s: exit code %d (expected %d)" % (label, code, 128 + signum))
     C.check(R.content(out) == before, "%s: the previous output as it was" % label)
     R.no_staging_left(work, "out", C, label)
@@ -86,41 +89,57 @@ for text, signum in moments:
 
 for text in ("read ", "seed widgets", "best viewpoint"):
     label = "SIGKILL at %s" % text.strip()
-    job = run_job(out)
-    job.signal_at(text, signal.SIGKILL)
-    code, output = job.wait()
-    C.check(code == -signal.SIGKILL, "%s: killed (%d)" % (label, code))
+    code, output, _ = run_job(out, at=text, signum=signal.SIGKILL)
+    C.check(code == 128 + signal.SIGKILL, "%s: killed (%d)" % (label, code))
     C.check(R.content(out) == before, "%s: the previous output as it was" % label)
 complete_run(out, "run after the kills")  # removes the killed runs' staging folders
 
 # A second job while the first holds the lock.
-first = run_job(out)
+first = R.Job(job_command(out))
 first.signal_at("read ", signal.SIGSTOP)
 while first.sent is None and first.proc.poll() is None:
     time.sleep(0.2)
-code, output = run_job(out).wait()
+code, output, _ = run_job(out)
 C.check(code == 1 and "in use by another run" in output,
         "a second job on the same folder stops: %d %s" % (code, output.strip()[-200:]))
-os.kill(first.proc.pid, signal.SIGCONT)
-code, _ = first.wait()
-C.check(code == 0, "the first job then finishes (%d)" % code)
+first._send(signal.SIGCONT)
+code, text = first.wait()
+C.check(code == 0 or R.x_failure(text), "the first job then finishes (%d)" % code)
 before = R.content(out)
 
 # The job's memory estimate refuses it before anything is read; without the estimate
 # (--no-memory-check), the filter's own check stops it with the filter's message.
 env = dict(os.environ, MCV_MEMORY_LIMIT_MB="1")
-code, output = run_job(out, env=env).wait()
+code, output, _ = run_job(out, env=env)
 last = output.strip().splitlines()[-1] if output.strip() else ""
 C.check(code == 1 and last.startswith("error: the job needs") and "available" in last and
         "\nread " not in "\n" + output,
         "the job's estimate refuses it before reading: %d %s" % (code, last))
 env["MCV_MEMORY_LIMIT_MB"] = "8"  # the readers fit (6.8 MiB each), the reduction not
-code, output = run_job(out, env=env, extra=["--no-memory-check"]).wait()
+code, output, _ = run_job(out, env=env, extra=["--no-memory-check"])
 last = output.strip().splitlines()[-1] if output.strip() else ""
 C.check(code == 1 and last.startswith("error: reduction failed: DimensionReduction needs") and
         "available" in last,
         "a filter's memory check stops the job with its message: %d %s" % (code, last))
 C.check(R.content(out) == before, "memory errors: the previous output as it was")
+
+# Address-space limits (ulimit -v): a clean refusal or success, never a crash. Under 0.5 GB
+# pvbatch cannot even map its libraries (the loader's message, exit 127: the job never runs).
+for gb in (0.5, 1.0, 1.5, 2.0, 4.0):
+    label = "ulimit -v %g GB" % gb
+    code, output, _ = run_job(out, memory_limit=int(gb * (1 << 30)))
+    last = output.strip().splitlines()[-1] if output.strip() else ""
+    print("%s: exit %d, %s" % (label, code, last))
+    if code == 0:
+        R.main_job_outputs_valid(out, C, label)
+        before = R.content(out)
+    elif code == 127 and "error while loading shared libraries" in output:
+        C.check(gb <= 0.5, "%s: pvbatch cannot start (the loader says so)" % label)
+    else:
+        C.check(code == 1 and last.startswith("error:") and "needs" in last and
+                "available" in last, "%s: exit code 1 with the memory it needs: %d %s"
+                % (label, code, last))
+    C.check(R.content(out) == before, "%s: the previous output intact" % label)
 
 # Full disk at several fill levels, and read-only.
 ok, why = R.can_mount(work)
@@ -130,14 +149,16 @@ else:
     disk = R.Tmpfs(os.path.join(work, "tmpfs"), 8192)
     try:
         small = os.path.join(disk.folder, "out")
-        sizes = complete_run(small, "tmpfs: complete run")
+        complete_run(small, "tmpfs: complete run")
+        if not os.path.isdir(small):
+            C.finish()
         need = sum(os.path.getsize(os.path.join(small, n)) for n in os.listdir(small))
         print("the outputs take %d KiB" % (need // 1024))
         previous = R.content(small)
         for leave in (16 << 10, need // 3, 2 * need // 3, need - (8 << 10), need + (256 << 10)):
             free = disk.fill(leave)
             label = "tmpfs with %d KiB free" % (free // 1024)
-            code, output = run_job(small).wait()
+            code, output, _ = run_job(small)
             message = output.strip().splitlines()[-1] if output.strip() else ""
             print("%s: exit %d, %s" % (label, code, message))
             if code == 0:
@@ -152,7 +173,7 @@ else:
             R.no_staging_left(disk.folder, "out", C, label)
         disk.unfill()
         if C.check(disk.remount("ro"), "tmpfs remounted read-only"):
-            code, output = run_job(small).wait()
+            code, output, _ = run_job(small)
             message = output.strip().splitlines()[-1] if output.strip() else ""
             C.check(code == 1 and "read-only file system" in message and
                     "\nread " not in "\n" + output,
