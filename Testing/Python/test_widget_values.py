@@ -64,7 +64,8 @@ try:
     mce.add_widget_at(display, (0.5, float("nan"), 0.5))
     C.check(False, "add_widget_at with a nan coordinate: accepted")
 except ValueError as exc:
-    C.check("widget 0" in str(exc) and "cy" in str(exc), "add_widget_at, nan: %s" % exc)
+    C.check("widget 1's cy" in str(exc), "add_widget_at, nan (the display's second widget): %s"
+            % exc)
 C.check(len(display.GaussianWidgets) == 8, "the refused widget was not added")
 added = mce.add_widget_at(display, (0.5, 0.5, 0.5))
 C.check(len(display.GaussianWidgets) == 16 and math.isclose(added[3], 0.05 * 0.9, rel_tol=1e-6),

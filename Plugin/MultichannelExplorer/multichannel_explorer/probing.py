@@ -180,7 +180,7 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     widgets = _widget_values(display)
     rgb = list(color) if color is not None else _unused_color(widgets)
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
-    check_widget_values(widget, "add_widget_at", size)
+    check_widget_values(widget, "add_widget_at", size, first=len(widgets) // 8)
     values = widgets + widget
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.

@@ -92,13 +92,14 @@ ABSURD_CENTRE = 1e30
 ABSURD_SIGMA_FACTOR = 1e6
 
 
-def check_widget_values(values, where="GaussianWidgets", domain_size=None):
+def check_widget_values(values, where="GaussianWidgets", domain_size=None, first=0):
     """Raises ValueError naming the widget and the field when a value of the flat widget
     list (8 per widget: cx, cy, cz, sigma, r, g, b, opacity) is not finite (nan, inf), a
     centre lies beyond 1e30, or sigma exceeds `domain_size` (the reduced domain's largest
     extent, when known; else 1e30) x 1e6; also when the list is not a multiple of 8. A
     ParaView property takes such values as they are (and a state file's "nan" loads as 0),
-    so the helpers that set GaussianWidgets check them first. Returns `values`."""
+    so the helpers that set GaussianWidgets check them first. Widgets are numbered from
+    `first` (the index of values[0:8] in the display's list). Returns `values`."""
     import math
 
     if len(values) % len(WIDGET_FIELDS):
@@ -107,6 +108,7 @@ def check_widget_values(values, where="GaussianWidgets", domain_size=None):
     sigma_limit = ABSURD_SIGMA_FACTOR * domain_size if domain_size else ABSURD_CENTRE
     for i, value in enumerate(values):
         widget, field = divmod(i, len(WIDGET_FIELDS))
+        widget += first
         name = WIDGET_FIELDS[field]
         if not math.isfinite(value):
             raise ValueError("%s: widget %d's %s is %r, not a finite number"
