@@ -505,10 +505,10 @@ def process_volume(vol, args, paths):
     start = time.time()
     cmd = [_pvbatch(), THIS, "--worker", json.dumps(spec)]
     try:
-        # A worker killed by a signal is tried once more: on shared machines the X server
-        # of xvfb-run is sometimes gone for a moment ("bad X server connection"), which is
-        # no fault of the file. A reader that crashes on the file crashes twice.
-        for attempt in (1, 2):
+        # A worker killed by a signal is tried twice more: on shared, loaded machines the X
+        # server of xvfb-run is sometimes gone for a moment ("bad X server connection"),
+        # which is no fault of the file. A reader that crashes on the file crashes thrice.
+        for attempt in (1, 2, 3):
             proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                     universal_newlines=True, start_new_session=True,
                                     preexec_fn=_die_with_parent)
@@ -865,6 +865,7 @@ def main(argv):
         volumes, ignored = discover(args.input, args.output)
         print("%d volumes in %s%s" % (len(volumes), args.input,
                                        " (%d other files ignored)" % ignored if ignored else ""))
+        sys.stdout.flush()
         return drive(volumes, args, paths, started)
     finally:
         lock.close()

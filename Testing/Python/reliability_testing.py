@@ -110,7 +110,7 @@ def _pvbatch_in_group(pgid):
             continue
         comm = stat[stat.index("(") + 1:stat.rindex(")")]
         fields = stat[stat.rindex(")") + 2:].split()
-        if comm == "pvbatch" and int(fields[2]) == pgid:
+        if comm.startswith("pvbatch") and int(fields[2]) == pgid:  # pvbatch3.11 on Debian
             return int(entry)
     return None
 

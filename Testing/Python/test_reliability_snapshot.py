@@ -83,11 +83,15 @@ def thumbnails(output):
 
 
 def run(output, *extra, **kw):
+    """(exit code, output) of the tool on `output`; with signum, the signal is sent when a
+    line starts with `at` and the check that it was sent is made here."""
     job = R.Job(command(output, *extra))
-    if kw.get("at") is not None or kw.get("signum"):
+    if kw.get("signum"):
         job.signal_at(kw.get("at"), kw["signum"], delay=kw.get("delay", 0.0))
     code, text = job.wait()
     print(text[-1200:])
+    if kw.get("signum"):
+        C.check(job.sent == kw["signum"], "signal %s sent at %r" % (kw["signum"], kw.get("at")))
     return code, text
 
 
@@ -128,7 +132,7 @@ before = after
 
 # --force killed.
 code, text = run(out, "--force", at="4 volumes in", signum=signal.SIGKILL, delay=0.0)
-C.check(code == -signal.SIGKILL, "--force, SIGKILL: killed (%d)" % code)
+C.check(code == 128 + signal.SIGKILL, "--force, SIGKILL: killed (%d)" % code)
 C.check({k: v for k, v in thumbnails(out).items() if "/." not in k} == before,
         "--force, SIGKILL: every thumbnail and record as before")
 code, text = run(out)
