@@ -155,7 +155,8 @@ else:
         need = sum(os.path.getsize(os.path.join(small, n)) for n in os.listdir(small))
         print("the outputs take %d KiB" % (need // 1024))
         previous = R.content(small)
-        for leave in (16 << 10, need // 3, 2 * need // 3, need - (8 << 10), need + (256 << 10)):
+        for leave in (16 << 10, need // 3, 2 * need // 3, 4 * need // 5, need - (8 << 10),
+                      need + (256 << 10)):
             free = disk.fill(leave)
             label = "tmpfs with %d KiB free" % (free // 1024)
             code, output, _ = run_job(small)
