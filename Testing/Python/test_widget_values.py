@@ -2,7 +2,9 @@
 1e6 x the reduced domain's size) are errors naming the widget and the field, never values
 the display takes silently: show_gaussian_tf, add_widget_at and check_widget_values on a
 small volume of known reduced coordinates (each voxel's coordinates its own (i, j, k) / 10,
-so the domain's size is 0.9 along each axis).
+so the domain's size is 0.9 along each axis); and a state file whose widget list holds nan,
+inf, 1e31 or text (ParaView's loader would read 0.0) refused by load_state, naming the file,
+the widget and the field.
 """
 import math
 import os
@@ -70,4 +72,32 @@ C.check(len(display.GaussianWidgets) == 8, "the refused widget was not added")
 added = mce.add_widget_at(display, (0.5, 0.5, 0.5))
 C.check(len(display.GaussianWidgets) == 16 and math.isclose(added[3], 0.05 * 0.9, rel_tol=1e-6),
         "a good widget is added (sigma %g = 5%% of the domain's size)" % added[3])
+
+# A state file: saved by ParaView with a good widget list, then one value written as "nan"
+# (as a hand edit or another tool would): ParaView's loader would read 0.0.
+work = os.path.join(T.output_dir(), "widget_values")
+os.makedirs(work, exist_ok=True)
+good_state = os.path.join(work, "good.pvsm")
+simple.SaveState(good_state)
+with open(good_state) as f:
+    text = f.read()
+C.check(mce.check_state_file(good_state) >= 1, "a saved state's widget lists pass the check")
+import re  # noqa: E402
+
+match = re.search(r'(<Property name="GaussianWidgets"[^>]*>\s*(?:<Element[^>]*/>\s*){9})'
+                  r'<Element index="9" value="[^"]*"', text)
+if C.check(match is not None, "the saved state holds the widgets' elements"):
+    for bad, words in (("nan", ["widget 1's cy", "'nan'"]), ("inf", ["widget 1's cy", "inf"]),
+                       ("1e31", ["widget 1's centre cy"]), ("abc", ["widget 1's cy", "not a number"])):
+        edited = text[:match.end()].rsplit('value="', 1)[0] + 'value="%s"' % bad + \
+            text[match.end():]
+        path = os.path.join(work, "bad_%s.pvsm" % bad)
+        with open(path, "w") as f:
+            f.write(edited)
+        try:
+            mce.load_state(path)
+            C.check(False, "state file with %s: loaded" % bad)
+        except ValueError as exc:
+            C.check(all(w in str(exc) for w in words) and "bad_%s.pvsm" % bad in str(exc),
+                    "state file with %s refused: %s" % (bad, exc))
 C.finish()
