@@ -435,8 +435,8 @@ class StopSignals(object):
     progress observer (watch()) is called, which then sets the filter's AbortExecute so
     that it stops at that progress report."""
 
-    def __init__(self):
-        self.signum = None
+    def __init__(self, signum=None):
+        self.signum = signum  # one that came before (the script's own early handler)
         self._previous = {}
         for s in (signal.SIGINT, signal.SIGTERM):
             self._previous[s] = signal.signal(s, self._handle)

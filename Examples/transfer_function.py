@@ -44,12 +44,20 @@ and seed; UMAP with its own K) of a coarser grid, every --methods-stride-th voxe
 (placing all voxels four more times would cost more than the whole job); the same
 --methods-sample voxels are drawn in each, coloured by the main domain's widgets.
 """
-import argparse
-import os
-import resource
-import sys
-import time
-import traceback
+import signal
+
+# SIGINT / SIGTERM from the first line on (importing ParaView takes seconds): noted here,
+# acted on by batch_output.StopSignals once the job has started.
+_EARLY_SIGNALS = []
+for _s in (signal.SIGINT, signal.SIGTERM):
+    signal.signal(_s, lambda signum, frame: _EARLY_SIGNALS.append(signum))
+
+import argparse  # noqa: E402
+import os  # noqa: E402
+import resource  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import traceback  # noqa: E402
 
 from paraview import servermanager, simple
 from paraview.simple import *  # noqa: F401,F403
@@ -144,7 +152,8 @@ class Job(object):
     stage turns a signal into Interrupted and a filter's error into JobError."""
 
     def __init__(self):
-        self.signals = B.StopSignals()
+        self.signals = B.StopSignals(_EARLY_SIGNALS[0] if _EARLY_SIGNALS else None)
+        self.signals.check()
         self.errors = B.VtkErrors()
         self.run = B.RunFolder(args.output, min_free_bytes=output_bytes())
 
