@@ -867,6 +867,9 @@ def main(argv):
                                        " (%d other files ignored)" % ignored if ignored else ""))
         sys.stdout.flush()
         return drive(volumes, args, paths, started)
+    except B.Interrupted as exc:  # before the first volume: nothing written, the index as it was
+        print("interrupted (%s) before any volume was done" % signal.Signals(exc.signum).name)
+        return exc.exit_code
     finally:
         lock.close()
 
