@@ -345,6 +345,7 @@ def run_worker(spec_json):
     """Renders one volume; writes its thumbnail, then its record (the record last, so a
     record on disk means the volume is finished). Returns the process exit code."""
     spec = json.loads(spec_json)
+    _die_with_parent(spec.get("driver"))
     start = time.time()
     record = {
         "version": RECORD_VERSION, "name": spec["name"], "id": spec["id"],
@@ -500,6 +501,7 @@ def process_volume(vol, args, paths):
         "files": [os.path.abspath(f) for f in vol["files"]],
         "thumbnail": staged["thumbnail"], "record": staged["record"],
         "output": paths["output"], "size": list(args.size), "plugin": args.plugin,
+        "driver": os.getpid(),
     }
     remove_staged(staged)
     start = time.time()
@@ -510,8 +512,7 @@ def process_volume(vol, args, paths):
         # which is no fault of the file. A reader that crashes on the file crashes thrice.
         for attempt in (1, 2, 3):
             proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                    universal_newlines=True, start_new_session=True,
-                                    preexec_fn=_die_with_parent)
+                                    universal_newlines=True, start_new_session=True)
             try:
                 stdout, stderr = proc.communicate(timeout=args.timeout)
                 problem = None if proc.returncode == 0 else (
@@ -595,14 +596,18 @@ def _environment_failure(output):
     return B.cause_of(exc) if exc is not None else None
 
 
-def _die_with_parent():
-    """In the worker before it starts: SIGKILL when the driver dies (prctl
-    PR_SET_PDEATHSIG), so that a killed run leaves no worker writing behind it."""
+def _die_with_parent(driver):
+    """In the worker, first thing: SIGKILL when the driver (pid `driver`) dies (prctl
+    PR_SET_PDEATHSIG), so that a killed run leaves no worker writing behind it; a driver
+    already gone ends the worker at once. Called in the worker rather than as Popen's
+    preexec_fn, which is not safe in a process with threads (pvbatch has them)."""
     try:
         import ctypes
         ctypes.CDLL(None).prctl(1, signal.SIGKILL)
     except (OSError, AttributeError):
-        pass
+        return
+    if driver and os.getppid() != driver:
+        os._exit(1)
 
 
 def _kill_worker(proc):
