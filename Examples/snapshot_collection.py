@@ -178,11 +178,17 @@ def signature(files):
 
 
 def _write_json(path, data):
-    """Write to a temporary name, then rename: an interrupted write leaves no record."""
+    """Write to a temporary name, then rename: an interrupted write leaves no record, and a
+    failed one (disk full: OSError, raised) no temporary file."""
     tmp = path + ".part"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=2)
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "w") as f:
+            json.dump(data, f, indent=2)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
 
 
 # ------------------------------------------------------------------------------------

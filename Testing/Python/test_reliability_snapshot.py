@@ -74,7 +74,7 @@ def consistent(output, label):
                 bad[v["name"]] = problem
     C.check(not bad, "%s: every thumbnail listed exists and decodes %s" % (label, bad))
     staged = [n for sub in ("thumbnails", "records") for n in os.listdir(os.path.join(output, sub))
-              if n.startswith(".")]
+              if n.startswith(".")] + [n for n in os.listdir(output) if n.endswith(".part")]
     C.check(not staged, "%s: no staged file left %s" % (label, staged))
     return index
 
