@@ -174,9 +174,10 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     coords = [float(c) for c in coords]
     if len(coords) not in (2, 3):
         raise ValueError("widget coordinates are 2 or 3 numbers, not %r" % (coords,))
-    size = _domain_size(source, _coordinates_name(display))
     if sigma is None:
-        sigma = 0.05 * (size or 1.0)
+        ranges = _coordinate_range(source, _coordinates_name(display))
+        sigma = 0.05 * (max(hi - lo for lo, hi in ranges) or 1.0)
+    size = _domain_size(source, _coordinates_name(display))
     widgets = _widget_values(display)
     rgb = list(color) if color is not None else _unused_color(widgets)
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
