@@ -48,7 +48,19 @@ is skipped, so an interrupted run can simply be started again. A volume that fai
 before is skipped too when its file has not changed (--retry-failed tries again).
 --force redoes every volume, --force NAME ... only the named ones (names as in the index).
 
-Exit code: 0 when at least one volume has a snapshot, else 1. The last line printed is
+Writing: a volume's new thumbnail and record are written beside the old ones and replace
+them only once the thumbnail decodes at its size, so --force renders the new snapshot before
+the old one goes, and a run killed at any moment leaves each volume either as it was or
+done. The index lists every volume of the folder with its state (done, failed with the
+reason, not yet tried) and how the run went: "7 of 8 done, 1 not yet tried, run interrupted
+(SIGINT)", "run stopped: disk full (...)", "run in progress (pid N)" while it runs (and
+after a SIGKILL). A failure that is not the file's fault (disk full, read-only or unwritable
+output folder) keeps the previous snapshot, stops the run and is tried again by the next run
+without --retry-failed. One run at a time per output folder: a second one stops at once,
+naming the first one's pid (a flock on OUTPUT/.lock).
+
+Exit code: 0 when at least one volume has a snapshot, else 1; 1 when the run had to stop
+(disk full, read-only folder), 130 / 143 on SIGINT / SIGTERM. The last line printed is
 "N of M volumes succeeded".
 """
 import argparse
@@ -64,6 +76,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from example_support import load_plugin, render_view  # noqa: E402
+import batch_output as B  # noqa: E402
 
 THIS = os.path.abspath(__file__)
 RECORD_VERSION = 2  # 2: channels listed by name (channel_list), composites
@@ -166,11 +179,17 @@ def signature(files):
 
 
 def _write_json(path, data):
-    """Write to a temporary name, then rename: an interrupted write leaves no record."""
+    """Write to a temporary name, then rename: an interrupted write leaves no record, and a
+    failed one (disk full: OSError, raised) no temporary file."""
     tmp = path + ".part"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=2)
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "w") as f:
+            json.dump(data, f, indent=2)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
 
 
 # ------------------------------------------------------------------------------------
@@ -333,6 +352,7 @@ def run_worker(spec_json):
     """Renders one volume; writes its thumbnail, then its record (the record last, so a
     record on disk means the volume is finished). Returns the process exit code."""
     spec = json.loads(spec_json)
+    _die_with_parent(spec.get("driver"))
     start = time.time()
     record = {
         "version": RECORD_VERSION, "name": spec["name"], "id": spec["id"],
@@ -419,9 +439,8 @@ def run_worker(spec_json):
                                         **view_properties)
         if not best.valid:
             raise VolumeError("no best viewpoint: flat or constant opacity")
-        tmp_png = spec["thumbnail"] + ".part.png"
-        simple.SaveScreenshot(tmp_png, view)
-        os.replace(tmp_png, spec["thumbnail"])
+        B.checked_png(spec["thumbnail"], lambda path: simple.SaveScreenshot(path, view),
+                      spec["size"])
         stats = mce.image_statistics(spec["thumbnail"])
         timings = [float(x) for x in best.filter.GetPropertyValue("StageTimings")]
         record.update({
@@ -438,10 +457,18 @@ def run_worker(spec_json):
     except Exception as exc:  # any failure becomes this volume's error entry
         record["status"] = "error"
         record["error"] = "%s: %s" % (type(exc).__name__, exc) \
-            if not isinstance(exc, VolumeError) else str(exc)
+            if not isinstance(exc, (VolumeError, B.JobError)) else str(exc)
+        if isinstance(exc, OSError) or isinstance(exc, B.JobError):
+            environment = _environment_failure(spec["output"])
+            if environment:
+                record["environment"] = environment
     record["seconds"] = round(time.time() - start, 3)
     record["finished"] = time.strftime("%Y-%m-%d %H:%M:%S")
-    _write_json(spec["record"], record)
+    try:
+        _write_json(spec["record"], record)
+    except OSError as exc:  # the driver finds the cause with its own probe write
+        sys.stderr.write("ERROR: record not written: %s\n" % B.cause_of(exc))
+        return 3
     return 0
 
 
@@ -474,57 +501,211 @@ def _pvbatch():
 
 
 def process_volume(vol, args, paths):
-    """Runs a worker for one volume under the time limit; returns its record."""
-    record_path = os.path.join(paths["records"], vol["id"] + ".json")
+    """Runs a worker for one volume under the time limit; returns its record. The worker
+    writes a new thumbnail and record beside the old ones (staged_paths); they replace the
+    old ones only when the thumbnail decodes (commit_volume): a forced redo that is
+    interrupted, or fails for want of disk room, leaves the previous snapshot as it was."""
+    staged = staged_paths(vol, paths)
     spec = {
         "name": vol["name"], "id": vol["id"], "format": vol["format"],
         "files": [os.path.abspath(f) for f in vol["files"]],
-        "thumbnail": os.path.join(paths["thumbnails"], vol["id"] + ".png"),
-        "record": record_path, "output": paths["output"], "size": list(args.size),
-        "plugin": args.plugin,
+        "thumbnail": staged["thumbnail"], "record": staged["record"],
+        "output": paths["output"], "size": list(args.size), "plugin": args.plugin,
+        "driver": os.getpid(),
     }
-    for stale in (record_path, spec["thumbnail"]):
-        if os.path.exists(stale):
-            os.remove(stale)
+    remove_staged(staged)
     start = time.time()
     cmd = [_pvbatch(), THIS, "--worker", json.dumps(spec)]
-    # A worker killed by a signal is tried once more: on shared machines the X server of
-    # xvfb-run is sometimes gone for a moment ("bad X server connection"), which is no
-    # fault of the file. A reader that crashes on the file crashes twice.
-    for attempt in (1, 2):
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                universal_newlines=True, start_new_session=True)
+    try:
+        # A worker killed by a signal is tried twice more: on shared, loaded machines the X
+        # server of xvfb-run is sometimes gone for a moment ("bad X server connection"),
+        # which is no fault of the file. A reader that crashes on the file crashes thrice.
+        for attempt in (1, 2, 3):
+            proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    universal_newlines=True, start_new_session=True)
+            try:
+                stdout, stderr = proc.communicate(timeout=args.timeout)
+                problem = None if proc.returncode == 0 else (
+                    "the worker died (%s)" % ("signal %d" % -proc.returncode
+                                              if proc.returncode < 0
+                                              else "exit code %d" % proc.returncode))
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)  # the worker's own session only
+                stdout, stderr = proc.communicate()
+                problem = "timed out after %g s" % args.timeout
+            except BaseException:  # SIGINT / SIGTERM of this run: the worker goes too
+                _kill_worker(proc)
+                raise
+            if problem is None or problem.startswith("timed out"):
+                break
+            if _environment_failure(paths["output"]):
+                break  # no room to write: trying again would fail the same way
+        wall = round(time.time() - start, 3)
+        messages = _error_lines(stderr)
+        record = None
+        if problem is None and os.path.exists(staged["record"]):
+            with open(staged["record"]) as f:
+                record = json.load(f)
+        if record is None:
+            record = {"version": RECORD_VERSION, "name": vol["name"], "id": vol["id"],
+                      "format": vol["format"], "files": len(vol["files"]),
+                      "signature": signature(vol["files"]), "status": "error",
+                      "error": problem or "the worker wrote no record",
+                      "finished": time.strftime("%Y-%m-%d %H:%M:%S")}
+            environment = _environment_failure(paths["output"])
+            if environment:
+                record["environment"] = environment
+        if record["status"] != "ok" and messages:
+            record["messages"] = messages
+        record["wall_seconds"] = wall
+        return commit_volume(record, staged, paths)
+    finally:
+        remove_staged(staged)
+
+
+# ------------------------------------------------------------------------------------
+# Writing, locking, run state and signals of the driver: a volume's new snapshot replaces
+# the old one only once it is complete and checked; an error that is not the file's fault
+# (disk full, read-only folder, the run interrupted) keeps the old snapshot, stops the run
+# and is tried again on the next run; one run at a time per output folder.
+
+class StopRun(Exception):
+    """The run cannot go on: disk full, read-only or unwritable output folder."""
+
+
+def staged_paths(vol, paths):
+    """Where the worker writes a volume's new thumbnail and record (hidden names beside the
+    final ones; leftovers of a killed run are removed by the next one)."""
+    return {"thumbnail": os.path.join(paths["thumbnails"], "." + vol["id"] + ".new.png"),
+            "record": os.path.join(paths["records"], "." + vol["id"] + ".new.json"),
+            "final_thumbnail": os.path.join(paths["thumbnails"], vol["id"] + ".png"),
+            "final_record": os.path.join(paths["records"], vol["id"] + ".json")}
+
+
+def remove_staged(staged):
+    for key in ("thumbnail", "record"):
+        for path in (staged[key], staged[key] + ".part", staged[key] + ".part.png",
+                     os.path.join(os.path.dirname(staged[key]),
+                                  "." + os.path.basename(staged[key]) + ".part.png")):
+            if os.path.exists(path):
+                os.remove(path)
+
+
+def remove_stale_staging(paths):
+    """Staged files of runs that were killed (the lock says no run is writing)."""
+    for sub in ("thumbnails", "records"):
+        for name in os.listdir(paths[sub]):
+            if name.startswith(".") and (".new." in name or name.endswith(".part")):
+                os.remove(os.path.join(paths[sub], name))
+
+
+def _environment_failure(output):
+    """'disk full', 'read-only file system', 'permission denied' when a probe write into
+    the output folder fails so, else None."""
+    exc = B.probe_write(output)
+    return B.cause_of(exc) if exc is not None else None
+
+
+def _die_with_parent(driver):
+    """In the worker, first thing: SIGKILL when the driver (pid `driver`) dies (prctl
+    PR_SET_PDEATHSIG), so that a killed run leaves no worker writing behind it; a driver
+    already gone ends the worker at once. Called in the worker rather than as Popen's
+    preexec_fn, which is not safe in a process with threads (pvbatch has them)."""
+    try:
+        import ctypes
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)
+    except (OSError, AttributeError):
+        return
+    if driver and os.getppid() != driver:
+        os._exit(1)
+
+
+def _kill_worker(proc):
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)
+    except OSError:
+        pass
+    proc.wait()
+
+
+def commit_volume(record, staged, paths):
+    """Puts a volume's new record (and thumbnail, when it succeeded) in place of the old
+    ones; returns the record. A thumbnail that does not decode makes the record an error.
+    A failure that is not the file's fault (record["environment"]) leaves the old record
+    and thumbnail as they were and raises StopRun."""
+    if record.get("environment"):
+        raise StopRun(record["environment"])
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+    try:
+        if record["status"] == "ok":
+            problem = B.check_png(staged["thumbnail"])
+            if problem:
+                record = dict(record, status="error",
+                              error="the thumbnail %s" % problem)
+                record.pop("thumbnail", None)
+            else:
+                record["thumbnail"] = os.path.relpath(staged["final_thumbnail"],
+                                                      paths["output"])
+                record["thumbnail_bytes"] = os.path.getsize(staged["thumbnail"])
         try:
-            stdout, stderr = proc.communicate(timeout=args.timeout)
-            problem = None if proc.returncode == 0 else (
-                "the worker died (%s)" % ("signal %d" % -proc.returncode
-                                          if proc.returncode < 0
-                                          else "exit code %d" % proc.returncode))
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)  # the worker's own session only
-            stdout, stderr = proc.communicate()
-            problem = "timed out after %g s" % args.timeout
-        if problem is None or problem.startswith("timed out"):
-            break
-    wall = round(time.time() - start, 3)
-    messages = _error_lines(stderr)
-    record = None
-    if problem is None and os.path.exists(record_path):
-        with open(record_path) as f:
-            record = json.load(f)
-    if record is None:
-        record = {"version": RECORD_VERSION, "name": vol["name"], "id": vol["id"],
-                  "format": vol["format"], "files": len(vol["files"]),
-                  "signature": signature(vol["files"]), "status": "error",
-                  "error": problem or "the worker wrote no record",
-                  "finished": time.strftime("%Y-%m-%d %H:%M:%S")}
-        if os.path.exists(spec["thumbnail"]):
-            os.remove(spec["thumbnail"])  # no half-finished volume looks finished
-    if record["status"] != "ok" and messages:
-        record["messages"] = messages
-    record["wall_seconds"] = wall
-    _write_json(record_path, record)
+            if record["status"] == "ok":
+                os.replace(staged["thumbnail"], staged["final_thumbnail"])
+            _write_json(staged["final_record"], record)
+        except OSError as exc:
+            raise StopRun(B.cause_of(exc))
+        if record["status"] != "ok" and os.path.exists(staged["final_thumbnail"]):
+            os.remove(staged["final_thumbnail"])  # no failed volume looks finished
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
     return record
+
+
+def lock_output(paths):
+    """An exclusive lock on the output folder for this run (B.lock_file: a second run stops
+    with a message naming the first one's pid)."""
+    return B.lock_file(os.path.join(paths["output"], ".lock"),
+                       "the snapshot folder %s" % paths["output"])
+
+
+def _raise_interrupted(signum, frame):
+    raise B.Interrupted(signum)
+
+
+def catch_stop_signals():
+    """SIGINT / SIGTERM raise B.Interrupted in the driver: the running worker is killed, its
+    staged files removed, the index says the run was interrupted, exit 130 / 143."""
+    for s in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(s, _raise_interrupted)
+
+
+def index_entries(volumes, records, paths, stored=None):
+    """Every volume of the folder, in order: this run's record, else the stored one that is
+    still valid (from `stored`, name -> record, when given: read once at the run's start),
+    else {"status": "pending"} (not yet tried)."""
+    done = {r["name"]: r for r in records}
+    entries = []
+    for vol in volumes:
+        r = done.get(vol["name"]) or (stored.get(vol["name"]) if stored is not None
+                                      else load_finished(vol, paths))
+        if r is None:
+            r = {"name": vol["name"], "id": vol["id"], "format": vol["format"],
+                 "status": "pending"}
+        entries.append(r)
+    return entries
+
+
+def run_summary(entries, state):
+    """'7 of 8 done, run interrupted (SIGINT)': done, failed and not tried counted over
+    every volume of the folder, and how the run ended (or that it is running)."""
+    ok = sum(1 for r in entries if r["status"] == "ok")
+    failed = sum(1 for r in entries if r["status"] == "error")
+    pending = sum(1 for r in entries if r["status"] == "pending")
+    text = "%d of %d done" % (ok, len(entries))
+    if failed:
+        text += ", %d failed" % failed
+    if pending:
+        text += ", %d not yet tried" % pending
+    return text + ", run " + state
 
 
 def load_finished(vol, paths):
@@ -542,9 +723,12 @@ def load_finished(vol, paths):
             return None  # the file changed since
     except OSError:
         return None
-    if record.get("status") == "ok" and not os.path.exists(
-            os.path.join(paths["output"], record.get("thumbnail", ""))):
-        return None
+    if record.get("status") == "ok":
+        thumbnail = os.path.join(paths["output"], record.get("thumbnail", ""))
+        if not os.path.isfile(thumbnail):
+            return None
+        if "thumbnail_bytes" in record and os.path.getsize(thumbnail) != record["thumbnail_bytes"]:
+            return None  # a thumbnail of another render than the record's (a cut commit)
     return record
 
 
@@ -558,10 +742,22 @@ def _vec(v, fmt="%+.3f"):
     return "(" + ", ".join(fmt % x for x in v) + ")" if v else ""
 
 
-def write_index(records, paths, input_dir, started):
+def write_index(records, paths, input_dir, started, state="complete"):
+    """index.json and index.html of `records` (every volume of the folder: index_entries),
+    with the run's `state` ("complete", "in progress (pid N)", "interrupted (SIGINT)",
+    "stopped: disk full") in the summary."""
+    with B.signals_held():  # no index.json.part left behind by a signal
+        _write_index(records, paths, input_dir, state)
+
+
+def _write_index(records, paths, input_dir, state):
     ok = sum(1 for r in records if r["status"] == "ok")
+    summary = run_summary(records, state)
     index = {"input": os.path.abspath(input_dir), "generated": time.strftime("%Y-%m-%d %H:%M:%S"),
-             "succeeded": ok, "total": len(records), "volumes": records}
+             "succeeded": ok, "total": len(records), "run": state, "summary": summary,
+             "failed": sum(1 for r in records if r["status"] == "error"),
+             "not_tried": sum(1 for r in records if r["status"] == "pending"),
+             "volumes": records}
     _write_json(os.path.join(paths["output"], "index.json"), index)
 
     e = html.escape
@@ -587,7 +783,10 @@ def write_index(records, paths, input_dir, started):
                     r["range"][0], r["range"][1], comp))))
             if r.get("time_steps", 1) > 1:
                 rows.append(("time steps", "%d (the first shown)" % r["time_steps"]))
-        if r["status"] == "ok":
+        if r["status"] == "pending":
+            rows.append(("state", "not yet tried"))
+            image = '<div class="noimage">not yet tried</div>'
+        elif r["status"] == "ok":
             rows.append(("best direction", e(_vec(r["best_direction"]))))
             eig = r["eigenvalues"]
             bars = "".join(
@@ -631,12 +830,9 @@ the eigenvalues are the normalised PCA spectrum of those points.</p>
 %(cards)s
 </body></html>
 """ % {"input": e(os.path.abspath(input_dir)), "generated": index["generated"],
-       "summary": "%d of %d volumes succeeded" % (ok, len(records)),
+       "summary": e(summary),
        "cards": "\n".join(cards)}
-    tmp = os.path.join(paths["output"], "index.html.part")
-    with open(tmp, "w") as f:
-        f.write(page)
-    os.replace(tmp, os.path.join(paths["output"], "index.html"))
+    B.write_text(os.path.join(paths["output"], "index.html"), page)
 
 
 def main(argv):
@@ -668,15 +864,37 @@ def main(argv):
             args.plugin = find_plugin()
 
     paths = {"output": os.path.abspath(args.output)}
-    for sub in ("thumbnails", "records"):
-        paths[sub] = os.path.join(paths["output"], sub)
-        os.makedirs(paths[sub], exist_ok=True)
+    try:
+        for sub in ("thumbnails", "records"):
+            paths[sub] = os.path.join(paths["output"], sub)
+            os.makedirs(paths[sub], exist_ok=True)
+        lock = lock_output(paths)
+    except (OSError, B.JobError) as exc:
+        print("error: %s" % (exc if isinstance(exc, B.JobError) else
+                             "cannot write into %s: %s" % (paths["output"], B.cause_of(exc))))
+        return 1
+    catch_stop_signals()
+    try:
+        remove_stale_staging(paths)
+        started = time.time()
+        volumes, ignored = discover(args.input, args.output)
+        print("%d volumes in %s%s" % (len(volumes), args.input,
+                                       " (%d other files ignored)" % ignored if ignored else ""))
+        sys.stdout.flush()
+        return drive(volumes, args, paths, started)
+    except B.Interrupted as exc:  # before the first volume: nothing written, the index as it was
+        print("interrupted (%s) before any volume was done" % signal.Signals(exc.signum).name)
+        return exc.exit_code
+    finally:
+        lock.close()
 
-    started = time.time()
-    volumes, ignored = discover(args.input, args.output)
+
+def drive(volumes, args, paths, started):
+    """The run over `volumes`: resume, one worker per volume, progress, the index after each
+    (with every volume of the folder and the run's state). Returns the exit code: 0 when at
+    least one volume has a snapshot, 1 when none or when the run had to stop (disk full,
+    read-only folder), 130 / 143 on SIGINT / SIGTERM."""
     total = len(volumes)
-    print("%d volumes in %s%s" % (total, args.input,
-                                   " (%d other files ignored)" % ignored if ignored else ""))
     if not total:
         write_index([], paths, args.input, started)
         print("0 of 0 volumes succeeded")
@@ -688,28 +906,59 @@ def main(argv):
         print("--force: no such volume: %s" % ", ".join(sorted(unknown)))
 
     records, processed, skipped = [], 0, 0
-    for i, vol in enumerate(volumes):
-        forced = force_all or vol["name"] in force_names
-        record = None if forced else load_finished(vol, paths)
-        if record is not None and record["status"] != "ok" and args.retry_failed:
-            record = None
-        if record is not None:
-            skipped += 1
-            status = "skipped (%s before)" % ("done" if record["status"] == "ok" else "failed")
-        else:
-            if sys.stdout.isatty():  # a live line on a terminal, not in logs
-                sys.stdout.write(progress(i, total, vol["name"], "...") + "\r")
-                sys.stdout.flush()
-            record = process_volume(vol, args, paths)
-            processed += 1
-            if record["status"] == "ok":
-                status = "ok %.1f s" % record["wall_seconds"]
+    state, code = "complete", None
+    try:
+        stored = {v["name"]: load_finished(v, paths) for v in volumes}
+        write_index(index_entries(volumes, records, paths, stored), paths, args.input,
+                    started, "in progress (pid %d)" % os.getpid())
+        for i, vol in enumerate(volumes):
+            forced = force_all or vol["name"] in force_names
+            record = None if forced else load_finished(vol, paths)
+            if record is not None and record["status"] != "ok" and (
+                    args.retry_failed or record.get("environment")):
+                record = None  # a disk-full failure is no fault of the file: tried again
+            if record is not None:
+                skipped += 1
+                status = "skipped (%s before)" % ("done" if record["status"] == "ok"
+                                                  else "failed")
             else:
-                status = "FAILED: %s" % record.get("error", "")
-        records.append(record)
-        print(progress(i + 1, total, vol["name"], status))
-        sys.stdout.flush()
-        write_index(records, paths, args.input, started)  # a partial index survives a stop
+                if sys.stdout.isatty():  # a live line on a terminal, not in logs
+                    sys.stdout.write(progress(i, total, vol["name"], "...") + "\r")
+                    sys.stdout.flush()
+                record = process_volume(vol, args, paths)
+                processed += 1
+                if record["status"] == "ok":
+                    status = "ok %.1f s" % record["wall_seconds"]
+                else:
+                    status = "FAILED: %s" % record.get("error", "")
+            records.append(record)
+            print(progress(i + 1, total, vol["name"], status))
+            sys.stdout.flush()
+            # A partial index survives a stop, and says the run is not finished.
+            write_index(index_entries(volumes, records, paths, stored), paths, args.input,
+                        started, "in progress (pid %d)" % os.getpid() if i + 1 < total
+                        else state)
+    except B.Interrupted as exc:
+        state, code = "interrupted (%s)" % signal.Signals(exc.signum).name, exc.exit_code
+    except (StopRun, B.JobError, OSError) as exc:
+        cause = B.cause_of(exc) if isinstance(exc, OSError) else str(exc)
+        state, code = "stopped: %s" % cause, 1
+        if cause.startswith("disk"):
+            state += " (%s free; the volumes not done are tried again on the next run)" % (
+                B._human(B.free_bytes(paths["output"])))
+    if code is not None:
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+        entries = index_entries(volumes, records, paths)
+        summary = run_summary(entries, state)
+        try:
+            write_index(entries, paths, args.input, started, state)
+        except (OSError, B.JobError) as exc:
+            print("the index could not be updated (%s): it still says the run is in "
+                  "progress" % B.cause_of(exc) if isinstance(exc, OSError) else exc)
+        print(summary)
+        print("%d of %d volumes succeeded" % (
+            sum(1 for r in entries if r["status"] == "ok"), total))
+        return code
 
     ok = sum(1 for r in records if r["status"] == "ok")
     print("index: %s (and index.json); %d processed, %d skipped, %.1f s" % (

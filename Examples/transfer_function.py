@@ -25,6 +25,18 @@ and peak resident memory per stage, variance retained, trustworthiness, view dir
 eigenvalues, the figures),
 then prints a summary and the folder.
 
+Outputs: the run is written into a staging folder beside the output folder
+(PARENT/.NAME.run-PID), every picture and report.json checked (the PNG decodes at its size,
+the JSON parses) before it is renamed into place; report.json, written last, lists only those
+files. Only a finished run replaces the output folder, in one atomic exchange: a failed or
+interrupted run leaves the previous complete output as it was. Before the chain runs, the
+output's file system is checked (writable, room for the pictures) and the memory the chain
+needs is compared with what the process may allocate (MemAvailable, cgroup, ulimit -v). A
+filter that reports an error (out of memory, "needs X GiB") or a picture that was not written
+(disk full, read-only file system, permission denied) stops the job with that message: exit
+code 1. SIGINT / SIGTERM stop it at the filters' next progress report: exit code 130 / 143,
+the staging folder removed. A second job on the same output folder stops at once (a lock).
+
 --method UMAP reduces with UMAP instead (K = --umap-neighbors, 15).
 
 methods.png: the four methods are fitted on the same reference sample (same size, K, L
@@ -32,12 +44,20 @@ and seed; UMAP with its own K) of a coarser grid, every --methods-stride-th voxe
 (placing all voxels four more times would cost more than the whole job); the same
 --methods-sample voxels are drawn in each, coloured by the main domain's widgets.
 """
-import argparse
-import json
-import os
-import resource
-import sys
-import time
+import signal
+
+# SIGINT / SIGTERM from the first line on (importing ParaView takes seconds): noted here,
+# acted on by batch_output.StopSignals once the job has started.
+_EARLY_SIGNALS = []
+for _s in (signal.SIGINT, signal.SIGTERM):
+    signal.signal(_s, lambda signum, frame: _EARLY_SIGNALS.append(signum))
+
+import argparse  # noqa: E402
+import os  # noqa: E402
+import resource  # noqa: E402
+import sys  # noqa: E402
+import time  # noqa: E402
+import traceback  # noqa: E402
 
 from paraview import servermanager, simple
 from paraview.simple import *  # noqa: F401,F403
@@ -45,6 +65,7 @@ from paraview.simple import *  # noqa: F401,F403
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from example_support import DATA, load_plugin, render_view, require  # noqa: E402
 import report_figures  # noqa: E402
+import batch_output as B  # noqa: E402
 
 parser = argparse.ArgumentParser(
     description=__doc__.split("\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -89,15 +110,20 @@ parser.add_argument("--methods-stride", type=int, default=3,
                     help="methods.png: every N-th voxel per axis is reduced (default 3)")
 parser.add_argument("--methods-sample", type=int, default=20000,
                     help="methods.png: voxels drawn per method (default 20000)")
+parser.add_argument("--no-memory-check", dest="memory_check", action="store_false",
+                    help="skip the job's estimate of its peak memory before it starts (the "
+                         "filters still check theirs)")
 args = parser.parse_args(sys.argv[1:])
 
 inputs = [args.input] if args.input else args.channels
 for path in inputs:
     require(path)
-os.makedirs(args.output, exist_ok=True)
-mce = load_plugin(args.plugin)
 stages = {}
 peak_gib = {}  # the process's peak resident memory at the end of each stage
+memory_estimate = {}  # check_memory's estimate, what was available, the virtual size then
+# What the job writes into the output folder (a previous run's copies are replaced).
+OWN_FILES = ("best.png", "worst.png", "dual_domain.png", "domain.png", "spectrum.png",
+             "methods.png", "report.json")
 
 
 def peak_rss_gib():
@@ -110,9 +136,54 @@ def _every(n):
         {2: "2nd", 3: "3rd"}.get(n, "%dth" % n))
 
 
+def output_bytes():
+    """Room the pictures and the report surely need, checked before the chain runs: an
+    eighth of a byte per pixel of every picture plus 16 KiB. The outputs of the small job
+    (240 x 180, no methods.png) took 141 KiB, 0.21 bytes per pixel: this is a lower bound,
+    so that a disk that cannot hold them fails at once, and one that may is tried (a picture
+    that does not fit then stops the job, naming it)."""
+    w, h = args.size
+    pixels = 4 * w * h + 900 * 560 + (2000 * 600 if args.methods else 0)
+    return pixels // 8 + (16 << 10)
+
+
+class Job(object):
+    """The run's output folder, the stop signals and the VTK errors; check() after every
+    stage turns a signal into Interrupted and a filter's error into JobError."""
+
+    def __init__(self):
+        self.signals = B.StopSignals(_EARLY_SIGNALS[0] if _EARLY_SIGNALS else None)
+        self.signals.check()
+        self.errors = B.VtkErrors()
+        self.run = B.RunFolder(args.output, min_free_bytes=output_bytes())
+
+    def check(self, stage):
+        self.signals.check()
+        messages = self.errors.take()
+        if messages:
+            raise B.JobError("%s failed: %s" % (stage, "; ".join(messages[:3])))
+
+    def watch(self, proxy):
+        """The filter stops at its next progress report once SIGINT / SIGTERM came."""
+        return self.signals.watch(proxy)
+
+    def save_png(self, name, write, size=None):
+        """Writes OUTPUT/name through write(path) (into the staging folder), checked."""
+        self.signals.check()
+        B.checked_png(self.run.path(name), write, size)
+        self.check("writing %s" % name)
+
+    def screenshot(self, name, view_or_layout, size, **params):
+        self.save_png(name, lambda path: SaveScreenshot(path, view_or_layout, **params), size)
+
+
+job = None
+
+
 def timed(name, function):
     start = time.time()
     value = function()
+    job.check(name)
     stages[name] = round(time.time() - start, 3)
     peak_gib[name] = peak_rss_gib()
     print("%-22s %7.2f s   peak RSS %.2f GiB" % (name, stages[name], peak_gib[name]))
@@ -120,59 +191,47 @@ def timed(name, function):
     return value
 
 
-# 1. Channels on one grid, and their feature vectors.
-readers = [OpenDataFile(p) for p in inputs]
-if None in readers:
-    sys.exit("no reader for %s" % inputs[readers.index(None)])
-volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
-timed("read", volume.UpdatePipeline)
-if args.upsample != 1.0:
-    # ParaView's own trilinear resampling (vtkProbeFilter) onto a grid F times finer.
-    extent = volume.GetDataInformation().GetExtent()
-    dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
-    volume = simple.ResampleToImage(
-        Input=volume, UseInputBounds=1,
-        SamplingDimensions=[max(1, int(round(d * args.upsample))) for d in dims])
-    timed("upsample", volume.UpdatePipeline)
-if args.chain == "features":
-    features = simple.MultichannelFeatures(Input=volume, FeatureSet=args.features,
-                                           Device=args.device)
-    timed("features", features.UpdatePipeline)
-    source, feature_set = features, "Use input array"
-else:
-    features, source, feature_set = volume, volume, args.features
+def whole_extent(proxy):
+    """The extent a reader will produce, from its header only (nothing read yet)."""
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
-def neighbors(method):
-    return args.umap_neighbors if method == "UMAP" else args.neighbors
+    proxy.UpdatePipelineInformation()
+    algorithm = proxy.GetClientSideObject()
+    algorithm.UpdateInformation()
+    info = algorithm.GetOutputInformation(0)
+    key = vtkStreamingDemandDrivenPipeline.WHOLE_EXTENT()
+    return list(info.Get(key)) if info.Has(key) else None
 
 
-# 2. The reduced domain.
-precision = "Float16" if args.float16_coordinates else "Float32"
-reduction = simple.DimensionReduction(
-    Input=source, FeatureSet=feature_set, Method=args.method, OutputDimension=3,
-    ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(args.method),
-    NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
-    CoordinatePrecision=precision)
-if args.chain == "features":
-    reduction.Features = ["POINTS", "Features"]
-timed("reduction", reduction.UpdatePipeline)
-reduction.UpdatePropertyInformation()
-
-# 3-4. Widgets seeded in the domain; the volume rendered through them.
-view = render_view(args.size)
-display = mce.show_gaussian_tf(reduction, view, blend=args.blend)
-widgets = timed("seed widgets", lambda: mce.auto_widgets(
-    display, args.widgets, opacity=args.widget_opacity, seed=args.seed))
-view.ResetCamera()
-timed("first render", lambda: Render(view))
-
-# 5. The best viewpoint of the widgets' opacity (the display is a Gaussian TF Volume, so
-#    apply_best_viewpoint takes its widgets), and the worst one for comparison.
-best = timed("best viewpoint", lambda: mce.apply_best_viewpoint(reduction, view,
-                                                                disambiguate=True))
-if not best.valid:
-    sys.exit("no best viewpoint for these widgets (their opacity is flat or empty)")
-SaveScreenshot(os.path.join(args.output, "best.png"), view)
+def check_memory(readers):
+    """Refuses the job before anything is read when its estimated peak does not fit in what
+    this process may allocate (B.available_memory: MemAvailable, cgroup, ulimit -v)."""
+    voxels, channels = 0, 0
+    for reader in readers:
+        extent = whole_extent(reader)
+        if extent is None:
+            return  # nothing to estimate from: the filters' own checks remain
+        count = 1
+        for a in range(3):
+            count *= max(1, extent[2 * a + 1] - extent[2 * a] + 1)
+        voxels = max(voxels, count)
+        channels += max(1, len(reader.PointData.keys()) if hasattr(reader, "PointData")
+                        else 1)
+    read_voxels, voxels = voxels, int(voxels * args.upsample ** 3)
+    need = B.job_memory_bytes(read_voxels, voxels, channels, 24 if args.features == "24D" else 6,
+                              args.chain == "features", args.float16_coordinates,
+                              tuple(args.size), args.methods, args.methods_stride)
+    available = B.available_memory()
+    memory_estimate.update(needed_gib=round(need / 2.0 ** 30, 3),
+                           available_gib=round(available / 2.0 ** 30, 3)
+                           if available is not None else None,
+                           vm_size_at_check_gib=round((B._vm_size() or 0) / 2.0 ** 30, 3))
+    if available is not None and need > available:
+        raise B.JobError("the job needs %s of memory for %d voxels x %d channels (%s "
+                         "features, %s chain), %s available: subsample (--upsample below "
+                         "1) or free memory"
+                         % (B.gib(need), voxels, channels, args.features, args.chain,
+                            B.gib(available)))
 
 
 def camera_of(view):
@@ -184,139 +243,257 @@ def camera_of(view):
             "size": [int(v) for v in view.ViewSize], "background": list(view.Background)}
 
 
-best_camera = camera_of(view)
-worst = mce.apply_best_viewpoint(reduction, view, which="worst", disambiguate=True)
-SaveScreenshot(os.path.join(args.output, "worst.png"), view)
-mce.apply_best_viewpoint(reduction, view, disambiguate=True)
-
-# The reduced domain beside the volume, and the eigenvalue spectrum.
-dual = timed("dual domain", lambda: mce.show_dual_domain(display, view))
-SaveScreenshot(os.path.join(args.output, "dual_domain.png"), dual.layout,
-               ImageResolution=[2 * args.size[0], args.size[1]])
-SaveScreenshot(os.path.join(args.output, "domain.png"), dual.domain_view)
-values, _ = report_figures.spectrum_table(reduction)
-variance = float(reduction.GetPropertyValue("VarianceRetained"))
-spectrum_bars = report_figures.spectrum_figure(
-    os.path.join(args.output, "spectrum.png"), args.method, values, 3, variance)
+def neighbors(method):
+    return args.umap_neighbors if method == "UMAP" else args.neighbors
 
 
-def coarse(source):
-    """Every --methods-stride-th voxel of `source` per axis."""
-    rate = max(1, args.methods_stride)
-    return simple.ExtractSubset(Input=source, SampleRateI=rate, SampleRateJ=rate,
-                                SampleRateK=rate)
-
-
-def fetch_array(source, name, port=0):
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-
-    data = servermanager.Fetch(source, idx=port)
-    array = data.GetPointData().GetArray(name)
-    # Coordinates may be float16 (--float16-coordinates): decoded to float32.
-    return mce.coordinate_values(array) if name == "ReducedCoordinates" else vtk_to_numpy(array)
-
-
-def reduce_coarse(method, coarse_features):
-    """The main reduction's settings (reference size, K, L, seed) with another method, on
-    the coarse grid; returns the proxy, updated."""
-    other = simple.DimensionReduction(
-        Input=coarse_features, FeatureSet=feature_set, Method=method, OutputDimension=3,
-        ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(method),
-        NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
-    CoordinatePrecision=precision)
+def main():
+    mce = load_plugin(args.plugin)
+    # 1. Channels on one grid, and their feature vectors.
+    readers = [OpenDataFile(p) for p in inputs]
+    if None in readers:
+        raise B.JobError("no reader for %s" % inputs[readers.index(None)])
+    if args.memory_check:
+        check_memory(readers)
+    volume = simple.MergeChannels(Input=readers) if len(readers) > 1 else readers[0]
+    job.watch(volume)
+    timed("read", volume.UpdatePipeline)
+    if args.upsample != 1.0:
+        # ParaView's own trilinear resampling (vtkProbeFilter) onto a grid F times finer.
+        extent = volume.GetDataInformation().GetExtent()
+        dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
+        volume = job.watch(simple.ResampleToImage(
+            Input=volume, UseInputBounds=1,
+            SamplingDimensions=[max(1, int(round(d * args.upsample))) for d in dims]))
+        timed("upsample", volume.UpdatePipeline)
+    if volume.GetDataInformation().GetNumberOfPoints() < 2:
+        raise B.JobError("the input has no voxels: %s" % ", ".join(inputs))
     if args.chain == "features":
-        other.Features = ["POINTS", "Features"]
-    other.UpdatePipeline()
-    other.UpdatePropertyInformation()
-    return other
+        features = job.watch(simple.MultichannelFeatures(
+            Input=volume, FeatureSet=args.features, Device=args.device))
+        timed("features", features.UpdatePipeline)
+        source, feature_set = features, "Use input array"
+    else:
+        features, source, feature_set = volume, volume, args.features
+
+    # 2. The reduced domain.
+    precision = "Float16" if args.float16_coordinates else "Float32"
+    reduction = job.watch(simple.DimensionReduction(
+        Input=source, FeatureSet=feature_set, Method=args.method, OutputDimension=3,
+        ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(args.method),
+        NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
+        CoordinatePrecision=precision))
+    if args.chain == "features":
+        reduction.Features = ["POINTS", "Features"]
+    timed("reduction", reduction.UpdatePipeline)
+    reduction.UpdatePropertyInformation()
+    if reduction.GetDataInformation().GetPointDataInformation().GetArrayInformation(
+            "ReducedCoordinates") is None:
+        raise B.JobError("reduction failed: DimensionReduction produced no ReducedCoordinates")
+
+    # 3-4. Widgets seeded in the domain; the volume rendered through them.
+    view = render_view(args.size)
+    display = mce.show_gaussian_tf(reduction, view, blend=args.blend)
+    widgets = timed("seed widgets", lambda: mce.auto_widgets(
+        display, args.widgets, opacity=args.widget_opacity, seed=args.seed))
+    view.ResetCamera()
+    timed("first render", lambda: Render(view))
+
+    # 5. The best viewpoint of the widgets' opacity (the display is a Gaussian TF Volume, so
+    #    apply_best_viewpoint takes its widgets), and the worst one for comparison.
+    best = timed("best viewpoint", lambda: mce.apply_best_viewpoint(reduction, view,
+                                                                    disambiguate=True))
+    if not best.valid:
+        raise B.JobError("no best viewpoint for these widgets (their opacity is flat or empty)")
+    job.screenshot("best.png", view, args.size)
+    best_camera = camera_of(view)
+    worst = mce.apply_best_viewpoint(reduction, view, which="worst", disambiguate=True)
+    job.check("worst viewpoint")
+    job.screenshot("worst.png", view, args.size)
+    mce.apply_best_viewpoint(reduction, view, disambiguate=True)
+
+    # The reduced domain beside the volume, and the eigenvalue spectrum.
+    dual = timed("dual domain", lambda: mce.show_dual_domain(display, view))
+    job.screenshot("dual_domain.png", dual.layout, [2 * args.size[0], args.size[1]],
+                   ImageResolution=[2 * args.size[0], args.size[1]])
+    job.screenshot("domain.png", dual.domain_view, None)
+    values, _ = report_figures.spectrum_table(reduction)
+    variance = float(reduction.GetPropertyValue("VarianceRetained"))
+    spectrum_bars = []
+    job.save_png("spectrum.png", lambda path: spectrum_bars.append(
+        report_figures.spectrum_figure(path, args.method, values, 3, variance)))
+    spectrum_bars = spectrum_bars[0]
+
+    def coarse(source):
+        """Every --methods-stride-th voxel of `source` per axis."""
+        rate = max(1, args.methods_stride)
+        return job.watch(simple.ExtractSubset(Input=source, SampleRateI=rate,
+                                              SampleRateJ=rate, SampleRateK=rate))
+
+    def fetch_array(source, name, port=0):
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        data = servermanager.Fetch(source, idx=port)
+        array = data.GetPointData().GetArray(name)
+        job.check("fetching %s" % name)
+        if array is None:
+            raise B.JobError("%s: no %s array in its output" % (
+                source.GetXMLLabel(), name))
+        # Coordinates may be float16 (--float16-coordinates): decoded to float32.
+        return mce.coordinate_values(array) if name == "ReducedCoordinates" \
+            else vtk_to_numpy(array)
+
+    def reduce_coarse(method, coarse_features):
+        """The main reduction's settings (reference size, K, L, seed) with another method,
+        on the coarse grid; returns the proxy, updated."""
+        other = job.watch(simple.DimensionReduction(
+            Input=coarse_features, FeatureSet=feature_set, Method=method, OutputDimension=3,
+            ReferenceSampleSize=args.reference_size, NumberOfNeighbors=neighbors(method),
+            NumberOfLandmarks=args.landmarks, RandomSeed=args.seed, Device=args.device,
+            CoordinatePrecision=precision))
+        if args.chain == "features":
+            other.Features = ["POINTS", "Features"]
+        other.UpdatePipeline()
+        job.check("methods (%s)" % method)
+        other.UpdatePropertyInformation()
+        return other
+
+    def method_panels():
+        """The same sampled voxels of the coarse grid in the domains of PCA, Isomap, LLE and
+        UMAP, each coloured as the main domain's widgets colour it (ReducedDomain's RGBA and
+        WidgetOpacity on the main domain's coordinates of those voxels)."""
+        coarse_features = coarse(features)
+        shown = job.watch(simple.ReducedDomain(
+            Input=coarse(reduction), SampleSize=args.methods_sample, RandomSeed=args.seed,
+            GaussianWidgets=widgets))
+        shown.Coordinates = ["POINTS", "ReducedCoordinates"]
+        voxels = fetch_array(shown, "VoxelId")
+        colours = report_figures.point_colours(fetch_array(shown, "RGBA").tolist(),
+                                               fetch_array(shown, "WidgetOpacity").tolist())
+        panels = []
+        for method in ("PCA", "Isomap", "LLE", "UMAP"):
+            start = time.time()
+            other = reduce_coarse(method, coarse_features)
+            xyz = fetch_array(other, "ReducedCoordinates")[voxels]
+            panels.append(dict(
+                name=method, x=xyz[:, 0].tolist(), y=xyz[:, 1].tolist(), colours=colours,
+                variance_retained=float(other.GetPropertyValue("VarianceRetained")),
+                trustworthiness=float(other.GetPropertyValue("Trustworthiness")),
+                seconds=round(time.time() - start, 3)))
+            Delete(other)
+        grid = coarse_features.GetDataInformation().GetNumberOfPoints()
+        return panels, grid, len(voxels)
+
+    methods = None
+    if args.methods:
+        panels, grid, drawn = timed("methods", method_panels)
+        caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
+                   "reference sample (seed=%d, K=%d, UMAP's K=%d, L=%d); the same %d voxels "
+                   "drawn at dimensions 1-2, in the colour of the %s domain's widget that "
+                   "selects them (opacity at least 0.1; the others grey)"
+                   % (args.features, _every(args.methods_stride), grid, args.reference_size,
+                      args.seed, args.neighbors, args.umap_neighbors, args.landmarks, drawn,
+                      args.method))
+        job.save_png("methods.png", lambda path: report_figures.methods_figure(
+            path, panels, caption))
+        methods = {p["name"]: {k: p[k] for k in ("variance_retained", "trustworthiness",
+                                                 "seconds")} for p in panels}
+        methods.update(grid_voxels=grid, voxels_drawn=drawn, stride=args.methods_stride)
+
+    # Report: written last, listing the pictures that are in the staging folder, checked.
+    bvp = best.filter
+    images = [k for k in ("best", "worst", "dual_domain", "domain", "spectrum", "methods")
+              if os.path.exists(job.run.path(k + ".png"))]
+    report = {
+        "channels": [os.path.abspath(p) for p in inputs],
+        "voxels": volume.GetDataInformation().GetNumberOfPoints(),
+        "upsample": args.upsample,
+        "chain": args.chain,
+        "features": args.features,
+        "method": args.method,
+        "reference_sample_size": args.reference_size,
+        "coordinate_precision": precision,
+        "variance_retained": float(reduction.GetPropertyValue("VarianceRetained")),
+        "trustworthiness": float(reduction.GetPropertyValue("Trustworthiness")),
+        "reduction_eigenvalues": [float(v) for v in
+                                  reduction.GetPropertyValue("EigenvalueSpectrum")],
+        "widgets": [widgets[i:i + 8] for i in range(0, len(widgets), 8)],
+        "best_direction": best.direction,
+        "worst_direction": worst.direction,
+        "view_up": best.view_up,
+        "best_camera": best_camera,
+        "view_eigenvalues": best.eigenvalues,
+        "device": best.device,
+        "viewpoint_stage_ms": dict(zip(("harris", "select", "pca", "total"),
+                                       [float(x) for x in bvp.GetPropertyValue("StageTimings")])),
+        "stage_seconds": stages,
+        "stage_peak_rss_gib": peak_gib,
+        "peak_rss_gib": peak_rss_gib(),
+        "memory_estimate": dict(memory_estimate,
+                                vm_peak_gib=round((B._vm_size("VmPeak") or 0) / 2.0 ** 30, 3)),
+        "images": {k: job.run.final(k + ".png") for k in images},
+        "spectrum_figure": {"bars": spectrum_bars, "kept": 3,
+                            "kept_colour": list(report_figures.KEPT_COLOUR),
+                            "other_colour": list(report_figures.OTHER_COLOUR)},
+        "methods": methods,
+    }
+    job.signals.check()
+    B.write_json(job.run.path("report.json"), report)
+    job.signals.check()
+    job.run.commit(OWN_FILES)
+
+    fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
+    variance_text = ("n/a (%s has no variance spectrum)" % args.method
+                     if args.method in ("LLE", "UMAP") else "%.3f" % report["variance_retained"])
+    print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
+          % (report["voxels"], args.features, args.method, variance_text,
+             report["trustworthiness"]))
+    print("peak resident memory %.2f GiB (%s chain, upsample %g)"
+          % (report["peak_rss_gib"], args.chain, args.upsample))
+    print("%d widgets seeded; best view %s, worst %s, view eigenvalues %s"
+          % (len(report["widgets"]), fmt(best.direction), fmt(worst.direction),
+             " ".join("%.3f" % e for e in best.eigenvalues)))
+    print("output: %s" % os.path.abspath(args.output))
 
 
-def method_panels():
-    """The same sampled voxels of the coarse grid in the domains of PCA, Isomap, LLE and UMAP,
-    each coloured as the main domain's widgets colour it (ReducedDomain's RGBA and
-    WidgetOpacity on the main domain's coordinates of those voxels)."""
-    coarse_features = coarse(features)
-    shown = simple.ReducedDomain(Input=coarse(reduction), SampleSize=args.methods_sample,
-                                 RandomSeed=args.seed, GaussianWidgets=widgets)
-    shown.Coordinates = ["POINTS", "ReducedCoordinates"]
-    voxels = fetch_array(shown, "VoxelId")
-    colours = report_figures.point_colours(fetch_array(shown, "RGBA").tolist(),
-                                           fetch_array(shown, "WidgetOpacity").tolist())
-    panels = []
-    for method in ("PCA", "Isomap", "LLE", "UMAP"):
-        start = time.time()
-        other = reduce_coarse(method, coarse_features)
-        xyz = fetch_array(other, "ReducedCoordinates")[voxels]
-        panels.append(dict(
-            name=method, x=xyz[:, 0].tolist(), y=xyz[:, 1].tolist(), colours=colours,
-            variance_retained=float(other.GetPropertyValue("VarianceRetained")),
-            trustworthiness=float(other.GetPropertyValue("Trustworthiness")),
-            seconds=round(time.time() - start, 3)))
-        Delete(other)
-    grid = coarse_features.GetDataInformation().GetNumberOfPoints()
-    return panels, grid, len(voxels)
+def run():
+    """The job; returns its exit code: 0 done, 1 an error (one line on stderr, the output
+    folder as it was), 130 / 143 SIGINT / SIGTERM (the output folder as it was)."""
+    global job
+    code = 0
+    try:
+        job = Job()
+        main()
+    except B.Interrupted as exc:
+        print("stopped: %s; the output folder is as it was before this run" % exc,
+              file=sys.stderr)
+        code = exc.exit_code
+    except B.JobError as exc:
+        print("error: %s" % exc, file=sys.stderr)
+        code = B.EXIT_ERROR
+    except Exception as exc:  # a stage's empty output met by the next one: say why
+        signum = job.signals.signum if job is not None else None
+        messages = job.errors.take() if job is not None else []
+        if signum is not None:
+            print("stopped: interrupted by %s" % B.signal.Signals(signum).name, file=sys.stderr)
+            code = 128 + signum
+        else:
+            if messages:
+                print("error: %s" % "; ".join(messages[:3]), file=sys.stderr)
+            else:
+                traceback.print_exc()
+                print("error: %s: %s" % (type(exc).__name__, exc), file=sys.stderr)
+            code = B.EXIT_ERROR
+    finally:
+        if job is not None and not job.run.committed:
+            job.run.abandon()
+    return code
 
 
-methods = None
-if args.methods:
-    panels, grid, drawn = timed("methods", method_panels)
-    caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
-               "reference sample (seed=%d, K=%d, UMAP's K=%d, L=%d); the same %d voxels drawn at "
-               "dimensions 1-2, in the colour of the %s domain's widget that selects them "
-               "(opacity at least 0.1; the others grey)"
-               % (args.features, _every(args.methods_stride), grid, args.reference_size,
-                  args.seed, args.neighbors, args.umap_neighbors, args.landmarks, drawn, args.method))
-    report_figures.methods_figure(os.path.join(args.output, "methods.png"), panels, caption)
-    methods = {p["name"]: {k: p[k] for k in ("variance_retained", "trustworthiness",
-                                             "seconds")} for p in panels}
-    methods.update(grid_voxels=grid, voxels_drawn=drawn, stride=args.methods_stride)
-
-# Report.
-bvp = best.filter
-report = {
-    "channels": [os.path.abspath(p) for p in inputs],
-    "voxels": volume.GetDataInformation().GetNumberOfPoints(),
-    "upsample": args.upsample,
-    "chain": args.chain,
-    "features": args.features,
-    "method": args.method,
-    "reference_sample_size": args.reference_size,
-    "coordinate_precision": precision,
-    "variance_retained": float(reduction.GetPropertyValue("VarianceRetained")),
-    "trustworthiness": float(reduction.GetPropertyValue("Trustworthiness")),
-    "reduction_eigenvalues": [float(v) for v in reduction.GetPropertyValue("EigenvalueSpectrum")],
-    "widgets": [widgets[i:i + 8] for i in range(0, len(widgets), 8)],
-    "best_direction": best.direction,
-    "worst_direction": worst.direction,
-    "view_up": best.view_up,
-    "best_camera": best_camera,
-    "view_eigenvalues": best.eigenvalues,
-    "device": best.device,
-    "viewpoint_stage_ms": dict(zip(("harris", "select", "pca", "total"),
-                                   [float(x) for x in bvp.GetPropertyValue("StageTimings")])),
-    "stage_seconds": stages,
-    "stage_peak_rss_gib": peak_gib,
-    "peak_rss_gib": peak_rss_gib(),
-    "images": {k: os.path.abspath(os.path.join(args.output, k + ".png"))
-               for k in ("best", "worst", "dual_domain", "domain", "spectrum")
-               + (("methods",) if methods else ())},
-    "spectrum_figure": {"bars": spectrum_bars, "kept": 3,
-                        "kept_colour": list(report_figures.KEPT_COLOUR),
-                        "other_colour": list(report_figures.OTHER_COLOUR)},
-    "methods": methods,
-}
-with open(os.path.join(args.output, "report.json"), "w") as f:
-    json.dump(report, f, indent=2)
-
-fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
-variance_text = ("n/a (%s has no variance spectrum)" % args.method if args.method in ("LLE", "UMAP")
-                 else "%.3f" % report["variance_retained"])
-print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
-      % (report["voxels"], args.features, args.method, variance_text,
-         report["trustworthiness"]))
-print("peak resident memory %.2f GiB (%s chain, upsample %g)"
-      % (report["peak_rss_gib"], args.chain, args.upsample))
-print("%d widgets seeded; best view %s, worst %s, view eigenvalues %s"
-      % (len(report["widgets"]), fmt(best.direction), fmt(worst.direction),
-         " ".join("%.3f" % e for e in best.eigenvalues)))
-print("output: %s" % os.path.abspath(args.output))
+if __name__ == "__main__":
+    exit_code = run()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    # os._exit: pvbatch 5.11 crashes in its teardown after sys.exit, and its own exit path
+    # does not keep the code.
+    os._exit(exit_code)

@@ -9,6 +9,9 @@
 # (--help lists them, e.g. --features 6D --output DIR; --upsample 2 resamples the channels
 # to 57 M voxels first; --chain features keeps the Features array as before the fused path).
 # report.json records the time and the peak resident memory of each stage.
+# Exit code 0 when the run is complete; 1 with one "error: ..." line (a filter's error, too
+# little memory, a disk full or read-only); 130 / 143 on SIGINT / SIGTERM. Only a complete
+# run replaces ./output/transfer_function (docs/reliability.md).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${MCV_BUILD_DIR:-$repo/build}"

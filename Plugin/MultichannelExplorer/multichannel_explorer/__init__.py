@@ -27,7 +27,10 @@ The package, one module per capability (every public name is also here, at the t
                         set_camera_direction, turn_camera, follow_best_viewpoint,
                         stop_following
     images              image_entropy, image_statistics (and PNG reading)
-    transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+    transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf,
+                        check_widget_values (nan, inf, absurd widget values: an error)
+    states              check_state_file, load_state (a state file's widgets checked
+                        before ParaView loads them: its loader reads "nan" as 0)
     reduction           reduce_multichannel
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
@@ -54,7 +57,9 @@ from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
 from .probing import PROBE_MARKER, add_widget_at, palette_color, probe
 from .reduction import reduce_multichannel
 from .seeding import auto_widgets
-from .transfer_function import GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf
+from .states import check_state_file, load_state
+from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
+                                show_gaussian_tf)
 from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_filter,
                         follow_best_viewpoint, set_camera_direction, stop_following,
                         turn_camera)
@@ -76,6 +81,9 @@ __all__ = [
     "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",
+    "check_widget_values",
+    "check_state_file",
+    "load_state",
     "show_dual_domain",
     "follow_best_viewpoint",
     "stop_following",

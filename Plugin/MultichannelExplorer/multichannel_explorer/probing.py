@@ -10,7 +10,7 @@ from ._common import _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
 from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
-                                _widget_values)
+                                _domain_size, _widget_values, check_widget_values)
 from .viewpoint import ViewpointResult
 
 __all__ = [
@@ -177,9 +177,11 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     if sigma is None:
         ranges = _coordinate_range(source, _coordinates_name(display))
         sigma = 0.05 * (max(hi - lo for lo, hi in ranges) or 1.0)
+    size = _domain_size(source, _coordinates_name(display))
     widgets = _widget_values(display)
     rgb = list(color) if color is not None else _unused_color(widgets)
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
+    check_widget_values(widget, "add_widget_at", size, first=len(widgets) // 8)
     values = widgets + widget
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.

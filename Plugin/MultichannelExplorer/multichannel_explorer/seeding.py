@@ -3,7 +3,7 @@ domain.
 """
 
 from .dual_domain import reduced_domain_filter
-from .transfer_function import _coordinates_name, _source_and_display
+from .transfer_function import _coordinates_name, _source_and_display, check_widget_values
 
 __all__ = [
     "auto_widgets",
@@ -45,6 +45,7 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
     if not widgets:
         raise RuntimeError("auto_widgets: no widgets could be seeded (see the messages of "
                            "ReducedDomain)")
+    check_widget_values(widgets, "auto_widgets (ReducedDomain's SeededWidgets)")
     if display is not None:
         display.GaussianWidgets = widgets
     return widgets

@@ -7,6 +7,7 @@ from ._common import _is_representation, _simple
 
 __all__ = [
     "GAUSSIAN_TF_REPRESENTATION",
+    "check_widget_values",
     "show_gaussian_tf",
 ]
 
@@ -84,6 +85,55 @@ def _flat_widgets(widgets):
     return flat
 
 
+WIDGET_FIELDS = ("cx", "cy", "cz", "sigma", "r", "g", "b", "opacity")
+# A centre this far out, or a sigma this many times the reduced domain's size, is no
+# widget anyone placed: a unit or parsing error upstream.
+ABSURD_CENTRE = 1e30
+ABSURD_SIGMA_FACTOR = 1e6
+
+
+def check_widget_values(values, where="GaussianWidgets", domain_size=None, first=0):
+    """Raises ValueError naming the widget and the field when a value of the flat widget
+    list (8 per widget: cx, cy, cz, sigma, r, g, b, opacity) is not finite (nan, inf), a
+    centre lies beyond 1e30, or sigma exceeds `domain_size` (the reduced domain's largest
+    extent, when known; else 1e30) x 1e6; also when the list is not a multiple of 8. A
+    ParaView property takes such values as they are (and a state file's "nan" loads as 0),
+    so the helpers that set GaussianWidgets check them first. Widgets are numbered from
+    `first` (the index of values[0:8] in the display's list). Returns `values`."""
+    import math
+
+    if len(values) % len(WIDGET_FIELDS):
+        raise ValueError("%s: %d values, not a multiple of 8 (cx, cy, cz, sigma, r, g, b, "
+                         "opacity per widget)" % (where, len(values)))
+    sigma_limit = ABSURD_SIGMA_FACTOR * domain_size if domain_size else ABSURD_CENTRE
+    for i, value in enumerate(values):
+        widget, field = divmod(i, len(WIDGET_FIELDS))
+        widget += first
+        name = WIDGET_FIELDS[field]
+        if not math.isfinite(value):
+            raise ValueError("%s: widget %d's %s is %r, not a finite number"
+                             % (where, widget, name, value))
+        if name in ("cx", "cy", "cz") and abs(value) > ABSURD_CENTRE:
+            raise ValueError("%s: widget %d's centre %s = %g lies beyond %g"
+                             % (where, widget, name, value, ABSURD_CENTRE))
+        if name == "sigma" and value > sigma_limit:
+            raise ValueError("%s: widget %d's sigma = %g exceeds %g (%s)"
+                             % (where, widget, value, sigma_limit,
+                                "1e6 x the reduced domain's size %g" % domain_size
+                                if domain_size else "no widget is that wide"))
+    return values
+
+
+def _domain_size(source, coordinates):
+    """The largest extent of the coordinate array over the volume, or None when unknown."""
+    try:
+        from ._voxels import _coordinate_range
+
+        return max(hi - lo for lo, hi in _coordinate_range(source, coordinates)) or None
+    except Exception:  # no such array yet, or no range: the absolute limits apply
+        return None
+
+
 def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordinates",
                      blend="Composite", classification="Per sample"):
     """Shows `source` (image data with a 2- or 3-component point array of reduced
@@ -119,7 +169,9 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     display.CoordinateArray = str(coordinates)
     display.GaussianBlendMode = str(blend)
     display.Classification = str(classification)
-    display.GaussianWidgets = _flat_widgets(widgets)
+    display.GaussianWidgets = check_widget_values(
+        _flat_widgets(widgets), "show_gaussian_tf widgets",
+        _domain_size(source, str(coordinates)) if widgets else None)
     if empty:
         simple.ResetCamera(view)
     return display
