@@ -200,33 +200,6 @@ class VolumeError(Exception):
     pass
 
 
-class _ReaderErrors(list):
-    """The error messages of VTK objects from its creation until stop() (through ParaView's
-    output window), as "<message>": the "ERROR: In file, line N / Class (0x...):" prefix
-    and the pipeline's follow-ups ("... returned failure for request") left out."""
-
-    def __init__(self):
-        list.__init__(self)
-        from vtkmodules.util.misc import calldata_type
-        from vtkmodules.util.vtkConstants import VTK_STRING
-        from vtkmodules.vtkCommonCore import vtkOutputWindow
-
-        @calldata_type(VTK_STRING)
-        def on_error(caller, event, text):
-            lines = str(text).strip().splitlines()
-            source, _, message = (lines[1] if len(lines) > 1 else lines[0]).partition("): ")
-            if not source.split(" ")[0].endswith(("Pipeline", "Executive")):
-                self.append((message or source).strip())
-
-        self._callback = on_error  # kept alive with the list
-        self._tag = vtkOutputWindow.GetInstance().AddObserver("ErrorEvent", on_error)
-
-    def stop(self):
-        from vtkmodules.vtkCommonCore import vtkOutputWindow
-
-        vtkOutputWindow.GetInstance().RemoveObserver(self._tag)
-
-
 def _read(simple, spec):
     """The reader of the volume, updated."""
     files = spec["files"]
@@ -245,11 +218,12 @@ def _read(simple, spec):
 
 
 def _open_volume(simple, spec):
-    errors = _ReaderErrors()  # the reader's reason when it refuses the file
+    watcher = B.VtkErrors()  # the reader's reason when it refuses the file
     try:
         reader = _read(simple, spec)
     finally:
-        errors.stop()
+        watcher.stop()
+    errors = watcher.take()
     data = reader.GetClientSideObject().GetOutputDataObject(0)
     if data is None or not data.IsA("vtkImageData"):
         raise VolumeError("the reader gave %s, not image data"
