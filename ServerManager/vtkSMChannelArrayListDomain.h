@@ -4,9 +4,10 @@
  *
  * An ArrayListDomain (XML element ChannelArrayListDomain, the same attributes and required
  * properties) that leaves out VTK's bookkeeping arrays, vtkGhostType and ResampleToImage's
- * vtkValidPointMask (mcvInternalArrays.h). The filters never take those as channels, but
- * the plain domain listed them and, as a repeatable property's default is every array of
- * the domain, showed them checked in the Channels list.
+ * vtkValidPointMask, and the suite's outputs, Features, Foreground, ReducedCoordinates and
+ * HarrisScore (mcvInternalArrays.h). The filters never take those as channels by default,
+ * but the plain domain listed them and, as a repeatable property's default is every array
+ * of the domain, showed them checked in the Channels list.
  */
 #ifndef vtkSMChannelArrayListDomain_h
 #define vtkSMChannelArrayListDomain_h
@@ -20,6 +21,15 @@ public:
   static vtkSMChannelArrayListDomain* New();
   vtkTypeMacro(vtkSMChannelArrayListDomain, vtkSMArrayListDomain);
   void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The superclass's update; and when the list of channels was empty before (the input had
+   * not run yet) and the property holds no channel, the property gets the domain's default,
+   * every channel. A filter made from Python before its input ran had an empty Channels
+   * property, which the filters read as "every channel", while the GUI's Channels list,
+   * filled once the input ran, showed every channel unchecked: now it shows what is used.
+   */
+  void Update(vtkSMProperty* requestingProperty) override;
 
 protected:
   vtkSMChannelArrayListDomain();

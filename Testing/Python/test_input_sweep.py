@@ -882,7 +882,7 @@ def nifti_rows():
     rows.append(Row("bv.nifti-4d", "BV", "nifti-4d", {"NumberOfInterestPoints": 100},
                     runner=channels_runner, check=along(2, 5.0)))
     rows.append(Row("mf.nifti-4d", "MF", "nifti-4d", {"FeatureSet": "6D"},
-                    check=n_features(6, "NIFTI_0.intensity")))
+                    check=n_features(6, "four_d_0.intensity")))
     return rows
 
 
