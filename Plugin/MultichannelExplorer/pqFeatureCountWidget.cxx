@@ -95,7 +95,8 @@ pqFeatureCountWidget::pqFeatureCountWidget(
   pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
   if (pqPipelineSource* self = model->findItem<pqPipelineSource*>(smproxy))
   {
-    QObject::connect(self, &pqPipelineSource::dataUpdated, this, &pqFeatureCountWidget::updateCount);
+    QObject::connect(
+      self, SIGNAL(dataUpdated(pqPipelineSource*)), this, SLOT(updateCount()));
   }
   this->watchInput();
 }
@@ -109,8 +110,8 @@ void pqFeatureCountWidget::watchInput()
   pqServerManagerModel* model = pqApplicationCore::instance()->getServerManagerModel();
   if (pqPipelineSource* input = model->findItem<pqPipelineSource*>(inputOf(this->proxy())))
   {
-    QObject::connect(input, &pqPipelineSource::dataUpdated, this,
-      &pqFeatureCountWidget::updateCount, Qt::UniqueConnection);
+    QObject::connect(input, SIGNAL(dataUpdated(pqPipelineSource*)), this, SLOT(updateCount()),
+      Qt::UniqueConnection);
   }
   this->updateCount();
 }
