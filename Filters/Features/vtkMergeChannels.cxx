@@ -75,15 +75,24 @@ bool sameGrid(const Grid& a, const Grid& b)
 
 // The file an input was read from: the reader upstream of it (through filters that have
 // one input), or "" when none is found. ParaView's readers of series (vtkFileSeriesReader)
-// name the file of the time step read; VTK's image readers their file.
-std::string fileOf(vtkAlgorithm* algorithm)
+// name the file of the time step read (`series` tells whether they read several, and then
+// `first` is the series' first file); VTK's image readers their file.
+std::string fileOf(vtkAlgorithm* algorithm, bool* series = nullptr, std::string* first = nullptr)
 {
   for (int depth = 0; algorithm && depth < 64; ++depth)
   {
-    if (auto* series = vtkFileSeriesReader::SafeDownCast(algorithm))
+    if (auto* reader = vtkFileSeriesReader::SafeDownCast(algorithm))
     {
-      const char* name = series->GetCurrentFileName();
-      name = name && *name ? name : series->GetFileName(0);
+      const char* name = reader->GetCurrentFileName();
+      name = name && *name ? name : reader->GetFileName(0);
+      if (series)
+      {
+        *series = reader->GetNumberOfFileNames() > 1;
+      }
+      if (first)
+      {
+        *first = reader->GetFileName(0) ? reader->GetFileName(0) : "";
+      }
       return name ? name : "";
     }
     if (auto* reader = vtkImageReader2::SafeDownCast(algorithm))
@@ -231,6 +240,7 @@ void vtkMergeChannels::NameChannels(vtkInformationVector* inputs, vtkDataSet* ou
     }
     vtkPointData* pd = input->GetPointData();
     std::string file; // looked up once, for the first generic name
+    std::string stemOfFile;
     bool fileLooked = false;
     for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
     {
@@ -249,10 +259,15 @@ void vtkMergeChannels::NameChannels(vtkInformationVector* inputs, vtkDataSet* ou
       {
         if (!fileLooked)
         {
-          file = fileOf(this->GetInputAlgorithm(0, i));
+          // A time series keeps one name at every step: the series' ("vol" for vol_0,...).
+          bool series = false;
+          std::string firstFile;
+          file = fileOf(this->GetInputAlgorithm(0, i), &series, &firstFile);
+          file = series ? firstFile : file;
           fileLooked = true;
+          stemOfFile = series ? mcv::seriesStem(file) : mcv::fileStem(file);
         }
-        const std::string stem = mcv::fileStem(file);
+        const std::string& stem = stemOfFile;
         base = stem.empty() ? base : stem;
       }
       std::string unique = base;

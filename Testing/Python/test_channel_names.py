@@ -101,6 +101,19 @@ image = image_of(same)
 got = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(got == ["ch2", "ch2_2"], "one .mhd twice through ParaView's reader: %s" % got)
 
+# A time series through ParaView's reader: one name at every step, the series'.
+for step, name in enumerate(("ch2", "aal")):  # headers naming ch2.raw, aal.raw beside them
+    shutil.copyfile(os.path.join(out, name + ".mhd"), os.path.join(out, "s_%d.mhd" % step))
+timed = simple.MergeChannels(Input=[simple.MetaFileSeriesReader(
+    FileNames=[os.path.join(out, "s_0.mhd"), os.path.join(out, "s_1.mhd")]), readers[2]])
+for step, name, source in ((0, "ch2", sources[0]), (1, "aal", sources[1])):
+    timed.UpdatePipeline(step)
+    image = timed.GetClientSideObject().GetOutputDataObject(0)
+    got = [image.GetPointData().GetArrayName(i)
+           for i in range(image.GetPointData().GetNumberOfArrays())]
+    C.check(got == ["s", "brodmann"] and np.array_equal(values(image, "s"), values(source, name)),
+            "a series s_0.mhd, s_1.mhd merged, time %d: channels %s, 's' holds %s" % (step, got, name))
+
 # A multichannel array keeps its name (its label) when merged.
 dwi_path = T.data_file("small_64D.nii")
 dwi = simple.OpenDataFile(dwi_path)
