@@ -3,6 +3,9 @@
 #include "vtkObjectFactory.h"
 #include "vtkSMStringVectorProperty.h"
 
+#include <string>
+#include <vector>
+
 #include "../Filters/Common/mcvInternalArrays.h"
 
 vtkStandardNewMacro(vtkSMChannelArrayListDomain);
@@ -25,13 +28,32 @@ bool vtkSMChannelArrayListDomain::IsFilteredArray(
 //------------------------------------------------------------------------------
 void vtkSMChannelArrayListDomain::Update(vtkSMProperty* requestingProperty)
 {
-  const unsigned int before = this->GetNumberOfStrings();
   this->Superclass::Update(requestingProperty);
   auto* property = vtkSMStringVectorProperty::SafeDownCast(this->GetProperty());
-  if (property && before == 0 && this->GetNumberOfStrings() > 0 &&
-    property->GetNumberOfElements() == 0 && property->GetNumberOfUncheckedElements() == 0)
+  if (!property || this->GetNumberOfStrings() == 0)
+  {
+    return;
+  }
+  auto values = [property](bool unchecked) {
+    std::vector<std::string> list;
+    const unsigned int n =
+      unchecked ? property->GetNumberOfUncheckedElements() : property->GetNumberOfElements();
+    for (unsigned int i = 0; i < n; ++i)
+    {
+      const char* value =
+        unchecked ? property->GetUncheckedElement(i) : property->GetElement(i);
+      list.emplace_back(value ? value : "");
+    }
+    return list;
+  };
+  const std::vector<std::string> checked = values(false);
+  const bool empty = checked.empty() && values(true).empty();
+  const bool filledHere = this->Filled && checked == this->FilledValues && values(true) == checked;
+  if (empty || filledHere)
   {
     this->SetDefaultValues(property, false);
+    this->FilledValues = values(false);
+    this->Filled = true;
   }
 }
 

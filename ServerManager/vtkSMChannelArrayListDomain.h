@@ -5,7 +5,7 @@
  * An ArrayListDomain (XML element ChannelArrayListDomain, the same attributes and required
  * properties) that leaves out VTK's bookkeeping arrays, vtkGhostType and ResampleToImage's
  * vtkValidPointMask, and the suite's outputs, Features, Foreground, ReducedCoordinates and
- * HarrisScore (mcvInternalArrays.h). The filters never take those as channels by default,
+ * HarrisScore, VoxelIndex (mcvInternalArrays.h). The filters never take those as channels by default,
  * but the plain domain listed them and, as a repeatable property's default is every array
  * of the domain, showed them checked in the Channels list.
  */
@@ -15,6 +15,9 @@
 #include "mcvServerManagerDomainsModule.h" // export macro
 #include "vtkSMArrayListDomain.h"
 
+#include <string> // for std::string
+#include <vector> // for std::vector
+
 class MCVSERVERMANAGERDOMAINS_EXPORT vtkSMChannelArrayListDomain : public vtkSMArrayListDomain
 {
 public:
@@ -23,11 +26,13 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   /**
-   * The superclass's update; and when the list of channels was empty before (the input had
-   * not run yet) and the property holds no channel, the property gets the domain's default,
-   * every channel. A filter made from Python before its input ran had an empty Channels
-   * property, which the filters read as "every channel", while the GUI's Channels list,
-   * filled once the input ran, showed every channel unchecked: now it shows what is used.
+   * The superclass's update; then, when the property holds no channel, or still holds the
+   * channels this domain gave it and nobody changed them since, the property gets the
+   * domain's default: every channel of the current input. A filter made from Python before
+   * its input ran had an empty Channels property, which the filters read as "every
+   * channel", while the GUI's Channels list, filled once the input ran, showed every
+   * channel unchecked; and while paraview.simple makes a filter, its input is first the
+   * active source, so the channels given then must follow the input set afterwards.
    */
   void Update(vtkSMProperty* requestingProperty) override;
 
@@ -39,6 +44,10 @@ protected:
 
 private:
   vtkSMChannelArrayListDomain(const vtkSMChannelArrayListDomain&) = delete;
+
+  // The channels this domain last gave the property (Filled: it did).
+  std::vector<std::string> FilledValues;
+  bool Filled = false;
   void operator=(const vtkSMChannelArrayListDomain&) = delete;
 };
 

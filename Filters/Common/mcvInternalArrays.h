@@ -19,11 +19,12 @@ inline bool isInternalArray(const char* name)
 
 // The point arrays the suite's filters write, which are results, not channels: Features and
 // Foreground (MultichannelFeatures, DimensionReduction), ReducedCoordinates
-// (DimensionReduction), HarrisScore (BestViewpoint). The Channels lists leave them out.
+// (DimensionReduction), HarrisScore and VoxelIndex (BestViewpoint's interest points). The
+// Channels lists leave them out.
 inline bool isSuiteOutputArray(const char* name)
 {
   static const char* const outputs[] = { "Features", "Foreground", "ReducedCoordinates",
-    "HarrisScore" };
+    "HarrisScore", "VoxelIndex" };
   for (const char* output : outputs)
   {
     if (name && std::strcmp(name, output) == 0)

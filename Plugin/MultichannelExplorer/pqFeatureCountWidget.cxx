@@ -30,7 +30,7 @@ const char* const WatchedProperties[] = { "Channels", "FeatureSet", "Intensity",
 bool isNotAChannel(const char* name)
 {
   static const char* const names[] = { "vtkGhostType", "vtkValidPointMask", "Features",
-    "Foreground", "ReducedCoordinates", "HarrisScore", "WidgetOpacity" };
+    "Foreground", "ReducedCoordinates", "HarrisScore", "VoxelIndex" };
   for (const char* n : names)
   {
     if (name && std::strcmp(name, n) == 0)
