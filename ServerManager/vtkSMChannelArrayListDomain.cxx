@@ -51,7 +51,14 @@ void vtkSMChannelArrayListDomain::Update(vtkSMProperty* requestingProperty)
   const bool filledHere = this->Filled && checked == this->FilledValues && values(true) == checked;
   if (empty || filledHere)
   {
-    this->SetDefaultValues(property, false);
+    // Every channel (the superclass's default for a property that holds one element is the
+    // active scalars alone).
+    std::vector<std::string> all;
+    for (unsigned int i = 0; i < this->GetNumberOfStrings(); ++i)
+    {
+      all.emplace_back(this->GetString(i));
+    }
+    property->SetElements(all);
     this->FilledValues = values(false);
     this->Filled = true;
   }

@@ -145,6 +145,16 @@ C.check(before == [] and sorted(after) == ["aal", "brodmann", "ch2"],
         "a filter made before its input ran (Channels %s) selects every channel once it has: %s"
         % (before, after))
 simple.Delete(early)
+# paraview.simple first connects a new filter to the active source, then to its Input: the
+# channels follow the input (a one-array active source left only the active array before).
+wavelet = simple.Wavelet()
+wavelet.UpdatePipeline()
+simple.SetActiveSource(wavelet)
+late = simple.MultichannelFeatures(Input=early_merge)
+C.check(sorted(late.Channels) == ["aal", "brodmann", "ch2"],
+        "a filter made while another source is active selects its input's channels: %s"
+        % list(late.Channels))
+simple.Delete(late)
 
 features = simple.MultichannelFeatures(Input=merged, FeatureSet="6D")
 features.UpdatePipeline()
