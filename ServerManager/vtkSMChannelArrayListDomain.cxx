@@ -30,7 +30,7 @@ void vtkSMChannelArrayListDomain::Update(vtkSMProperty* requestingProperty)
 {
   this->Superclass::Update(requestingProperty);
   auto* property = vtkSMStringVectorProperty::SafeDownCast(this->GetProperty());
-  if (!property || this->GetNumberOfStrings() == 0)
+  if (!property)
   {
     return;
   }
@@ -49,19 +49,24 @@ void vtkSMChannelArrayListDomain::Update(vtkSMProperty* requestingProperty)
   const std::vector<std::string> checked = values(false);
   const bool empty = checked.empty() && values(true).empty();
   const bool filledHere = this->Filled && checked == this->FilledValues && values(true) == checked;
-  if (empty || filledHere)
+  if (!empty && !filledHere)
   {
-    // Every channel (the superclass's default for a property that holds one element is the
-    // active scalars alone).
-    std::vector<std::string> all;
-    for (unsigned int i = 0; i < this->GetNumberOfStrings(); ++i)
-    {
-      all.emplace_back(this->GetString(i));
-    }
-    property->SetElements(all);
-    this->FilledValues = values(false);
-    this->Filled = true;
+    return; // the user's (or a state file's) selection
   }
+  // Every channel of the current input; none while the input has not run, which the
+  // filters read as every channel too. (The superclass's default for a property that holds
+  // one element is the active scalars alone.)
+  std::vector<std::string> all;
+  for (unsigned int i = 0; i < this->GetNumberOfStrings(); ++i)
+  {
+    all.emplace_back(this->GetString(i));
+  }
+  if (all != checked)
+  {
+    property->SetElements(all);
+  }
+  this->FilledValues = all;
+  this->Filled = true;
 }
 
 //------------------------------------------------------------------------------

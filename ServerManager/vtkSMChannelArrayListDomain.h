@@ -27,12 +27,13 @@ public:
 
   /**
    * The superclass's update; then, when the property holds no channel, or still holds the
-   * channels this domain gave it and nobody changed them since, the property gets the
-   * domain's default: every channel of the current input. A filter made from Python before
-   * its input ran had an empty Channels property, which the filters read as "every
-   * channel", while the GUI's Channels list, filled once the input ran, showed every
-   * channel unchecked; and while paraview.simple makes a filter, its input is first the
-   * active source, so the channels given then must follow the input set afterwards.
+   * channels this domain gave it and nobody changed them since, the property gets every
+   * channel of the current input (none while the input has not run: the filters read an
+   * empty list as every channel). A filter made from Python before its input ran had an
+   * empty Channels property, used as "every channel", while the GUI's Channels list,
+   * filled once the input ran, showed every channel unchecked; and paraview.simple
+   * connects a new filter to the active source before its Input, so the channels given
+   * then must follow the input set afterwards.
    */
   void Update(vtkSMProperty* requestingProperty) override;
 
