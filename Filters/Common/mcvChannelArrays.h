@@ -230,5 +230,26 @@ inline std::string toChannels(
   return std::string();
 }
 
+// The warning of a filter that computes feature vectors from the channels when there is
+// only one: "" for several channels. One channel gives a feature space of that channel's
+// intensity and its neighbourhood alone; the suite is made to separate what several
+// channels tell apart, so the warning says how to get them into one volume.
+inline std::string oneChannelWarning(const ChannelArrays& channels, int features)
+{
+  if (channels.views.size() != 1)
+  {
+    return std::string();
+  }
+  std::ostringstream os;
+  os << "Only one channel (" << channels.labels[0] << "): its " << features
+     << " features describe one intensity and its neighbourhood, so the reduced domain "
+        "separates no more than that channel's values and edges do. To explore several "
+        "channels, put them into one volume: merge the files of the channels with Merge "
+        "Channels (Filters > Multichannel > Merge Channels; in Python MergeChannels(Input=[a, "
+        "b, c])), or open a multichannel file (a 4D NIfTI with TimeAsVector on, or an array "
+        "with one component per channel), and select the channels in Channels.";
+  return os.str();
+}
+
 } // namespace vtkhelpers
 } // namespace mcv

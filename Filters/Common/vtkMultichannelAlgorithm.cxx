@@ -284,7 +284,10 @@ void vtkMultichannelAlgorithm::ReportWarnings(const std::vector<std::string>& wa
 {
   for (const std::string& warning : warnings)
   {
-    vtkWarningMacro(<< warning);
+    if (!warning.empty())
+    {
+      vtkWarningMacro(<< warning);
+    }
   }
 }
 

@@ -117,6 +117,7 @@ protected:
 
   // Reports a non-empty message as the filter's error; returns whether it did.
   bool ReportError(const std::string& message);
+  // Reports each non-empty message as a warning of the filter.
   void ReportWarnings(const std::vector<std::string>& warnings);
 
   // In RequestMultichannelData, where every process has passed its local checks: true

@@ -1,15 +1,24 @@
 #include "vtkMergeChannels.h"
 
+#include "../Common/mcvFileNames.h"     // fileStem, isGenericReaderArrayName
+#include "../Common/mcvInternalArrays.h" // isInternalArray
+
+#include "vtkAbstractArray.h"
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDataSet.h"
+#include "vtkFileSeriesReader.h"
 #include "vtkImageData.h"
+#include "vtkImageReader2.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkStringArray.h"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 vtkStandardNewMacro(vtkMergeChannels);
@@ -64,10 +73,50 @@ bool sameGrid(const Grid& a, const Grid& b)
   return true;
 }
 
-std::string describe(int input, vtkImageData* image, const Grid& g)
+// The file an input was read from: the reader upstream of it (through filters that have
+// one input), or "" when none is found. ParaView's readers of series (vtkFileSeriesReader)
+// name the file of the time step read (`series` tells whether they read several, and then
+// `first` is the series' first file); VTK's image readers their file.
+std::string fileOf(vtkAlgorithm* algorithm, bool* series = nullptr, std::string* first = nullptr)
+{
+  for (int depth = 0; algorithm && depth < 64; ++depth)
+  {
+    if (auto* reader = vtkFileSeriesReader::SafeDownCast(algorithm))
+    {
+      const char* name = reader->GetCurrentFileName();
+      name = name && *name ? name : reader->GetFileName(0);
+      if (series)
+      {
+        *series = reader->GetNumberOfFileNames() > 1;
+      }
+      if (first)
+      {
+        *first = reader->GetFileName(0) ? reader->GetFileName(0) : "";
+      }
+      return name ? name : "";
+    }
+    if (auto* reader = vtkImageReader2::SafeDownCast(algorithm))
+    {
+      if (reader->GetFileName() && *reader->GetFileName())
+      {
+        return reader->GetFileName();
+      }
+      vtkStringArray* names = reader->GetFileNames();
+      return names && names->GetNumberOfValues() > 0 ? names->GetValue(0) : std::string();
+    }
+    if (algorithm->GetNumberOfInputPorts() < 1 || algorithm->GetNumberOfInputConnections(0) < 1)
+    {
+      break;
+    }
+    algorithm = algorithm->GetInputAlgorithm(0, 0);
+  }
+  return "";
+}
+
+std::string describe(int input, vtkImageData* image, const Grid& g, const std::string& file)
 {
   std::ostringstream os;
-  os << "input " << input + 1 << " (";
+  os << "input " << input + 1 << " (" << (file.empty() ? "" : "file '" + file + "': ");
   vtkPointData* pd = image ? image->GetPointData() : nullptr;
   const int arrays = pd ? pd->GetNumberOfArrays() : 0;
   for (int a = 0; a < arrays; ++a)
@@ -135,7 +184,12 @@ int vtkMergeChannels::RequestData(
 {
   if (!this->GridsDiffer)
   {
-    return this->Superclass::RequestData(request, inputVector, outputVector);
+    if (!this->Superclass::RequestData(request, inputVector, outputVector))
+    {
+      return 0;
+    }
+    this->NameChannels(inputVector[0], vtkDataSet::GetData(outputVector, 0));
+    return 1;
   }
   vtkInformation* firstInfo = inputVector[0]->GetInformationObject(0);
   const Grid first = gridOf(firstInfo);
@@ -147,10 +201,11 @@ int vtkMergeChannels::RequestData(
     const Grid g = gridOf(info);
     if (!sameGrid(first, g))
     {
-      os << describe(i, vtkImageData::GetData(info), g) << " differs from ";
+      os << describe(i, vtkImageData::GetData(info), g, fileOf(this->GetInputAlgorithm(0, i)))
+         << " differs from ";
     }
   }
-  os << describe(0, vtkImageData::GetData(firstInfo), first)
+  os << describe(0, vtkImageData::GetData(firstInfo), first, fileOf(this->GetInputAlgorithm(0, 0)))
      << ". Resample the channels onto one grid first (e.g. Resample To Image of each onto "
         "the first one's bounds and dimensions), then merge them.";
   if (os.str() != this->ReportedError)
@@ -160,4 +215,83 @@ int vtkMergeChannels::RequestData(
   }
   vtkDataObject::GetData(outputVector, 0)->Initialize();
   return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkMergeChannels::NameChannels(vtkInformationVector* inputs, vtkDataSet* output)
+{
+  if (!output)
+  {
+    return;
+  }
+  vtkPointData* merged = output->GetPointData();
+  while (merged->GetNumberOfArrays() > 0)
+  {
+    merged->RemoveArray(0);
+  }
+  std::set<std::string> used;
+  for (int i = 0; i < inputs->GetNumberOfInformationObjects(); ++i)
+  {
+    vtkInformation* info = inputs->GetInformationObject(i);
+    vtkDataSet* input = vtkDataSet::GetData(info);
+    if (!input || input->GetNumberOfPoints() != output->GetNumberOfPoints())
+    {
+      continue;
+    }
+    vtkPointData* pd = input->GetPointData();
+    std::string file; // looked up once, for the first generic name
+    std::string stemOfFile;
+    bool fileLooked = false;
+    for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+    {
+      vtkAbstractArray* array = pd->GetAbstractArray(a);
+      const char* name = array->GetName();
+      if (mcv::vtkhelpers::isInternalArray(name))
+      {
+        if (i == 0)
+        {
+          merged->AddArray(array); // ParaView's marks, once, as they are
+        }
+        continue;
+      }
+      std::string base = name && *name ? name : "channel";
+      if (mcv::isGenericReaderArrayName(name))
+      {
+        if (!fileLooked)
+        {
+          // A time series keeps one name at every step: the series' ("vol" for vol_0,...).
+          bool series = false;
+          std::string firstFile;
+          file = fileOf(this->GetInputAlgorithm(0, i), &series, &firstFile);
+          file = series ? firstFile : file;
+          fileLooked = true;
+          stemOfFile = series ? mcv::seriesStem(file) : mcv::fileStem(file);
+        }
+        const std::string& stem = stemOfFile;
+        base = stem.empty() ? base : stem;
+      }
+      std::string unique = base;
+      for (int n = 2; used.count(unique); ++n)
+      {
+        unique = base + "_" + std::to_string(n);
+      }
+      used.insert(unique);
+      vtkAbstractArray* copy = array->NewInstance();
+      if (vtkDataArray* data = vtkDataArray::SafeDownCast(copy))
+      {
+        data->ShallowCopy(vtkDataArray::SafeDownCast(array));
+      }
+      else
+      {
+        copy->DeepCopy(array);
+      }
+      copy->SetName(unique.c_str());
+      merged->AddArray(copy);
+      if (i == 0 && array == pd->GetScalars())
+      {
+        merged->SetActiveScalars(unique.c_str());
+      }
+      copy->Delete();
+    }
+  }
 }

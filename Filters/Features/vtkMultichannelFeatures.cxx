@@ -169,6 +169,7 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   {
     return 0;
   }
+  this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
 
   // The core writes straight into the array's own memory (the block's; a split run's output
   // gets its piece cut from it below).

@@ -2,7 +2,16 @@
 
 #include "MemoryBudget.h" // mcv core (Filters/Core/common): the memory this process may use
 
+#include "../Common/mcvFileNames.h" // fileStem, seriesStem
+
 #include "vtkAlgorithm.h"
+#include "vtkDataArray.h"
+#include "vtkDataObject.h"
+#include "vtkFileSeriesReader.h"
+#include "vtkImageReader2.h"
+#include "vtkInformation.h"
+#include "vtkPointData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkCallbackCommand.h"
 #include "vtkCommand.h"
 #include "vtkImageData.h"
@@ -285,6 +294,98 @@ int checkedRequestData(vtkAlgorithm* reader, vtkInformationVector* outputVector,
   refuse(reader, outputVector, what,
     "could not be read whole" + (error.empty() ? std::string() : " (" + error + ")"));
   return 0;
+}
+
+//------------------------------------------------------------------------------
+std::string checkSeriesGrid(vtkImageReader2* reader, vtkInformation* outInfo)
+{
+  if (!outInfo || !outInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    return "";
+  }
+  int announced[6];
+  outInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), announced);
+  double spacing[3] = { 1, 1, 1 }, origin[3] = { 0, 0, 0 };
+  if (outInfo->Has(vtkDataObject::SPACING()))
+  {
+    outInfo->Get(vtkDataObject::SPACING(), spacing);
+  }
+  if (outInfo->Has(vtkDataObject::ORIGIN()))
+  {
+    outInfo->Get(vtkDataObject::ORIGIN(), origin);
+  }
+  int type = reader->GetDataScalarType();
+  int components = reader->GetNumberOfScalarComponents();
+  if (vtkInformation* scalars = vtkDataObject::GetActiveFieldInformation(
+        outInfo, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS))
+  {
+    type = scalars->Has(vtkDataObject::FIELD_ARRAY_TYPE())
+      ? scalars->Get(vtkDataObject::FIELD_ARRAY_TYPE())
+      : type;
+    components = scalars->Has(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS())
+      ? scalars->Get(vtkDataObject::FIELD_NUMBER_OF_COMPONENTS())
+      : components;
+  }
+  const int* extent = reader->GetDataExtent();
+  const double* ownSpacing = reader->GetDataSpacing();
+  const double* ownOrigin = reader->GetDataOrigin();
+  bool same = type == reader->GetDataScalarType() &&
+    components == reader->GetNumberOfScalarComponents();
+  for (int i = 0; i < 6; ++i)
+  {
+    same = same && extent[i] == announced[i];
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    // Spacing and origin as the header gives them: the same header field gives the same
+    // double, so any difference is a different grid.
+    same = same && ownSpacing[i] == spacing[i] && ownOrigin[i] == origin[i];
+  }
+  if (same)
+  {
+    return "";
+  }
+  auto grid = [](const int* e, const double* s, const double* o, int t, int c) {
+    std::ostringstream os;
+    os << e[1] - e[0] + 1 << " x " << e[3] - e[2] + 1 << " x " << e[5] - e[4] + 1
+       << " voxels, spacing " << s[0] << " " << s[1] << " " << s[2] << ", origin " << o[0] << " "
+       << o[1] << " " << o[2] << ", " << vtkImageScalarTypeNameMacro(t) << " x " << c;
+    return os.str();
+  };
+  const char* first = outInfo->Has(vtkFileSeriesReader::FILE_SERIES_FIRST_FILENAME())
+    ? outInfo->Get(vtkFileSeriesReader::FILE_SERIES_FIRST_FILENAME())
+    : nullptr;
+  return "has " +
+    grid(extent, ownSpacing, ownOrigin, reader->GetDataScalarType(),
+      reader->GetNumberOfScalarComponents()) +
+    ", but the first file of its time series" + (first ? " '" + std::string(first) + "'" : "") +
+    " has " + grid(announced, spacing, origin, type, components) +
+    ": the files of a time series must share one grid (resample them onto one grid, or open "
+    "them one by one)";
+}
+
+//------------------------------------------------------------------------------
+std::string channelArrayName(vtkInformation* outInfo, const std::string& fileName)
+{
+  if (outInfo && outInfo->Has(vtkFileSeriesReader::FILE_SERIES_NUMBER_OF_FILES()) &&
+    outInfo->Get(vtkFileSeriesReader::FILE_SERIES_NUMBER_OF_FILES()) > 1 &&
+    outInfo->Has(vtkFileSeriesReader::FILE_SERIES_FIRST_FILENAME()) &&
+    outInfo->Get(vtkFileSeriesReader::FILE_SERIES_FIRST_FILENAME()))
+  {
+    return seriesStem(outInfo->Get(vtkFileSeriesReader::FILE_SERIES_FIRST_FILENAME()));
+  }
+  return fileStem(fileName);
+}
+
+//------------------------------------------------------------------------------
+void nameScalars(vtkInformationVector* outputVector, const std::string& name)
+{
+  vtkImageData* image = vtkImageData::GetData(outputVector);
+  vtkDataArray* scalars = image ? image->GetPointData()->GetScalars() : nullptr;
+  if (scalars && !name.empty())
+  {
+    scalars->SetName(name.c_str());
+  }
 }
 
 } // namespace mcv

@@ -10,6 +10,8 @@
 #include <string>     // for std::string
 
 class vtkAlgorithm;
+class vtkImageReader2;
+class vtkInformation;
 class vtkInformationVector;
 
 namespace mcv
@@ -60,6 +62,25 @@ int checkedRequestInformation(vtkAlgorithm* reader, vtkInformationVector* output
 // corrupt strip, a read that failed) refuses the whole volume. Returns 1 when it was read.
 int checkedRequestData(vtkAlgorithm* reader, vtkInformationVector* outputVector,
   const std::string& what, bool refused, const std::function<int()>& readData);
+
+// Time series. ParaView reads a list of files (or the GUI's group "vol_0.nii.gz,
+// vol_1.nii.gz, ...") through a vtkFileSeriesReader around the checked reader: one file per
+// time step, on the grid the first file announced (the output information's whole extent,
+// spacing and origin). "" when `reader`'s header, just read, gives that grid and that point
+// type (always so for a single file); else the problem, naming the first file:
+// "has 10 x 10 x 10 voxels, spacing 1 1 1, origin 0 0 0, unsigned char x 1, but the first file
+// of its time series '.../vol_0.nii.gz' has ...: the files of a time series must share one grid".
+std::string checkSeriesGrid(vtkImageReader2* reader, vtkInformation* outInfo);
+
+// The name of the array a checked reader delivers: its file's stem ("ch2" for ch2.nii.gz),
+// or in a time series of several files the series' name after its first file ("vol" for
+// vol_0.nii.gz, vol_1.nii.gz, ...), so that every time step has the same array; "" when
+// the name would be empty.
+std::string channelArrayName(vtkInformation* outInfo, const std::string& fileName);
+
+// Names the point scalars of the image in `outputVector` `name` (nothing when either is
+// empty).
+void nameScalars(vtkInformationVector* outputVector, const std::string& name);
 
 } // namespace mcv
 

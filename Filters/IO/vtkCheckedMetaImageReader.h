@@ -15,6 +15,13 @@
  * error the superclass reports while reading, is an error that names the file and the
  * problem, and the output stays empty (CheckedReading.h). ASCII data (BinaryData = False)
  * is not counted against its file.
+ *
+ * The point array read is named after the file ("ch2" for ch2.nii.gz, mcvFileNames.h)
+ * instead of the superclass's name for every file, so that channels merged from several
+ * files keep apart. Inside ParaView's vtkFileSeriesReader (the plugin's reader proxy: a list
+ * of files is a time series), the array is named after the series ("vol" for vol_0,
+ * vol_1, ...) at every step, and a file whose grid differs from the first file's (the grid
+ * the series announced) is refused with an error naming both (CheckedReading.h).
  */
 #ifndef vtkCheckedMetaImageReader_h
 #define vtkCheckedMetaImageReader_h

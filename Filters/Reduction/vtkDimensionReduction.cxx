@@ -592,6 +592,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
                   "LocalVariance) is off.");
     return nullptr;
   }
+  this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
   const std::size_t slab =
     mcv::FeatureBricks::workingBytes(grid, F, mcv::FeatureBricks::slabBytesFor(grid, piece, F));
   if (this->ReportError(mcv::checkFusedReductionMemory(

@@ -166,8 +166,14 @@ class Messages(object):
             self.warnings.append(str(text))
 
         self._callbacks = (on_error, on_warning)  # keep them alive
-        obj.AddObserver("ErrorEvent", on_error)
-        obj.AddObserver("WarningEvent", on_warning)
+        watched = [obj]
+        if hasattr(obj, "GetReader") and obj.GetReader() is not None:
+            # A file-series reader (the plugin's NIfTI and MetaImage readers): the reader
+            # of each file inside it reports the file's problems.
+            watched.append(obj.GetReader())
+        for o in watched:
+            o.AddObserver("ErrorEvent", on_error)
+            o.AddObserver("WarningEvent", on_warning)
 
     def clear(self):
         del self.errors[:]

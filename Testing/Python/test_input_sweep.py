@@ -631,6 +631,10 @@ def run_reader(path, proxy_name, **props):
 
 
 # ---- the table -------------------------------------------------------------------------------
+# The warning of MultichannelFeatures (and DimensionReduction's own features) on one channel.
+ONE_CHANNEL = ("Only one channel", "Merge Channels")
+
+
 class Row(object):
     def __init__(self, id, to, source, props=None, expect="ok", words=(), check=None,
                  runner=None, before=None):
@@ -882,7 +886,7 @@ def nifti_rows():
     rows.append(Row("bv.nifti-4d", "BV", "nifti-4d", {"NumberOfInterestPoints": 100},
                     runner=channels_runner, check=along(2, 5.0)))
     rows.append(Row("mf.nifti-4d", "MF", "nifti-4d", {"FeatureSet": "6D"},
-                    check=n_features(6, "NIFTI_0.intensity")))
+                    check=n_features(6, "four_d_0.intensity")))
     return rows
 
 
@@ -1048,13 +1052,15 @@ ROWS = [
     Row("mf.thin", "MF", "thin-z", {"FeatureSet": "24D"}, "warning", ("values.gradZ",),
         n_features(8)),
     Row("mf.spacing-0", "MF", "ramp-spacing-0", {}, "error", ("spacing", "axis 0", "DataSpacing")),
-    Row("mf.spacing-1", "MF", "ramp", {"FeatureSet": "24D"}, "ok", (), keep_values("Features")),
-    Row("mf.spacing-neg", "MF", "ramp-spacing-neg", {"FeatureSet": "24D"}, "ok", (),
-        same_values("Features", "mf.spacing-1")),
-    Row("mf.spacing-1e-9", "MF", "ramp-spacing-1e-9", {"FeatureSet": "24D"}, "ok", (),
-        same_values("Features", "mf.spacing-1")),
-    Row("mf.spacing-1e9", "MF", "ramp-spacing-1e9", {"FeatureSet": "24D"}, "ok", (),
-        same_values("Features", "mf.spacing-1")),
+    # One channel: the features run, with the warning that says how to get several.
+    Row("mf.spacing-1", "MF", "ramp", {"FeatureSet": "24D"}, "warning", ONE_CHANNEL,
+        keep_values("Features")),
+    Row("mf.spacing-neg", "MF", "ramp-spacing-neg", {"FeatureSet": "24D"}, "warning",
+        ONE_CHANNEL, same_values("Features", "mf.spacing-1")),
+    Row("mf.spacing-1e-9", "MF", "ramp-spacing-1e-9", {"FeatureSet": "24D"}, "warning",
+        ONE_CHANNEL, same_values("Features", "mf.spacing-1")),
+    Row("mf.spacing-1e9", "MF", "ramp-spacing-1e9", {"FeatureSet": "24D"}, "warning",
+        ONE_CHANNEL, same_values("Features", "mf.spacing-1")),
     Row("mf.values-1e36", "MF", "ramp-1e36", {"FeatureSet": "24D"}, "warning",
         ("overflow float32", "values.variance", "rescale the channel"), n_features(8)),
     Row("mf.polydata", "MF", "sphere", {}, "error", ("not image data",)),
@@ -1062,14 +1068,18 @@ ROWS = [
         all_of(n_features(4), keep_values("Features"))),
     Row("mf.no-channel", "MF", "two-arrays", {"Channels": []}, "ok", (),
         same_values("Features", "mf.channels-ab", 0.0)),
-    Row("mf.ramp-6D", "MF", "ramp", {}, "ok", (), keep_values("Features")),
-    Row("mf.int8", "MF", "ramp-int8", {}, "ok", (), same_values("Features", "mf.ramp-6D")),
-    Row("mf.uint16", "MF", "ramp-uint16", {}, "ok", (), same_values("Features", "mf.ramp-6D")),
-    Row("mf.int64", "MF", "ramp-int64", {}, "ok", (), same_values("Features", "mf.ramp-6D")),
-    Row("mf.double", "MF", "ramp-double", {}, "ok", (), same_values("Features", "mf.ramp-6D")),
+    Row("mf.ramp-6D", "MF", "ramp", {}, "warning", ONE_CHANNEL, keep_values("Features")),
+    Row("mf.int8", "MF", "ramp-int8", {}, "warning", ONE_CHANNEL,
+        same_values("Features", "mf.ramp-6D")),
+    Row("mf.uint16", "MF", "ramp-uint16", {}, "warning", ONE_CHANNEL,
+        same_values("Features", "mf.ramp-6D")),
+    Row("mf.int64", "MF", "ramp-int64", {}, "warning", ONE_CHANNEL,
+        same_values("Features", "mf.ramp-6D")),
+    Row("mf.double", "MF", "ramp-double", {}, "warning", ONE_CHANNEL,
+        same_values("Features", "mf.ramp-6D")),
     Row("mf.toggle", "MF", "ramp", runner=toggle("MF", "ramp", "FeatureSet", ["24D", "6D"],
                                                  rounded_values("Features")),
-        check=no_mismatch),
+        expect="warning", words=ONE_CHANNEL, check=no_mismatch),
 
     # MergeChannels --------------------------------------------------------------------------------
     Row("mc.grids", "MC", "blobs", runner=merge_of("blobs", "ramp"), expect="error",
