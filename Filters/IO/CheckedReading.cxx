@@ -388,4 +388,27 @@ void nameScalars(vtkInformationVector* outputVector, const std::string& name)
   }
 }
 
+//------------------------------------------------------------------------------
+int checkedSeriesRequestData(vtkImageReader2* reader, vtkInformationVector* outputVector,
+  const std::string& what, bool refused, const std::function<int()>& readData)
+{
+  // In a time series this file's header was read for this step (vtkFileSeriesReader asks
+  // for the information of the step's file first); the output is on the first file's grid.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  const std::string problem = refused ? "" : checkSeriesGrid(reader, outInfo);
+  if (!problem.empty())
+  {
+    refuse(reader, outputVector, what, problem);
+    return 0;
+  }
+  const int read = checkedRequestData(reader, outputVector, what, refused, readData);
+  if (read)
+  {
+    // The channel's name is its file's (a reader's generic name says nothing about it).
+    nameScalars(outputVector,
+      channelArrayName(outInfo, reader->GetFileName() ? reader->GetFileName() : ""));
+  }
+  return read;
+}
+
 } // namespace mcv

@@ -82,6 +82,12 @@ std::string channelArrayName(vtkInformation* outInfo, const std::string& fileNam
 // empty).
 void nameScalars(vtkInformationVector* outputVector, const std::string& name);
 
+// RequestData of a checked reader that may read one file of a time series (the NIfTI and
+// MetaImage readers): the file's grid checked against the series' (checkSeriesGrid), then
+// checkedRequestData, then the array named after the file (channelArrayName, nameScalars).
+int checkedSeriesRequestData(vtkImageReader2* reader, vtkInformationVector* outputVector,
+  const std::string& what, bool refused, const std::function<int()>& readData);
+
 } // namespace mcv
 
 #endif

@@ -313,28 +313,8 @@ int vtkCheckedMetaImageReader::RequestInformation(
 int vtkCheckedMetaImageReader::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  // In a time series this file's header was read for this step (vtkFileSeriesReader asks
-  // for the information of the step's file first); the output is on the first file's grid.
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  const std::string problem = this->Refused ? "" : mcv::checkSeriesGrid(this, outInfo);
-  if (!problem.empty())
-  {
-    vtkErrorMacro(<< this->Describe() << " " << problem << ". Nothing is read.");
-    if (vtkImageData* image = vtkImageData::GetData(outputVector))
-    {
-      image->Initialize();
-    }
-    return 0;
-  }
-  const int read = mcv::checkedRequestData(this, outputVector, this->Describe(), this->Refused,
+  return mcv::checkedSeriesRequestData(this, outputVector, this->Describe(), this->Refused,
     [&] { return this->Superclass::RequestData(request, inputVector, outputVector); });
-  if (read)
-  {
-    // The channel's name is its file's (a reader's generic name says nothing about it).
-    mcv::nameScalars(outputVector,
-      mcv::channelArrayName(outInfo, this->GetFileName() ? this->GetFileName() : ""));
-  }
-  return read;
 }
 
 //------------------------------------------------------------------------------
