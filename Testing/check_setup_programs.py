@@ -369,6 +369,11 @@ def main(argv):
     ).stdout.split()), ["Priority", "Essential"]).items()
         if f.get("Essential") == "yes" or f.get("Priority") in ("required", "important")}
 
+    def provenance(pkg):
+        """Why a package is on a fresh machine after setup.sh; None when it is not."""
+        return "listed" if pkg in listed else "base system" if pkg in base else \
+            "dependency of a listed package" if pkg in closure else None
+
     failures = []
     rows = []
     for program in sorted(called):
@@ -380,13 +385,8 @@ def main(argv):
             failures.append("%s (called by %s) is not installed: add its Debian package to "
                             "scripts/setup.sh" % (program, where))
             continue
-        if pkg in listed:
-            why = "listed"
-        elif pkg in base:
-            why = "base system"
-        elif pkg in closure:
-            why = "dependency of a listed package"
-        else:
+        why = provenance(pkg)
+        if why is None:
             failures.append("%s (%s, called by %s) comes from package %s, which scripts/setup.sh "
                             "does not install" % (program, path, where, pkg))
             continue
@@ -403,10 +403,8 @@ def main(argv):
                             "package to scripts/setup.sh" % (module, where))
         elif pkg is None:
             continue
-        elif pkg in listed or pkg in base or pkg in closure:
-            rows.append("%-14s %-28s %s" % ("py:" + module, pkg, "listed" if pkg in listed else
-                                            "base system" if pkg in base else
-                                            "dependency of a listed package"))
+        elif provenance(pkg):
+            rows.append("%-14s %-28s %s" % ("py:" + module, pkg, provenance(pkg)))
         else:
             failures.append("Python module %s (%s, imported by %s) comes from package %s, which "
                             "scripts/setup.sh does not install" % (module, path, where, pkg))
