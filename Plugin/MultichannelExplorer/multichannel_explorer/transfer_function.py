@@ -3,6 +3,8 @@ a "Gaussian TF Volume" with Gaussian widgets, and finding the Volume / Gaussian 
 display of a source in a view (its widgets, its coordinate array).
 """
 
+import math
+
 from ._common import _is_representation, _simple
 
 __all__ = [
@@ -129,9 +131,11 @@ def _domain_size(source, coordinates):
     try:
         from ._voxels import _coordinate_range
 
-        return max(hi - lo for lo, hi in _coordinate_range(source, coordinates)) or None
+        size = max(hi - lo for lo, hi in _coordinate_range(source, coordinates))
     except Exception:  # no such array yet, or no range: the absolute limits apply
         return None
+    # An array whose range is not known yet reports VTK's empty range (1e299, -1e299).
+    return size if math.isfinite(size) and 0 < size < 1e30 else None
 
 
 def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordinates",
