@@ -198,16 +198,17 @@ def check_json(path):
     return None
 
 
-def write_json(path, data):
-    """Writes `data` to PATH.part, reads it back, renames it to `path`. OSError (ENOSPC,
-    EROFS, EACCES) becomes a JobError naming the file and the cause."""
+def _write_replacing(path, text, check=None):
+    """Writes `text` to PATH.part, runs check(tmp) (a problem text or None), renames it to
+    `path`. OSError (ENOSPC, EROFS, EACCES) becomes a JobError naming the file and the
+    cause; the temporary file never stays."""
     tmp = path + ".part"
     try:
         with open(tmp, "w") as f:
-            json.dump(data, f, indent=2)
+            f.write(text)
             f.flush()
             os.fsync(f.fileno())
-        problem = check_json(tmp)
+        problem = check(tmp) if check else None
         if problem:
             raise JobError("%s: %s" % (os.path.basename(path), problem))
         os.replace(tmp, path)
@@ -220,22 +221,14 @@ def write_json(path, data):
         raise
 
 
+def write_json(path, data):
+    """Writes `data` to PATH.part, reads it back, renames it to `path` (_write_replacing)."""
+    _write_replacing(path, json.dumps(data, indent=2), check_json)
+
+
 def write_text(path, text):
     """As write_json for a text file (an HTML page)."""
-    tmp = path + ".part"
-    try:
-        with open(tmp, "w") as f:
-            f.write(text)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except OSError as exc:
-        _remove(tmp)
-        raise JobError("%s was not written in %s: %s" % (
-            os.path.basename(path), os.path.dirname(os.path.abspath(path)), cause_of(exc)))
-    except BaseException:
-        _remove(tmp)
-        raise
+    _write_replacing(path, text)
 
 
 def checked_png(path, write, size=None):
