@@ -2,6 +2,7 @@
 
 #include "vtkDataArray.h"
 #include "vtkDataObject.h"
+#include "vtkDemandDrivenPipeline.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkFloatArray.h"
@@ -19,6 +20,8 @@
 #include "vtkTypeUInt16Array.h"
 #include "vtkUnsignedCharArray.h"
 
+#include <vtksys/SystemTools.hxx>
+
 // The VTK-free core (Filters/Core).
 #include "BackgroundMask.h"
 #include "CoordinateTexture.h" // CoordinateRange: the decoded range of float16 coordinates
@@ -26,6 +29,7 @@
 #include "FeatureBricks.h"
 #include "FeatureRows.h"
 #include "MemoryBudget.h"
+#include "mcvReductionModelFile.h"
 
 #include "../Common/mcvChannelArrays.h" // availableArrays
 #include "../Common/mcvPieces.h"        // PieceLayout
@@ -33,6 +37,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -46,6 +51,31 @@ struct vtkDimensionReduction::vtkInternals
   vtkNew<vtkDoubleArray> Spectrum;
   // A float32 copy of a feature array of another type, for the length of one run.
   vtkSmartPointer<vtkFloatArray> ConvertedFeatures;
+
+  // The model of the last run (fitted or applied) and its file bytes, which the Spectrum
+  // output carries as field data `ReductionModel` for the model writer.
+  std::shared_ptr<const mcv::vtkhelpers::ModelFile> Model;
+  std::vector<char> ModelBytes;
+
+  // ModelFile as last read: the path, its size and modification time (a changed file is
+  // read again), and what it held.
+  std::string ReadPath;
+  unsigned long long ReadSize = 0;
+  long ReadTime = 0;
+  std::shared_ptr<const mcv::vtkhelpers::ModelFile> ReadModel;
+  std::vector<char> ReadBytes;
+
+  // FIT_ONE_STEP: the fit of step OneStepTime, made while the filter and its input were at
+  // OneStepKey (their modification times); a pass that fits (FittingPass) asks the input
+  // for that step, and the next one for DownstreamTime, the step asked of this filter.
+  std::shared_ptr<const mcv::vtkhelpers::ModelFile> OneStepModel;
+  std::vector<char> OneStepBytes;
+  vtkMTimeType OneStepKey = 0;
+  double OneStepTime = 0;
+  bool FittingPass = false;
+  bool ApplyOneStep = false; // this pass places with OneStepModel
+  bool HasDownstreamTime = false;
+  double DownstreamTime = 0;
 };
 
 namespace
@@ -54,6 +84,8 @@ namespace
 const char* const kFeaturesName = "Features";
 const char* const kMaskName = "Foreground";
 const char* const kCoordinatesName = "ReducedCoordinates";
+const char* const kModelDistanceName = "ModelDistance";
+const char* const kModelArrayName = "ReductionModel";
 
 const char* featureSetName(int set)
 {
@@ -102,6 +134,41 @@ void addFieldString(vtkFieldData* fd, const char* name, const std::string& value
   fd->AddArray(a);
 }
 
+// The channels of `all` that the model names, in the model's order; "" or the first one
+// missing, with the channels there are.
+std::string pickModelChannels(const mcv::vtkhelpers::ChannelArrays& all, const std::vector<std::string>& wanted,
+  const std::string& modelPath, mcv::vtkhelpers::ChannelArrays& picked)
+{
+  picked = mcv::vtkhelpers::ChannelArrays();
+  picked.converted = all.converted;
+  for (const std::string& name : wanted)
+  {
+    const auto at = std::find(all.names.begin(), all.names.end(), name);
+    if (at == all.names.end())
+    {
+      std::string have;
+      for (const std::string& n : all.names)
+      {
+        have += (have.empty() ? "" : ", ") + n;
+      }
+      return "The input has no channel '" + name + "', which the reduction model " + modelPath +
+        " was fitted with (channels here: " + (have.empty() ? "none" : have) + ").";
+    }
+    const std::size_t i = static_cast<std::size_t>(at - all.names.begin());
+    picked.views.push_back(all.views[i]);
+    picked.labels.push_back(all.labels[i]);
+    picked.names.push_back(all.names[i]);
+  }
+  return {};
+}
+
+// The string of the field-data array `name` of `image`, or "".
+std::string fieldString(vtkImageData* image, const char* name)
+{
+  auto* a = vtkStringArray::SafeDownCast(image->GetFieldData()->GetAbstractArray(name));
+  return a && a->GetNumberOfValues() > 0 ? a->GetValue(0) : std::string();
+}
+
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -148,6 +215,101 @@ int vtkDimensionReduction::RequestInformation(
 }
 
 //------------------------------------------------------------------------------
+vtkMTimeType vtkDimensionReduction::PipelineKey()
+{
+  vtkMTimeType key = this->GetMTime();
+  if (this->GetNumberOfInputConnections(0) > 0)
+  {
+    if (auto* upstream = vtkDemandDrivenPipeline::SafeDownCast(this->GetInputExecutive(0, 0)))
+    {
+      key = std::max(key, upstream->GetPipelineMTime());
+    }
+  }
+  return key;
+}
+
+//------------------------------------------------------------------------------
+int vtkDimensionReduction::RequestUpdateExtent(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (!this->Superclass::RequestUpdateExtent(request, inputVector, outputVector))
+  {
+    return 0;
+  }
+  vtkInternals& internals = *this->Internals;
+  internals.FittingPass = false;
+  internals.ApplyOneStep = false;
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  const bool modelFile = this->ModelFile && *this->ModelFile;
+  if (this->FitTime != FIT_ONE_STEP || modelFile || !inInfo ||
+    !inInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
+  {
+    return 1;
+  }
+  const int steps = inInfo->Length(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  if (steps <= 0)
+  {
+    return 1;
+  }
+  const double* times = inInfo->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
+  const double fitTime = times[std::min(std::max(this->FitTimeStep, 0), steps - 1)];
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  internals.HasDownstreamTime = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
+  internals.DownstreamTime =
+    internals.HasDownstreamTime ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()) : fitTime;
+  const bool fitted = internals.OneStepModel && internals.OneStepKey == this->PipelineKey() &&
+    internals.OneStepTime == fitTime;
+  if (!fitted)
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP(), fitTime);
+    internals.FittingPass = true;
+    internals.OneStepTime = fitTime;
+  }
+  internals.ApplyOneStep = fitted;
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+bool vtkDimensionReduction::ReadModelFile()
+{
+  vtkInternals& internals = *this->Internals;
+  const std::string path = this->ModelFile;
+  unsigned long long size = 0;
+  long time = 0;
+  if (vtksys::SystemTools::FileExists(path, true))
+  {
+    size = vtksys::SystemTools::FileLength(path);
+    time = vtksys::SystemTools::ModifiedTime(path);
+  }
+  if (internals.ReadModel && internals.ReadPath == path && internals.ReadSize == size && internals.ReadTime == time)
+  {
+    return true;
+  }
+  internals.ReadModel = nullptr;
+  internals.ReadBytes.clear();
+  std::vector<char> bytes;
+  std::string error = mcv::vtkhelpers::readFileBytes(path, bytes);
+  if (!error.empty())
+  {
+    vtkErrorMacro("The reduction model " << path << " " << error << ".");
+    return false;
+  }
+  auto model = std::make_shared<mcv::vtkhelpers::ModelFile>();
+  error = mcv::vtkhelpers::decodeModel(bytes, path, *model);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return false;
+  }
+  internals.ReadPath = path;
+  internals.ReadSize = size;
+  internals.ReadTime = time;
+  internals.ReadModel = model;
+  internals.ReadBytes = std::move(bytes);
+  return true;
+}
+
+//------------------------------------------------------------------------------
 void vtkDimensionReduction::ResetResults()
 {
   this->Internals->Spectrum->Initialize();
@@ -156,6 +318,7 @@ void vtkDimensionReduction::ResetResults()
   this->Trustworthiness = 0.0;
   this->NumberOfFeaturesUsed = 0;
   this->NumberOfSampledVoxels = 0;
+  this->NumberOfOutOfModelVoxels = 0;
   for (double& t : this->StageTimings)
   {
     t = 0.0;
@@ -164,7 +327,7 @@ void vtkDimensionReduction::ResetResults()
 
 //------------------------------------------------------------------------------
 int vtkDimensionReduction::RequestMultichannelData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->ResetResults();
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
@@ -226,8 +389,54 @@ int vtkDimensionReduction::RequestMultichannelData(
     return 0;
   }
 
+  // ---- The model: a file's, the fit of one time step, or none (fit here) -----------------
+  vtkInternals& internals = *this->Internals;
+  std::shared_ptr<const mcv::vtkhelpers::ModelFile> model;
+  const std::vector<char>* modelBytes = nullptr;
+  std::string modelSource;
+  // The pass that fits one time step for the others, when another step was asked for.
+  const bool fitOnly = internals.FittingPass && internals.HasDownstreamTime &&
+    internals.DownstreamTime != internals.OneStepTime;
+  if (this->ModelFile && *this->ModelFile)
+  {
+    if (!this->ReadModelFile())
+    {
+      return 0;
+    }
+    model = internals.ReadModel;
+    modelBytes = &internals.ReadBytes;
+    modelSource = this->ModelFile;
+  }
+  else if (internals.ApplyOneStep && internals.OneStepModel)
+  {
+    model = internals.OneStepModel;
+    modelBytes = &internals.OneStepBytes;
+    modelSource = "the fit of time " + std::to_string(internals.OneStepTime);
+  }
+  if (model)
+  {
+    double spacing[3];
+    image->GetSpacing(spacing);
+    const std::array<double, 3>& fitted = model->features.spacing;
+    for (int a = 0; a < 3; ++a)
+    {
+      if (std::abs(std::abs(spacing[a]) - fitted[a]) > 1e-6 * fitted[a])
+      {
+        std::ostringstream os;
+        os << "The volume's spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+           << ") differs from that of the volume the model " << modelSource << " was fitted on (" << fitted[0]
+           << ", " << fitted[1] << ", " << fitted[2] << (model->features.lengthUnit.empty() ? "" : " ")
+           << model->features.lengthUnit
+           << "): gradients are per world unit, so the same tissue may get other features and coordinates.";
+        this->ReportWarnings({ os.str() });
+        break;
+      }
+    }
+  }
+
   // ---- The rows: a feature array, or the features of the channels (fused) ---------------
-  const bool fromChannels = this->UsesChannels(pd);
+  const bool fromChannels = model || this->UsesChannels(pd);
+  mcv::vtkhelpers::FeatureRecipe recipe;
   const char* requested = nullptr;
   std::string what;
   vtkSmartPointer<vtkUnsignedCharArray> foreground;
@@ -236,7 +445,7 @@ int vtkDimensionReduction::RequestMultichannelData(
   {
     what = std::string("the ") + featureSetName(this->FeatureSet) + " features of the channels";
     // Collective from AllProcessesReady() on, which it calls.
-    rows = this->ChannelRows(image, grid, piece, foreground);
+    rows = this->ChannelRows(image, grid, piece, foreground, model.get(), &recipe);
   }
   else
   {
@@ -275,6 +484,16 @@ int vtkDimensionReduction::RequestMultichannelData(
   const double first = fromChannels ? 0.1 : 0.0;
   options.progress = [staged, first](const char* stage, double f) { staged(stage, first + (1 - first) * f); };
 
+  mcv::ReductionModel fittedModel;
+  if (model)
+  {
+    options.model = &model->reduction;
+  }
+  else if (fromChannels)
+  {
+    options.fittedModel = &fittedModel;
+    options.fitOnly = fitOnly;
+  }
   if (layout.IsSplit())
   {
     options.communicator = this->GetCommunicator();
@@ -317,16 +536,83 @@ int vtkDimensionReduction::RequestMultichannelData(
     options.coordinatesOutput = static_cast<vtkFloatArray*>(reduced.Get())->GetPointer(0);
   }
 
+  vtkSmartPointer<vtkFloatArray> modelDistance;
+  if (model)
+  {
+    modelDistance = vtkSmartPointer<vtkFloatArray>::New();
+    modelDistance->SetName(kModelDistanceName);
+    modelDistance->SetNumberOfTuples(static_cast<vtkIdType>(outputCount));
+    options.modelDistanceOutput = modelDistance->GetPointer(0);
+  }
+
   const mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
   // The slab buffers and a converted feature array go before the output is assembled.
   rows.reset();
   this->Internals->ConvertedFeatures = nullptr;
   this->SetProgressText(nullptr);
   this->ReportWarnings(result.warnings);
+  const char* const method = model ? mcv::reductionMethodName(model->reduction.method) : methodName(this->Method);
   if (!result.ok())
   {
-    vtkErrorMacro(<< methodName(this->Method) << " on " << what << ": " << result.error);
+    vtkErrorMacro(<< method << (model ? " (the model " + modelSource + ")" : std::string()) << " on " << what << ": "
+                  << result.error);
     return 0;
+  }
+
+  // ---- The model: kept for the writer and for the other time steps ---------------------
+  if (model)
+  {
+    internals.Model = model;
+    internals.ModelBytes = *modelBytes;
+  }
+  else if (fromChannels)
+  {
+    auto made = std::make_shared<mcv::vtkhelpers::ModelFile>();
+    made->features = std::move(recipe);
+    made->reduction = std::move(fittedModel);
+    made->fit.numberOfNeighbors = this->NumberOfNeighbors;
+    made->fit.numberOfLandmarks = this->NumberOfLandmarks;
+    made->fit.numberOfEpochs = this->NumberOfEpochs;
+    made->fit.minimumDistance = this->MinimumDistance;
+    made->fit.referenceSampleSize = static_cast<std::uint64_t>(this->ReferenceSampleSize);
+    made->fit.randomSeed = options.randomSeed;
+    made->fit.sampledVoxels = result.sampledVoxels;
+    made->fit.volumeDimensions = options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : grid.dims;
+    if (internals.FittingPass)
+    {
+      made->fit.fittedOn = "time " + std::to_string(internals.OneStepTime);
+    }
+    internals.Model = made;
+    internals.ModelBytes = mcv::vtkhelpers::encodeModel(*made);
+    if (internals.FittingPass)
+    {
+      internals.OneStepModel = made;
+      internals.OneStepBytes = internals.ModelBytes;
+      internals.OneStepKey = this->PipelineKey();
+    }
+  }
+  else
+  {
+    internals.Model = nullptr;
+    internals.ModelBytes.clear();
+  }
+  if (fitOnly)
+  {
+    // The step asked for comes next, placed with this fit.
+    request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
+    output->Initialize();
+    return 1;
+  }
+  request->Remove(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING());
+  this->NumberOfOutOfModelVoxels = static_cast<vtkIdType>(result.outOfModelVoxels);
+  if (model && result.outOfModelVoxels > 0)
+  {
+    std::ostringstream os;
+    os << result.outOfModelVoxels << " voxel(s) lie outside the reduction model " << modelSource
+       << " (farther than " << mcv::kOutOfModelRatio
+       << " x its reference radius from every reference): they get the colour of the nearest known tissue; "
+          "see the point array ModelDistance.";
+    this->ReportWarnings({ os.str() });
   }
   if (result.outputDimension != this->OutputDimension)
   {
@@ -358,21 +644,30 @@ int vtkDimensionReduction::RequestMultichannelData(
     this->CropPointArray(foreground, blockExtent, outputExtent);
   foreground = nullptr;
   this->PassInputAtExtent(image, outputExtent, output,
-    fromChannels ? std::vector<std::string>{ kMaskName, kCoordinatesName }
-                 : std::vector<std::string>{ kCoordinatesName });
+    fromChannels ? std::vector<std::string>{ kMaskName, kCoordinatesName, kModelDistanceName }
+                 : std::vector<std::string>{ kCoordinatesName, kModelDistanceName });
   if (mask)
   {
     output->GetPointData()->AddArray(mask);
   }
   output->GetPointData()->AddArray(reduced);
+  if (modelDistance)
+  {
+    output->GetPointData()->AddArray(modelDistance);
+  }
   vtkFieldData* fd = output->GetFieldData();
+  if (model)
+  {
+    addFieldValue(fd, "OutOfModelVoxels", static_cast<double>(result.outOfModelVoxels));
+    addFieldString(fd, "ReductionModelSource", modelSource);
+  }
   addFieldValue(fd, "Trustworthiness", this->Trustworthiness);
   addFieldValue(fd, "VarianceRetained", this->VarianceRetained);
   vtkNew<vtkDoubleArray> spectrumCopy;
   spectrumCopy->DeepCopy(spectrum);
   spectrumCopy->SetName("EigenvalueSpectrum");
   fd->AddArray(spectrumCopy);
-  addFieldString(fd, "ReductionMethod", methodName(this->Method));
+  addFieldString(fd, "ReductionMethod", method);
   addFieldString(fd, "DeviceUsed", this->GetDeviceUsed());
   if (half)
   {
@@ -409,7 +704,8 @@ int vtkDimensionReduction::RequestMultichannelData(
     }
   }
   // LLE's and UMAP's eigenvalues are not variances.
-  const bool fractions = this->Method != LLE && this->Method != UMAP && positiveSum > 0;
+  const std::string methodText = method;
+  const bool fractions = methodText != "LLE" && methodText != "UMAP" && positiveSum > 0;
   const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
   vtkNew<vtkIntArray> indexColumn;
   indexColumn->SetName("index");
@@ -430,6 +726,15 @@ int vtkDimensionReduction::RequestMultichannelData(
   spectrumTable->AddColumn(indexColumn);
   spectrumTable->AddColumn(valueColumn);
   spectrumTable->AddColumn(fractionColumn);
+  if (!internals.ModelBytes.empty())
+  {
+    // The model file's bytes, for the model writer (ParaView's Save Data, mx.save_model).
+    vtkNew<vtkUnsignedCharArray> bytes;
+    bytes->SetName(kModelArrayName);
+    bytes->SetNumberOfTuples(static_cast<vtkIdType>(internals.ModelBytes.size()));
+    std::memcpy(bytes->GetPointer(0), internals.ModelBytes.data(), internals.ModelBytes.size());
+    spectrumTable->GetFieldData()->AddArray(bytes);
+  }
 
   this->UpdateProgress(1.0);
   return 1;
@@ -456,7 +761,7 @@ std::vector<vtkDataArray*> vtkDimensionReduction::GetDefaultChannels(vtkPointDat
   // Features, the mask and the coordinates of an earlier run are not channels.
   auto isOutput = [](vtkDataArray* a) {
     const std::string name = a->GetName() ? a->GetName() : "";
-    return name == kFeaturesName || name == kMaskName || name == kCoordinatesName;
+    return name == kFeaturesName || name == kMaskName || name == kCoordinatesName || name == kModelDistanceName;
   };
   picked.erase(std::remove_if(picked.begin(), picked.end(), isOutput), picked.end());
   return picked;
@@ -554,7 +859,8 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::InputArrayRows(
 
 //------------------------------------------------------------------------------
 std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageData* image, mcv::ImageGrid grid,
-  const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground)
+  const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground,
+  const mcv::vtkhelpers::ModelFile* model, mcv::vtkhelpers::FeatureRecipe* recipe)
 {
   const std::size_t count = grid.voxelCount();
   // Gradients in world units along the grid's axes, as MultichannelFeatures computes them.
@@ -565,7 +871,27 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     grid.spacing[a] = std::abs(spacing[a]);
   }
   mcv::vtkhelpers::ChannelArrays channels;
-  if (!this->SelectChannels(image, count, channels))
+  if (model)
+  {
+    // The model's channels by name, whatever the Channels property says.
+    std::vector<vtkDataArray*> arrays;
+    mcv::vtkhelpers::ChannelArrays all;
+    std::string error = mcv::vtkhelpers::selectChannelArrays(
+      image, {}, [this](vtkPointData* pd) { return this->GetDefaultChannels(pd); }, "DimensionReduction", arrays);
+    if (error.empty())
+    {
+      error = mcv::vtkhelpers::toChannels(arrays, count, all);
+    }
+    if (error.empty())
+    {
+      error = pickModelChannels(all, model->features.channels, this->ModelFile ? this->ModelFile : "", channels);
+    }
+    if (this->ReportError(error))
+    {
+      return nullptr;
+    }
+  }
+  else if (!this->SelectChannels(image, count, channels))
   {
     return nullptr;
   }
@@ -584,6 +910,19 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   options.piece = piece;
   options.device = this->GetRequestedDevice(); // the statistics pass runs where the reduction does
   options.progress = this->ProgressCallback(0.0, 0.1);
+  bool maskBackground = this->MaskBackground;
+  double backgroundThreshold = this->BackgroundThreshold;
+  if (model)
+  {
+    const mcv::vtkhelpers::FeatureRecipe& made = model->features;
+    options.preset = made.preset;
+    options.custom = made.selection;
+    options.normalization = made.normalization;
+    options.givenOffset = made.offset;
+    options.givenScale = made.scale;
+    maskBackground = made.maskBackground;
+    backgroundThreshold = made.backgroundThreshold;
+  }
   const int F = mcv::featureCount(channels.views.size(), options);
   if (F <= 0)
   {
@@ -600,7 +939,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   {
     return nullptr;
   }
-  if (this->MaskBackground)
+  if (maskBackground)
   {
     foreground = vtkSmartPointer<vtkUnsignedCharArray>::New();
     foreground->SetName(kMaskName);
@@ -623,7 +962,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   if (foreground)
   {
     mcv::BackgroundMaskOptions maskOptions;
-    maskOptions.threshold = this->BackgroundThreshold;
+    maskOptions.threshold = backgroundThreshold;
     maskOptions.communicator = options.communicator;
     maskOptions.piece = piece;
     mcv::BackgroundMaskResult mask;
@@ -634,6 +973,23 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
       vtkErrorMacro("Background mask: " << mask.error);
       return nullptr;
     }
+  }
+  if (recipe)
+  {
+    recipe->channels = channels.names;
+    recipe->preset = options.preset;
+    recipe->selection = mcv::FeatureSelection::forPreset(options.preset, options.custom);
+    recipe->normalization = options.normalization;
+    recipe->featureNames = prepared.names;
+    recipe->offset = prepared.columnOffset;
+    recipe->scale = prepared.columnScale;
+    for (int a = 0; a < 3; ++a)
+    {
+      recipe->spacing[a] = grid.spacing[a];
+    }
+    recipe->lengthUnit = fieldString(image, "LengthUnit");
+    recipe->maskBackground = maskBackground;
+    recipe->backgroundThreshold = backgroundThreshold;
   }
   // The channel arrays are the input's own (or kept by `channels`, which ends here): a
   // converted channel would dangle, so the bricks keep every converted copy.

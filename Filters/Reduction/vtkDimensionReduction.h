@@ -86,6 +86,11 @@ namespace mcv
 class FeatureRows;
 struct GridPiece;
 struct ImageGrid;
+namespace vtkhelpers
+{
+struct FeatureRecipe;
+struct ModelFile;
+}
 }
 #endif
 
@@ -239,6 +244,44 @@ public:
   ///@}
 
   ///@{
+  /**
+   * A reduction model file (`.mcvmodel`, written by ParaView's Save Data on this filter's
+   * Spectrum output, or mx.save_model): empty (default) fits here; a path applies that
+   * model instead: no fit, the features are computed from the channels the model names
+   * (matched by name, any order; a missing one is an error naming it) with the model's
+   * feature set and the normalisation offsets and scales of its fit volume, and every voxel
+   * is placed with the model's references. FeatureSet, Normalization, Method and the fit's
+   * properties are then the model's. A spacing other than the fit volume's is a warning.
+   * The output gains the point array `ModelDistance` (distance to the nearest reference over
+   * the model's reference radius; above 1.5 a voxel is outside the model and counted).
+   */
+  vtkSetStringMacro(ModelFile);
+  vtkGetStringMacro(ModelFile);
+  ///@}
+
+  enum FitTimeType
+  {
+    FIT_EACH_STEP = 0,
+    FIT_ONE_STEP = 1
+  };
+
+  ///@{
+  /**
+   * With time steps: FIT_EACH_STEP (default) fits every step on its own; FIT_ONE_STEP fits
+   * once, on step FitTimeStep (an index, clamped to the steps), and places every other step
+   * with that fit, so that unchanged voxels keep their coordinates across steps. Ignored
+   * with a ModelFile.
+   */
+  vtkSetClampMacro(FitTime, int, FIT_EACH_STEP, FIT_ONE_STEP);
+  vtkGetMacro(FitTime, int);
+  vtkSetMacro(FitTimeStep, int);
+  vtkGetMacro(FitTimeStep, int);
+  ///@}
+
+  /** Voxels of the last execution outside the applied model (0 when fitting). */
+  vtkGetMacro(NumberOfOutOfModelVoxels, vtkIdType);
+
+  ///@{
   /** Results of the last execution (empty / zero before the first or after a failure). */
   /** Eigenvalue spectrum as returned by the core (PCA, Isomap: descending). */
   vtkDoubleArray* GetEigenvalueSpectrum();
@@ -265,6 +308,8 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestMultichannelData(
     vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  // FIT_ONE_STEP: asks the input for the fit step first, then for the step asked of us.
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // Split runs: one ghost layer, the reach of the features computed from the channels (a
   // Features array needs none; its ghost voxels are placed and cropped away).
   int GetSplitGhostLayers() override { return 1; }
@@ -293,6 +338,10 @@ protected:
   int NumberOfEpochs = 0;
   vtkIdType ReferenceSampleSize = 10000;
   int RandomSeed = 0;
+  char* ModelFile = nullptr;
+  int FitTime = FIT_EACH_STEP;
+  int FitTimeStep = 0;
+  vtkIdType NumberOfOutOfModelVoxels = 0;
 
   double VarianceRetained = 0.0;
   double Trustworthiness = 0.0;
@@ -314,8 +363,16 @@ private:
   // their statistics are known) with the Foreground mask in `foreground` (MaskBackground).
   // Collective in a split run from AllProcessesReady() on, which they call.
   std::unique_ptr<mcv::FeatureRows> InputArrayRows(vtkImageData* image, std::size_t count, const char*& name);
+  // With `model`, the channels, features and normalisation are the model's; `recipe`
+  // (optional) receives how the rows were made, for the model a fit writes.
   std::unique_ptr<mcv::FeatureRows> ChannelRows(vtkImageData* image, mcv::ImageGrid grid, const mcv::GridPiece& piece,
-    vtkSmartPointer<vtkUnsignedCharArray>& foreground);
+    vtkSmartPointer<vtkUnsignedCharArray>& foreground, const mcv::vtkhelpers::ModelFile* model,
+    mcv::vtkhelpers::FeatureRecipe* recipe);
+  // ModelFile read (again only when the file changed); false after an error (reported).
+  bool ReadModelFile();
+  // The modification time of the filter and everything upstream (not the data: a new time
+  // step re-executes the input without changing it).
+  vtkMTimeType PipelineKey();
   // True when this run computes the features from the channels.
   bool UsesChannels(vtkPointData* pd);
 #endif

@@ -217,6 +217,24 @@ bool FeatureBricks::prepare(FeatureResult& result)
   }
   result.names = featureNames(options_.channelNames, selection_);
   result.deviceUsed = Device::CPU;
+  if (!options_.givenOffset.empty() || !options_.givenScale.empty())
+  {
+    // Checked before anything runs; the same answer on every process (same options).
+    if (options_.givenOffset.size() != static_cast<std::size_t>(cols_) ||
+      options_.givenScale.size() != static_cast<std::size_t>(cols_))
+    {
+      result.error = "the given normalisation has " + std::to_string(options_.givenOffset.size()) + " offsets and " +
+        std::to_string(options_.givenScale.size()) + " scales for " + std::to_string(cols_) + " feature columns";
+      return false;
+    }
+    result.columnOffset = offset_ = options_.givenOffset;
+    result.columnScale = scale_ = options_.givenScale;
+    if (options_.progress)
+    {
+      options_.progress(1.0);
+    }
+    return true;
+  }
   const GridPiece piece = options_.piece.wholeDims[0] > 0 ? options_.piece : GridPiece::whole(grid_);
   const bool zscore = options_.normalization == FeatureNormalization::ZScore;
   const std::size_t nxy = sliceVoxels(grid_);

@@ -99,6 +99,11 @@ struct FeatureOptions
   // (no communicator, empty piece): the grid is the whole volume.
   const Communicator* communicator = nullptr;
   GridPiece piece;
+  // Optional (FeatureBricks): the normalisation's offsets and scales given, one per column
+  // as FeatureResult::columnOffset/columnScale report them (a reduction model's, fitted on
+  // another volume): no statistics pass runs and this volume's own statistics are never
+  // used, so a voxel gets the features it would have had in the fit volume. Empty: computed.
+  std::vector<double> givenOffset, givenScale;
 };
 
 // Where the features go: rows (voxels) x cols (features), row-major float32, owned by the

@@ -9,6 +9,7 @@
 #include "IsomapEmbedding.h"
 #include "KeptRows.h"
 #include "LLEEmbedding.h"
+#include "ModelDistance.h"
 #include "OutOfSample.h"
 #include "PCAEmbedding.h"
 #include "ReferenceSample.h"
@@ -24,6 +25,7 @@
 #include <exception>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <new>
 #include <numeric>
 #include <string>
@@ -37,22 +39,6 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t)
 {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-const char* methodName(ReductionMethod m)
-{
-  switch (m)
-  {
-    case ReductionMethod::PCA:
-      return "PCA";
-    case ReductionMethod::Isomap:
-      return "Isomap";
-    case ReductionMethod::LLE:
-      return "LLE";
-    case ReductionMethod::UMAP:
-      return "UMAP";
-  }
-  return "unknown";
 }
 
 // ---- Where the rows lie ------------------------------------------------------------------
@@ -369,6 +355,7 @@ struct Fit
   double trustworthiness = std::numeric_limits<double>::quiet_NaN();
   double ms = 0.0;
   PCAModel pca;
+  double referenceRadius = 0.0; // ModelDistance.h
 };
 
 // Trustworthiness on a seeded sample of the reference points (NaN when not measured).
@@ -467,7 +454,7 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
   }
   if (!embedding.coordinates.allFinite())
   {
-    fit.error = std::string(methodName(options.method)) +
+    fit.error = std::string(reductionMethodName(options.method)) +
       ": the embedding has non-finite coordinates (degenerate data); try more neighbours or another method.";
     return fit;
   }
@@ -475,6 +462,7 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
   fit.eigenvalues = std::move(embedding.eigenvalues);
   fit.varianceRetained = embedding.varianceRetained;
   measureTrustworthiness(refX, options, fit);
+  fit.referenceRadius = referenceRadius(refX);
   return fit;
 }
 
@@ -562,6 +550,7 @@ std::vector<char> pack(const Fit& fit)
   w.value<std::int64_t>(fit.pca.axes.rows());
   w.value<std::int64_t>(fit.pca.axes.cols());
   w.raw(fit.pca.axes.data(), static_cast<std::size_t>(fit.pca.axes.size()) * sizeof(double));
+  w.value(fit.referenceRadius);
   return std::move(w.bytes);
 }
 
@@ -587,6 +576,7 @@ Fit unpack(const std::vector<char>& bytes)
   const std::int64_t axesRows = r.value<std::int64_t>();
   fit.pca.axes.resize(axesRows, r.value<std::int64_t>());
   r.raw(fit.pca.axes.data(), static_cast<std::size_t>(fit.pca.axes.size()) * sizeof(double));
+  fit.referenceRadius = r.value<double>();
   return fit;
 }
 
@@ -639,17 +629,27 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   };
 
   // --- Checks (the options are the same on every process, so are these answers) -----------
-  const int d = options.outputDimension;
+  const ReductionModel* const model = options.model;
+  if (model)
+  {
+    const std::string broken = model->check();
+    if (!broken.empty())
+    {
+      return fail("The reduction model is not usable: " + broken + ".");
+    }
+  }
+  const ReductionMethod method = model ? model->method : options.method;
+  const int d = model ? model->outputDimension : options.outputDimension;
   if (d != 2 && d != 3)
   {
     return fail("OutputDimension must be 2 or 3 (got " + std::to_string(d) + ").");
   }
-  if (options.method != ReductionMethod::PCA && options.method != ReductionMethod::Isomap &&
-    options.method != ReductionMethod::LLE && options.method != ReductionMethod::UMAP)
+  if (method != ReductionMethod::PCA && method != ReductionMethod::Isomap && method != ReductionMethod::LLE &&
+    method != ReductionMethod::UMAP)
   {
-    return fail("Unknown reduction method " + std::to_string(static_cast<int>(options.method)) + ".");
+    return fail("Unknown reduction method " + std::to_string(static_cast<int>(method)) + ".");
   }
-  const bool graphMethod = options.method != ReductionMethod::PCA;
+  const bool graphMethod = method != ReductionMethod::PCA && !model;
   if (graphMethod && options.numberOfNeighbors < 1)
   {
     return fail("NumberOfNeighbors must be at least 1 (got " + std::to_string(options.numberOfNeighbors) + ").");
@@ -658,12 +658,12 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("NumberOfLandmarks must be at least 1 (got " + std::to_string(options.numberOfLandmarks) + ").");
   }
-  if (options.referenceSampleSize == 0)
+  if (options.referenceSampleSize == 0 && !model)
   {
     return fail("ReferenceSampleSize must be at least 1.");
   }
   // Said before sampling: the setting, not the data, is what cannot be fitted.
-  if (options.referenceSampleSize < static_cast<std::size_t>(d) + 2)
+  if (options.referenceSampleSize < static_cast<std::size_t>(d) + 2 && !model)
   {
     return fail("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
       ") is too small: a " + std::to_string(d) + "D embedding is fitted on at least " + std::to_string(d + 2) +
@@ -672,6 +672,10 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   if (options.coordinatesOutput && options.coordinatesHalfOutput)
   {
     return fail("Give the coordinates one destination: coordinatesOutput (float32) or coordinatesHalfOutput (float16).");
+  }
+  if (options.modelDistanceOutput && !model)
+  {
+    return fail("A model distance (modelDistanceOutput) is measured against a model: set options.model.");
   }
   result.outputDimension = d;
   report("Checking features", 0.0);
@@ -709,130 +713,187 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       " component(s): nothing to reduce (at least 2 features are needed).");
   }
 
-  // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
-  // would leave holes in the output. The message says where the first one is.
+  // --- The references: the model's, or fitted here on a sample of the rows ---------------
+  std::vector<int> used;
+  RowMatrixF refX;
+  Fit fit;
+  std::size_t M = 0;
   std::string deviceWarning;
   const Device device = resolveDevice(options.device, &deviceWarning);
   if (!deviceWarning.empty())
   {
     result.warnings.push_back(deviceWarning);
   }
-  // Where the rows are computed on the GPU and this process owns them all, the passes over
-  // every row (this one, the sample's strata) run there too.
-  const bool devicePasses = device == Device::GPU && !isDistributed(comm) && rows.ownedCount() == features.rows();
-  ColumnStats stats(cols);
-  const std::function<void(double)> statsProgress = [&](double f) { report("Column statistics", 0.03 * f); };
-  if (!(devicePasses && deviceColumnStats(features, statsProgress, stats, result.warnings)))
+  if (model)
   {
-    error = runShared(comm, [&] { stats = localStats(features, rows, statsProgress); });
-  }
-  if (!error.empty())
-  {
-    return fail(error);
-  }
-  combineStats(stats, static_cast<double>(N), comm);
-  if (stats.nonFinite > 0)
-  {
-    const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
-    return fail("The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
-      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / cols) +
-      ", component " + std::to_string(first % cols) + "; replace or mask them before reducing.");
-  }
-  std::vector<int> used;
-  std::vector<double> usedMean;
-  std::string dropped;
-  for (int c = 0; c < cols; ++c)
-  {
-    const double range = stats.maximum[c] - stats.minimum[c];
-    const double scale = std::max(std::abs(stats.maximum[c]), std::abs(stats.minimum[c]));
-    if (range <= 1e-7 * scale || range == 0.0)
+    if (cols != model->featureColumns)
     {
-      dropped += (dropped.empty() ? "" : ", ") + std::to_string(c);
-      continue;
+      return fail("The reduction model was fitted on " + std::to_string(model->featureColumns) +
+        " feature columns; these rows have " + std::to_string(cols) + ".");
     }
-    used.push_back(c);
-    usedMean.push_back(stats.mean[c]);
+    used = model->usedColumns;
+    M = model->references;
+    const Eigen::Index D = static_cast<Eigen::Index>(used.size());
+    refX = Eigen::Map<const RowMatrixF>(model->referenceFeatures.data(), static_cast<Eigen::Index>(M), D);
+    fit.coordinates = Eigen::Map<const RowMatrixF>(model->referenceCoordinates.data(), static_cast<Eigen::Index>(M), d);
+    fit.pca.mean = Eigen::Map<const Eigen::VectorXd>(model->pcaMean.data(), static_cast<Eigen::Index>(model->pcaMean.size()));
+    fit.pca.axes = Eigen::Map<const Eigen::MatrixXd>(model->pcaAxes.data(), method == ReductionMethod::PCA ? D : 0,
+      method == ReductionMethod::PCA ? d : 0);
+    fit.referenceRadius = model->referenceRadius;
+    result.usedColumns = used;
+    result.eigenvalues = model->eigenvalues;
+    result.varianceRetained = model->varianceRetained;
+    result.trustworthiness = model->trustworthiness;
+    result.modelApplied = true;
   }
-  if (!dropped.empty())
+  else
   {
-    result.warnings.push_back("Constant feature component(s) " + dropped +
-      " (zero variance) carry no information and were left out.");
-  }
-  if (used.size() < 2)
-  {
-    return fail("Only " + std::to_string(used.size()) + " of the " + std::to_string(cols) +
-      " feature components vary: nothing to reduce.");
-  }
-  result.usedColumns = used;
-  const bool allColumns = static_cast<int>(used.size()) == cols;
-  const std::vector<int> gatherColumns = allColumns ? std::vector<int>{} : used;
+    // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
+    // would leave holes in the output. The message says where the first one is.
+    // Where the rows are computed on the GPU and this process owns them all, the passes over
+    // every row (this one, the sample's strata) run there too.
+    const bool devicePasses = device == Device::GPU && !isDistributed(comm) && rows.ownedCount() == features.rows();
+    ColumnStats stats(cols);
+    const std::function<void(double)> statsProgress = [&](double f) { report("Column statistics", 0.03 * f); };
+    if (!(devicePasses && deviceColumnStats(features, statsProgress, stats, result.warnings)))
+    {
+      error = runShared(comm, [&] { stats = localStats(features, rows, statsProgress); });
+    }
+    if (!error.empty())
+    {
+      return fail(error);
+    }
+    combineStats(stats, static_cast<double>(N), comm);
+    if (stats.nonFinite > 0)
+    {
+      const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
+      return fail("The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
+        " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / cols) +
+        ", component " + std::to_string(first % cols) + "; replace or mask them before reducing.");
+    }
+    std::vector<double> usedMean;
+    std::string dropped;
+    for (int c = 0; c < cols; ++c)
+    {
+      const double range = stats.maximum[c] - stats.minimum[c];
+      const double scale = std::max(std::abs(stats.maximum[c]), std::abs(stats.minimum[c]));
+      if (range <= 1e-7 * scale || range == 0.0)
+      {
+        dropped += (dropped.empty() ? "" : ", ") + std::to_string(c);
+        continue;
+      }
+      used.push_back(c);
+      usedMean.push_back(stats.mean[c]);
+    }
+    if (!dropped.empty())
+    {
+      result.warnings.push_back("Constant feature component(s) " + dropped +
+        " (zero variance) carry no information and were left out.");
+    }
+    if (used.size() < 2)
+    {
+      return fail("Only " + std::to_string(used.size()) + " of the " + std::to_string(cols) +
+        " feature components vary: nothing to reduce.");
+    }
+    result.usedColumns = used;
 
-  result.deviceUsed = Device::CPU; // the placement below says where it really ran
+    // --- Reference sample (the same voxels on every process) ---------------------------------
+    report("Drawing the reference sample", 0.03);
+    const unsigned char* mask = options.sampleMask;
+    const std::size_t eligible = sampleableVoxels(rows, mask, N, comm);
+    if (mask && eligible == 0)
+    {
+      result.warnings.push_back("The foreground mask marks no voxel (every voxel is background): the reference "
+                                "sample is drawn from all voxels.");
+      mask = nullptr;
+    }
+    const std::size_t Ns = mask ? eligible : N;
+    const char* const what = mask ? "foreground voxels" : "voxels";
+    result.sampledVoxels = Ns;
+    if (options.referenceSampleSize > Ns)
+    {
+      result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
+        ") exceeds the number of " + what + " (" + std::to_string(Ns) + "); the embedding is fitted on all of them.");
+    }
+    ReferenceSampleOptions so;
+    so.size = options.referenceSampleSize;
+    so.seed = options.randomSeed;
+    so.eligible = mask;
+    so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
+    so.onDevice = devicePasses;
+    ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
+    result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
+    if (!sample.error.empty())
+    {
+      return fail("Drawing the reference sample: " + sample.error);
+    }
+    result.referenceIndices = std::move(sample.indices);
+    M = result.referenceIndices.size();
+    const std::size_t wanted = std::min(options.referenceSampleSize, Ns);
+    if (M < wanted)
+    {
+      result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +
+        std::to_string(wanted) + " (identical voxels are fitted once).");
+    }
+    if (graphMethod && static_cast<std::size_t>(options.numberOfNeighbors) >= M)
+    {
+      return fail("NumberOfNeighbors (" + std::to_string(options.numberOfNeighbors) +
+        ") must be less than the number of distinct reference points (" + std::to_string(M) +
+        "); lower it or raise ReferenceSampleSize.");
+    }
+    if (M < static_cast<std::size_t>(d) + 2)
+    {
+      return fail("Only " + std::to_string(M) + " distinct feature vectors: at least " + std::to_string(d + 2) +
+        " are needed for a " + std::to_string(d) + "D embedding.");
+    }
+    refX = Eigen::Map<const RowMatrixF>(sample.vectors.data(), static_cast<Eigen::Index>(M),
+      static_cast<Eigen::Index>(used.size()));
 
-  // --- Reference sample (the same voxels on every process) ---------------------------------
-  report("Drawing the reference sample", 0.03);
-  const unsigned char* mask = options.sampleMask;
-  const std::size_t eligible = sampleableVoxels(rows, mask, N, comm);
-  if (mask && eligible == 0)
-  {
-    result.warnings.push_back("The foreground mask marks no voxel (every voxel is background): the reference "
-                              "sample is drawn from all voxels.");
-    mask = nullptr;
-  }
-  const std::size_t Ns = mask ? eligible : N;
-  const char* const what = mask ? "foreground voxels" : "voxels";
-  result.sampledVoxels = Ns;
-  if (options.referenceSampleSize > Ns)
-  {
-    result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
-      ") exceeds the number of " + what + " (" + std::to_string(Ns) + "); the embedding is fitted on all of them.");
-  }
-  ReferenceSampleOptions so;
-  so.size = options.referenceSampleSize;
-  so.seed = options.randomSeed;
-  so.eligible = mask;
-  so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
-  so.onDevice = devicePasses;
-  ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
-  result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
-  if (!sample.error.empty())
-  {
-    return fail("Drawing the reference sample: " + sample.error);
-  }
-  result.referenceIndices = std::move(sample.indices);
-  const std::size_t M = result.referenceIndices.size();
-  const std::size_t wanted = std::min(options.referenceSampleSize, Ns);
-  if (M < wanted)
-  {
-    result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +
-      std::to_string(wanted) + " (identical voxels are fitted once).");
-  }
-  if (graphMethod && static_cast<std::size_t>(options.numberOfNeighbors) >= M)
-  {
-    return fail("NumberOfNeighbors (" + std::to_string(options.numberOfNeighbors) +
-      ") must be less than the number of distinct reference points (" + std::to_string(M) +
-      "); lower it or raise ReferenceSampleSize.");
-  }
-  if (M < static_cast<std::size_t>(d) + 2)
-  {
-    return fail("Only " + std::to_string(M) + " distinct feature vectors: at least " + std::to_string(d + 2) +
-      " are needed for a " + std::to_string(d) + "D embedding.");
+    // --- Fit (process 0; its answer is shared) ---------------------------------------------------
+    report("Fitting the embedding", 0.05);
+    fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
+    result.fitMs = fit.ms;
+    result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
+    if (!fit.error.empty())
+    {
+      return fail(fit.error);
+    }
+    result.eigenvalues = fit.eigenvalues;
+    result.varianceRetained = fit.varianceRetained;
+    result.trustworthiness = fit.trustworthiness;
+
   }
   const Eigen::Index D = static_cast<Eigen::Index>(used.size());
-  const RowMatrixF refX = Eigen::Map<const RowMatrixF>(sample.vectors.data(), static_cast<Eigen::Index>(M), D);
-
-  // --- Fit (process 0; its answer is shared) ---------------------------------------------------
-  report("Fitting the embedding", 0.05);
-  Fit fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
-  result.fitMs = fit.ms;
-  result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
-  if (!fit.error.empty())
+  const bool allColumns = static_cast<int>(used.size()) == cols;
+  const std::vector<int> gatherColumns = allColumns ? std::vector<int>{} : used;
+  result.deviceUsed = Device::CPU; // the placement below says where it really ran
+  if (options.fittedModel && !model)
   {
-    return fail(fit.error);
+    ReductionModel& out = *options.fittedModel;
+    out = ReductionModel();
+    out.method = method;
+    out.outputDimension = d;
+    out.featureColumns = cols;
+    out.usedColumns = used;
+    out.references = M;
+    out.referenceFeatures.assign(refX.data(), refX.data() + refX.size());
+    out.referenceCoordinates.assign(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size());
+    if (method == ReductionMethod::PCA)
+    {
+      out.pcaMean.assign(fit.pca.mean.data(), fit.pca.mean.data() + fit.pca.mean.size());
+      out.pcaAxes.assign(fit.pca.axes.data(), fit.pca.axes.data() + fit.pca.axes.size());
+    }
+    out.referenceRadius = fit.referenceRadius;
+    out.eigenvalues = fit.eigenvalues;
+    out.varianceRetained = fit.varianceRetained;
+    out.trustworthiness = fit.trustworthiness;
   }
-  result.eigenvalues = fit.eigenvalues;
-  result.varianceRetained = fit.varianceRetained;
-  result.trustworthiness = fit.trustworthiness;
+  if (options.fitOnly && !model)
+  {
+    result.totalMs = msSince(start);
+    report("Done", 1.0);
+    return result;
+  }
 
   // --- Every row of this process (local) -----------------------------------------------------
   const auto placeStart = Clock::now();
@@ -881,11 +942,54 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   };
   const std::size_t chunkRows =
     halves || !kept.all() ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
-  if (options.method == ReductionMethod::PCA && options.device == Device::GPU)
+  // Applying a model: each output row's distance to it (ModelDistance.h) and the rows that
+  // are not finite (no statistics pass caught them).
+  std::unique_ptr<ExactKnn> nearestIndex;
+  std::vector<float> distanceScratch;
+  std::size_t outOfModel = 0, nonFiniteRows = 0;
+  auto measure = [&](std::size_t begin, std::size_t count, const float* rowsOfChunk, const std::uint32_t* nearest,
+                   std::size_t stride) {
+    if (!model)
+    {
+      return;
+    }
+    for (std::size_t r = 0; r < count; ++r)
+    {
+      const float* row = rowsOfChunk + r * static_cast<std::size_t>(cols);
+      for (int c : used)
+      {
+        if (!std::isfinite(row[c]))
+        {
+          ++nonFiniteRows;
+          break;
+        }
+      }
+    }
+    if (!options.modelDistanceOutput)
+    {
+      return;
+    }
+    if (!nearest && !nearestIndex)
+    {
+      nearestIndex.reset(new ExactKnn(refX.data(), M, static_cast<int>(D)));
+    }
+    distanceScratch.resize(count);
+    modelDistances(refX, nearestIndex.get(), fit.referenceRadius, rowsOfChunk, count, cols, gatherColumns, nearest,
+      stride, distanceScratch.data());
+    kept.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+      for (std::size_t r = 0; r < rowsKept; ++r)
+      {
+        const float v = distanceScratch[from - begin + r];
+        options.modelDistanceOutput[to + r] = v;
+        outOfModel += v > kOutOfModelRatio ? 1 : 0;
+      }
+    });
+  };
+  if (method == ReductionMethod::PCA && options.device == Device::GPU)
   {
     result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
   }
-  if (options.method != ReductionMethod::PCA && !isDistributed(comm) && !hasGrid(options) && M == n)
+  if (!model && method != ReductionMethod::PCA && !isDistributed(comm) && !hasGrid(options) && M == n)
   {
     // Every row is a reference point (M distinct indices of [0, rows) in order): its
     // embedding is the fit's, which the placement would return after a kNN search per row.
@@ -905,7 +1009,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     // with one warning.
     std::size_t placedRows = 0;
     Device blockDevice = device;
-    if (options.method != ReductionMethod::PCA && device == Device::GPU)
+    if (method != ReductionMethod::PCA && device == Device::GPU)
     {
       DevicePlacement request;
       request.refX = refX.data();
@@ -966,10 +1070,21 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         }
       }
     }
+    // The rows the GPU placed are measured against the model here (the device returns only
+    // their coordinates).
+    for (std::size_t b = 0; model && placedRows > 0 && b < features.blockCount(); ++b)
+    {
+      const std::size_t blockBegin = features.blockBegin(b);
+      const std::size_t blockEnd = std::min(features.blockBegin(b + 1), placedRows);
+      if (blockBegin < blockEnd)
+      {
+        measure(blockBegin, blockEnd - blockBegin, features.block(b), nullptr, 0);
+      }
+    }
     // Block by block (one block for a matrix in memory; the fused path computes each
     // block's features here): progress after each, so an abort stops between blocks.
     const std::size_t blocks = placedRows == n ? 0 : features.blockCount();
-    const char* const stage = options.method == ReductionMethod::PCA ? "PCA projection" : "Out-of-sample placement";
+    const char* const stage = method == ReductionMethod::PCA ? "PCA projection" : "Out-of-sample placement";
     for (std::size_t b = 0; b < blocks; ++b)
     {
       const std::size_t blockBegin = features.blockBegin(b), blockEnd = features.blockBegin(b + 1);
@@ -994,18 +1109,22 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         report(stage, lo);
         const float* rowsOfBlock = blockRows + (begin - blockBegin) * static_cast<std::size_t>(cols);
         float* out = floatsFor(begin, count);
-        if (options.method == ReductionMethod::PCA)
+        if (method == ReductionMethod::PCA)
         {
           projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
           written(begin, count, out);
+          measure(begin, count, rowsOfBlock, nullptr, 0);
           continue;
         }
         OutOfSampleOptions oo;
         oo.device = blockDevice;
         oo.progress = within(lo, hi);
-        const OutOfSampleReport placed =
-          placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols, gatherColumns, out, oo);
+        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(oo.neighbors), M);
+        std::vector<std::uint32_t> neighbors(options.modelDistanceOutput ? count * k : 0);
+        const OutOfSampleReport placed = placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols,
+          gatherColumns, out, oo, neighbors.empty() ? nullptr : neighbors.data());
         written(begin, count, out);
+        measure(begin, count, rowsOfBlock, neighbors.empty() ? nullptr : neighbors.data(), k);
         result.deviceUsed = placed.deviceUsed;
         for (const std::string& w : placed.warnings)
         {
@@ -1030,6 +1149,21 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       return fail(std::to_string(static_cast<std::int64_t>(over[0])) +
         " reduced coordinate value(s) exceed float16's range (|x| > 65504); use CoordinatePrecision Float32.");
     }
+  }
+  if (model)
+  {
+    // Collective: every process fails together, and all hear the whole count.
+    std::vector<double> counts{ static_cast<double>(nonFiniteRows), static_cast<double>(outOfModel) };
+    if (isDistributed(comm))
+    {
+      comm->sum(counts);
+    }
+    if (counts[0] > 0)
+    {
+      return fail("The features contain non-finite values (NaN or Inf) in " +
+        std::to_string(static_cast<std::int64_t>(counts[0])) + " voxel(s); replace or mask them before reducing.");
+    }
+    result.outOfModelVoxels = static_cast<std::size_t>(counts[1]);
   }
   result.placeMs = msSince(placeStart);
   result.totalMs = msSince(start);

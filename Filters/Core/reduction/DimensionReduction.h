@@ -12,6 +12,7 @@
 #include "GridPiece.h"
 #include "HalfCoordinates.h"
 #include "ImageGrid.h"
+#include "ReductionModel.h"
 
 #include <array>
 #include <cstddef>
@@ -97,6 +98,21 @@ struct ReductionOptions
   // defaults (outputHi < outputLo): every row.
   std::array<int, 3> outputLo{ 0, 0, 0 };
   std::array<int, 3> outputHi{ -1, -1, -1 };
+
+  // Optional: apply this model (ReductionModel.h) instead of fitting: no statistics, no
+  // sample, no fit; the rows are placed with the model's references (or projected on its PCA
+  // basis). The rows must have the model's featureColumns columns, in its order; method,
+  // outputDimension and the sample's options are the model's, not these.
+  const ReductionModel* model = nullptr;
+  // Optional: where a fit stores its model (every process gets the same one).
+  ReductionModel* fittedModel = nullptr;
+  // Stop after the fit (fittedModel, spectrum, trustworthiness): no row is placed and the
+  // coordinates outputs are left untouched. For a fit whose model other rows will use.
+  bool fitOnly = false;
+  // Optional, with `model`: one float per output row (like coordinatesOutput), each row's
+  // distance to the nearest reference over the model's referenceRadius (ModelDistance.h);
+  // rows beyond kOutOfModelRatio are counted in ReductionResult::outOfModelVoxels.
+  float* modelDistanceOutput = nullptr;
 };
 
 struct ReductionResult
@@ -120,6 +136,9 @@ struct ReductionResult
   std::size_t sampledVoxels = 0;     // voxels (all processes) the sample was drawn from:
                                      // those sampleMask marks, or all of them
   Device deviceUsed = Device::CPU;
+  bool modelApplied = false;          // placed with options.model (no fit ran)
+  std::size_t outOfModelVoxels = 0;   // with modelDistanceOutput: output rows (all processes)
+                                      // beyond kOutOfModelRatio
   double fitMs = 0, placeMs = 0, totalMs = 0;
   bool ok() const { return error.empty(); }
 };

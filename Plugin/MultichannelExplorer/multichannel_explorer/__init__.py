@@ -32,6 +32,8 @@ The package, one module per capability (every public name is also here, at the t
     states              check_state_file, load_state (a state file's widgets checked
                         before ParaView loads them: its loader reads "nan" as 0)
     reduction           reduce_multichannel
+    models              save_model, read_model, MODEL_FORMAT_VERSION (a fit kept as a
+                        .mcvmodel file and applied to other volumes and time steps)
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
     probing             probe, add_widget_at, palette_color, PROBE_MARKER
@@ -53,6 +55,7 @@ from . import _common, images
 from .brushing import BRUSHED_VOXELS, brush
 from .dual_domain import reduced_domain_filter, show_dual_domain
 from .images import image_entropy, image_statistics
+from .models import MODEL_FORMAT_VERSION, read_model, save_model
 from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
 from .probing import PROBE_MARKER, add_widget_at, palette_color, probe
 from .reduction import reduce_multichannel
@@ -78,6 +81,9 @@ __all__ = [
     "image_entropy",
     "image_statistics",
     "reduce_multichannel",
+    "save_model",
+    "read_model",
+    "MODEL_FORMAT_VERSION",
     "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",

@@ -15,7 +15,8 @@ _PRECISIONS = {"float32": "Float32", "float16": "Float16"}
 
 
 def reduce_multichannel(source, method="Isomap", features="24D", output_dimension=3,
-                        keep_features=False, coordinate_precision="float32", **props):
+                        keep_features=False, coordinate_precision="float32", model=None,
+                        **props):
     """Feature vectors of a multichannel volume reduced to a 2D/3D domain.
 
     Returns ``(features_proxy, reduction_proxy)``. ``features`` is a feature set ("6D",
@@ -38,6 +39,18 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
     memory, ~1/2048 relative precision); the suite's readers take either, and
     ``coordinate_values(array)`` gives float values from either.
 
+    ``model``: a reduction model file (``save_model``) to apply instead of fitting: one
+    ``DimensionReduction(Input=source, ModelFile=model)`` (returned twice) computes the
+    model's features from the channels it names (matched by name) with the normalisation
+    of the volume it was fitted on and places every voxel with the model's references, so
+    coordinates (and colours) mean the same as on that volume; `method`, `features` and
+    `output_dimension` are then the model's (the arguments are not used). The output also
+    holds ModelDistance (above 1.5: outside the model)::
+
+        _, red = mce.reduce_multichannel(volume, "PCA", "6D")
+        mce.save_model(red, "brain.mcvmodel")
+        _, same = mce.reduce_multichannel(other_volume, model="brain.mcvmodel")
+
     ``props`` are further DimensionReduction properties (NumberOfNeighbors,
     NumberOfLandmarks, ReferenceSampleSize, RandomSeed, Device). The background is masked
     (MaskBackground, on by default), so the reduction is fitted on foreground voxels;
@@ -53,6 +66,16 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
     if precision is None:
         raise ValueError("coordinate_precision is 'float32' or 'float16', not %r"
                          % (coordinate_precision,))
+    if model is not None:
+        from .models import _model_reduction, read_model
+
+        read_model(model)  # a clear error before any pipeline exists
+        if keep_features:
+            raise ValueError("reduce_multichannel: keep_features is not available with a model "
+                             "(the model computes its own features).")
+        reduction = _model_reduction(source, model, props)
+        reduction.CoordinatePrecision = precision
+        return reduction, reduction
     dimension_reduction = _filter("DimensionReduction")
     if features in _PRESETS and not keep_features:
         reduction = dimension_reduction(Input=source)
