@@ -278,7 +278,7 @@ std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int D
           bool done = false;
           for (std::size_t j = 0; j < found; ++j)
           {
-            if (root[idx[j]] != root[i])
+            if (idx[j] < n && std::isfinite(d2[j]) && root[idx[j]] != root[i])
             {
               partner[i] = idx[j];
               partnerD2[i] = d2[j];
@@ -286,8 +286,35 @@ std::vector<GraphEdge> joinKnnComponents(const float* data, std::size_t n, int D
               break;
             }
           }
-          if (done || k == n)
+          if (done)
           {
+            break;
+          }
+          if (k == n)
+          {
+            // No point of another component among all the tree answered: their distances
+            // overflow float (features beyond ~1e19). Scan them, a distance clamped to the
+            // largest float, so that the component is still joined (else this never ends).
+            const float* p = data + i * static_cast<std::size_t>(D);
+            for (std::size_t j = 0; j < n; ++j)
+            {
+              if (root[j] == root[i])
+              {
+                continue;
+              }
+              const float* o = data + j * static_cast<std::size_t>(D);
+              float s = 0.f;
+              for (int c = 0; c < D; ++c)
+              {
+                s += (p[c] - o[c]) * (p[c] - o[c]);
+              }
+              s = std::min(s, std::numeric_limits<float>::max());
+              if (s < partnerD2[i])
+              {
+                partner[i] = static_cast<std::uint32_t>(j);
+                partnerD2[i] = s;
+              }
+            }
             break;
           }
         }
