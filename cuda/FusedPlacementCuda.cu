@@ -23,9 +23,11 @@ SlabStreamSetup streamSetup(const FusedPlacementSetup& s)
   const PlacementInput& r = s.references;
   st.pass.fixedDevice = PlacementOnDevice::referenceBytes(r.M, r.D, r.d);
   // Coordinates on the device and in pinned memory, per row; the placement's scratch per slot.
-  st.pass.perRowDevice = static_cast<std::size_t>(r.d) * sizeof(float);
+  // With distances to a model, one float more per row.
+  const std::size_t perRow = (static_cast<std::size_t>(r.d) + (s.writeDistances ? 1 : 0)) * sizeof(float);
+  st.pass.perRowDevice = perRow;
   st.pass.perSlotDevice = [](std::size_t rows) { return PlacementOnDevice::scratchBytesPerSlot(rows); };
-  st.pass.perRowPinned = static_cast<std::size_t>(r.d) * sizeof(float);
+  st.pass.perRowPinned = perRow;
   return st;
 }
 
@@ -85,22 +87,28 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
   {
     return false;
   }
+  // Per slot: the coordinates, then (with writeDistances) one distance per row.
+  const bool distances = static_cast<bool>(setup.writeDistances);
+  const std::size_t perRow = static_cast<std::size_t>(d) + (distances ? 1 : 0);
   for (float*& c : coords.slot)
   {
-    MCV_CUDA_TRY(cudaMalloc(&c, slabRows * static_cast<std::size_t>(d) * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&c, slabRows * perRow * sizeof(float)));
   }
   SlabStreamStats& ss = stream.stats();
   const PlacementInput& r = setup.references;
   ss.bytesToDevice += PlacementOnDevice::referenceBytes(r.M, r.D, r.d);
 
   const auto launch = [&](Slab& s) -> bool {
-    if (!placement.place(s.features, s.rows, coords.slot[s.slot], nullptr, s.slot, s.stream, setup.mergeEqualRows, error))
+    float* slot = coords.slot[s.slot];
+    float* distance = distances ? slot + s.rows * static_cast<std::size_t>(d) : nullptr;
+    if (!placement.place(s.features, s.rows, slot, nullptr, s.slot, s.stream, setup.mergeEqualRows, error, distance,
+          setup.modelRadius))
     {
       return false;
     }
-    MCV_CUDA_TRY(cudaMemcpyAsync(s.pinned, coords.slot[s.slot], s.rows * static_cast<std::size_t>(d) * sizeof(float),
-      cudaMemcpyDeviceToHost, s.stream));
-    ss.bytesFromDevice += s.rows * static_cast<std::size_t>(d) * sizeof(float);
+    // Coordinates and distances lie one after the other: one copy down.
+    MCV_CUDA_TRY(cudaMemcpyAsync(s.pinned, slot, s.rows * perRow * sizeof(float), cudaMemcpyDeviceToHost, s.stream));
+    ss.bytesFromDevice += s.rows * perRow * sizeof(float);
     return true;
   };
   const auto finished = [&](const Slab& s) -> bool {
@@ -112,6 +120,10 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
     else
     {
       detail::stagingCopy(out + s.firstRow * static_cast<std::size_t>(d), values, s.rows * static_cast<std::size_t>(d) * sizeof(float));
+    }
+    if (distances)
+    {
+      setup.writeDistances(s.firstRow, s.rows, values + s.rows * static_cast<std::size_t>(d));
     }
     done = s.firstRow + s.rows;
     if (progress)

@@ -86,6 +86,10 @@ struct FusedPlacementSetup
   // pinned staging buffer) instead of the copy into `out`, which may then be null; the
   // float16 output rounds them there (FeatureBricks::placeOnDevice).
   std::function<void(std::size_t firstRow, std::size_t rows, const float* coordinates)> writeCoordinates;
+  // Optional: takes each slab's distances to the model (one float per row, computed on the
+  // device as ModelDistance.cpp does with modelRadius), from the pinned staging buffer.
+  std::function<void(std::size_t firstRow, std::size_t rows, const float* distances)> writeDistances;
+  double modelRadius = 0.0;
 };
 
 // Fills `values` with channel c's voxels [first, first + count) of the grid as float

@@ -4,6 +4,8 @@
 // for the rows that fail it, and the barycentric weights, all on the device.
 #include "OutOfSampleCuda.h"
 
+#include <math_constants.h>
+
 #include "CudaCheck.h"
 #include "DeviceBuffer.cuh"
 #include "ReferenceTiles.h"
@@ -71,6 +73,8 @@ struct PlaceParams
   double margin;
   float* out;            // n x d
   unsigned* neighbors;   // n x k or null
+  float* distance;       // n or null: |row - nearest reference| / radius (ModelDistance.h)
+  double radius;
 };
 
 __device__ __forceinline__ float feature(const float* row, int c, int gather)
@@ -603,6 +607,13 @@ __device__ void place(const PlaceParams& pp, std::size_t row, const float* q, co
       pp.neighbors[row * k + j] = nb[j];
     }
   }
+  if (pp.distance)
+  {
+    // As ModelDistance.cpp: the double square root and quotient, rounded once to float.
+    const double distance = sqrt(d2[0]);
+    pp.distance[row] = static_cast<float>(
+      pp.radius > 0 ? distance / pp.radius : (distance == 0.0 ? 0.0 : CUDART_INF));
+  }
   if (k == 1 || d2[0] == 0.0)
   {
     for (int c = 0; c < pp.d; ++c)
@@ -831,7 +842,7 @@ struct MaxOp
 // Every row that is not the first of its run takes the coordinates (and neighbours) of the
 // run's first row, headOf[r] (the running maximum of headIdx).
 __global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __restrict__ headOf, float* out, int d,
-  unsigned* neighbors, int k)
+  unsigned* neighbors, int k, float* distance)
 {
   const int r = blockIdx.x * blockDim.x + threadIdx.x;
   if (r >= count)
@@ -853,6 +864,10 @@ __global__ void copyRunsKernel(int count, std::size_t first, const unsigned* __r
     {
       neighbors[(first + r) * k + j] = neighbors[(first + h) * k + j];
     }
+  }
+  if (distance)
+  {
+    distance[first + r] = distance[first + h];
   }
 }
 
@@ -1091,7 +1106,7 @@ bool PlacementOnDevice::upload(const PlacementInput& in, int slots, std::size_t 
 }
 
 bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors,
-  int slot, void* streamHandle, bool mergeEqualRows, std::string* error)
+  int slot, void* streamHandle, bool mergeEqualRows, std::string* error, float* deviceDistance, double radius)
 {
   Impl& I = *P;
   if (I.M == 0 || slot < 0 || slot >= static_cast<int>(I.slots.size()))
@@ -1102,7 +1117,7 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
   Impl::Slot& s = I.slots[static_cast<std::size_t>(slot)];
   RowParams p{ deviceRows, 0, 0, I.dim, I.D, I.gather ? 1 : 0, static_cast<int>(I.M) };
   PlaceParams pp{ I.refX.as<float>(), I.refY.as<float>(), I.D, I.d, I.k, I.regularization, I.margin, deviceOut,
-    deviceNeighbors };
+    deviceNeighbors, deviceDistance, radius };
   const TileParams tp{ I.order.as<unsigned>(), I.centroids.as<float4>(), I.lo.as<float4>(), I.hi.as<float4>(),
     static_cast<float>(4.0 * (I.DP + 4) * std::ldexp(1.0, -24)), nullptr, I.visits.as<unsigned long long>(),
     I.warpFilter ? 1 : 0, I.norms.as<float>(), I.radius.as<float>(), I.centroidNorms.as<float>(),
@@ -1161,7 +1176,7 @@ bool PlacementOnDevice::place(const float* deviceRows, std::size_t n, float* dev
     if (mergeEqualRows)
     {
       copyRunsKernel<<<(p.count + 255) / 256, 256, 0, stream>>>(p.count, first, s.headOf.as<unsigned>(), deviceOut, I.d,
-        deviceNeighbors, I.k);
+        deviceNeighbors, I.k, deviceDistance);
       MCV_CUDA_TRY(cudaGetLastError());
     }
   }

@@ -93,8 +93,10 @@ public:
   // stream) with the scratch of `slot`. Nothing waits; errors of the kernels show at the
   // stream's next synchronisation. mergeEqualRows: a run of consecutive rows with equal
   // features is placed once (as the CPU path does; the same coordinates, bit for bit).
+  // deviceDistance (optional, n floats): each row's distance to its nearest reference over
+  // `radius` (ModelDistance.h), as the CPU computes it.
   bool place(const float* deviceRows, std::size_t n, float* deviceOut, unsigned* deviceNeighbors, int slot,
-    void* stream, bool mergeEqualRows, std::string* error);
+    void* stream, bool mergeEqualRows, std::string* error, float* deviceDistance = nullptr, double radius = 0.0);
   // Rows solved by the exact scan since upload (waits for the device).
   bool radiusScans(std::size_t* count, std::string* error);
   // Reference tiles, and tiles scanned per row placed since upload (waits for the device).

@@ -81,6 +81,12 @@ timeout 120 "$build/Testing/gpu/mcvBenchmarkUMAPGPU" --sizes 10000 --runs 1 >"$l
 grep -E "^N = |^Isomap|^UMAP|failed" "$logs/bench-umap.log" | tee -a "$summary"
 note "mcvBenchmarkUMAPGPU exit code $umap_rc"
 
+note "== reduction models: applying a model vs fitting (brain 7.1 M voxels; 20-volume collection), GPU"
+model_rc=0
+timeout 300 "$build/Testing/Benchmarks/mcvBenchmarkModel" --devices gpu >"$logs/bench-model.log" 2>&1 || model_rc=$?
+grep -E "^==|brain|collection|failed" "$logs/bench-model.log" | tee -a "$summary"
+note "mcvBenchmarkModel exit code $model_rc"
+
 note "== Gaussian transfer function (256^3 recolouring: baseline loop, CPU path, GPU path)"
 tf_rc=0
 timeout 180 "$build/Testing/Benchmarks/mcvBenchmarkGaussianTF" >"$logs/bench-gaussiantf.log" 2>&1 || tf_rc=$?

@@ -34,6 +34,10 @@ struct DevicePlacement
   // rounded into it from the slab's float staging buffer.
   std::uint16_t* outHalf = nullptr;
   std::function<void(double)> progress; // fraction of the rows placed
+  // Optional, rows() floats: each row's distance to the nearest reference over modelRadius
+  // (reduction/ModelDistance.h), computed where the rows are placed.
+  float* distance = nullptr;
+  double modelRadius = 0.0;
 };
 
 struct DevicePlacementReport

@@ -508,6 +508,14 @@ DevicePlacementReport FeatureBricks::placeOnDevice(const DevicePlacement& reques
       overflow += floatsToHalves(values, rows * d, halves + first * d);
     };
   }
+  if (request.distance)
+  {
+    float* const distance = request.distance;
+    setup.modelRadius = request.modelRadius;
+    setup.writeDistances = [distance](std::size_t first, std::size_t rows, const float* values) {
+      std::copy(values, values + rows, distance + first);
+    };
+  }
   cuda::FusedPlacementStats stats;
   std::string error;
   const bool ok = cuda::placeFused(setup, fill, request.out, request.progress, &stats, &report.rowsDone, &error);

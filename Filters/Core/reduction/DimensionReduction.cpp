@@ -1030,6 +1030,10 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       request.out = kept.all() ? coordinates : (halves ? nullptr : stagedFloats.data());
       request.outHalf = kept.all() ? halves : (halves ? stagedHalves.data() : nullptr);
       request.progress = [&](double f) { report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
+      // Applying a model: the distances to it come from the device with the coordinates.
+      std::vector<float> deviceDistances(model && options.modelDistanceOutput ? n : 0);
+      request.distance = deviceDistances.empty() ? nullptr : deviceDistances.data();
+      request.modelRadius = fit.referenceRadius;
       report("Out-of-sample placement (GPU)", 0.6);
       const DevicePlacementReport placed = features.placeOnDevice(request);
       if (!kept.all() && placed.attempted)
@@ -1046,6 +1050,18 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         });
       }
       overflow += placed.halfOverflow;
+      if (placed.attempted && request.distance)
+      {
+        kept.runs(0, placed.error.empty() ? n : std::min(n, placed.rowsDone),
+          [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+            for (std::size_t r = 0; r < rowsKept; ++r)
+            {
+              const float v = deviceDistances[from + r];
+              options.modelDistanceOutput[to + r] = v;
+              outOfModel += v > kOutOfModelRatio ? 1 : 0;
+            }
+          });
+      }
       if (placed.attempted)
       {
         if (placed.error.empty())
@@ -1068,17 +1084,6 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
           result.warnings.push_back("The GPU fused placement failed after " + std::to_string(placedRows) + " of " +
             std::to_string(n) + " voxels (" + placed.error + "); the rest ran on the CPU.");
         }
-      }
-    }
-    // The rows the GPU placed are measured against the model here (the device returns only
-    // their coordinates).
-    for (std::size_t b = 0; model && placedRows > 0 && b < features.blockCount(); ++b)
-    {
-      const std::size_t blockBegin = features.blockBegin(b);
-      const std::size_t blockEnd = std::min(features.blockBegin(b + 1), placedRows);
-      if (blockBegin < blockEnd)
-      {
-        measure(blockBegin, blockEnd - blockBegin, features.block(b), nullptr, 0);
       }
     }
     // Block by block (one block for a matrix in memory; the fused path computes each

@@ -299,7 +299,7 @@ def _place_camera(view, focal, direction, distance, up):
     view.CameraViewUp = list(up)
 
 
-def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5):
+def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, on_step=None):
     """Turns the camera of `view` smoothly to look along `direction` at `center`: about
     `duration` seconds of rendered steps (as many as fit, at least `frames`; frames <= 1:
     at once), the last one exactly along `direction`.
@@ -307,7 +307,9 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5):
     The direction turns on the great circle (slerp about the focal point, the distance
     kept; the focal point slides to `center`). The view-up turns with it (carried along
     the same rotation, so the picture does not roll); with `view_up` given, the roll
-    needed to end on it is spread over the steps. Returns the number of rendered steps."""
+    needed to end on it is spread over the steps. ``on_step(i)`` (optional) is called after
+    each rendered step (a batch script saves the frames there; with duration=0 the turn has
+    exactly `frames` steps). Returns the number of rendered steps."""
     simple = _simple()
     focal0, start, distance, up0 = _camera_state(view)
     goal = _normalized([float(d) for d in direction])
@@ -324,6 +326,8 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5):
         focal = [a + t * (b - a) for a, b in zip(focal0, center)]
         _place_camera(view, focal, d, distance, _perpendicular(d, up))
         simple.Render(view)
+        if on_step is not None:
+            on_step(steps)
         steps += 1
     return steps
 
