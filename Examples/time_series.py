@@ -4,7 +4,7 @@ colour means the same tissue in every frame.
     xvfb-run -a pvbatch Examples/time_series.py --input FILE [FILE ...] --output DIR
         [--model FILE.mcvmodel | --fit-step N --method PCA --features 6D]
         [--widgets 4] [--camera fixed|follow] [--turn-frames 6] [--size W H]
-        [--movie NAME.ogv] [--plugin PATH]
+        [--movie NAME.ogv | --movie none] [--plugin PATH]
 
 Input: one file with time steps (an ImageJ hyperstack with frames, an OME-TIFF or OME-Zarr
 with t, a ParaView file series) or one file per time step (listed in order).
@@ -47,7 +47,7 @@ def parse_args(argv):
     p.add_argument("--turn-frames", type=int, default=6)
     p.add_argument("--size", type=int, nargs=2, default=(640, 480))
     p.add_argument("--movie", default="series.ogv",
-                   help="movie file name (.ogv or .avi); empty: frames only")
+                   help="movie file name (.ogv or .avi); none: frames only")
     p.add_argument("--plugin")
     return p.parse_args(argv)
 
@@ -143,7 +143,7 @@ def main(argv):
             print("step %d (time %g): %s, %d voxels outside the model" % (step, t, frames[-1],
                                                                            outside))
 
-        if args.movie and args.camera == "fixed" and len(times) > 1:
+        if args.movie != "none" and args.camera == "fixed" and len(times) > 1:
             at(0)
             movie = run.path(args.movie)
             simple.SaveAnimation(movie, view, ImageResolution=list(args.size),

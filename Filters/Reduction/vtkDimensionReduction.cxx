@@ -411,7 +411,9 @@ int vtkDimensionReduction::RequestMultichannelData(
   {
     model = internals.OneStepModel;
     modelBytes = &internals.OneStepBytes;
-    modelSource = "the fit of time " + std::to_string(internals.OneStepTime);
+    std::ostringstream os;
+    os << "the fit of time " << internals.OneStepTime;
+    modelSource = os.str();
   }
   if (model)
   {
@@ -580,7 +582,9 @@ int vtkDimensionReduction::RequestMultichannelData(
     made->fit.volumeDimensions = options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : grid.dims;
     if (internals.FittingPass)
     {
-      made->fit.fittedOn = "time " + std::to_string(internals.OneStepTime);
+      std::ostringstream os;
+      os << "time " << internals.OneStepTime;
+      made->fit.fittedOn = os.str();
     }
     internals.Model = made;
     internals.ModelBytes = mcv::vtkhelpers::encodeModel(*made);

@@ -77,13 +77,13 @@ C.check(os.path.exists(movie) and os.path.getsize(movie) > 1000,
         "the movie is written (%d bytes)" % (os.path.getsize(movie) if os.path.exists(movie) else 0))
 
 again = os.path.join(work, "with_model")
-example(again, "--model", os.path.join(one, "model.mcvmodel"), "--movie", "")
+example(again, "--model", os.path.join(one, "model.mcvmodel"), "--movie", "none")
 C.check(all(np.array_equal(pixels(one, "frames/frame_%04d.png" % i),
                            pixels(again, "frames/frame_%04d.png" % i)) for i in range(3)),
         "with the saved model the frames are the same, pixel for pixel")
 
 follow = os.path.join(work, "follow")
-followed = example(follow, "--camera", "follow", "--turn-frames", "3", "--movie", "")
+followed = example(follow, "--camera", "follow", "--turn-frames", "3", "--movie", "none")
 names = sorted(os.listdir(os.path.join(follow, "frames")))
 C.check(len(names) == 1 + 2 * 3 and [s["frame"] for s in followed["steps"]][-1] ==
         "frames/frame_0006.png",
