@@ -54,7 +54,7 @@ def _resolve_voxel(grid, voxel, position):
     """0-based (i, j, k) of an index triple of ints, a flat point id, or a world position
     (3 numbers, not all int, or `position`): its nearest voxel."""
     if position is not None:
-        return grid.nearest_index([float(v) for v in position])
+        return grid.index_at([float(v) for v in position])
     if _is_int(voxel):
         return grid.index_of_id(voxel)
     voxel = list(voxel)
@@ -63,7 +63,7 @@ def _resolve_voxel(grid, voxel, position):
                          "not %r" % (voxel,))
     if all(_is_int(v) for v in voxel):
         return grid.check_index(voxel)
-    return grid.nearest_index([float(v) for v in voxel])
+    return grid.index_at([float(v) for v in voxel])
 
 
 def _domain_view(source):
@@ -92,8 +92,10 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
     the volume itself) and marks it in the reduced domain.
 
     `voxel`: a 0-based index (i, j, k) of ints (counted from the first voxel of the
-    extent), a flat point id (int; ReducedDomain's VoxelId), or a world position (3
-    numbers, not all ints; or pass `position=`): the nearest voxel. Returns a dict (also
+    whole extent), a flat point id over the whole volume (int; ReducedDomain's VoxelId),
+    or a world position (3 numbers, not all ints; or pass `position=`): the nearest voxel
+    (a position more than half a voxel outside the volume is an error). The same voxel,
+    values and marker in a serial session, under mpiexec pvbatch and on an MPI pvserver. Returns a dict (also
     with attribute access): index, point_id, position (world), coordinates (the voxel's
     ReducedCoordinates, or the display's coordinate array), channels ({name: value(s)}),
     features, foreground (None without a Foreground array), values (every point array),
