@@ -119,7 +119,11 @@ def _fetch_voxels(source, ids):
     volume's Origin, Spacing, Direction and WholeExtent as field data)."""
     from paraview import servermanager
 
-    return servermanager.Fetch(_extract_voxels_proxy(source, ids))
+    extract = _extract_voxels_proxy(source, ids)
+    # Updated as a pipeline first (each process its piece): fetched straight away, the
+    # reduction's request leaves the pieces of the processes other than the first empty.
+    extract.UpdatePipeline()
+    return servermanager.Fetch(extract)
 
 
 def _voxel_values(source, grid, index, coordinates="ReducedCoordinates"):

@@ -1,0 +1,377 @@
+"""The exploration loop gives the same answers on ParaView's distributed engine as in one
+process: probing, brushing and the dual domain address voxels by GLOBAL voxel id.
+
+Run as
+  pvpython client_server_loop_check.py --reference DIR
+      a built-in session: the chain on the real brain (ch2 + AAL + Brodmann, every 3rd
+      voxel: 61 x 73 x 61), PCA 6D -> 3D, widgets by k-means, the picture, the best view,
+      probes at voxels on every piece of a 2-, 3- and 4-process split and on the piece
+      boundaries (by index, point id and world position), brush by ids, by a box and by a
+      selection of the domain cloud, the dual domain's sample, add_widget_at, a probe
+      through a pixel, and the errors of bad input. Each probe is also checked against the
+      fetched volume itself (the voxel's own values at that global id). Writes DIR/answers.json
+      and DIR/picture.png.
+  pvpython client_server_loop_check.py --compare DIR --connect PORT
+      the same, connected to a pvserver (e.g. mpiexec -n 2 pvserver) on localhost:PORT
+      (the plugin loaded on both sides), compared answer by answer with DIR's: equal
+      (coordinates within float tolerance; the picture within a small pixel tolerance).
+  mpiexec -n N pvbatch --mpi client_server_loop_check.py --compare DIR
+      the same under pvbatch's parallel engine.
+Driver: test_client_server.sh.
+"""
+import argparse
+import json
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+
+from paraview import servermanager, simple  # noqa: E402
+
+SUBSAMPLE = 3
+REDUCTION = dict(ReferenceSampleSize=3000, RandomSeed=7)
+VIEW_SIZE = [400, 400]
+PIXEL_TOLERANCE = 12      # a channel difference above this counts as a differing pixel
+DIFFERING_FRACTION = 0.005  # at most this fraction of the pixels may differ
+COORD_TOLERANCE = 2e-4
+
+
+def parse():
+    parser = argparse.ArgumentParser()
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--reference", metavar="DIR")
+    mode.add_argument("--compare", metavar="DIR")
+    parser.add_argument("--connect", type=int, metavar="PORT")
+    return parser.parse_args()
+
+
+def connect_and_load(port):
+    """Connects to localhost:PORT and loads the plugin on the server and the client."""
+    plugin = os.environ.get("MCV_PLUGIN")
+    if not plugin:
+        print("FAIL: MCV_PLUGIN is not set")
+        sys.stdout.flush()
+        os._exit(1)
+    connection = simple.Connect("localhost", port)
+    if connection is None:
+        print("FAIL: could not connect to a pvserver on localhost:%d" % port)
+        sys.stdout.flush()
+        os._exit(1)
+    simple.LoadPlugin(plugin, remote=True)
+    simple.LoadPlugin(plugin, remote=False)
+    import multichannel_explorer
+
+    return multichannel_explorer
+
+
+def piece_extents(whole, pieces):
+    """The extents ParaView's block split gives `pieces` processes (vtkExtentTranslator)."""
+    from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
+
+    translator = vtkExtentTranslator()
+    out = []
+    for p in range(pieces):
+        ext = [0] * 6
+        translator.PieceToExtentThreadSafe(p, pieces, 0, whole, ext,
+                                           vtkExtentTranslator.BLOCK_MODE, 0)
+        out.append(ext)
+    return out
+
+
+def probed_voxels(dims):
+    """Voxels (0-based indices) on every piece of 2-, 3- and 4-process splits and on both
+    sides of each piece boundary, plus the corners and the centre."""
+    whole = [0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1]
+    voxels = set()
+    for corner in [(i, j, k) for i in (0, dims[0] - 1) for j in (0, dims[1] - 1)
+                   for k in (0, dims[2] - 1)]:
+        voxels.add(corner)
+    voxels.add(tuple(d // 2 for d in dims))
+    for pieces in (2, 3, 4):
+        for ext in piece_extents(whole, pieces):
+            centre = [(ext[2 * a] + ext[2 * a + 1]) // 2 for a in range(3)]
+            voxels.add(tuple(centre))
+            for a in range(3):
+                for v in (ext[2 * a] - 1, ext[2 * a], ext[2 * a + 1], ext[2 * a + 1] + 1):
+                    if 0 <= v < dims[a]:
+                        p = list(centre)
+                        p[a] = v
+                        voxels.add(tuple(p))
+    return sorted(voxels)
+
+
+def probe_record(hit):
+    return dict(index=list(hit.index), point_id=hit.point_id,
+                position=[float(v) for v in hit.position],
+                coordinates=[float(v) for v in hit.coordinates],
+                channels={k: float(v) for k, v in hit.channels.items()},
+                foreground=hit.foreground)
+
+
+def brushed(mce):
+    """(VoxelIds, world positions) of what brush() shows (BrushedVoxels' output)."""
+    data = servermanager.Fetch(simple.FindSource(mce.BRUSHED_VOXELS))
+    ids = data.GetPointData().GetArray("VoxelId")
+    pairs = sorted((int(ids.GetValue(p)), list(data.GetPoint(p)))
+                   for p in range(data.GetNumberOfPoints())) if ids else []
+    return [p[0] for p in pairs], [p[1] for p in pairs]
+
+
+def error_of(call):
+    try:
+        call()
+    except ValueError as error:
+        return str(error)
+    return None
+
+
+def run(mce, out, reference):
+    answers = {}
+    channels = [simple.OpenDataFile(T.data_file(n))
+                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+    merged = simple.AppendAttributes(Input=channels)
+    merged.UpdatePipeline()
+    volume = simple.ExtractSubset(Input=merged)
+    volume.VOI = merged.GetDataInformation().GetExtent()
+    volume.SampleRateI = volume.SampleRateJ = volume.SampleRateK = SUBSAMPLE
+    feats, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3, **REDUCTION)
+    red.UpdatePipeline()
+    ext = red.GetDataInformation().GetExtent()
+    dims = [ext[2 * a + 1] - ext[2 * a] + 1 for a in range(3)]
+    answers["dims"] = dims
+    ranges = red.PointData["ReducedCoordinates"]
+    answers["coordinate_ranges"] = [list(ranges.GetRange(c)) for c in range(3)]
+
+    view = simple.CreateView("RenderView")
+    view.ViewSize = VIEW_SIZE
+    view.OrientationAxesVisibility = 0
+    view.Background = [0, 0, 0]
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:
+        pass
+    display = mce.show_gaussian_tf(red, view)
+    answers["widgets"] = [float(v) for v in mce.auto_widgets(display, 3, seed=1)]
+    best = mce.apply_best_viewpoint(red, view)
+    answers["best_view"] = [float(v) for v in best.direction]
+    picture = os.path.join(out, "picture.png" if reference else "picture_compare.png")
+    simple.Render(view)
+    simple.SaveScreenshot(picture, view, ImageResolution=VIEW_SIZE)
+
+    # Probes by index at every piece and boundary, a few by point id and world position.
+    voxels = probed_voxels(dims)
+    answers["probes"] = [probe_record(mce.probe(display, v, mark=False)) for v in voxels]
+    sample = voxels[::7]
+    answers["probes_by_id"] = [
+        probe_record(mce.probe(display, v[0] + dims[0] * (v[1] + dims[1] * v[2]), mark=False))
+        for v in sample]
+    answers["probes_by_position"] = [
+        probe_record(mce.probe(display, position=[c + 0.2 for c in p["position"]], mark=False))
+        for p in answers["probes"][::7]]
+
+    # The dual domain: its sample and a probe with the markers.
+    dual = mce.show_dual_domain(display, view, sample_size=4000)
+    cloud = servermanager.Fetch(dual.filter)
+    cloud_ids = cloud.GetPointData().GetArray("VoxelId")
+    answers["domain_ids"] = [int(cloud_ids.GetValue(p)) for p in range(cloud.GetNumberOfPoints())]
+    answers["domain_points"] = [list(cloud.GetPoint(p)) for p in range(0, cloud.GetNumberOfPoints(), 97)]
+    marked = mce.probe(display, voxels[len(voxels) // 2])
+    marker = simple.FindSource(mce.PROBE_MARKER)
+    answers["probe_marker"] = [float(v) for v in marker.Center] if marker else None
+    voxel_marker = simple.FindSource("ProbeVoxelMarker")
+    answers["probe_voxel_marker"] = [float(v) for v in voxel_marker.Center] if voxel_marker else None
+    answers["added_widget"] = [float(v) for v in mce.add_widget_at(display, marked)]
+
+    # Brushing: ids on every piece and its boundaries, a box, a selection of the cloud.
+    ids = sorted(set(p["point_id"] for p in answers["probes"]))
+    answers["brush_ids_count"] = mce.brush(display, voxel_ids=ids)
+    answers["brush_ids"], answers["brush_ids_positions"] = brushed(mce)
+    lo = answers["coordinate_ranges"]
+    box = []
+    for a in range(3):
+        span = lo[a][1] - lo[a][0]
+        box += [lo[a][0] + 0.45 * span, lo[a][0] + 0.6 * span]
+    answers["brush_box_count"] = mce.brush(display, box=box)
+    answers["brush_box"], positions = brushed(mce)
+    answers["brush_box_positions"] = positions[::11]
+    chosen = [3, 10, 50, 333]
+    simple.SelectIDs(IDs=[v for c in chosen for v in (0, c)], FieldType="POINT",
+                     Source=dual.filter)
+    answers["brush_selection_count"] = mce.brush(dual.filter)
+    answers["brush_selection"], _ = brushed(mce)
+    simple.ClearSelection(dual.filter)
+
+    # The voxel through the middle pixel of the volume view.
+    hit = mce.probe_at_pixel(view, VIEW_SIZE[0] // 2, VIEW_SIZE[1] // 2)
+    answers["probe_at_pixel"] = list(hit.index) if hit is not None else None
+
+    # Bad input: errors, not answers.
+    n = dims[0] * dims[1] * dims[2]
+    answers["errors"] = {
+        "probe index outside": error_of(lambda: mce.probe(display, (dims[0], 0, 0))),
+        "probe id outside": error_of(lambda: mce.probe(display, n)),
+        "probe position outside": error_of(lambda: mce.probe(
+            display, position=[b + 1000.0 for b in answers["probes"][0]["position"]])),
+        "brush id outside": error_of(lambda: mce.brush(display, voxel_ids=[0, n])),
+        "brush negative id": error_of(lambda: mce.brush(display, voxel_ids=[-1])),
+    }
+    dual.stop()
+    return answers, picture, red
+
+
+def ground_truth_checks(C, answers, red):
+    """Built-in session: each probe returned the voxel at its global id (the fetched
+    volume's own values), and each brushed point sits at its voxel."""
+    image = servermanager.Fetch(red)
+    pd = image.GetPointData()
+    coords = pd.GetArray("ReducedCoordinates")
+    channels = {name: pd.GetArray(name) for name in T.BRAIN}
+    wrong = []
+    for p in answers["probes"] + answers["probes_by_id"] + answers["probes_by_position"]:
+        pid = p["point_id"]
+        i, j, k = p["index"]
+        d = answers["dims"]
+        ok = (pid == i + d[0] * (j + d[1] * k) and
+              all(abs(a - b) <= 1e-6 for a, b in zip(p["position"], image.GetPoint(pid))) and
+              list(coords.GetTuple3(pid)) == p["coordinates"] and
+              all(channels[c].GetTuple1(pid) == p["channels"][c] for c in T.BRAIN))
+        if not ok:
+            wrong.append(p["index"])
+    C.check(not wrong, "built-in: %d probes return the voxel at their global id (its own "
+            "coordinates, channels and position; wrong: %s)"
+            % (len(answers["probes"]) + len(answers["probes_by_id"]) +
+               len(answers["probes_by_position"]), wrong[:5]))
+    misplaced = [v for v, x in zip(answers["brush_ids"], answers["brush_ids_positions"])
+                 if any(abs(a - b) > 1e-6 for a, b in zip(x, image.GetPoint(v)))]
+    C.check(answers["brush_ids"] and not misplaced,
+            "built-in: every brushed voxel is drawn at its own position (%d)"
+            % len(answers["brush_ids"]))
+
+
+def close(a, b, tol):
+    if isinstance(a, dict):
+        return isinstance(b, dict) and sorted(a) == sorted(b) and all(
+            close(a[k], b[k], tol) for k in a)
+    if isinstance(a, (list, tuple)):
+        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(
+            close(x, y, tol) for x, y in zip(a, b))
+    if isinstance(a, float) or isinstance(b, float):
+        return b is not None and a is not None and abs(a - b) <= tol * max(1.0, abs(a))
+    return a == b
+
+
+def picture_difference(reference, picture):
+    """(max channel difference, fraction of pixels differing by more than
+    PIXEL_TOLERANCE) of two PNG files of the same size; None when sizes differ."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    def read(path):
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        image = reader.GetOutput()
+        scalars = image.GetPointData().GetScalars()
+        return image.GetDimensions(), scalars.GetNumberOfComponents(), bytes(memoryview(scalars))
+
+    (da, ca, a), (db, cb, b) = read(reference), read(picture)
+    if da != db or ca != cb:
+        return None
+    worst, differing = 0, 0
+    for p in range(0, len(a), ca):
+        d = max(abs(a[p + c] - b[p + c]) for c in range(min(ca, 3)))
+        worst = max(worst, d)
+        differing += d > PIXEL_TOLERANCE
+    return worst, differing / float(len(a) // ca)
+
+
+def compare(C, reference, answers, ref_picture, picture, processes):
+    """Each answer equal to the built-in one: a table row per check."""
+    rows = []
+
+    def row(name, ok, detail=""):
+        C.check(ok, "%-26s built-in vs %d process(es): %s %s"
+                % (name, processes, "equal" if ok else "DIFFERENT", detail))
+        rows.append((name, ok))
+
+    row("chain (extent)", answers["dims"] == reference["dims"], str(answers["dims"]))
+    row("coordinate ranges", close(answers["coordinate_ranges"], reference["coordinate_ranges"],
+                                   COORD_TOLERANCE))
+    row("auto widgets", close(answers["widgets"], reference["widgets"], 1e-3))
+    row("best view", close(answers["best_view"], reference["best_view"], 1e-3),
+        str(["%.4f" % v for v in answers["best_view"]]))
+    diff = picture_difference(ref_picture, picture)
+    row("picture", diff is not None and diff[1] <= DIFFERING_FRACTION,
+        "max channel difference %s, %.3f%% of pixels above %d"
+        % (diff and diff[0], 100 * diff[1] if diff else 100, PIXEL_TOLERANCE))
+    for key in ("probes", "probes_by_id", "probes_by_position"):
+        bad = [r["index"] for r, a in zip(reference[key], answers[key])
+               if not close(a, r, COORD_TOLERANCE)]
+        row(key, len(answers[key]) == len(reference[key]) and not bad,
+            "%d voxels (differ: %s)" % (len(reference[key]), bad[:4]))
+    row("domain sample (VoxelIds)", answers["domain_ids"] == reference["domain_ids"],
+        "%d points, %d distinct (built-in %d)" % (len(answers["domain_ids"]),
+                                                len(set(answers["domain_ids"])),
+                                                len(reference["domain_ids"])))
+    row("domain points", close(answers["domain_points"], reference["domain_points"],
+                               COORD_TOLERANCE))
+    row("probe markers", close([answers["probe_marker"], answers["probe_voxel_marker"]],
+                               [reference["probe_marker"], reference["probe_voxel_marker"]],
+                               COORD_TOLERANCE))
+    row("add_widget_at", close(answers["added_widget"], reference["added_widget"], 1e-3))
+    for key in ("brush_ids", "brush_box", "brush_selection"):
+        row(key, answers[key] == reference[key] and
+            answers[key + "_count"] == reference[key + "_count"],
+            "%d voxels (built-in %d)" % (len(answers[key]), len(reference[key])))
+    row("brushed positions", close(answers["brush_ids_positions"],
+                                   reference["brush_ids_positions"], 1e-9) and
+        close(answers["brush_box_positions"], reference["brush_box_positions"], 1e-9))
+    row("probe_at_pixel", answers["probe_at_pixel"] == reference["probe_at_pixel"],
+        str(answers["probe_at_pixel"]))
+    row("bad input errors", answers["errors"] == reference["errors"] and
+        all(answers["errors"].values()))
+    return rows
+
+
+def main():
+    args = parse()
+    if args.connect:
+        mce = connect_and_load(args.connect)
+    else:
+        mce = T.load_plugin(globals())
+    pm = servermanager.vtkProcessModule.GetProcessModule()
+    processes = (servermanager.ActiveConnection.GetNumberOfDataPartitions()
+                 if args.connect else pm.GetNumberOfLocalPartitions())
+    C = T.Checker("client_server_loop_check (%s, %d process(es))"
+                  % ("pvserver" if args.connect else "built-in/pvbatch", processes))
+    out = args.reference or args.compare
+    os.makedirs(out, exist_ok=True)
+    answers, picture, red = run(mce, out, bool(args.reference))
+    for name, message in sorted(answers["errors"].items()):
+        C.check(bool(message), "%s: %s" % (name, message))
+    if args.reference:
+        ground_truth_checks(C, answers, red)
+        C.check(len(answers["probes"]) >= 40 and answers["probe_at_pixel"] is not None and
+                answers["brush_box_count"] > 10 and answers["brush_selection_count"] == 4 and
+                len(set(answers["domain_ids"])) == len(answers["domain_ids"]) == 4000,
+                "built-in: %d probes, a probe through the middle pixel, %d voxels in the box, "
+                "4 selected, a domain of 4000 distinct voxels"
+                % (len(answers["probes"]), answers["brush_box_count"]))
+        with open(os.path.join(out, "answers.json"), "w") as f:
+            json.dump(answers, f)
+    else:
+        with open(os.path.join(out, "answers.json")) as f:
+            reference = json.load(f)
+        C.check(processes > 1 or not args.connect, "the server runs %d process(es)" % processes)
+        compare(C, reference, answers, os.path.join(out, "picture.png"), picture, processes)
+        with open(os.path.join(out, "answers_%d.json" % processes), "w") as f:
+            json.dump(answers, f)
+    if args.connect:
+        simple.Disconnect()
+    if processes > 1 and not args.connect:
+        C.finish_parallel()  # mpiexec pvbatch: pvbatch ends the other processes
+    else:
+        C.finish()
+
+
+main()
