@@ -126,7 +126,7 @@ def error_of(call):
     return None
 
 
-def run(mce, out, reference):
+def run(mce, out, reference, previous=None):
     answers = {}
     channels = [simple.OpenDataFile(T.data_file(n))
                 for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
@@ -182,6 +182,18 @@ def run(mce, out, reference):
     voxel_marker = simple.FindSource("ProbeVoxelMarker")
     answers["probe_voxel_marker"] = [float(v) for v in voxel_marker.Center] if voxel_marker else None
     answers["added_widget"] = [float(v) for v in mce.add_widget_at(display, marked)]
+    # The voxel of the domain cloud's point seen at a pixel of the domain view (the pixel
+    # of cloud point 123, projected in the built-in run).
+    dual.domain_view.ViewSize = VIEW_SIZE
+    simple.Render(dual.domain_view)
+    if previous is None:
+        import gaussian_tf_testing as G
+
+        answers["domain_pixel"] = list(G.project(dual.domain_view, cloud.GetPoint(123)))
+    else:
+        answers["domain_pixel"] = previous["domain_pixel"]
+    hit = mce.probe_domain_at_pixel(dual.domain_view, *answers["domain_pixel"])
+    answers["probe_domain_at_pixel"] = probe_record(hit) if hit is not None else None
 
     # Brushing: ids on every piece and its boundaries, a box, a selection of the cloud.
     ids = sorted(set(p["point_id"] for p in answers["probes"]))
@@ -319,6 +331,10 @@ def compare(C, reference, answers, ref_picture, picture, processes):
                                [reference["probe_marker"], reference["probe_voxel_marker"]],
                                COORD_TOLERANCE))
     row("add_widget_at", close(answers["added_widget"], reference["added_widget"], 1e-3))
+    row("probe_domain_at_pixel", answers["probe_domain_at_pixel"] is not None and
+        close(answers["probe_domain_at_pixel"], reference["probe_domain_at_pixel"],
+              COORD_TOLERANCE), str(answers["probe_domain_at_pixel"] and
+                                    answers["probe_domain_at_pixel"]["index"]))
     for key in ("brush_ids", "brush_box", "brush_selection"):
         row(key, answers[key] == reference[key] and
             answers[key + "_count"] == reference[key + "_count"],
@@ -346,11 +362,20 @@ def main():
                   % ("pvserver" if args.connect else "built-in/pvbatch", processes))
     out = args.reference or args.compare
     os.makedirs(out, exist_ok=True)
-    answers, picture, red = run(mce, out, bool(args.reference))
+    previous = None
+    if args.compare:
+        with open(os.path.join(out, "answers.json")) as f:
+            previous = json.load(f)
+    answers, picture, red = run(mce, out, bool(args.reference), previous)
     for name, message in sorted(answers["errors"].items()):
         C.check(bool(message), "%s: %s" % (name, message))
     if args.reference:
         ground_truth_checks(C, answers, red)
+        hit = answers["probe_domain_at_pixel"]
+        C.check(hit is not None and hit["point_id"] in answers["domain_ids"],
+                "built-in: probe_domain_at_pixel at the pixel of cloud point 123 (voxel %s): "
+                "the voxel of a cloud point there (%s)"
+                % (answers["domain_ids"][123], hit and hit["point_id"]))
         C.check(len(answers["probes"]) >= 40 and answers["probe_at_pixel"] is not None and
                 answers["brush_box_count"] > 10 and answers["brush_selection_count"] == 4 and
                 len(set(answers["domain_ids"])) == len(answers["domain_ids"]) == 4000,
@@ -360,8 +385,7 @@ def main():
         with open(os.path.join(out, "answers.json"), "w") as f:
             json.dump(answers, f)
     else:
-        with open(os.path.join(out, "answers.json")) as f:
-            reference = json.load(f)
+        reference = previous
         C.check(processes > 1 or not args.connect, "the server runs %d process(es)" % processes)
         compare(C, reference, answers, os.path.join(out, "picture.png"), picture, processes)
         with open(os.path.join(out, "answers_%d.json" % processes), "w") as f:

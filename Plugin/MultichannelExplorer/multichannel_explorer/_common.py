@@ -65,7 +65,96 @@ def _filter(name):
         raise RuntimeError(
             "The %s filter is not available: load the MultichannelExplorer plugin first, "
             "e.g. LoadPlugin(path, remote=False, ns=globals())" % name)
+    _trace_plugin_load()
     return ctor
+
+
+_PLUGIN_NAME = "MultichannelExplorer"
+_traced_plugin_for = [None]  # the trace output that already loads the plugin
+
+
+def _tracing():
+    """Whether a ParaView trace is being recorded (Tools > Start Trace, smtrace)."""
+    try:
+        from paraview.modules.vtkRemotingServerManager import vtkSMTrace
+    except ImportError:  # pragma: no cover - ParaView without the tracer
+        return False
+    return vtkSMTrace.GetActiveTracer() is not None
+
+
+def _plugin_files():
+    """[(file name, remote)] of this plugin as loaded on the client and, in a
+    client-server session, on the server."""
+    from paraview import servermanager
+
+    manager = servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager()
+    found = []
+    infos = [(manager.GetLocalInformation(), False)]
+    connection = servermanager.ActiveConnection
+    if connection is not None and connection.IsRemote():
+        infos.append((manager.GetRemoteInformation(connection.Session), True))
+    for info, remote in infos:
+        for i in range(info.GetNumberOfPlugins() if info is not None else 0):
+            if info.GetPluginName(i) == _PLUGIN_NAME and info.GetPluginLoaded(i):
+                found.append((info.GetPluginFileName(i), remote))
+                break
+    return found
+
+
+def _trace_plugin_load():
+    """In a trace being recorded, once: the LoadPlugin lines of this plugin (server side
+    first) right after the trace's `from paraview.simple import *`, so that the trace
+    loads the plugin before anything of it (a reader, a filter) is created."""
+    if not _tracing():
+        return
+    from paraview import smtrace
+
+    output = smtrace.Trace.Output
+    if output is None or _traced_plugin_for[0] is output:
+        return
+    _traced_plugin_for[0] = output
+    lines = ["", "# load the MultichannelExplorer plugin (its readers, filters and "
+             "representation)"]
+    for filename, remote in sorted(_plugin_files(), key=lambda f: not f[1]):
+        lines.append("LoadPlugin(%r, remote=%s, ns=globals())" % (filename, remote))
+    if len(lines) < 3:
+        return
+    data = output.raw_data()
+    anchor = "from paraview.simple import *"
+    at = next((i + 1 for i, line in enumerate(data) if line == anchor), 0)
+    data[at:at] = lines
+
+
+class _TracedProperties(object):
+    """Properties that the block sets on `proxies` are recorded in a ParaView trace being
+    recorded, as the GUI's property editors record theirs (smtrace.PropertiesModified,
+    the item SM_SCOPED_TRACE(PropertiesModified) makes); nothing without a trace::
+
+        with _TracedProperties(display):
+            display.GaussianWidgets = widgets
+    """
+
+    def __init__(self, *proxies):
+        self.proxies = [p for p in proxies if p is not None]
+        self.items = []
+
+    def __enter__(self):
+        if _tracing():
+            from paraview import smtrace
+
+            for proxy in self.proxies:
+                try:
+                    self.items.append(
+                        smtrace._create_trace_item_internal("PropertiesModified", [proxy]))
+                except smtrace.Untraceable:
+                    pass
+        return self
+
+    def __exit__(self, *unused):
+        items, self.items = self.items, []
+        for item in reversed(items):
+            item.finalize()
+        return False
 
 
 def _warn(message):

@@ -9,7 +9,7 @@ same voxels in a serial session, under mpiexec pvbatch and on an MPI pvserver, a
 is copied to the client but the ids.
 """
 
-from ._common import _filter, _find_filter, _same_proxy, _simple
+from ._common import _TracedProperties, _filter, _find_filter, _same_proxy, _simple
 from ._voxels import _find_or_create, _views_showing
 from .transfer_function import _source_and_display
 
@@ -130,16 +130,18 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
     if extract is None:
         extract = _find_or_create(BRUSHED_VOXELS, lambda registrationName: _filter(
             "ExtractVoxels")(Input=source, VoxelIds=ids, registrationName=registrationName))
-    extract.VoxelIds = ids
+    with _TracedProperties(extract):  # recorded in a trace being recorded
+        extract.VoxelIds = ids
     if view is None:
         views = _views_showing(source)
         view = views[0] if views else simple.GetActiveViewOrCreate("RenderView")
     rep = simple.Show(extract, view)
     rep.SetRepresentationType("Points")
-    rep.ColorArrayName = ["POINTS", ""]  # solid colour
-    rep.AmbientColor = rep.DiffuseColor = list(color)
-    rep.PointSize = point_size
-    rep.RenderPointsAsSpheres = 1
-    rep.Visibility = 1 if ids else 0
+    with _TracedProperties(rep):
+        rep.ColorArrayName = ["POINTS", ""]  # solid colour
+        rep.AmbientColor = rep.DiffuseColor = list(color)
+        rep.PointSize = point_size
+        rep.RenderPointsAsSpheres = 1
+        rep.Visibility = 1 if ids else 0
     simple.Render(view)
     return len(ids)

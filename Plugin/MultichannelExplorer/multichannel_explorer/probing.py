@@ -6,7 +6,7 @@ pixel of the volume view (the GUI's Probe toggle) is in picking.py.
 
 import numbers
 
-from ._common import _find_filter, _simple
+from ._common import _TracedProperties, _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
 from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
@@ -78,12 +78,14 @@ def _domain_view(source):
 def _show_marker(name, center, radius, view, color):
     simple = _simple()
     sphere = _find_or_create(name, simple.Sphere)
-    sphere.Center = [float(c) for c in center]
-    sphere.Radius = float(radius)
-    sphere.ThetaResolution = sphere.PhiResolution = 16
+    with _TracedProperties(sphere):
+        sphere.Center = [float(c) for c in center]
+        sphere.Radius = float(radius)
+        sphere.ThetaResolution = sphere.PhiResolution = 16
     rep = simple.Show(sphere, view)
-    rep.ColorArrayName = ["POINTS", ""]  # solid colour
-    rep.AmbientColor = rep.DiffuseColor = list(color)
+    with _TracedProperties(rep):
+        rep.ColorArrayName = ["POINTS", ""]  # solid colour
+        rep.AmbientColor = rep.DiffuseColor = list(color)
     return sphere
 
 
@@ -187,6 +189,7 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     values = widgets + widget
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.
-    display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
-    display.SMProxy.UpdateVTKObjects()
+    with _TracedProperties(display):  # recorded in a trace being recorded
+        display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
+        display.SMProxy.UpdateVTKObjects()
     return widget
