@@ -42,8 +42,36 @@ def parse():
     mode = parser.add_mutually_exclusive_group(required=True)
     mode.add_argument("--reference", metavar="DIR")
     mode.add_argument("--compare", metavar="DIR")
+    mode.add_argument("--no-server-plugin", action="store_true",
+                      help="with --connect: the plugin loaded on the client only")
     parser.add_argument("--connect", type=int, metavar="PORT")
     return parser.parse_args()
+
+
+def without_server_plugin(port):
+    """The plugin on the client only: the helpers refuse with an error that names what is
+    missing, instead of failing on the server or returning nothing."""
+    C = T.Checker("client_server_loop_check (server without the plugin)")
+    if simple.Connect("localhost", port) is None:
+        print("FAIL: could not connect to a pvserver on localhost:%d" % port)
+        sys.stdout.flush()
+        os._exit(1)
+    simple.LoadPlugin(os.environ["MCV_PLUGIN"], remote=False)
+    import multichannel_explorer as mce
+
+    wavelet = simple.Wavelet()
+    for name, call in (("reduce_multichannel", lambda: mce.reduce_multichannel(wavelet, "PCA", "6D")),
+                       ("probe", lambda: mce.probe(wavelet, (0, 0, 0), mark=False)),
+                       ("brush", lambda: mce.brush(wavelet, voxel_ids=[0]))):
+        try:
+            call()
+            message = None
+        except RuntimeError as error:
+            message = str(error)
+        C.check(message is not None and "not loaded on the server" in message and
+                "remote=True" in message, "%s: %s" % (name, message))
+    simple.Disconnect()
+    C.finish()
 
 
 def connect_and_load(port):
@@ -228,6 +256,21 @@ def run(mce, out, reference, previous=None):
         "brush id outside": error_of(lambda: mce.brush(display, voxel_ids=[0, n])),
         "brush negative id": error_of(lambda: mce.brush(display, voxel_ids=[-1])),
     }
+    # ExtractVoxels itself: an id outside the volume is the filter's error (nothing out);
+    # a repeated id comes out as often as listed; voxels of every piece in one list.
+    extract = servermanager.filters.ExtractVoxels(Input=red)
+    extract.VoxelIds = [0, n]
+    extract.UpdatePipeline()
+    answers["extract_outside_points"] = servermanager.Fetch(extract).GetNumberOfPoints()
+    extract.VoxelIds = [ids[-1], 5, ids[-1]] + ids[:3]
+    extract.UpdatePipeline()
+    data = servermanager.Fetch(extract)
+    got = data.GetPointData().GetArray("VoxelId")
+    answers["extract_listed"] = sorted(int(got.GetValue(p)) for p in range(got.GetNumberOfTuples()))
+    ijk = data.GetPointData().GetArray("VoxelIJK")
+    answers["extract_ijk_match"] = all(
+        list(ijk.GetTuple3(p)) == [v % dims[0], (v // dims[0]) % dims[1], v // (dims[0] * dims[1])]
+        for p, v in ((p, int(got.GetValue(p))) for p in range(got.GetNumberOfTuples())))
     dual.stop()
     return answers, picture, red
 
@@ -344,6 +387,10 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         close(answers["brush_box_positions"], reference["brush_box_positions"], 1e-9))
     row("probe_at_pixel", answers["probe_at_pixel"] == reference["probe_at_pixel"],
         str(answers["probe_at_pixel"]))
+    row("ExtractVoxels", answers["extract_outside_points"] == 0 and answers["extract_ijk_match"]
+        and answers["extract_listed"] == reference["extract_listed"],
+        "id outside: %d points; %d listed ids out" % (answers["extract_outside_points"],
+                                                      len(answers["extract_listed"])))
     row("bad input errors", answers["errors"] == reference["errors"] and
         all(answers["errors"].values()))
     return rows
@@ -351,6 +398,8 @@ def compare(C, reference, answers, ref_picture, picture, processes):
 
 def main():
     args = parse()
+    if args.no_server_plugin:
+        without_server_plugin(args.connect)
     if args.connect:
         mce = connect_and_load(args.connect)
     else:
@@ -371,6 +420,12 @@ def main():
         C.check(bool(message), "%s: %s" % (name, message))
     if args.reference:
         ground_truth_checks(C, answers, red)
+        listed = sorted([answers["brush_ids"][-1], 5, answers["brush_ids"][-1]] +
+                        answers["brush_ids"][:3])
+        C.check(answers["extract_outside_points"] == 0 and answers["extract_ijk_match"] and
+                answers["extract_listed"] == listed,
+                "built-in: ExtractVoxels of an id outside: nothing; of 6 listed ids (one "
+                "twice): those 6 (%s), VoxelIJK of each id" % answers["extract_listed"])
         hit = answers["probe_domain_at_pixel"]
         C.check(hit is not None and hit["point_id"] in answers["domain_ids"],
                 "built-in: probe_domain_at_pixel at the pixel of cloud point 123 (voxel %s): "

@@ -41,15 +41,21 @@ alive() {  # alive PID...: the ids among them of processes still running (not zo
   done
 }
 stop_server() {
-  # The server's processes by id: mpiexec's children (the pvservers) and mpiexec, then the
-  # X server; TERM, up to 10 s to end, then KILL. A process left over is reported.
+  # The server's processes by id: TERM to mpiexec, which passes it on to its children (the
+  # pvservers) and reaps them; after 10 s TERM to the children left, then KILL to all.
+  # A process left over is reported. Then the X server.
   if [ -n "$server_pid" ]; then
     procs="$(pgrep -P "$server_pid" 2>/dev/null) $server_pid"
-    kill $procs 2>/dev/null
+    kill "$server_pid" 2>/dev/null
     for _ in $(seq 1 20); do
       [ -z "$(alive $procs)" ] && break
       sleep 0.5
     done
+    left=$(alive $procs)
+    if [ -n "$left" ]; then
+      kill $left 2>/dev/null
+      sleep 2
+    fi
     left=$(alive $procs)
     if [ -n "$left" ]; then
       kill -9 $left 2>/dev/null
@@ -124,4 +130,19 @@ for n in $counts; do
   stop_server
   [ $rc -eq 0 ] || exit $rc
 done
-exit 0
+
+# A server without the plugin: the helpers say what is missing.
+echo "== pvserver with 2 processes, without the plugin"
+started=0
+for attempt in 1 2 3; do
+  if start_server 2; then
+    started=1
+    break
+  fi
+done
+[ $started -eq 1 ] || exit 1
+sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
+  --no-server-plugin --connect "$port"
+rc=$?
+stop_server
+exit $rc

@@ -57,6 +57,7 @@ def _filter(name):
     to paraview.simple's own here, so every helper works however the plugin was loaded
     (pvpython, pvbatch, the GUI's Python shell)."""
     simple = _simple()
+    _check_server_plugin()  # the plugin missing on the server: say that, not less
     ctor = getattr(simple, name, None)
     if ctor is None:
         simple._add_functions(vars(simple))
@@ -99,6 +100,30 @@ def _plugin_files():
                 found.append((info.GetPluginFileName(i), remote))
                 break
     return found
+
+
+def _check_server_plugin():
+    """In a client-server session, a RuntimeError that names what is missing when the
+    plugin is loaded on the client but not on the server (its filters would be created on
+    the client only, and the server would fail or return nothing)."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return
+    manager = servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager()
+    info = manager.GetRemoteInformation(connection.Session)
+    for i in range(info.GetNumberOfPlugins() if info is not None else 0):
+        if info.GetPluginName(i) == _PLUGIN_NAME and info.GetPluginLoaded(i):
+            return
+    local = [f for f, remote in _plugin_files() if not remote]
+    raise RuntimeError(
+        "The %s plugin is not loaded on the server (%s): its filters (DimensionReduction, "
+        "ReducedDomain, ExtractVoxels, ...) cannot run there. Load it on the server too: "
+        "LoadPlugin(%r, remote=True, ns=globals()) (a path on the server's machine), or "
+        "Tools > Manage Plugins > Load Remote in the GUI."
+        % (_PLUGIN_NAME, connection.GetURI() if hasattr(connection, "GetURI") else
+           "the connected pvserver", local[0] if local else "MultichannelExplorer.so"))
 
 
 def _trace_plugin_load():

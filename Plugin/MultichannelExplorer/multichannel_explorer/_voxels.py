@@ -11,7 +11,7 @@ names the same voxel in a serial session, under mpiexec pvbatch and on an MPI pv
 holds the voxel, and ID selections count ids within each process's piece).
 """
 
-from ._common import _coordinate_tuple, _is_float16, _same_proxy, _simple
+from ._common import _check_server_plugin, _coordinate_tuple, _is_float16, _same_proxy, _simple
 
 # Point arrays of the volume that are not channels (VoxelId and VoxelIJK: ExtractVoxels').
 _NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
@@ -102,6 +102,7 @@ def _extract_voxels_proxy(source, ids):
     at global voxel ids `ids`."""
     from paraview import servermanager
 
+    _check_server_plugin()
     ctor = getattr(servermanager.filters, "ExtractVoxels", None)
     if ctor is None:
         raise RuntimeError(
