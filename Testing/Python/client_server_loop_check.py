@@ -45,6 +45,8 @@ def parse():
     mode.add_argument("--no-server-plugin", action="store_true",
                       help="with --connect: the plugin loaded on the client only")
     parser.add_argument("--connect", type=int, metavar="PORT")
+    parser.add_argument("--processes", type=int, metavar="N",
+                        help="with --compare: the number of processes expected")
     return parser.parse_args()
 
 
@@ -234,6 +236,10 @@ def run(mce, out, reference, previous=None):
         box += [lo[a][0] + 0.45 * span, lo[a][0] + 0.6 * span]
     answers["brush_box_count"] = mce.brush(display, box=box)
     answers["brush_box"], positions = brushed(mce)
+    display.Visibility = 0  # the brushed voxels alone (the volume would hide them)
+    simple.SaveScreenshot(os.path.join(out, "brush_box%s.png" % ("" if reference else "_compare")),
+                          view, ImageResolution=VIEW_SIZE)
+    display.Visibility = 1
     answers["brush_box_positions"] = positions[::11]
     chosen = [3, 10, 50, 333]
     simple.SelectIDs(IDs=[v for c in chosen for v in (0, c)], FieldType="POINT",
@@ -441,13 +447,15 @@ def main():
             json.dump(answers, f)
     else:
         reference = previous
-        C.check(processes > 1 or not args.connect, "the server runs %d process(es)" % processes)
+        C.check(args.processes is None or processes == args.processes,
+                "the %s runs %d process(es) (expected %s)"
+                % ("server" if args.connect else "pvbatch", processes, args.processes))
         compare(C, reference, answers, os.path.join(out, "picture.png"), picture, processes)
         with open(os.path.join(out, "answers_%d.json" % processes), "w") as f:
             json.dump(answers, f)
     if args.connect:
         simple.Disconnect()
-    if processes > 1 and not args.connect:
+    if args.compare and not args.connect:
         C.finish_parallel()  # mpiexec pvbatch: pvbatch ends the other processes
     else:
         C.finish()

@@ -125,7 +125,7 @@ for n in $counts; do
   done
   [ $started -eq 1 ] || exit 1
   sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
-    --compare "$out" --connect "$port"
+    --compare "$out" --connect "$port" --processes "$n"
   rc=$?
   stop_server
   [ $rc -eq 0 ] || exit $rc

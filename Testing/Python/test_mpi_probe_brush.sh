@@ -22,6 +22,6 @@ export OMPI_MCA_rmaps_base_oversubscribe=1
 for n in $counts; do
   echo "== mpiexec -np $n pvbatch --mpi"
   OMP_NUM_THREADS=1 sh "$here/run_pvbatch.sh" "$mpiexec" -np "$n" "$pvbatch" --mpi \
-    "$here/client_server_loop_check.py" --compare "$out" || exit 1
+    "$here/client_server_loop_check.py" --compare "$out" --processes "$n" || exit 1
 done
 exit 0
