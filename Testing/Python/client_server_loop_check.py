@@ -44,10 +44,42 @@ def parse():
     mode.add_argument("--compare", metavar="DIR")
     mode.add_argument("--no-server-plugin", action="store_true",
                       help="with --connect: the plugin loaded on the client only")
+    mode.add_argument("--server-dies", metavar="MARKER",
+                      help="with --connect: writes MARKER, then updates a long reduction "
+                           "during which the driver kills a server process")
     parser.add_argument("--connect", type=int, metavar="PORT")
     parser.add_argument("--processes", type=int, metavar="N",
                         help="with --compare: the number of processes expected")
     return parser.parse_args()
+
+
+def server_dies(port, marker):
+    """A server process killed during an update: the update returns (nothing hangs) and
+    probe and brush then name the lost connection as the cause of the empty volume."""
+    import time
+
+    C = T.Checker("client_server_loop_check (server killed during an update)")
+    mce = connect_and_load(port)
+    channels = [simple.OpenDataFile(T.data_file(n))
+                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+    feats, red = mce.reduce_multichannel(simple.AppendAttributes(Input=channels), "Isomap",
+                                         "24D", ReferenceSampleSize=8000)
+    with open(marker, "w") as f:
+        f.write("updating\n")
+    start = time.time()
+    red.UpdatePipeline()  # the driver kills a server process meanwhile
+    took = time.time() - start
+    C.check(took < 250, "the update returned %.1f s after it started" % took)
+    for name, call in (("probe", lambda: mce.probe(red, (0, 0, 0), mark=False)),
+                       ("brush", lambda: mce.brush(red, voxel_ids=[0]))):
+        try:
+            call()
+            message = None
+        except (RuntimeError, ValueError) as error:
+            message = str(error)
+        C.check(message is not None and "lost connection to the pvserver" in message,
+                "%s after the server died: %s" % (name, message))
+    C.finish()
 
 
 def without_server_plugin(port):
@@ -156,8 +188,15 @@ def error_of(call):
     return None
 
 
+def stage(name):
+    """Progress on stdout (where a run that stops shows how far it got)."""
+    print("-- %s" % name)
+    sys.stdout.flush()
+
+
 def run(mce, out, reference, previous=None):
     answers = {}
+    stage("chain")
     channels = [simple.OpenDataFile(T.data_file(n))
                 for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
     merged = simple.AppendAttributes(Input=channels)
@@ -181,14 +220,17 @@ def run(mce, out, reference, previous=None):
         view.UseColorPaletteForBackground = 0
     except AttributeError:
         pass
+    stage("widgets and best view")
     display = mce.show_gaussian_tf(red, view)
     answers["widgets"] = [float(v) for v in mce.auto_widgets(display, 3, seed=1)]
     best = mce.apply_best_viewpoint(red, view)
     answers["best_view"] = [float(v) for v in best.direction]
+    stage("picture")
     picture = os.path.join(out, "picture.png" if reference else "picture_compare.png")
     simple.Render(view)
     simple.SaveScreenshot(picture, view, ImageResolution=VIEW_SIZE)
 
+    stage("probes")
     # Probes by index at every piece and boundary, a few by point id and world position.
     voxels = probed_voxels(dims)
     answers["probes"] = [probe_record(mce.probe(display, v, mark=False)) for v in voxels]
@@ -200,6 +242,7 @@ def run(mce, out, reference, previous=None):
         probe_record(mce.probe(display, position=[c + 0.2 for c in p["position"]], mark=False))
         for p in answers["probes"][::7]]
 
+    stage("dual domain")
     # The dual domain: its sample and a probe with the markers.
     dual = mce.show_dual_domain(display, view, sample_size=4000)
     cloud = servermanager.Fetch(dual.filter)
@@ -225,6 +268,7 @@ def run(mce, out, reference, previous=None):
     hit = mce.probe_domain_at_pixel(dual.domain_view, *answers["domain_pixel"])
     answers["probe_domain_at_pixel"] = probe_record(hit) if hit is not None else None
 
+    stage("brushing")
     # Brushing: ids on every piece and its boundaries, a box, a selection of the cloud.
     ids = sorted(set(p["point_id"] for p in answers["probes"]))
     answers["brush_ids_count"] = mce.brush(display, voxel_ids=ids)
@@ -248,10 +292,12 @@ def run(mce, out, reference, previous=None):
     answers["brush_selection"], _ = brushed(mce)
     simple.ClearSelection(dual.filter)
 
+    stage("probe_at_pixel")
     # The voxel through the middle pixel of the volume view.
     hit = mce.probe_at_pixel(view, VIEW_SIZE[0] // 2, VIEW_SIZE[1] // 2)
     answers["probe_at_pixel"] = list(hit.index) if hit is not None else None
 
+    stage("bad input")
     # Bad input: errors, not answers.
     n = dims[0] * dims[1] * dims[2]
     answers["errors"] = {
@@ -262,6 +308,7 @@ def run(mce, out, reference, previous=None):
         "brush id outside": error_of(lambda: mce.brush(display, voxel_ids=[0, n])),
         "brush negative id": error_of(lambda: mce.brush(display, voxel_ids=[-1])),
     }
+    stage("ExtractVoxels")
     # ExtractVoxels itself: an id outside the volume is the filter's error (nothing out);
     # a repeated id comes out as often as listed; voxels of every piece in one list.
     extract = servermanager.filters.ExtractVoxels(Input=red)
@@ -406,6 +453,8 @@ def main():
     args = parse()
     if args.no_server_plugin:
         without_server_plugin(args.connect)
+    if args.server_dies:
+        server_dies(args.connect, args.server_dies)
     if args.connect:
         mce = connect_and_load(args.connect)
     else:

@@ -145,4 +145,39 @@ sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
   --no-server-plugin --connect "$port"
 rc=$?
 stop_server
+[ $rc -eq 0 ] || exit $rc
+
+# A server process killed during an update: the client reports it, nothing hangs (the
+# client is given 300 s; a hang ends as exit 124).
+echo "== pvserver with 2 processes, one killed during an update"
+started=0
+for attempt in 1 2 3; do
+  if start_server 2; then
+    started=1
+    break
+  fi
+done
+[ $started -eq 1 ] || exit 1
+marker="$out/updating"
+rm -f "$marker"
+timeout 300 sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
+  --server-dies "$marker" --connect "$port" &
+client=$!
+for _ in $(seq 1 240); do
+  [ -e "$marker" ] && break
+  kill -0 "$client" 2>/dev/null || break
+  sleep 0.5
+done
+sleep 3
+victim=$(pgrep -P "$server_pid" | tail -n 1)
+if [ -e "$marker" ] && [ -n "$victim" ]; then
+  echo "killing pvserver process $victim during the update"
+  kill -9 "$victim"
+else
+  echo "test_client_server.sh: the client did not reach the update (marker $marker)" >&2
+fi
+wait "$client"
+rc=$?
+stop_server
+[ $rc -eq 124 ] && echo "test_client_server.sh: the client hung after the server died" >&2
 exit $rc

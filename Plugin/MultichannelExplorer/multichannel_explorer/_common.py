@@ -102,15 +102,48 @@ def _plugin_files():
     return found
 
 
-def _check_server_plugin():
-    """In a client-server session, a RuntimeError that names what is missing when the
-    plugin is loaded on the client but not on the server (its filters would be created on
-    the client only, and the server would fail or return nothing)."""
+def _check_server_alive():
+    """In a client-server session, a RuntimeError when the connection to the server is
+    lost (the server ended or was killed, e.g. during an update): what the helpers would
+    read back otherwise is empty data, and their own messages would mislead."""
     from paraview import servermanager
 
     connection = servermanager.ActiveConnection
     if connection is None or not connection.IsRemote():
         return
+    # ParaView 5.11 marks the session dead only once the client has processed the lost
+    # socket (the GUI's event loop); a script sees an empty volume first: _Grid and
+    # brush() name the lost connection as a likely cause then.
+    if not connection.Session.GetIsAlive():
+        raise RuntimeError(
+            "The connection to the pvserver (%s) is lost: the server ended or was killed "
+            "(see its output). Start it again, Connect() and load the plugin on both sides."
+            % connection.GetURI())
+
+
+def _remote_hint():
+    """The words added to an 'empty volume' error in a client-server session."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return ""
+    return (" (in a client-server session this is also what a lost connection to the "
+            "pvserver %s looks like: the server ended or was killed; see its output)"
+            % connection.GetURI())
+
+
+def _check_server_plugin():
+    """In a client-server session, a RuntimeError that names what is missing when the
+    plugin is loaded on the client but not on the server (its filters would be created on
+    the client only, and the server would fail or return nothing), or when the connection
+    is lost (_check_server_alive)."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return
+    _check_server_alive()
     manager = servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager()
     info = manager.GetRemoteInformation(connection.Session)
     for i in range(info.GetNumberOfPlugins() if info is not None else 0):

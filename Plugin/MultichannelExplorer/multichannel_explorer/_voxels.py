@@ -11,7 +11,8 @@ names the same voxel in a serial session, under mpiexec pvbatch and on an MPI pv
 holds the voxel, and ID selections count ids within each process's piece).
 """
 
-from ._common import _check_server_plugin, _coordinate_tuple, _is_float16, _same_proxy, _simple
+from ._common import (_check_server_alive, _check_server_plugin, _coordinate_tuple, _is_float16,
+                      _remote_hint, _same_proxy, _simple)
 
 # Point arrays of the volume that are not channels (VoxelId and VoxelIJK: ExtractVoxels').
 _NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
@@ -24,10 +25,11 @@ class _Grid(object):
 
     def __init__(self, source):
         source.UpdatePipeline()
+        _check_server_alive()  # a server lost during the update leaves no extent
         extent = [int(v) for v in source.GetDataInformation().GetExtent()]
         if extent[1] < extent[0] or extent[3] < extent[2] or extent[5] < extent[4]:
             raise ValueError("probe/brush need image data (a volume with an extent); %s has "
-                             "none" % source.SMProxy.GetXMLLabel())
+                             "none%s" % (source.SMProxy.GetXMLLabel(), _remote_hint()))
         self.source = source
         self.extent = extent
         self.dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]

@@ -9,7 +9,8 @@ same voxels in a serial session, under mpiexec pvbatch and on an MPI pvserver, a
 is copied to the client but the ids.
 """
 
-from ._common import _TracedProperties, _filter, _find_filter, _same_proxy, _simple
+from ._common import (_TracedProperties, _check_server_alive, _filter, _find_filter,
+                      _remote_hint, _same_proxy, _simple)
 from ._voxels import _find_or_create, _views_showing
 from .transfer_function import _source_and_display
 
@@ -113,10 +114,14 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
     # The whole extent's voxel count (the number of points would count the points that
     # neighbouring pieces share twice on several processes).
     source.UpdatePipeline()
+    _check_server_alive()  # a server lost during the update leaves no extent
     extent = source.GetDataInformation().GetExtent()
     count = 1
     for a in range(3):
         count *= max(int(extent[2 * a + 1]) - int(extent[2 * a]) + 1, 0)
+    if count == 0:
+        raise ValueError("brush needs a volume with voxels; %s has none%s"
+                         % (source.SMProxy.GetXMLLabel(), _remote_hint()))
     outside = [v for v in ids if not 0 <= v < count]
     if outside:  # checked here so that the highlight is kept and the message is Python's
         raise ValueError("brush: voxel ids %s outside the volume's %d voxels (ids 0 to %d)"
