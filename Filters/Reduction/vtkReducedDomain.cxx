@@ -13,6 +13,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnsignedCharArray.h"
 
 // The VTK-free core (Filters/Core).
@@ -206,6 +207,18 @@ int vtkReducedDomain::RequestMultichannelData(
   {
     vtkErrorMacro("ReducedDomain needs a dataset input.");
     return 0;
+  }
+  // Every process holds the whole volume and would draw the same sample: asked for
+  // pieces (mpiexec pvbatch, an MPI pvserver, streaming), piece 0 outputs the sample and
+  // the widgets and the other pieces stay empty, so the gathered domain holds each sampled
+  // voxel once, the points of a one-process run.
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) &&
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) > 0)
+  {
+    domain->Initialize();
+    widgetOutput->Initialize();
+    return 1;
   }
 
   // ---- Coordinates and widgets -------------------------------------------------------

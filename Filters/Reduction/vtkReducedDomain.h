@@ -6,7 +6,9 @@
  * (the input array to process, default `ReducedCoordinates`, 2 or 3 components) of
  * DimensionReduction. A seeded uniform sample of SampleSize points (all of them when
  * SampleSize >= the number of points; points with non-finite coordinates are left out)
- * is output as:
+ * is output as (by piece 0 alone when the output is asked for in pieces, as on an MPI
+ * pvserver: the sample is drawn once over the whole volume, the same points for a seed
+ * whatever the number of processes; the other pieces are empty):
  *
  * - port 0 `Domain`: vtkPolyData, one vertex per sampled voxel at its reduced
  *   coordinates (z = 0 for 2D), with point arrays `RGBA` (uint8, the colour and opacity
@@ -124,7 +126,8 @@ protected:
   ~vtkReducedDomain() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  // Not split (GetSplitGhostLayers): every process samples the whole volume.
+  // Not split (GetSplitGhostLayers): every process takes the whole volume, and piece 0
+  // alone outputs the sample, drawn over the whole volume (global VoxelIds).
   int RequestMultichannelData(
     vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -143,7 +143,7 @@ def brush(*args, **kwargs):
         ids = picked.GetPointData().GetArray("VoxelId")
         expected = sorted(int(ids.GetValue(p)) for p in range(ids.GetNumberOfTuples()))
     shown = servermanager.Fetch(FindSource(mce.BRUSHED_VOXELS))
-    original = shown.GetPointData().GetArray("vtkOriginalPointIds")
+    original = shown.GetPointData().GetArray("VoxelId")
     state["events"].append({
         "event": "brush", "count": count, "expected": expected,
         "highlighted": sorted(int(original.GetValue(p))

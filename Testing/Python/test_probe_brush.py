@@ -38,10 +38,10 @@ def close(a, b, tol=1e-6):
 
 
 def highlighted_ids():
-    """Point ids (of the volume) of what brush() shows, read from its extract."""
+    """Voxel ids (of the volume) of what brush() shows, read from its extract."""
     extract = simple.FindSource(mce.BRUSHED_VOXELS)
     data = servermanager.Fetch(extract)
-    ids = data.GetPointData().GetArray("vtkOriginalPointIds")
+    ids = data.GetPointData().GetArray("VoxelId")
     return B.set(int(ids.GetValue(p)) for p in range(ids.GetNumberOfTuples())) if ids else B.set()
 
 

@@ -57,6 +57,7 @@ def _filter(name):
     to paraview.simple's own here, so every helper works however the plugin was loaded
     (pvpython, pvbatch, the GUI's Python shell)."""
     simple = _simple()
+    _check_server_plugin()  # the plugin missing on the server: say that, not less
     ctor = getattr(simple, name, None)
     if ctor is None:
         simple._add_functions(vars(simple))
@@ -65,7 +66,153 @@ def _filter(name):
         raise RuntimeError(
             "The %s filter is not available: load the MultichannelExplorer plugin first, "
             "e.g. LoadPlugin(path, remote=False, ns=globals())" % name)
+    _trace_plugin_load()
     return ctor
+
+
+_PLUGIN_NAME = "MultichannelExplorer"
+_traced_plugin_for = [None]  # the trace output that already loads the plugin
+
+
+def _tracing():
+    """Whether a ParaView trace is being recorded (Tools > Start Trace, smtrace)."""
+    try:
+        from paraview.modules.vtkRemotingServerManager import vtkSMTrace
+    except ImportError:  # pragma: no cover - ParaView without the tracer
+        return False
+    return vtkSMTrace.GetActiveTracer() is not None
+
+
+def _plugin_files():
+    """[(file name, remote)] of this plugin as loaded on the client and, in a
+    client-server session, on the server."""
+    from paraview import servermanager
+
+    manager = servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager()
+    found = []
+    infos = [(manager.GetLocalInformation(), False)]
+    connection = servermanager.ActiveConnection
+    if connection is not None and connection.IsRemote():
+        infos.append((manager.GetRemoteInformation(connection.Session), True))
+    for info, remote in infos:
+        for i in range(info.GetNumberOfPlugins() if info is not None else 0):
+            if info.GetPluginName(i) == _PLUGIN_NAME and info.GetPluginLoaded(i):
+                found.append((info.GetPluginFileName(i), remote))
+                break
+    return found
+
+
+def _check_server_alive():
+    """In a client-server session, a RuntimeError when the connection to the server is
+    lost (the server ended or was killed, e.g. during an update): what the helpers would
+    read back otherwise is empty data, and their own messages would mislead."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return
+    # ParaView 5.11 marks the session dead only once the client has processed the lost
+    # socket (the GUI's event loop); a script sees an empty volume first: _Grid and
+    # brush() name the lost connection as a likely cause then.
+    if not connection.Session.GetIsAlive():
+        raise RuntimeError(
+            "The connection to the pvserver (%s) is lost: the server ended or was killed "
+            "(see its output). Start it again, Connect() and load the plugin on both sides."
+            % connection.GetURI())
+
+
+def _remote_hint():
+    """The words added to an 'empty volume' error in a client-server session."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return ""
+    return (" (in a client-server session this is also what a lost connection to the "
+            "pvserver %s looks like: the server ended or was killed; see its output)"
+            % connection.GetURI())
+
+
+def _check_server_plugin():
+    """In a client-server session, a RuntimeError that names what is missing when the
+    plugin is loaded on the client but not on the server (its filters would be created on
+    the client only, and the server would fail or return nothing), or when the connection
+    is lost (_check_server_alive)."""
+    from paraview import servermanager
+
+    connection = servermanager.ActiveConnection
+    if connection is None or not connection.IsRemote():
+        return
+    _check_server_alive()
+    manager = servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager()
+    info = manager.GetRemoteInformation(connection.Session)
+    for i in range(info.GetNumberOfPlugins() if info is not None else 0):
+        if info.GetPluginName(i) == _PLUGIN_NAME and info.GetPluginLoaded(i):
+            return
+    local = [f for f, remote in _plugin_files() if not remote]
+    raise RuntimeError(
+        "The %s plugin is not loaded on the server (%s): its filters (DimensionReduction, "
+        "ReducedDomain, ExtractVoxels, ...) cannot run there. Load it on the server too: "
+        "LoadPlugin(%r, remote=True, ns=globals()) (a path on the server's machine), or "
+        "Tools > Manage Plugins > Load Remote in the GUI."
+        % (_PLUGIN_NAME, connection.GetURI() if hasattr(connection, "GetURI") else
+           "the connected pvserver", local[0] if local else "MultichannelExplorer.so"))
+
+
+def _trace_plugin_load():
+    """In a trace being recorded, once: the LoadPlugin lines of this plugin (server side
+    first) right after the trace's `from paraview.simple import *`, so that the trace
+    loads the plugin before anything of it (a reader, a filter) is created."""
+    if not _tracing():
+        return
+    from paraview import smtrace
+
+    output = smtrace.Trace.Output
+    if output is None or _traced_plugin_for[0] is output:
+        return
+    _traced_plugin_for[0] = output
+    lines = ["", "# load the MultichannelExplorer plugin (its readers, filters and "
+             "representation)"]
+    for filename, remote in sorted(_plugin_files(), key=lambda f: not f[1]):
+        lines.append("LoadPlugin(%r, remote=%s, ns=globals())" % (filename, remote))
+    if len(lines) < 3:
+        return
+    data = output.raw_data()
+    anchor = "from paraview.simple import *"
+    at = next((i + 1 for i, line in enumerate(data) if line == anchor), 0)
+    data[at:at] = lines
+
+
+class _TracedProperties(object):
+    """Properties that the block sets on `proxies` are recorded in a ParaView trace being
+    recorded, as the GUI's property editors record theirs (smtrace.PropertiesModified,
+    the item SM_SCOPED_TRACE(PropertiesModified) makes); nothing without a trace::
+
+        with _TracedProperties(display):
+            display.GaussianWidgets = widgets
+    """
+
+    def __init__(self, *proxies):
+        self.proxies = [p for p in proxies if p is not None]
+        self.items = []
+
+    def __enter__(self):
+        if _tracing():
+            from paraview import smtrace
+
+            for proxy in self.proxies:
+                try:
+                    self.items.append(
+                        smtrace._create_trace_item_internal("PropertiesModified", [proxy]))
+                except smtrace.Untraceable:
+                    pass
+        return self
+
+    def __exit__(self, *unused):
+        items, self.items = self.items, []
+        for item in reversed(items):
+            item.finalize()
+        return False
 
 
 def _warn(message):

@@ -2,15 +2,21 @@
 direction), voxel index <-> point id <-> world position, one voxel's values read on the
 server side, and the views that show a source.
 
-Voxel indices (i, j, k) count from the first voxel of the volume's extent (0-based), so
-that the point id is i + nx (j + ny k): the VoxelId of ReducedDomain.
+Voxel indices (i, j, k) count from the first voxel of the volume's whole extent
+(0-based), so that the point id is i + nx (j + ny k) over the WHOLE volume: the VoxelId of
+ReducedDomain. Voxels are read through the plugin's ExtractVoxels filter, which takes
+such global ids and outputs each voxel once from the process that owns it, so the same id
+names the same voxel in a serial session, under mpiexec pvbatch and on an MPI pvserver
+(a one-voxel Extract Subset fetched under MPI comes back empty unless the first process
+holds the voxel, and ID selections count ids within each process's piece).
 """
 
-from ._common import _coordinate_tuple, _is_float16, _same_proxy, _simple
+from ._common import (_check_server_alive, _check_server_plugin, _coordinate_tuple, _is_float16,
+                      _remote_hint, _same_proxy, _simple)
 
-# Point arrays of the volume that are not channels.
+# Point arrays of the volume that are not channels (VoxelId and VoxelIJK: ExtractVoxels').
 _NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
-                 "vtkValidPointMask")
+                 "vtkValidPointMask", "VoxelId", "VoxelIJK")
 
 
 class _Grid(object):
@@ -19,18 +25,25 @@ class _Grid(object):
 
     def __init__(self, source):
         source.UpdatePipeline()
+        _check_server_alive()  # a server lost during the update leaves no extent
         extent = [int(v) for v in source.GetDataInformation().GetExtent()]
         if extent[1] < extent[0] or extent[3] < extent[2] or extent[5] < extent[4]:
             raise ValueError("probe/brush need image data (a volume with an extent); %s has "
-                             "none" % source.SMProxy.GetXMLLabel())
+                             "none%s" % (source.SMProxy.GetXMLLabel(), _remote_hint()))
         self.source = source
         self.extent = extent
         self.dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
-        corner = _fetch_voxel(source, [extent[0], extent[2], extent[4]])
-        self.origin = list(corner.GetOrigin())
-        self.spacing = list(corner.GetSpacing())
-        m = corner.GetDirectionMatrix()
-        self.direction = [[m.GetElement(r, c) for c in range(3)] for r in range(3)]
+        corner = _fetch_voxels(source, [0])
+        fd = corner.GetFieldData()
+        arrays = [fd.GetArray(n) for n in ("Origin", "Spacing", "Direction")]
+        if any(a is None for a in arrays):
+            raise RuntimeError("ExtractVoxels returned no grid (Origin, Spacing, Direction) "
+                               "for %s" % source.SMProxy.GetXMLLabel())
+        origin, spacing, direction = [[a.GetValue(v) for v in range(a.GetNumberOfTuples())]
+                                      for a in arrays]
+        self.origin = origin
+        self.spacing = spacing
+        self.direction = [direction[3 * r:3 * r + 3] for r in range(3)]
 
     def point_id(self, index):
         i, j, k = index
@@ -69,33 +82,72 @@ class _Grid(object):
         return [min(max(int(round(x)), 0), self.dims[a] - 1)
                 for a, x in enumerate(self.continuous_index(position))]
 
+    def index_at(self, position):
+        """Nearest voxel of a world position inside the volume (within half a voxel of its
+        outermost voxel centres); a ValueError for a position outside."""
+        continuous = self.continuous_index(position)
+        if any(not -0.5 <= x <= self.dims[a] - 0.5 for a, x in enumerate(continuous)):
+            b = self.bounds()
+            raise ValueError("position %s is outside the volume (bounds x %g..%g, y %g..%g, "
+                             "z %g..%g, half a voxel around the outermost voxel centres "
+                             "included)" % (tuple(float(v) for v in position), *b))
+        return self.nearest_index(position)
+
     def bounds(self):
         corners = [self.position([i, j, k]) for i in (0, self.dims[0] - 1)
                    for j in (0, self.dims[1] - 1) for k in (0, self.dims[2] - 1)]
         return [f(p[a] for p in corners) for a in range(3) for f in (min, max)]
 
 
-def _fetch_voxel(source, absolute_index):
-    """One voxel (absolute extent index) as a vtkImageData, extracted on the server by an
-    unregistered Extract Subset (nothing appears in the pipeline browser)."""
+def _extract_voxels_proxy(source, ids):
+    """An unregistered ExtractVoxels (nothing appears in the pipeline browser) of `source`
+    at global voxel ids `ids`."""
     from paraview import servermanager
 
-    i, j, k = absolute_index
-    subset = servermanager.filters.ExtractSubset(Input=source)
-    subset.VOI = [i, i, j, j, k, k]
-    return servermanager.Fetch(subset)
+    _check_server_plugin()
+    ctor = getattr(servermanager.filters, "ExtractVoxels", None)
+    if ctor is None:
+        raise RuntimeError(
+            "The ExtractVoxels filter is not available: load the MultichannelExplorer plugin "
+            "on the client and on the server, e.g. LoadPlugin(path, remote=False, "
+            "ns=globals()) and LoadPlugin(path, remote=True, ns=globals())")
+    extract = ctor(Input=source)
+    extract.VoxelIds = [int(v) for v in ids]
+    return extract
+
+
+def _fetch_voxels(source, ids):
+    """The voxels at global ids `ids` as a vtkPolyData (ExtractVoxels' output gathered
+    from every process: one point per voxel, its exact values, VoxelId, VoxelIJK, and the
+    volume's Origin, Spacing, Direction and WholeExtent as field data)."""
+    from paraview import servermanager
+
+    extract = _extract_voxels_proxy(source, ids)
+    # Updated as a pipeline first (each process its piece): fetched straight away, the
+    # reduction's request leaves the pieces of the processes other than the first empty.
+    extract.UpdatePipeline()
+    return servermanager.Fetch(extract)
 
 
 def _voxel_values(source, grid, index, coordinates="ReducedCoordinates"):
     """{array name: tuple of values} of one voxel (exact values, no interpolation). The
     array named `coordinates` is read as reduced coordinates: float16 (unsigned-short
     bits) decoded; other unsigned-short arrays (16-bit channels) are plain numbers."""
-    image = _fetch_voxel(source, [index[a] + grid.extent[2 * a] for a in range(3)])
-    pd = image.GetPointData()
+    point_id = grid.point_id(index)
+    voxels = _fetch_voxels(source, [point_id])
+    found = voxels.GetPointData().GetArray("VoxelId") if voxels is not None else None
+    if found is None or found.GetNumberOfTuples() != 1 or found.GetValue(0) != point_id:
+        raise RuntimeError("voxel %s (id %d) of %s was not returned by the server (%d "
+                           "points came back)" % (tuple(index), point_id,
+                                                  source.SMProxy.GetXMLLabel(),
+                                                  found.GetNumberOfTuples() if found else 0))
+    pd = voxels.GetPointData()
     values = {}
     for a in range(pd.GetNumberOfArrays()):
         array = pd.GetAbstractArray(a)
         if array is None or not hasattr(array, "GetTuple") or array.GetName() is None:
+            continue
+        if array.GetName() in ("VoxelId", "VoxelIJK"):
             continue
         if array.GetName() == coordinates:
             values[array.GetName()] = _coordinate_tuple(array, 0)

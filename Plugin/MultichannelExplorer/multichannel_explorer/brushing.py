@@ -2,12 +2,15 @@
 ReducedDomain cloud, explicit VoxelIds, or a box in reduced coordinates) highlighted as
 the voxels they stand for in the volume view.
 
-The highlight is ParaView's own machinery: an ID selection of the volume's points
-(VoxelId is the volume's point id) extracted by Extract Selection and shown as point
-sprites, so it works in any session and nothing is copied to the client but the ids.
+The highlight is the plugin's ExtractVoxels filter on the volume, given the VoxelIds
+(global voxel ids: the index in the whole extent, what ReducedDomain reports) and shown
+as point sprites. Each process outputs the listed voxels of its own piece, so it draws the
+same voxels in a serial session, under mpiexec pvbatch and on an MPI pvserver, and nothing
+is copied to the client but the ids.
 """
 
-from ._common import _find_filter, _same_proxy, _simple
+from ._common import (_TracedProperties, _check_server_alive, _filter, _find_filter,
+                      _remote_hint, _same_proxy, _simple)
 from ._voxels import _find_or_create, _views_showing
 from .transfer_function import _source_and_display
 
@@ -16,7 +19,7 @@ __all__ = [
     "BRUSHED_VOXELS",
 ]
 
-BRUSHED_VOXELS = "BrushedVoxels"  # the Extract Selection shown in the volume view
+BRUSHED_VOXELS = "BrushedVoxels"  # the ExtractVoxels shown in the volume view
 
 
 def _box_pairs(box):
@@ -89,15 +92,14 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
     the selection ParaView holds for the ReducedDomain (a rubber band in the domain view).
 
     The voxels appear as `color` point sprites in `view` (default: the view showing the
-    volume, else the active one), one Extract Selection named BRUSHED_VOXELS that the
-    next brush replaces::
+    volume, else the active one), one ExtractVoxels named BRUSHED_VOXELS that the next
+    brush replaces (its VoxelIds are the brushed ids, its output point array VoxelId
+    too)::
 
         mce.brush(display, box=(-0.5, 0.5, 0.0, 1.0))   # voxels of that part of the domain
         mce.brush(domain)                               # after a rubber band on the cloud
     """
     simple = _simple()
-    from paraview import servermanager
-
     domain, source, display = _domain_and_source(target, view)
     if isinstance(selection, (list, tuple)):
         voxel_ids, selection = selection, None
@@ -109,31 +111,42 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
                              "makes one); pass voxel_ids instead")
         ids = _ids_in_box(domain, box) if box is not None else _ids_selected(domain, selection)
     ids = sorted(set(ids))
-    count = source.GetDataInformation().GetNumberOfPoints()
+    # The whole extent's voxel count (the number of points would count the points that
+    # neighbouring pieces share twice on several processes).
+    source.UpdatePipeline()
+    _check_server_alive()  # a server lost during the update leaves no extent
+    extent = source.GetDataInformation().GetExtent()
+    count = 1
+    for a in range(3):
+        count *= max(int(extent[2 * a + 1]) - int(extent[2 * a]) + 1, 0)
+    if count == 0:
+        raise ValueError("brush needs a volume with voxels; %s has none%s"
+                         % (source.SMProxy.GetXMLLabel(), _remote_hint()))
     outside = [v for v in ids if not 0 <= v < count]
-    if outside:  # an ID selection would drop them silently and the count would lie
-        raise ValueError("brush: voxel ids %s outside the volume's %d voxels"
-                         % (outside[:5], count))
+    if outside:  # checked here so that the highlight is kept and the message is Python's
+        raise ValueError("brush: voxel ids %s outside the volume's %d voxels (ids 0 to %d)"
+                         % (outside[:5], count, count - 1))
 
     extract = simple.FindSource(BRUSHED_VOXELS)
-    if extract is not None and not _same_proxy(extract.Input, source):
-        simple.Delete(extract)  # a highlight of another volume
+    if extract is not None and (extract.SMProxy.GetXMLName() != "ExtractVoxels" or
+                                not _same_proxy(extract.Input, source)):
+        simple.Delete(extract)  # a highlight of another volume (or of an older state)
         extract = None
     if extract is None:
-        chosen = servermanager.sources.IDSelectionSource(FieldType="POINT")
-        extract = _find_or_create(BRUSHED_VOXELS, lambda registrationName: simple.ExtractSelection(
-            Input=source, Selection=chosen, registrationName=registrationName))
-    # (process, id) pairs; -1: the id on whichever process holds it.
-    extract.Selection.IDs = [v for i in ids for v in (-1, i)]
+        extract = _find_or_create(BRUSHED_VOXELS, lambda registrationName: _filter(
+            "ExtractVoxels")(Input=source, VoxelIds=ids, registrationName=registrationName))
+    with _TracedProperties(extract):  # recorded in a trace being recorded
+        extract.VoxelIds = ids
     if view is None:
         views = _views_showing(source)
         view = views[0] if views else simple.GetActiveViewOrCreate("RenderView")
     rep = simple.Show(extract, view)
     rep.SetRepresentationType("Points")
-    rep.ColorArrayName = ["POINTS", ""]  # solid colour
-    rep.AmbientColor = rep.DiffuseColor = list(color)
-    rep.PointSize = point_size
-    rep.RenderPointsAsSpheres = 1
-    rep.Visibility = 1 if ids else 0
+    with _TracedProperties(rep):
+        rep.ColorArrayName = ["POINTS", ""]  # solid colour
+        rep.AmbientColor = rep.DiffuseColor = list(color)
+        rep.PointSize = point_size
+        rep.RenderPointsAsSpheres = 1
+        rep.Visibility = 1 if ids else 0
     simple.Render(view)
     return len(ids)

@@ -3,7 +3,7 @@ reduced domain (a point cloud and the widgets as spheres) shown beside the volum
 recoloured whenever the widgets change.
 """
 
-from ._common import _Follower, _filter, _find_filter, _followers, _simple
+from ._common import _Follower, _TracedProperties, _filter, _find_filter, _followers, _simple
 from .transfer_function import _coordinates_name, _source_and_display, _widget_values
 from .viewpoint import ViewpointResult
 
@@ -25,8 +25,9 @@ def reduced_domain_filter(source, **props):
         domain = _filter("ReducedDomain")(Input=source)
         if active is not None:
             simple.SetActiveSource(active)
-    for name, value in props.items():
-        setattr(domain, name, value)
+    with _TracedProperties(domain):  # recorded in a trace being recorded
+        for name, value in props.items():
+            setattr(domain, name, value)
     return domain
 
 
@@ -63,23 +64,27 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
     points = simple.Show(simple.OutputPort(domain, 0), domain_view)
     points.SetRepresentationType("Points")
     simple.ColorBy(points, ("POINTS", "DisplayColor"))
-    points.MapScalars = 0  # the colours themselves, not a colour map
-    points.PointSize = point_size
+    with _TracedProperties(points):
+        points.MapScalars = 0  # the colours themselves, not a colour map
+        points.PointSize = point_size
     glyph = simple.Glyph(Input=simple.OutputPort(domain, 1), GlyphType="Sphere")
-    glyph.ScaleArray = ["POINTS", "Diameter"]
-    glyph.ScaleFactor = 1.0
-    glyph.GlyphMode = "All Points"
+    with _TracedProperties(glyph):
+        glyph.ScaleArray = ["POINTS", "Diameter"]
+        glyph.ScaleFactor = 1.0
+        glyph.GlyphMode = "All Points"
     spheres = simple.Show(glyph, domain_view)
     simple.ColorBy(spheres, ("POINTS", "Color"))
-    spheres.MapScalars = 0
-    spheres.Opacity = widget_opacity
+    with _TracedProperties(spheres):
+        spheres.MapScalars = 0
+        spheres.Opacity = widget_opacity
     simple.ResetCamera(domain_view)
     simple.Render(domain_view)
 
     follower = None
     if display is not None:
         def recolour():
-            domain.GaussianWidgets = _widget_values(display)
+            with _TracedProperties(domain):
+                domain.GaussianWidgets = _widget_values(display)
             simple.Render(domain_view)
         follower = _Follower(display, "GaussianWidgets", recolour)
     _followers.append(follower)

@@ -6,7 +6,7 @@ pixel of the volume view (the GUI's Probe toggle) is in picking.py.
 
 import numbers
 
-from ._common import _find_filter, _simple
+from ._common import _TracedProperties, _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
 from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
@@ -54,7 +54,7 @@ def _resolve_voxel(grid, voxel, position):
     """0-based (i, j, k) of an index triple of ints, a flat point id, or a world position
     (3 numbers, not all int, or `position`): its nearest voxel."""
     if position is not None:
-        return grid.nearest_index([float(v) for v in position])
+        return grid.index_at([float(v) for v in position])
     if _is_int(voxel):
         return grid.index_of_id(voxel)
     voxel = list(voxel)
@@ -63,7 +63,7 @@ def _resolve_voxel(grid, voxel, position):
                          "not %r" % (voxel,))
     if all(_is_int(v) for v in voxel):
         return grid.check_index(voxel)
-    return grid.nearest_index([float(v) for v in voxel])
+    return grid.index_at([float(v) for v in voxel])
 
 
 def _domain_view(source):
@@ -78,12 +78,14 @@ def _domain_view(source):
 def _show_marker(name, center, radius, view, color):
     simple = _simple()
     sphere = _find_or_create(name, simple.Sphere)
-    sphere.Center = [float(c) for c in center]
-    sphere.Radius = float(radius)
-    sphere.ThetaResolution = sphere.PhiResolution = 16
+    with _TracedProperties(sphere):
+        sphere.Center = [float(c) for c in center]
+        sphere.Radius = float(radius)
+        sphere.ThetaResolution = sphere.PhiResolution = 16
     rep = simple.Show(sphere, view)
-    rep.ColorArrayName = ["POINTS", ""]  # solid colour
-    rep.AmbientColor = rep.DiffuseColor = list(color)
+    with _TracedProperties(rep):
+        rep.ColorArrayName = ["POINTS", ""]  # solid colour
+        rep.AmbientColor = rep.DiffuseColor = list(color)
     return sphere
 
 
@@ -92,8 +94,10 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
     the volume itself) and marks it in the reduced domain.
 
     `voxel`: a 0-based index (i, j, k) of ints (counted from the first voxel of the
-    extent), a flat point id (int; ReducedDomain's VoxelId), or a world position (3
-    numbers, not all ints; or pass `position=`): the nearest voxel. Returns a dict (also
+    whole extent), a flat point id over the whole volume (int; ReducedDomain's VoxelId),
+    or a world position (3 numbers, not all ints; or pass `position=`): the nearest voxel
+    (a position more than half a voxel outside the volume is an error). The same voxel,
+    values and marker in a serial session, under mpiexec pvbatch and on an MPI pvserver. Returns a dict (also
     with attribute access): index, point_id, position (world), coordinates (the voxel's
     ReducedCoordinates, or the display's coordinate array), channels ({name: value(s)}),
     features, foreground (None without a Foreground array), values (every point array),
@@ -185,6 +189,7 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     values = widgets + widget
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.
-    display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
-    display.SMProxy.UpdateVTKObjects()
+    with _TracedProperties(display):  # recorded in a trace being recorded
+        display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
+        display.SMProxy.UpdateVTKObjects()
     return widget

@@ -4,7 +4,7 @@ never stored), or MultichannelFeatures followed by DimensionReduction when the f
 are wanted as an array.
 """
 
-from ._common import _filter
+from ._common import _TracedProperties, _filter
 
 __all__ = [
     "reduce_multichannel",
@@ -77,24 +77,29 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
         reduction.CoordinatePrecision = precision
         return reduction, reduction
     dimension_reduction = _filter("DimensionReduction")
+    # Every property set here is recorded in a trace being recorded (the trace replays).
     if features in _PRESETS and not keep_features:
         reduction = dimension_reduction(Input=source)
-        reduction.FeatureSet = features
+        with _TracedProperties(reduction):
+            reduction.FeatureSet = features
         feats = reduction
     else:
         if features in _PRESETS:
             feats = _filter("MultichannelFeatures")(Input=source)
-            feats.FeatureSet = features
+            with _TracedProperties(feats):
+                feats.FeatureSet = features
             array = "Features"
         else:
             feats = source
             array = str(features)
         reduction = dimension_reduction(Input=feats)
-        reduction.FeatureSet = "Use input array"
-        reduction.Features = ["POINTS", array]
-    reduction.Method = method
-    reduction.OutputDimension = int(output_dimension)
-    reduction.CoordinatePrecision = precision
-    for name, value in props.items():
-        setattr(reduction, name, value)
+        with _TracedProperties(reduction):
+            reduction.FeatureSet = "Use input array"
+            reduction.Features = ["POINTS", array]
+    with _TracedProperties(reduction):
+        reduction.Method = method
+        reduction.OutputDimension = int(output_dimension)
+        reduction.CoordinatePrecision = precision
+        for name, value in props.items():
+            setattr(reduction, name, value)
     return feats, reduction

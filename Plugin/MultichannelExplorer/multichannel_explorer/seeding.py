@@ -2,6 +2,7 @@
 domain.
 """
 
+from ._common import _TracedProperties
 from .dual_domain import reduced_domain_filter
 from .transfer_function import _coordinates_name, _source_and_display, check_widget_values
 
@@ -47,5 +48,6 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
                            "ReducedDomain)")
     check_widget_values(widgets, "auto_widgets (ReducedDomain's SeededWidgets)")
     if display is not None:
-        display.GaussianWidgets = widgets
+        with _TracedProperties(display):  # recorded in a trace being recorded
+            display.GaussianWidgets = widgets
     return widgets

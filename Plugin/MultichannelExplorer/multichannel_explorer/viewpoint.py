@@ -6,7 +6,7 @@ widgets of a Gaussian TF display.
 import math
 import time
 
-from ._common import (_FILTER_XML_NAME, _Follower, _filter, _find_filter, _followers,
+from ._common import (_FILTER_XML_NAME, _Follower, _TracedProperties, _filter, _find_filter, _followers,
                       _is_representation, _simple, _warn)
 from .images import _render_entropy
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -77,11 +77,12 @@ def best_viewpoint_filter(source, view=None, **filter_properties):
                 association, name = None, None
             if name and association == "POINTS":
                 filter_properties["Channels"] = [name]
-    for key, value in filter_properties.items():
-        if key == "OpacityFunction" and value is None:
-            bvp.GetProperty("OpacityFunction").SetData(None)
-            continue
-        setattr(bvp, key, value)
+    with _TracedProperties(bvp):  # recorded in a trace being recorded
+        for key, value in filter_properties.items():
+            if key == "OpacityFunction" and value is None:
+                bvp.GetProperty("OpacityFunction").SetData(None)
+                continue
+            setattr(bvp, key, value)
     bvp.UpdatePipeline()
     bvp.UpdatePropertyInformation()
     return bvp
