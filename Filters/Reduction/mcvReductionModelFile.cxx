@@ -23,34 +23,6 @@ namespace
 {
 const char kMagic[8] = { 'M', 'C', 'V', 'M', 'O', 'D', 'E', 'L' };
 
-const char* presetName(FeaturePreset p)
-{
-  switch (p)
-  {
-    case FeaturePreset::SixD:
-      return "6D";
-    case FeaturePreset::TwentyFourD:
-      return "24D";
-    case FeaturePreset::Custom:
-      return "Custom";
-  }
-  return "unknown";
-}
-
-const char* normalizationName(FeatureNormalization n)
-{
-  switch (n)
-  {
-    case FeatureNormalization::ZScore:
-      return "ZScore";
-    case FeatureNormalization::MinMax:
-      return "MinMax";
-    case FeatureNormalization::None:
-      return "None";
-  }
-  return "unknown";
-}
-
 void putU32(std::vector<char>& out, std::uint32_t v)
 {
   for (int i = 0; i < 4; ++i)
@@ -301,8 +273,16 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   ModelFile m;
   FeatureRecipe& f = m.features;
   const std::string preset = features["featureSet"].asString();
-  f.preset = preset == "6D" ? FeaturePreset::SixD : preset == "Custom" ? FeaturePreset::Custom : FeaturePreset::TwentyFourD;
-  if (preset != "6D" && preset != "24D" && preset != "Custom")
+  bool knownPreset = false;
+  for (FeaturePreset p : { FeaturePreset::SixD, FeaturePreset::TwentyFourD, FeaturePreset::Custom })
+  {
+    if (preset == presetName(p))
+    {
+      f.preset = p;
+      knownPreset = true;
+    }
+  }
+  if (!knownPreset)
   {
     return name + " names an unknown feature set '" + preset + "'.";
   }
@@ -314,19 +294,16 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   f.selection.localMean = s["localMean"].asBool();
   f.selection.localVariance = s["localVariance"].asBool();
   const std::string normalization = features["normalization"].asString();
-  if (normalization == "ZScore")
+  bool knownNormalization = false;
+  for (FeatureNormalization n : { FeatureNormalization::ZScore, FeatureNormalization::MinMax, FeatureNormalization::None })
   {
-    f.normalization = FeatureNormalization::ZScore;
+    if (normalization == normalizationName(n))
+    {
+      f.normalization = n;
+      knownNormalization = true;
+    }
   }
-  else if (normalization == "MinMax")
-  {
-    f.normalization = FeatureNormalization::MinMax;
-  }
-  else if (normalization == "None")
-  {
-    f.normalization = FeatureNormalization::None;
-  }
-  else
+  if (!knownNormalization)
   {
     return name + " names an unknown normalisation '" + normalization + "'.";
   }

@@ -42,11 +42,10 @@ inline double msSince(std::chrono::steady_clock::time_point t)
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
 }
 
-// Fits `ro` on the fused features `fo` of `channels`, keeping the model.
-inline ModelRun fitModel(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& fo,
-  ReductionOptions ro)
+// Runs `ro` on the fused features `fo` of `channels` (prepared first), timed.
+inline ModelRun runOnBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& fo,
+  ReductionOptions ro, ModelRun run)
 {
-  ModelRun run;
   const auto start = std::chrono::steady_clock::now();
   FeatureBricks bricks(channels, grid, fo);
   FeatureResult prepared;
@@ -57,40 +56,40 @@ inline ModelRun fitModel(const std::vector<ChannelView>& channels, const ImageGr
   }
   run.offset = prepared.columnOffset;
   run.scale = prepared.columnScale;
-  ro.fittedModel = &run.model;
+  if (!run.distance.empty())
+  {
+    ro.modelDistanceOutput = run.distance.data();
+  }
+  if (!ro.model)
+  {
+    ro.fittedModel = &run.model;
+  }
   run.result = reduceDimension(bricks, ro);
   run.error = run.result.error;
   run.ms = msSince(start);
   return run;
 }
 
+// Fits `ro` on the fused features `fo` of `channels`, keeping the model.
+inline ModelRun fitModel(const std::vector<ChannelView>& channels, const ImageGrid& grid, const FeatureOptions& fo,
+  const ReductionOptions& ro)
+{
+  return runOnBricks(channels, grid, fo, ro, ModelRun());
+}
+
 // Places `channels` with `fitted`'s model and normalisation on `device` (no fit).
 inline ModelRun applyModel(const std::vector<ChannelView>& channels, const ImageGrid& grid, FeatureOptions fo,
   const ModelRun& fitted, Device device)
 {
-  ModelRun run;
-  const auto start = std::chrono::steady_clock::now();
   fo.givenOffset = fitted.offset;
   fo.givenScale = fitted.scale;
   fo.device = device;
-  FeatureBricks bricks(channels, grid, fo);
-  FeatureResult prepared;
-  if (!bricks.prepare(prepared))
-  {
-    run.error = prepared.error;
-    return run;
-  }
-  run.offset = prepared.columnOffset;
-  run.scale = prepared.columnScale;
   ReductionOptions ro;
   ro.model = &fitted.model;
   ro.device = device;
+  ModelRun run;
   run.distance.resize(grid.voxelCount());
-  ro.modelDistanceOutput = run.distance.data();
-  run.result = reduceDimension(bricks, ro);
-  run.error = run.result.error;
-  run.ms = msSince(start);
-  return run;
+  return runOnBricks(channels, grid, fo, ro, std::move(run));
 }
 
 } // namespace testing

@@ -12,7 +12,7 @@ the same one-fit series on R processes as on one.
       one; each model applied to half.vti gives the reference coordinates, ModelDistance and
       out-of-model count bit for bit (every process's piece placed by its extent); FitTime
       One time step gives the reference coordinates at every step.
-Test driver: test_model_mpi.sh.
+Test driver: mpi_reference_compare.sh.
 """
 import argparse
 import os
@@ -24,7 +24,7 @@ import mcv_testing as T  # noqa: E402
 from paraview import servermanager, simple  # noqa: E402
 
 import numpy as np  # noqa: E402
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 METHODS = ("PCA", "Isomap")
 SAMPLE = 3000
@@ -35,21 +35,7 @@ def processes():
 
 
 def write_vti(path, t1, aal):
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-
-    image = vtkImageData()
-    nz, ny, nx = t1.shape
-    image.SetDimensions(nx, ny, nz)
-    image.SetSpacing(3.0, 3.0, 3.0)
-    for name, values in (("ch2", t1), ("aal", aal)):
-        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
-        array.SetName(name)
-        image.GetPointData().AddArray(array)
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
+    T.write_vti(path, [("ch2", t1), ("aal", aal)])
 
 
 def gathered(proxy, names, shape, R):

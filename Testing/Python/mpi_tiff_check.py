@@ -10,7 +10,7 @@
       process's piece, brought to the first process (Fetch of that process) and placed by
       its extent, equals the written values at both times (ForceTime); the pieces cover the
       volume (sharing boundary layers only); with R > 1 no process holds the whole volume.
-Test driver: test_tiff_mpi.sh.
+Test driver: mpi_reference_compare.sh.
 """
 import argparse
 import os

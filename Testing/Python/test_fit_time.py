@@ -21,9 +21,7 @@ mce = T.load_plugin(globals())
 import numpy as np  # noqa: E402
 from paraview.simple import (CreateView, GetAnimationScene, Hide, OpenDataFile,  # noqa: E402
                              Render, SaveScreenshot)
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 C = T.Checker("test_fit_time")
 OUT = os.path.join(T.output_dir(), "fit_time")
@@ -31,20 +29,7 @@ os.makedirs(OUT, exist_ok=True)
 
 
 def write_vti(name, t1, atlas):
-    image = vtkImageData()
-    nz, ny, nx = t1.shape
-    image.SetDimensions(nx, ny, nz)
-    image.SetSpacing(3.0, 3.0, 3.0)
-    for array_name, values in (("ch2", t1), ("aal", atlas)):
-        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
-        array.SetName(array_name)
-        image.GetPointData().AddArray(array)
-    path = os.path.join(OUT, name)
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
-    return path
+    return T.write_vti(os.path.join(OUT, name), [("ch2", t1), ("aal", atlas)])
 
 
 brain = T.brain_arrays(("ch2", "aal"), step=3).astype(np.float32)

@@ -29,9 +29,7 @@ mce = T.load_plugin(globals())
 import numpy as np  # noqa: E402
 from paraview import servermanager  # noqa: E402
 from paraview.simple import Delete, OpenDataFile  # noqa: E402
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from multichannel_explorer._common import _filter  # noqa: E402
 
 C = T.Checker("test_reduction_model")
@@ -41,21 +39,7 @@ SAMPLE = 2000
 
 
 def write_vti(name, channels, spacing=(3.0, 3.0, 3.0)):
-    """channels: [(name, (z, y, x) array)] -> a .vti file of float32 point arrays."""
-    image = vtkImageData()
-    nz, ny, nx = channels[0][1].shape
-    image.SetDimensions(nx, ny, nz)
-    image.SetSpacing(*spacing)
-    for array_name, values in channels:
-        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
-        array.SetName(array_name)
-        image.GetPointData().AddArray(array)
-    path = os.path.join(OUT, name)
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
-    return path
+    return T.write_vti(os.path.join(OUT, name), channels, spacing)
 
 
 def coordinates(proxy):

@@ -72,8 +72,6 @@ std::vector<std::string> featureNames(
   return names;
 }
 
-namespace
-{
 const char* normalizationName(FeatureNormalization n)
 {
   switch (n)
@@ -85,8 +83,25 @@ const char* normalizationName(FeatureNormalization n)
     case FeatureNormalization::None:
       return "None";
   }
-  return "?";
+  return "unknown";
 }
+
+const char* presetName(FeaturePreset p)
+{
+  switch (p)
+  {
+    case FeaturePreset::SixD:
+      return "6D";
+    case FeaturePreset::TwentyFourD:
+      return "24D";
+    case FeaturePreset::Custom:
+      return "Custom";
+  }
+  return "unknown";
+}
+
+namespace
+{
 // True when the grid is one process's block of a larger volume (or holds ghost voxels).
 bool isPartialBlock(const GridPiece& piece, const ImageGrid& grid)
 {

@@ -133,6 +133,10 @@ struct FeatureResult
 // Number of columns for `channels` channels under `options` (to size FeatureOutput).
 int featureCount(std::size_t channels, const FeatureOptions& options);
 
+// The names a file or a message uses: "ZScore", "MinMax", "None"; "6D", "24D", "Custom".
+const char* normalizationName(FeatureNormalization normalization);
+const char* presetName(FeaturePreset preset);
+
 // Column names, in output order, for the given channel names.
 std::vector<std::string> featureNames(
   const std::vector<std::string>& channelNames, const FeatureSelection& selection);
