@@ -352,7 +352,7 @@ def apply_transfer_function(volume, path, view=None, **props):
     coordinates) shown as a "Gaussian TF Volume" in `view` (default: the active render
     view) with the file's widgets. Returns ``(reduction, display)``; the same tissue gets
     the same colours in every volume the file is applied to, and voxels unlike anything in
-    the model are counted in ``reduction.NumberOfOutOfModelVoxels``.
+    the model are counted in its NumberOfOutOfModelVoxels.
 
     ``props`` are further DimensionReduction properties (Device). Raises ValueError, with
     nothing left in the pipeline, when the file or its model is bad
@@ -361,7 +361,7 @@ def apply_transfer_function(volume, path, view=None, **props):
 
         reduction, display = mce.apply_transfer_function(next_volume, "brain.mcvtf")
         reduction.UpdatePropertyInformation()
-        print(reduction.NumberOfOutOfModelVoxels)
+        print(reduction.GetPropertyValue("NumberOfOutOfModelVoxels"))
     """
     from .reduction import reduce_multichannel
 
