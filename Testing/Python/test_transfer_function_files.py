@@ -321,6 +321,29 @@ for name, (path, text, words) in bad.items():
             "bad file (%s): load and apply raise ValueError naming the file and '%s', nothing "
             "changed: %s" % (name, words, said[0]))
 
+# Saving: another extension, a missing folder, a display that is no Gaussian TF Volume, a
+# reduction of an input Features array (no model): ValueError, no file written.
+plain_display = simple.Show(volume, view)
+feats, from_features = mce.reduce_multichannel(volume, "PCA", "6D", keep_features=True,
+                                               ReferenceSampleSize=SAMPLE)
+features_display = mce.show_gaussian_tf(from_features, view,
+                                        widgets=[0.1, 0.2, 0.3, 0.4, 1, 0, 0, 1])
+for name, target, path, words in (
+        ("extension", target_display, os.path.join(bad_dir, "widgets.json"), "ends in .mcvtf"),
+        ("folder", target_display, os.path.join(bad_dir, "nowhere", "w.mcvtf"),
+         "folder does not exist"),
+        ("display", plain_display, os.path.join(bad_dir, "plain.mcvtf"), "Gaussian TF Volume"),
+        ("features array", features_display, os.path.join(bad_dir, "features.mcvtf"),
+         "no model to save")):
+    try:
+        mce.save_transfer_function(target, path)
+        said = None
+    except ValueError as e:
+        said = str(e)
+    C.check(said is not None and words in said and not os.path.exists(path) and
+            not os.path.exists(path[:-len(".mcvtf")] + ".mcvmodel"),
+            "save (%s): ValueError '%s', nothing written: %s" % (name, words, said))
+
 # A volume without a channel of the model.
 t1_only = simple.OpenDataFile(t1_only_path)
 count = source_count()

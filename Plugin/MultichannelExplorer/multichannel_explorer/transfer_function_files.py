@@ -41,6 +41,7 @@ __all__ = [
     "load_transfer_function",
     "read_transfer_function",
     "save_transfer_function",
+    "transfer_function_text",
 ]
 
 TRANSFER_FUNCTION_FORMAT = "multichannel-explorer-transfer-function"
@@ -50,11 +51,17 @@ _EXTENSION = ".mcvtf"
 
 def _gaussian_display(display, what):
     """`display` when it is a Gaussian TF Volume representation, else ValueError."""
-    if display is None or not _is_representation(display) or \
-            display.GetProperty("GaussianWidgets") is None:
-        raise ValueError("%s needs a \"%s\" display (a representation proxy), not %r"
-                         % (what, GAUSSIAN_TF_REPRESENTATION, display))
-    return display
+    # Every image-data display carries the GaussianWidgets property: the representation
+    # type says whether the widgets are what it draws.
+    shown = None
+    if display is not None and _is_representation(display) and \
+            display.GetProperty("GaussianWidgets") is not None:
+        shown = display.SMProxy.GetProperty("Representation").GetElement(0)
+        if shown == GAUSSIAN_TF_REPRESENTATION:
+            return display
+    raise ValueError("%s needs a \"%s\" display (a representation proxy), not %s"
+                     % (what, GAUSSIAN_TF_REPRESENTATION,
+                        "a display shown as %s" % shown if shown else repr(display)))
 
 
 def _hidden_list(display):
@@ -384,6 +391,14 @@ def apply_transfer_function(volume, path, view=None, **props):
 
 
 def _source_name(proxy):
+    """The volume's file when its reader has one, else its pipeline name."""
+    files = proxy.GetProperty("FileName") or proxy.GetProperty("FileNames")
+    if files is not None:
+        values = [str(v) for v in files] if not isinstance(files, str) else [files]
+        values = [v for v in values if v]
+        if values:
+            return values[0] if len(values) == 1 else "%s (+%d files)" % (values[0],
+                                                                          len(values) - 1)
     simple = _simple()
     for (name, _), p in simple.GetSources().items():
         if p is proxy or getattr(p, "SMProxy", None) is getattr(proxy, "SMProxy", proxy):
