@@ -2,6 +2,7 @@
 
     xvfb-run -a pvbatch Examples/snapshot_collection.py --input DIR --output DIR
         [--force [NAME ...]] [--retry-failed] [--timeout S] [--size W H] [--plugin PATH]
+        [--transfer-function FILE.mcvtf]
 
 The "snapshot tool for volume databases" of the dissertation (section 7.6.1): for every
 volume under --input (searched recursively) it renders a thumbnail from the best viewpoint
@@ -38,6 +39,16 @@ several components per voxel (a 4D NIfTI such as a diffusion series) is shown an
 analysed through its FIRST component (for diffusion MRI the b=0 image); the record says
 how many components the file had.
 
+Transfer function (--transfer-function FILE.mcvtf, saved with the Gaussian widgets
+editor's Save... or multichannel_explorer.save_transfer_function): every volume is
+reduced with the file's reduction model (no fit of its own: the channels matched by name)
+and shown as a Gaussian TF Volume with the file's widgets (apply_transfer_function), so a
+colour means the same tissue in every thumbnail. A volume without a channel of the model
+gets an error entry naming the channel. Each record and caption gives the volume's share
+of voxels outside the model (DimensionReduction's NumberOfOutOfModelVoxels over its
+voxels): what the widgets were never placed for. The file is checked before any volume;
+snapshots of another transfer function (or none) are not reused on resume.
+
 Isolation: each volume is rendered by a separate pvbatch process (a fresh session: no
 proxy, view or transfer function leaks from one file into the next), under a time limit
 (--timeout). A file that cannot be read, that crashes its reader or that runs out of time
@@ -73,6 +84,7 @@ import signal
 import subprocess
 import sys
 import time
+import zlib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from example_support import load_plugin, render_view  # noqa: E402
@@ -165,6 +177,15 @@ def _all_files(files):
                     yield os.path.join(root, n)
         else:
             yield f
+
+
+def transfer_function_signature(path):
+    """{"file", "crc32"} of a transfer-function file (its bytes name its model and that
+    model's checksum), or None without one: what a reused record must have been made with."""
+    if not path:
+        return None
+    with open(path, "rb") as f:
+        return {"file": os.path.abspath(path), "crc32": zlib.crc32(f.read()) & 0xFFFFFFFF}
 
 
 def signature(files):
@@ -322,6 +343,25 @@ def robust_ramp(scalars, low_percentile=1.0, high_percentile=99.5):
     return low, high
 
 
+def _apply_transfer_function(mce, reader, view, spec, record):
+    """The volume through the transfer-function file: the file's model applied (no fit)
+    and its widgets shown; the out-of-model share into the record. Returns (source, best
+    viewpoint properties)."""
+    try:
+        reduction, display = mce.apply_transfer_function(reader, spec["transfer_function"],
+                                                         view)
+    except ValueError as exc:  # a missing channel, a bad file: the reason is the entry
+        raise VolumeError(str(exc))
+    reduction.UpdatePropertyInformation()
+    outside = int(reduction.GetProperty("NumberOfOutOfModelVoxels").GetElement(0))
+    voxels = int(reduction.GetDataInformation().GetNumberOfPoints())
+    record["out_of_model_voxels"] = outside
+    record["voxels"] = voxels
+    record["out_of_model_share"] = outside / float(voxels) if voxels else 0.0
+    record["representation"] = display.SMProxy.GetProperty("Representation").GetElement(0)
+    return reduction, {}
+
+
 def run_worker(spec_json):
     """Renders one volume; writes its thumbnail, then its record (the record last, so a
     record on disk means the volume is finished). Returns the process exit code."""
@@ -332,6 +372,7 @@ def run_worker(spec_json):
         "version": RECORD_VERSION, "name": spec["name"], "id": spec["id"],
         "format": spec["format"], "files": len(spec["files"]),
         "signature": signature(spec["files"]), "status": "error",
+        "transfer_function": spec.get("transfer_function_signature"),
     }
     try:
         from paraview import simple
@@ -376,7 +417,9 @@ def run_worker(spec_json):
                               % record["range"][0])
 
         view = render_view(spec["size"])
-        if composite:
+        if spec.get("transfer_function"):
+            source, view_properties = _apply_transfer_function(mce, reader, view, spec, record)
+        elif composite:
             colors = channel_colors(data, len(channels))
             source, ramps = composite_source(simple, data, channels, colors)
             for entry, color, ramp in zip(record["channel_list"], colors, ramps):
@@ -485,7 +528,8 @@ def process_volume(vol, args, paths):
         "files": [os.path.abspath(f) for f in vol["files"]],
         "thumbnail": staged["thumbnail"], "record": staged["record"],
         "output": paths["output"], "size": list(args.size), "plugin": args.plugin,
-        "driver": os.getpid(),
+        "driver": os.getpid(), "transfer_function": args.transfer_function,
+        "transfer_function_signature": paths.get("transfer_function"),
     }
     remove_staged(staged)
     start = time.time()
@@ -524,6 +568,7 @@ def process_volume(vol, args, paths):
             record = {"version": RECORD_VERSION, "name": vol["name"], "id": vol["id"],
                       "format": vol["format"], "files": len(vol["files"]),
                       "signature": signature(vol["files"]), "status": "error",
+                      "transfer_function": paths.get("transfer_function"),
                       "error": problem or "the worker wrote no record",
                       "finished": time.strftime("%Y-%m-%d %H:%M:%S")}
             environment = _environment_failure(paths["output"])
@@ -692,6 +737,8 @@ def load_finished(vol, paths):
         return None
     if record.get("version") != RECORD_VERSION or record.get("name") != vol["name"]:
         return None
+    if record.get("transfer_function") != paths.get("transfer_function"):
+        return None  # made with another transfer function, or without this one
     try:
         if record.get("signature") != signature(vol["files"]):
             return None  # the file changed since
@@ -761,6 +808,12 @@ def _write_index(records, paths, input_dir, state):
             rows.append(("state", "not yet tried"))
             image = '<div class="noimage">not yet tried</div>'
         elif r["status"] == "ok":
+            if r.get("transfer_function"):
+                rows.append(("transfer function", e(os.path.basename(
+                    r["transfer_function"]["file"]))))
+                rows.append(("out of model", e("%.2f%% of the voxels (%d of %d)" % (
+                    100.0 * r["out_of_model_share"], r["out_of_model_voxels"],
+                    r["voxels"]))))
             rows.append(("best direction", e(_vec(r["best_direction"]))))
             eig = r["eigenvalues"]
             bars = "".join(
@@ -822,6 +875,10 @@ def main(argv):
     parser.add_argument("--size", type=int, nargs=2, default=[400, 400], metavar=("W", "H"),
                         help="thumbnail size in pixels (default 400 400)")
     parser.add_argument("--plugin", default=None, help="MultichannelExplorer plugin library")
+    parser.add_argument("--transfer-function", default=None, metavar="FILE.mcvtf",
+                        help="render every volume with this transfer-function file (its "
+                        "reduction model applied, its Gaussian widgets), so that colours "
+                        "mean the same in every thumbnail")
     parser.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker is not None:
@@ -838,6 +895,15 @@ def main(argv):
             args.plugin = find_plugin()
 
     paths = {"output": os.path.abspath(args.output)}
+    if args.transfer_function:
+        # Checked once, before any volume: a bad file (or a missing model) stops the run.
+        args.transfer_function = os.path.abspath(args.transfer_function)
+        try:
+            load_plugin(args.plugin).read_transfer_function(args.transfer_function)
+            paths["transfer_function"] = transfer_function_signature(args.transfer_function)
+        except (ValueError, OSError) as exc:
+            print("error: %s" % exc)
+            return 1
     try:
         for sub in ("thumbnails", "records"):
             paths[sub] = os.path.join(paths["output"], sub)

@@ -20,9 +20,12 @@ file: an ImageJ hyperstack, an OME-TIFF, an OME-Zarr folder; its channels are it
 writes into the output folder best.png, worst.png, dual_domain.png (volume and reduced
 domain side by side), domain.png, spectrum.png (bar chart of the leading eigenvalues, the
 kept ones highlighted, the variance retained in the title), methods.png (the reduced
-domains of PCA, Isomap, LLE and UMAP side by side, see --no-methods) and report.json (timings
-and peak resident memory per stage, variance retained, trustworthiness, view directions,
-eigenvalues, the figures),
+domains of PCA, Isomap, LLE and UMAP side by side, see --no-methods), model.mcvmodel (the
+reduction's fit) and transfer_function.mcvtf (the seeded widgets in that model's
+coordinates: apply both to other volumes with multichannel_explorer.apply_transfer_function
+or snapshot_collection.py --transfer-function, for the same colours) and report.json
+(timings and peak resident memory per stage, variance retained, trustworthiness, view
+directions, eigenvalues, the figures, the model files),
 then prints a summary and the folder.
 
 Outputs: the run is written into a staging folder beside the output folder
@@ -123,7 +126,7 @@ peak_gib = {}  # the process's peak resident memory at the end of each stage
 memory_estimate = {}  # check_memory's estimate, what was available, the virtual size then
 # What the job writes into the output folder (a previous run's copies are replaced).
 OWN_FILES = ("best.png", "worst.png", "dual_domain.png", "domain.png", "spectrum.png",
-             "methods.png", "report.json")
+             "methods.png", "report.json", "model.mcvmodel", "transfer_function.mcvtf")
 
 
 def peak_rss_gib():
@@ -245,6 +248,36 @@ def camera_of(view):
 
 def neighbors(method):
     return args.umap_neighbors if method == "UMAP" else args.neighbors
+
+
+def save_model_files(mce, reduction, display):
+    """Writes model.mcvmodel (the reduction's fit: save_model) and transfer_function.mcvtf
+    (the seeded widgets, naming that model and its checksum) into the staging folder and
+    reads the pair back (read_transfer_function: the model found, its checksum matching).
+    Returns the report's entry; with --chain features there is no model to save (the
+    reduction reads a Features array, whose normalisation the model would need), which the
+    entry says."""
+    if args.chain == "features":
+        return {"model": None, "transfer_function": None,
+                "reason": "--chain features: the reduction reads the Features array, so "
+                          "there is no reduction model (use the default fused chain)"}
+    model = job.run.path("model.mcvmodel")
+    try:
+        mce.save_model(reduction, model)
+    except (RuntimeError, ValueError) as exc:  # the writer failed: find out why
+        raise B.write_failure("model.mcvmodel", os.path.dirname(model), str(exc))
+    job.check("writing model.mcvmodel")
+    tf = job.run.path("transfer_function.mcvtf")
+    B.write_text(tf, mce.transfer_function_files.transfer_function_text(display, model, tf))
+    try:
+        checked = mce.read_transfer_function(tf)
+    except ValueError as exc:
+        raise B.JobError("transfer_function.mcvtf does not read back: %s" % exc)
+    return {"model": job.run.final("model.mcvmodel"),
+            "model_crc32": int(checked.model_header["crc32"]),
+            "model_channels": list(checked.channels),
+            "transfer_function": job.run.final("transfer_function.mcvtf"),
+            "widgets": len(checked.widgets) // 8}
 
 
 def main():
@@ -400,6 +433,11 @@ def main():
                                                  "seconds")} for p in panels}
         methods.update(grid_voxels=grid, voxels_drawn=drawn, stride=args.methods_stride)
 
+    # The fit and the widgets as files (model.mcvmodel, transfer_function.mcvtf): applied to
+    # other volumes (apply_transfer_function, snapshot_collection.py --transfer-function),
+    # they give the same tissue the same colours as here.
+    model_files = timed("model files", lambda: save_model_files(mce, reduction, display))
+
     # Report: written last, listing the pictures that are in the staging folder, checked.
     bvp = best.filter
     images = [k for k in ("best", "worst", "dual_domain", "domain", "spectrum", "methods")
@@ -436,6 +474,7 @@ def main():
                             "kept_colour": list(report_figures.KEPT_COLOUR),
                             "other_colour": list(report_figures.OTHER_COLOUR)},
         "methods": methods,
+        "model_files": model_files,
     }
     job.signals.check()
     B.write_json(job.run.path("report.json"), report)

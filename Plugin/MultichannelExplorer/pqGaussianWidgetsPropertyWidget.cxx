@@ -1,3 +1,6 @@
+// Python.h must come before the standard headers (it sets feature macros).
+#include "vtkPython.h"
+
 #include "pqGaussianWidgetsPropertyWidget.h"
 
 #include "pqGaussianWidgetRow.h"
@@ -6,6 +9,7 @@
 #include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
 #include "pqDataRepresentation.h"
+#include "pqFileDialog.h"
 #include "pqPVApplicationCore.h"
 #include "pqPythonManager.h"
 #include "pqServerManagerModel.h"
@@ -15,6 +19,7 @@
 #include "vtkPVArrayInformation.h"
 #include "vtkPVDataInformation.h"
 #include "vtkPVDataSetAttributesInformation.h"
+#include "vtkPythonInterpreter.h"
 #include "vtkSMProperty.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
@@ -25,6 +30,7 @@
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QFileInfo>
 #include <QMessageBox>
 #include <QPointer>
 #include <QPushButton>
@@ -82,6 +88,12 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   this->SeedButton = newButton("seedWidgets", "Seed from clusters",
     "Replace the widgets by widgets at the k-means clusters of the reduced domain "
     "(multichannel_explorer.auto_widgets, as the toolbar's Seed Gaussian Widgets)");
+  this->SaveButton = newButton("saveTransferFunction", "Save...",
+    "Save these widgets and the reduction model they live in to a transfer-function file "
+    "(.mcvtf; the model beside it as .mcvmodel unless the reduction applies one)");
+  this->LoadButton = newButton("loadTransferFunction", "Load...",
+    "Load a transfer-function file (.mcvtf): its reduction model becomes this display's "
+    "reduction's ModelFile, then its widgets replace these (one undo step)");
   this->SeedCount = new QSpinBox(this);
   this->SeedCount->setObjectName("seedCount");
   this->SeedCount->setRange(1, 64);
@@ -94,6 +106,8 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   buttons->addWidget(this->RemoveButton, 0, 2);
   buttons->addWidget(this->SeedButton, 1, 0, 1, 2);
   buttons->addWidget(this->SeedCount, 1, 2);
+  buttons->addWidget(this->SaveButton, 2, 0);
+  buttons->addWidget(this->LoadButton, 2, 1);
   layout->addLayout(buttons);
 
   QObject::connect(this->AddButton, &QPushButton::clicked, this,
@@ -104,6 +118,10 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
     &pqGaussianWidgetsPropertyWidget::removeWidget);
   QObject::connect(this->SeedButton, &QPushButton::clicked, this,
     &pqGaussianWidgetsPropertyWidget::seedWidgets);
+  QObject::connect(this->SaveButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::saveTransferFunction);
+  QObject::connect(this->LoadButton, &QPushButton::clicked, this,
+    &pqGaussianWidgetsPropertyWidget::loadTransferFunction);
 
   // Any change of the properties, whoever made it, is shown.
   this->Connections->Connect(
@@ -421,6 +439,7 @@ void pqGaussianWidgetsPropertyWidget::updateButtons()
   this->AddButton->setEnabled(!this->Invalid);
   this->DuplicateButton->setEnabled(selected);
   this->RemoveButton->setEnabled(selected);
+  this->SaveButton->setEnabled(!this->Invalid);
 }
 
 //-----------------------------------------------------------------------------
@@ -510,6 +529,105 @@ void pqGaussianWidgetsPropertyWidget::seedWidgets()
     python->executeCode(code.toUtf8());
   }
   if (repr)
+  {
+    repr->renderViewEventually();
+  }
+}
+
+//-----------------------------------------------------------------------------
+QString pqGaussianWidgetsPropertyWidget::runOnDisplay(const QString& title, const QString& call)
+{
+  pqPythonManager* python =
+    pqPVApplicationCore::instance() ? pqPVApplicationCore::instance()->pythonManager() : nullptr;
+  vtkSMSessionProxyManager* pxm = this->proxy()->GetSessionProxyManager();
+  const char* name = pxm ? pxm->GetProxyName("representations", this->proxy()) : nullptr;
+  if (!python || !name)
+  {
+    return QString("%1 needs ParaView's Python support and a registered display.").arg(title);
+  }
+  const QString code = QString("import multichannel_explorer as _mce\n"
+                               "import multichannel_explorer._gui as _g\n"
+                               "_g.text = 'the Python call did not finish'\n"
+                               "_g.on_display('%1', lambda _display: %2)\n")
+                         .arg(QString(name).replace('\\', "\\\\").replace('\'', "\\'"), call);
+  python->executeCode(code.toUtf8());
+  vtkPythonInterpreter::Initialize();
+  vtkPythonScopeGilEnsurer gil;
+  QString result;
+  PyObject* module = PyImport_ImportModule("multichannel_explorer._gui");
+  PyObject* text = module ? PyObject_GetAttrString(module, "text") : nullptr;
+  if (text && PyUnicode_Check(text))
+  {
+    result = QString::fromUtf8(PyUnicode_AsUTF8(text));
+  }
+  Py_XDECREF(text);
+  Py_XDECREF(module);
+  PyErr_Clear();
+  return result;
+}
+
+namespace
+{
+// A file name as a Python string literal (repr-safe: backslashes and quotes escaped).
+QString pythonString(const QString& text)
+{
+  QString escaped = text;
+  escaped.replace('\\', "\\\\").replace('\'', "\\'");
+  return "'" + escaped + "'";
+}
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::saveTransferFunction()
+{
+  // The client's file system: the Python helper writes the file where it runs.
+  pqFileDialog dialog(nullptr, pqCoreUtilities::mainWidget(), "Save Transfer Function",
+    QString(), "Transfer functions (*.mcvtf)");
+  dialog.setObjectName("SaveTransferFunctionDialog");
+  dialog.setFileMode(pqFileDialog::AnyFile);
+  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  {
+    return;
+  }
+  QString path = dialog.getSelectedFiles().first();
+  if (!path.endsWith(".mcvtf"))
+  {
+    path += ".mcvtf";
+  }
+  const QString error = this->runOnDisplay("Save Transfer Function",
+    QString("_mce.save_transfer_function(_display, %1)").arg(pythonString(path)));
+  if (!error.isEmpty())
+  {
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Save Transfer Function", error);
+  }
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetsPropertyWidget::loadTransferFunction()
+{
+  pqFileDialog dialog(nullptr, pqCoreUtilities::mainWidget(), "Load Transfer Function",
+    QString(), "Transfer functions (*.mcvtf)");
+  dialog.setObjectName("LoadTransferFunctionDialog");
+  dialog.setFileMode(pqFileDialog::ExistingFile);
+  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  {
+    return;
+  }
+  const QString path = dialog.getSelectedFiles().first();
+  // The reduction's ModelFile and the widgets change together: one undo step. On an error
+  // the helper changes nothing, and an empty undo set is not pushed.
+  QPointer<pqDataRepresentation> repr = this->representation();
+  QString error;
+  {
+    SCOPED_UNDO_SET("Load Transfer Function");
+    error = this->runOnDisplay("Load Transfer Function",
+      QString("_mce.load_transfer_function(_display, %1)").arg(pythonString(path)));
+  }
+  if (!error.isEmpty())
+  {
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Load Transfer Function", error);
+  }
+  else if (repr)
   {
     repr->renderViewEventually();
   }

@@ -1,6 +1,8 @@
 // The Properties-panel editor of a "Gaussian TF Volume" display's GaussianWidgets
 // (panel_widget="gaussian_widgets_editor"): one pqGaussianWidgetRow per widget, buttons to
-// add, duplicate, remove and seed widgets.
+// add, duplicate, remove and seed widgets, and to save and load them as a transfer-function
+// file (.mcvtf, with the reduction model they live in: multichannel_explorer.
+// save_transfer_function / load_transfer_function).
 //
 // Storage: the flat GaussianWidgets property (8 numbers per widget) stays what is drawn
 // and what Python sees. A hidden widget is written with opacity 0, and the opacity it gets
@@ -51,6 +53,10 @@ private Q_SLOTS:
   void duplicateWidget();
   void removeWidget();
   void seedWidgets();
+  /** Save... : the widgets and their model to a .mcvtf file (a file dialog). */
+  void saveTransferFunction();
+  /** Load... : a .mcvtf file onto this display, its model included (one undo step). */
+  void loadTransferFunction();
   void endDrag();
 
 private:
@@ -62,6 +68,9 @@ private:
   void select(int index);
   void updateButtons();
   double step() const;
+  /** Runs `call` (Python, `_display` bound to this display) through ParaView's Python
+   * manager; returns multichannel_explorer._gui.text, the error it left ("" when none). */
+  QString runOnDisplay(const QString& title, const QString& call);
   bool ownsRepresentation(vtkSMProxy* representation) const;
   pqDataRepresentation* representation() const;
 
@@ -81,6 +90,8 @@ private:
   QPushButton* DuplicateButton;
   QPushButton* RemoveButton;
   QPushButton* SeedButton;
+  QPushButton* SaveButton;
+  QPushButton* LoadButton;
   QSpinBox* SeedCount;
   vtkNew<vtkEventQtSlotConnect> Connections;
 };

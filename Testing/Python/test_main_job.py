@@ -3,7 +3,9 @@ settings (6D features, a 2000-voxel reference sample): features -> Isomap (the f
 DimensionReduction on the channels, the default chain) -> seeded widgets -> Gaussian TF
 Volume -> best viewpoint of the widgets' opacity.
 
-Checks the report (every stage timed with its peak resident memory, finite trustworthiness and variance retained, a
+Checks model.mcvmodel and transfer_function.mcvtf (written beside the pictures, listed in
+the report, they load: the seeded widgets exactly, the model's method and channels; applied
+to the job's own channels, no voxel is out of the model), the report (every stage timed with its peak resident memory, finite trustworthiness and variance retained, a
 valid best direction perpendicular to the worst one), that every image is written and
 not blank, that the best-view image shows the seeded widgets' colours: pixels whose
 colour is near a widget's hue, for at least two widgets; that spectrum.png has its bars
@@ -205,6 +207,45 @@ def foreground_silhouette(camera):
             grown |= np.roll(np.roll(inside, dy, axis=0), dx, axis=1)
     return grown
 
+
+# The model and the transfer function beside the pictures, listed in the report; they
+# load: the widgets are the seeded ones, the model names the three channels and the method.
+files = report.get("model_files") or {}
+model_file, tf_file = os.path.join(out, "model.mcvmodel"), os.path.join(out, "transfer_function.mcvtf")
+C.check(files.get("model") == model_file and files.get("transfer_function") == tf_file and
+        os.path.exists(model_file) and os.path.exists(tf_file),
+        "model.mcvmodel and transfer_function.mcvtf written beside the pictures and listed "
+        "in report.json (%s)" % files)
+try:
+    tf = mce.read_transfer_function(tf_file)
+    header = mce.read_model(model_file)
+    read_error = None
+except ValueError as e:
+    tf, read_error = None, str(e)
+C.check(tf is not None and tf.model == model_file and
+        [tf.widgets[i:i + 8] for i in range(0, len(tf.widgets), 8)] == report["widgets"] and
+        header["reduction"]["method"] == report["method"] and
+        header["crc32"] == files.get("model_crc32") and
+        sorted(header["features"]["channels"]) == sorted(tf.channels) and
+        len(tf.channels) == 3,
+        "the transfer function loads: its model found (checksum %s), the 3 seeded widgets "
+        "exactly, the model's method %s and its 3 channels (%s)"
+        % (files.get("model_crc32"), report["method"], read_error or tf.channels))
+if tf is not None:
+    # Loaded onto a display of the same channels: the model applies and every widget is back.
+    from multichannel_explorer._common import _filter
+    from paraview import simple
+
+    volume = _filter("MergeChannels")(Input=[simple.OpenDataFile(T.data_file(n + ".nii.gz"))
+                                             for n in T.BRAIN])
+    reduction, shown = mce.apply_transfer_function(volume, tf_file,
+                                                   simple.CreateView("RenderView"))
+    reduction.UpdatePropertyInformation()
+    outside = reduction.GetProperty("NumberOfOutOfModelVoxels").GetElement(0)
+    C.check([float(v) for v in shown.GaussianWidgets] == tf.widgets and outside == 0,
+            "apply_transfer_function on the job's own channels: the widgets set, no voxel "
+            "out of the model (%d)" % outside)
+    simple.Delete(reduction)
 
 camera = report.get("best_camera")
 if C.check(camera is not None, "report: best_camera recorded"):

@@ -70,8 +70,9 @@ def complete_run(output, label):
 out = os.path.join(work, "out")
 before = complete_run(out, "first run")
 C.check(set(before) == {"best.png", "worst.png", "dual_domain.png", "domain.png",
-                        "spectrum.png", "report.json"},
-        "first run: the six outputs and nothing else %s" % sorted(before))
+                        "spectrum.png", "report.json", "model.mcvmodel",
+                        "transfer_function.mcvtf"},
+        "first run: the eight outputs and nothing else %s" % sorted(before))
 
 # Signals at several moments of a second run into the same folder.
 moments = [("read ", signal.SIGINT), ("reduction ", signal.SIGTERM),

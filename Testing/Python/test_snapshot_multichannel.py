@@ -11,6 +11,13 @@ Known answers:
     channel has the omero colour FF00FF comes out magenta, and the 3-channel brain shows
     more than one hue;
   - a 2-frame hyperstack is recorded with 2 time steps.
+  - --transfer-function FILE.mcvtf (saved here from a PCA of the T1 + AAL brain, every 3rd
+    voxel): the fit volume and one whose upper half changed are drawn as Gaussian TF
+    Volumes with the file's model (records name the file; no voxel of the fit volume is
+    out of the model, the changed one has some, and the index says so in its captions);
+    a volume without the AAL channel is an error entry naming it, the run goes on; a second
+    run reuses the snapshots, a run without the file redoes them; a bad file stops the
+    run before any volume (exit code 1, its reason printed).
 """
 import json
 import os
@@ -101,11 +108,11 @@ expected = {
 checker.check(sorted(records) == sorted(expected), "volumes found: %s" % sorted(records))
 
 
-def hue_means(record):
+def hue_means(record, folder=None):
     """Mean R, G, B of the thumbnail's pixels brighter than the background, how many
     there are, and how many of them each of R, G, B dominates."""
     reader = vtkPNGReader()
-    reader.SetFileName(os.path.join(out, record["thumbnail"]))
+    reader.SetFileName(os.path.join(folder or out, record["thumbnail"]))
     reader.Update()
     image = reader.GetOutput()
     rgb = vtk_to_numpy(image.GetPointData().GetScalars())[:, :3].astype(float)
@@ -158,4 +165,117 @@ html = open(os.path.join(out, "index.html")).read()
 for names in expected.values():
     for n in names:
         checker.check(">%s</b>" % n in html, "index.html lists channel %s" % n)
+
+# --- one transfer function for every volume ------------------------------------------------
+from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
+
+tf_in, tf_out = os.path.join(work, "tf_input"), os.path.join(work, "tf_index")
+os.makedirs(tf_in)
+
+
+def write_vti(path, channels):
+    image = vtkImageData()
+    nz, ny, nx = channels[0][1].shape
+    image.SetDimensions(nx, ny, nz)
+    image.SetSpacing(3.0, 3.0, 3.0)
+    for array_name, values in channels:
+        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
+        array.SetName(array_name)
+        image.GetPointData().AddArray(array)
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+    return path
+
+
+small = T.brain_arrays(("ch2", "aal"), step=3).astype(np.float32)
+t1, aal = small[0], small[1]
+changed = t1.copy()
+changed[t1.shape[0] // 2:] *= 1.3
+fit_vti = write_vti(os.path.join(tf_in, "a_fit.vti"), [("ch2", t1), ("aal", aal)])
+write_vti(os.path.join(tf_in, "b_changed.vti"), [("aal", aal), ("ch2", changed)])
+write_vti(os.path.join(tf_in, "c_t1_only.vti"), [("ch2", t1)])
+
+fit_source = simple.OpenDataFile(fit_vti)
+_, fitted = mce.reduce_multichannel(fit_source, "PCA", "6D", ReferenceSampleSize=2000)
+fitted.UpdatePipeline()
+coords = vtk_to_numpy(simple.servermanager.Fetch(fitted).GetPointData().GetArray(
+    "ReducedCoordinates"))
+size = float((coords.max(axis=0) - coords.min(axis=0)).max())
+widgets = []
+for q, colour in ((0.3, (1, 0, 0)), (0.6, (0, 1, 0)), (0.85, (0, 0.4, 1))):
+    widgets += [float(v) for v in np.quantile(coords, q, axis=0)] + [0.08 * size] + \
+        list(colour) + [0.8]
+display = mce.show_gaussian_tf(fitted, simple.CreateView("RenderView"), widgets=widgets)
+tf_file = mce.save_transfer_function(display, os.path.join(work, "brain.mcvtf"))
+
+
+def run_tool(*extra):
+    result = subprocess.run([PVBATCH, SCRIPT, "--input", tf_in, "--output", tf_out,
+                             "--size", "300", "300"] + list(extra),
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, timeout=1800)
+    print(result.stdout[-2500:])
+    try:
+        with open(os.path.join(tf_out, "index.json")) as f:
+            volumes = {r["name"]: r for r in json.load(f)["volumes"]}
+    except (OSError, ValueError):
+        volumes = {}
+    return result, volumes
+
+
+run, tf_records = run_tool("--transfer-function", tf_file)
+checker.check(run.returncode == 0 and sorted(tf_records) == ["a_fit.vti", "b_changed.vti",
+                                                             "c_t1_only.vti"],
+              "--transfer-function: exit code %d, volumes %s" % (run.returncode,
+                                                                 sorted(tf_records)))
+fit_r, changed_r, t1_r = (tf_records.get(n, {}) for n in ("a_fit.vti", "b_changed.vti",
+                                                         "c_t1_only.vti"))
+for name, r in (("a_fit.vti", fit_r), ("b_changed.vti", changed_r)):
+    checker.check(r.get("status") == "ok" and r.get("representation") == "Gaussian TF Volume"
+                  and (r.get("transfer_function") or {}).get("file") == tf_file and
+                  r.get("voxels") == t1.size,
+                  "--transfer-function: %s drawn as a Gaussian TF Volume with %s (%s)"
+                  % (name, os.path.basename(tf_file), r.get("error", r.get("representation"))))
+checker.check(fit_r.get("out_of_model_voxels") == 0 and fit_r.get("out_of_model_share") == 0.0,
+              "--transfer-function: no voxel of the fit volume is out of the model (%s)"
+              % fit_r.get("out_of_model_voxels"))
+share = changed_r.get("out_of_model_share", 0)
+checker.check(changed_r.get("out_of_model_voxels", 0) > 0 and
+              abs(share - changed_r["out_of_model_voxels"] / float(t1.size)) < 1e-12,
+              "--transfer-function: the changed volume has %s voxels out of the model "
+              "(share %.4f%%)" % (changed_r.get("out_of_model_voxels"), 100 * share))
+checker.check(t1_r.get("status") == "error" and "no channel 'aal'" in t1_r.get("error", ""),
+              "--transfer-function: the volume without aal is an error entry naming it: %s"
+              % t1_r.get("error"))
+tf_html = open(os.path.join(tf_out, "index.html")).read()
+caption = "%.2f%% of the voxels (%d of %d)" % (100 * share, changed_r.get("out_of_model_voxels", 0),
+                                               t1.size)
+checker.check("out of model" in tf_html and caption in tf_html and "brain.mcvtf" in tf_html,
+              "--transfer-function: the index captions give the out-of-model share (%s)" % caption)
+for name, r in (("a_fit.vti", fit_r), ("b_changed.vti", changed_r)):
+    if r.get("status") == "ok":
+        means, n, dominant = hue_means(r, tf_out)
+        checker.check(n > 500, "--transfer-function: %s thumbnail shows the widgets' colours "
+                      "(%d bright pixels, dominated by R, G, B: %s)" % (name, n, list(dominant)))
+
+again, again_records = run_tool("--transfer-function", tf_file)
+checker.check(again.returncode == 0 and "0 processed, 3 skipped" in again.stdout,
+              "--transfer-function: a second run reuses both snapshots (and the failed one)")
+plain, plain_records = run_tool()
+checker.check(plain.returncode == 0 and "3 processed" in plain.stdout and
+              plain_records.get("a_fit.vti", {}).get("transfer_function") is None and
+              "representation" not in plain_records.get("a_fit.vti", {}),
+              "a run without --transfer-function redoes the snapshots made with one")
+bad_tf = os.path.join(work, "bad.mcvtf")
+with open(bad_tf, "w") as f:
+    f.write(open(tf_file).read()[:100])
+bad, _ = run_tool("--transfer-function", bad_tf)
+checker.check(bad.returncode == 1 and bad_tf in bad.stdout and "not valid JSON" in bad.stdout
+              and "processed" not in bad.stdout,
+              "a truncated transfer-function file stops the run before any volume (exit %d)"
+              % bad.returncode)
 checker.finish()

@@ -34,6 +34,10 @@ The package, one module per capability (every public name is also here, at the t
     reduction           reduce_multichannel
     models              save_model, read_model, MODEL_FORMAT_VERSION (a fit kept as a
                         .mcvmodel file and applied to other volumes and time steps)
+    transfer_function_files
+                        save_transfer_function, load_transfer_function,
+                        apply_transfer_function, read_transfer_function (Gaussian
+                        widgets kept as a .mcvtf file with the model they live in)
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
     probing             probe, add_widget_at, palette_color, PROBE_MARKER
@@ -63,6 +67,9 @@ from .seeding import auto_widgets
 from .states import check_state_file, load_state
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
                                 show_gaussian_tf)
+from .transfer_function_files import (TRANSFER_FUNCTION_VERSION, apply_transfer_function,
+                                      load_transfer_function, read_transfer_function,
+                                      save_transfer_function)
 from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_filter,
                         follow_best_viewpoint, set_camera_direction, stop_following,
                         turn_camera)
@@ -84,6 +91,11 @@ __all__ = [
     "save_model",
     "read_model",
     "MODEL_FORMAT_VERSION",
+    "save_transfer_function",
+    "load_transfer_function",
+    "apply_transfer_function",
+    "read_transfer_function",
+    "TRANSFER_FUNCTION_VERSION",
     "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",

@@ -1,4 +1,5 @@
-"""What the GUI's Probe toggle, Add Widget Here and Brush Selection buttons run (pqMultichannelProbe.cxx):
+"""What the GUI's Probe toggle, Add Widget Here and Brush Selection buttons run (pqMultichannelProbe.cxx),
+and the Gaussian widgets editor's Save... and Load... (on_display):
 the helpers on the active view / source, and the text the label over the view shows,
 left in ``text`` for the C++ side to read. Errors become that text too (and a warning in
 Output Messages), so a click never fails silently.
@@ -102,5 +103,26 @@ def add_widget():
         text = "Add Widget Here: %s" % error
     except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
         text = "Add Widget Here: %s" % error
+        _warn(text)
+    return text
+
+
+def on_display(name, call):
+    """call(display) on the representation registered as `name` (the Gaussian widgets
+    editor's display): ``text`` is "" when it worked, else the error, which the editor
+    shows in a message box (a bad transfer-function file, a missing model)."""
+    global text
+    from paraview import servermanager
+
+    try:
+        proxy = servermanager.ProxyManager().SMProxyManager.GetProxy("representations", name)
+        if proxy is None:
+            raise ValueError("no display named %s" % name)
+        call(servermanager._getPyProxy(proxy))
+        text = ""
+    except ValueError as error:
+        text = str(error)
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "%s: %s" % (type(error).__name__, error)
         _warn(text)
     return text
