@@ -15,7 +15,7 @@ rm -f "$state"
 export MCV_GUI_STATE="$state"
 # --dr: default settings (no welcome dialog); a failed playback would wait on a dialog,
 # hence the timeout. --test-directory: $PARAVIEW_TEST_ROOT in a file dialog's playback.
-sh "$here/run_pvbatch.sh" timeout 150 "$paraview" --dr --test-directory="$MCV_OUTPUT_DIR" \
+sh "$here/run_pvbatch.sh" timeout 300 "$paraview" --dr --test-directory="$MCV_OUTPUT_DIR" \
   --script="$here/gui_${name}_setup.py" \
   --test-script="$here/gui_${name}_click.xml" --exit
 rc=$?
