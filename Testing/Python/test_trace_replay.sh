@@ -13,5 +13,5 @@ sh "$here/run_pvbatch.sh" "$pvbatch" "$here/trace_replay_check.py" --record "$ou
 rc=$?
 [ $rc -eq 0 ] || exit $rc
 # The replay must not find the plugin on its own.
-env -u PV_PLUGIN_PATH -u MCV_PLUGIN sh "$here/run_pvbatch.sh" "$pvbatch" \
-  "$here/trace_replay_check.py" --replay "$out"
+unset PV_PLUGIN_PATH MCV_PLUGIN
+sh "$here/run_pvbatch.sh" "$pvbatch" "$here/trace_replay_check.py" --replay "$out"
