@@ -167,28 +167,13 @@ for names in expected.values():
         checker.check(">%s</b>" % n in html, "index.html lists channel %s" % n)
 
 # --- one transfer function for every volume ------------------------------------------------
-from vtkmodules.util.numpy_support import numpy_to_vtk  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
 
 tf_in, tf_out = os.path.join(work, "tf_input"), os.path.join(work, "tf_index")
 os.makedirs(tf_in)
 
 
 def write_vti(path, channels):
-    image = vtkImageData()
-    nz, ny, nx = channels[0][1].shape
-    image.SetDimensions(nx, ny, nz)
-    image.SetSpacing(3.0, 3.0, 3.0)
-    for array_name, values in channels:
-        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
-        array.SetName(array_name)
-        image.GetPointData().AddArray(array)
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
-    return path
+    return T.write_vti(path, channels)
 
 
 small = T.brain_arrays(("ch2", "aal"), step=3).astype(np.float32)

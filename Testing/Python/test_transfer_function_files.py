@@ -31,9 +31,7 @@ import mcv_testing as T  # noqa: E402
 mce = T.load_plugin(globals())
 import numpy as np  # noqa: E402
 from paraview import servermanager, simple  # noqa: E402
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
-from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 C = T.Checker("test_transfer_function_files")
 OUT = os.path.join(T.output_dir(), "transfer_function_files")
@@ -44,21 +42,8 @@ SAMPLE = 2000
 
 
 def write_vti(name, channels):
-    """channels: [(name, (z, y, x) array)] -> a .vti file of float32 point arrays."""
-    image = vtkImageData()
-    nz, ny, nx = channels[0][1].shape
-    image.SetDimensions(nx, ny, nz)
-    image.SetSpacing(3.0, 3.0, 3.0)
-    for array_name, values in channels:
-        array = numpy_to_vtk(np.ascontiguousarray(values, dtype=np.float32).ravel(), deep=1)
-        array.SetName(array_name)
-        image.GetPointData().AddArray(array)
-    path = os.path.join(OUT, name)
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
-    return path
+    """channels: [(name, (z, y, x) array)] -> OUT/name, float32 point arrays."""
+    return T.write_vti(os.path.join(OUT, name), channels)
 
 
 def coordinates(proxy):
