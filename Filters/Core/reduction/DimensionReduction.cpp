@@ -63,7 +63,7 @@ std::string checkRows(const FeatureRows& f, const ReductionOptions& o)
   }
   const GridPiece& p = o.piece;
   const ImageGrid& b = o.block;
-  if (b.voxelCount() != f.rows())
+  if (b.voxelCount() * static_cast<std::size_t>(std::max(o.timeSteps, 1)) != f.rows())
   {
     return "The block of " + dimsText(b.dims) + " voxels does not match the " + std::to_string(f.rows()) +
       " feature rows.";
@@ -136,7 +136,7 @@ RowLayout makeLayout(const FeatureRows& f, const ReductionOptions& o, const Comm
 {
   if (hasGrid(o))
   {
-    return RowLayout::grid(o.piece, o.block);
+    return RowLayout::grid(o.piece, o.block, o.timeSteps);
   }
   std::int64_t first = 0;
   if (isDistributed(comm))
@@ -677,6 +677,11 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("A model distance (modelDistanceOutput) is measured against a model: set options.model.");
   }
+  if (options.timeSteps < 1 || (options.timeSteps > 1 && (!options.fitOnly || options.model)))
+  {
+    return fail("Several time steps (timeSteps " + std::to_string(options.timeSteps) +
+      ") are fitted together only (fitOnly, no model); each step is placed on its own.");
+  }
   result.outputDimension = d;
   report("Checking features", 0.0);
 
@@ -701,7 +706,8 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("The feature array has no rows (no voxels): nothing to reduce.");
   }
-  if (hasGrid(options) && N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount())
+  if (hasGrid(options) &&
+    N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount() * static_cast<std::size_t>(options.timeSteps))
   {
     return fail("The processes own " + std::to_string(N) + " voxels of a volume of " +
       dimsText(options.piece.wholeDims) + ": every voxel must be owned by exactly one process.");

@@ -98,6 +98,12 @@ struct ReductionOptions
   // defaults (outputHi < outputLo): every row.
   std::array<int, 3> outputLo{ 0, 0, 0 };
   std::array<int, 3> outputHi{ -1, -1, -1 };
+  // The fit of a time series (with fitOnly): the rows are timeSteps volumes one after
+  // another, each laid out as above (rows == timeSteps x block.voxelCount() with a grid;
+  // the steps' rows in order without one), and step s's voxels have global index
+  // s x (whole voxels) + voxel, so the reference sample is drawn across the steps with the
+  // keys, strata and duplicates rule of one volume, the same for any split.
+  int timeSteps = 1;
 
   // Optional: apply this model (ReductionModel.h) instead of fitting: no statistics, no
   // sample, no fit; the rows are placed with the model's references (or projected on its PCA
