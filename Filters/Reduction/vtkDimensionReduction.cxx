@@ -304,6 +304,22 @@ int vtkDimensionReduction::RequestUpdateExtent(
 }
 
 //------------------------------------------------------------------------------
+mcv::ReductionOptions vtkDimensionReduction::MethodOptions()
+{
+  mcv::ReductionOptions options;
+  options.method = static_cast<mcv::ReductionMethod>(this->Method);
+  options.outputDimension = this->OutputDimension;
+  options.numberOfNeighbors = this->NumberOfNeighbors;
+  options.numberOfLandmarks = this->NumberOfLandmarks;
+  options.minimumDistance = this->MinimumDistance;
+  options.numberOfEpochs = this->NumberOfEpochs;
+  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
+  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
+  options.device = this->GetRequestedDevice();
+  return options;
+}
+
+//------------------------------------------------------------------------------
 std::shared_ptr<mcv::vtkhelpers::ModelFile> vtkDimensionReduction::NewModelFile(mcv::vtkhelpers::FeatureRecipe recipe,
   mcv::ReductionModel fitted, const mcv::ReductionResult& result, std::uint64_t seed,
   const std::array<int, 3>& volumeDimensions, const std::string& fittedOn)
@@ -538,16 +554,7 @@ int vtkDimensionReduction::RequestMultichannelData(
     return 0;
   }
 
-  mcv::ReductionOptions options;
-  options.method = static_cast<mcv::ReductionMethod>(this->Method);
-  options.outputDimension = this->OutputDimension;
-  options.numberOfNeighbors = this->NumberOfNeighbors;
-  options.numberOfLandmarks = this->NumberOfLandmarks;
-  options.minimumDistance = this->MinimumDistance;
-  options.numberOfEpochs = this->NumberOfEpochs;
-  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
-  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
-  options.device = this->GetRequestedDevice();
+  mcv::ReductionOptions options = this->MethodOptions();
   options.sampleMask = fromChannels ? (foreground ? foreground->GetPointer(0) : nullptr)
                                     : this->ForegroundMask(pd, count);
   // The channels' features took the first tenth of the progress.

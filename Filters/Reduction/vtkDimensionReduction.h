@@ -89,6 +89,7 @@ namespace mcv
 class FeatureRows;
 struct GridPiece;
 struct ReductionModel;
+struct ReductionOptions;
 struct ReductionResult;
 struct ImageGrid;
 namespace vtkhelpers
@@ -387,6 +388,8 @@ private:
   int CollectSeriesStep(vtkInformation* request, vtkImageData* image, const mcv::ImageGrid& grid,
     const mcv::GridPiece& piece, vtkImageData* output);
   int FitSeries(const mcv::ImageGrid& grid, const mcv::GridPiece& piece);
+  // The core's options of the method and its sample, from the properties.
+  mcv::ReductionOptions MethodOptions();
   // The model file of a fit: its features, its reduction and the fit's settings.
   std::shared_ptr<mcv::vtkhelpers::ModelFile> NewModelFile(mcv::vtkhelpers::FeatureRecipe recipe,
     mcv::ReductionModel fitted, const mcv::ReductionResult& result, std::uint64_t seed,

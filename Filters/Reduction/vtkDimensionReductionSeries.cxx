@@ -132,16 +132,7 @@ int vtkDimensionReduction::FitSeries(const mcv::ImageGrid& grid, const mcv::Grid
   }
   mcv::ConcatenatedRows rows(std::move(parts));
 
-  mcv::ReductionOptions options;
-  options.method = static_cast<mcv::ReductionMethod>(this->Method);
-  options.outputDimension = this->OutputDimension;
-  options.numberOfNeighbors = this->NumberOfNeighbors;
-  options.numberOfLandmarks = this->NumberOfLandmarks;
-  options.minimumDistance = this->MinimumDistance;
-  options.numberOfEpochs = this->NumberOfEpochs;
-  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
-  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
-  options.device = this->GetRequestedDevice();
+  mcv::ReductionOptions options = this->MethodOptions();
   options.sampleMask = masked && !mask.empty() ? mask.data() : nullptr;
   options.progress = this->StageProgressCallback();
   options.timeSteps = steps;

@@ -25,34 +25,21 @@ import mcv_testing as T  # noqa: E402
 mce = T.load_plugin(globals())
 import numpy as np  # noqa: E402
 from paraview.simple import OpenDataFile  # noqa: E402
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 C = T.Checker("test_fit_all_steps")
 OUT = os.path.join(T.output_dir(), "fit_all_steps")
 os.makedirs(OUT, exist_ok=True)
 
-brain = T.brain_arrays(("ch2", "aal"), step=3).astype(np.float32)
-t1, aal = brain[0], brain[1]
 factors = (1.0, 1.0, 1.2)
-steps = [T.write_vti(os.path.join(OUT, "step_%d.vti" % i), [("ch2", t1 * f), ("aal", aal)])
-         for i, f in enumerate(factors)]
+steps, t1, aal = T.brain_series(OUT, factors)
 foreground = t1.ravel() > 0
 
 
-def coordinates_at(reduction, time):
-    """ReducedCoordinates at `time`, and the model source the output names."""
-    reduction.UpdatePipeline(time)
-    data = reduction.GetClientSideObject().GetOutputDataObject(0)
-    array = data.GetPointData().GetArray("ReducedCoordinates")
-    source = T.field_strings(data, "ReductionModelSource")
-    return (None if array is None else vtk_to_numpy(array).copy()), source
+coordinates_at = T.coordinates_at
 
 
 def reduction_of(source, **props):
-    _, reduction = mce.reduce_multichannel(source, "PCA", "6D", ReferenceSampleSize=3000)
-    for name, value in props.items():
-        setattr(reduction, name, value)
-    return reduction
+    return T.pca_reduction(mce, source, **props)
 
 
 series = OpenDataFile(steps)
