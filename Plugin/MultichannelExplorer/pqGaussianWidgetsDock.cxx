@@ -16,6 +16,8 @@
 #include <QVBoxLayout>
 #include <QWidget>
 
+#include <algorithm>
+
 namespace
 {
 const char* const GaussianTF = "Gaussian TF Volume";
@@ -182,9 +184,10 @@ void pqGaussianWidgetsDock::refresh()
                                    "padding: 8px; }");
     this->ViewLabel->setAttribute(Qt::WA_TransparentForMouseEvents);
   }
-  this->ViewLabel->setMaximumWidth(std::max(200, viewWidget->width() - 16));
+  // Top left, as the probe's label: the place does not depend on the view's size.
+  this->ViewLabel->setFixedWidth(std::max(200, std::min(460, viewWidget->width() - 16)));
   this->ViewLabel->adjustSize();
-  this->ViewLabel->move(8, std::max(8, viewWidget->height() - this->ViewLabel->height() - 8));
+  this->ViewLabel->move(8, 8);
   this->ViewLabel->show();
   this->ViewLabel->raise();
 }

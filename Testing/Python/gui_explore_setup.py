@@ -74,8 +74,7 @@ def snapshot():
                 continue
             kind = rep.GetProperty("Representation")
             shown.append({"source": pxm.GetProxyName("sources", producers(rep)[0]),
-                          "representation": rep.GetPropertyValue("Representation")
-                          if kind else "",
+                          "representation": kind.SMProperty.GetElement(0) if kind else "",
                           "widgets": len(rep.GaussianWidgets) // 8
                           if rep.GetProperty("GaussianWidgets") is not None else None})
         layout = GetLayout(view)

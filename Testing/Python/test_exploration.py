@@ -16,6 +16,9 @@ Known answers:
   say what to select;
 - ParaView's rule for showing the reduction's outputs (ShowInPreferredView, what Apply
   does in the GUI): the Spectrum port is shown in no view and no view is made for it;
+- Show Reduced Domain (the GUI button's helper) on a Gaussian TF Volume made by hand with no
+  widgets: 4 widgets seeded, "Reduced domain of by hand" and its spheres shown; pressed again:
+  "already shown", no new view; on a source not shown as Gaussian TF Volume: what to select;
 - show_spectrum: an XY bar chart of the Spectrum port with X = the 'index' column
   (components 1, 2, ...), not the row index, and only 'value' plotted; titles say
   component and eigenvalue, the chart title names the method, the number kept and the
@@ -68,7 +71,8 @@ for piece, kind in (("Reduced domain of small_64D", "ReducedDomain"),
                     ("Widget spheres of small_64D", "Glyph"),
                     ("Best viewpoint of small_64D", "BestViewpoint")):
     C.check(xml(piece) == kind, "%r is a %s" % (piece, kind))
-C.check(result.display.GetPropertyValue("Representation") == "Gaussian TF Volume" and
+C.check(result.display.SMProxy.GetProperty("Representation").GetElement(0) ==
+        "Gaussian TF Volume" and
         result.widgets == 4 and len(result.display.GaussianWidgets) == 32,
         "shown as Gaussian TF Volume with 4 widgets (%d)" % result.widgets)
 layout = simple.GetLayout(view)
@@ -109,13 +113,13 @@ C.check(chart.BottomAxisTitle == "Component" and chart.LeftAxisTitle.startswith(
         "axes: %r, %r" % (chart.BottomAxisTitle, chart.LeftAxisTitle))
 result.reduction.UpdatePropertyInformation()
 variance = float(result.reduction.GetProperty("VarianceRetained")[0])
-method = result.reduction.GetPropertyValue("Method")
-expected = "%s spectrum: 3 components kept, %.0f%% of the variance" % (method, 100 * variance)
+# DimensionReduction's default method is PCA.
+expected = "PCA spectrum: 3 components kept, %.0f%% of the variance" % (100 * variance)
 C.check(chart.ChartTitle == expected, "title %r (expected %r)" % (chart.ChartTitle, expected))
 C.check(simple.GetLayout(chart) is not None and
         simple.GetLayout(chart).SMProxy is layout.SMProxy,
         "the chart opens in the volume view's layout")
-table = servermanager.Fetch(simple.OutputPort(result.reduction, 1))
+table = result.reduction.GetClientSideObject().GetOutputDataObject(1)
 index = [table.GetColumnByName("index").GetValue(i) for i in range(table.GetNumberOfRows())]
 C.check(index == list(range(1, len(index) + 1)) and len(index) >= 3,
         "the X values are the components 1..%d" % len(index))
@@ -155,4 +159,31 @@ for sources, words, label in (([], "select the channel readers", "nothing select
         C.check(False, "%s: an error" % label)
     except ValueError as error:
         C.check(words in str(error), "%s: %s" % (label, error))
+
+# --- Show Reduced Domain on a Gaussian TF Volume made by hand, without widgets -----------------
+wavelet = simple.Wavelet(WholeExtent=[-8, 8, -8, 8, -8, 8])
+coords = simple.Calculator(Input=wavelet, Function="coords", ResultArrayName="ReducedCoordinates",
+                           ResultArrayType="Float")
+simple.RenameSource("by hand", coords)
+view3 = simple.CreateView("RenderView")
+view3.ViewSize = [300, 200]
+simple.AssignViewToLayout(view=view3, layout=simple.CreateLayout("by hand"))
+hand = mce.show_gaussian_tf(coords, view3)
+simple.SetActiveView(view3)
+simple.SetActiveSource(coords)
+text = mce.exploration._gui_show_domain()
+C.check(text.startswith("Reduced domain of by hand opened") and
+        xml("Reduced domain of by hand") == "ReducedDomain" and
+        xml("Widget spheres of by hand") == "Glyph",
+        "Show Reduced Domain: %r" % text)
+C.check(len(hand.GaussianWidgets) == 32, "... seeded 4 widgets first (the display had none): %d"
+        % (len(hand.GaussianWidgets) // 8))
+views = len(simple.GetViews())
+text = mce.exploration._gui_show_domain()
+C.check("already shown" in text and len(simple.GetViews()) == views,
+        "a second press opens no second domain view: %r" % text)
+simple.SetActiveSource(wavelet)
+text = mce.exploration._gui_show_domain()
+C.check(text.startswith("Show Reduced Domain: select a volume shown as Gaussian TF Volume"),
+        "on a source not shown as Gaussian TF Volume: %r" % text)
 C.finish()

@@ -59,13 +59,13 @@ def _rename(proxy, name):
     return unique
 
 
-def _point_arrays(source):
+def _channel_count(source):
+    """Channels of a volume: the components of its point arrays (one 65-component array of
+    a diffusion file is 65 channels)."""
     info = source.GetDataInformation().DataInformation
-    arrays = info.GetPointDataInformation() if hasattr(info, "GetPointDataInformation") else None
-    if arrays is None:  # ParaView 5.11: the attribute information of the points
-        arrays = info.GetAttributeInformation(0)
-    return [arrays.GetArrayInformation(i).GetName()
-            for i in range(arrays.GetNumberOfArrays())]
+    arrays = info.GetAttributeInformation(0)
+    return sum(arrays.GetArrayInformation(i).GetNumberOfComponents()
+               for i in range(arrays.GetNumberOfArrays()))
 
 
 def _grid(source):
@@ -100,7 +100,7 @@ def _unused_readers_like(source):
         try:
             proxy.UpdatePipeline()
             if proxy.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData" or \
-                    _grid(proxy) != grid or len(_point_arrays(proxy)) < 1:
+                    _grid(proxy) != grid or _channel_count(proxy) < 1:
                 continue
         except Exception:  # noqa: BLE001 - not a volume: not a channel to merge
             continue
@@ -135,9 +135,9 @@ def _steps(sources, view, widgets, gather):
         if s.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData":
             raise ValueError("%s is no volume (image data): select the channel readers or one "
                              "multichannel volume" % _registered_name(s))
-    if len(sources) == 1 and len(_point_arrays(sources[0])) == 1 and gather:
+    if len(sources) == 1 and _channel_count(sources[0]) == 1 and gather:
         sources = _unused_readers_like(sources[0])
-    if len(sources) == 1 and len(_point_arrays(sources[0])) < 2:
+    if len(sources) == 1 and _channel_count(sources[0]) < 2:
         raise ValueError("%s has one channel: a multichannel exploration needs several. Open "
                          "the other channels (files on the same grid), select them all and "
                          "press Explore Multichannel again" % _registered_name(sources[0]))
@@ -237,6 +237,17 @@ def _reduction_of(target):
     return None
 
 
+def _enumeration_text(proxy, name):
+    """The text of an enumeration property's value ("PCA", not 0 or "'PCA'")."""
+    prop = proxy.SMProxy.GetProperty(name)
+    value = prop.GetElement(0)
+    domain = prop.GetDomain("enum")
+    for i in range(domain.GetNumberOfEntries() if domain is not None else 0):
+        if domain.GetEntryValue(i) == value:
+            return domain.GetEntryText(i)
+    return str(value)
+
+
 def show_spectrum(target=None, view=None, fraction=0.4):
     """The eigenvalue spectrum of a DimensionReduction (`target`, or the reduction
     upstream of it, e.g. the ReducedDomain or the Gaussian TF display; default: the active
@@ -266,7 +277,7 @@ def show_spectrum(target=None, view=None, fraction=0.4):
     bars.SeriesVisibility = ["value"]
     bars.SeriesLabel = ["value", "eigenvalue"]
     bars.SeriesColor = ["value", "0.89", "0.10", "0.11"]
-    method = str(reduction.GetPropertyValue("Method"))
+    method = _enumeration_text(reduction, "Method")
     dims = int(reduction.SMProxy.GetProperty("OutputDimension").GetElement(0))
     variance = [float(v) for v in reduction.GetProperty("VarianceRetained")] \
         if reduction.GetProperty("VarianceRetained") is not None else []
@@ -349,6 +360,16 @@ def _gui_show_domain():
             raise ValueError("select a volume shown as Gaussian TF Volume in the active view "
                              "(pick Gaussian TF Volume in the Representation box, or press "
                              "Explore Multichannel)")
+        from ._common import _find_filter
+        from paraview import servermanager
+
+        domain = _find_filter(source, "ReducedDomain")
+        for other in simple.GetViews() if domain is not None else []:
+            rep = servermanager.GetRepresentation(domain, other)
+            if rep is not None and rep.Visibility:
+                text = ("The reduced domain of %s is already shown (%s): drag its spheres "
+                        "there" % (_registered_name(source), _registered_name(domain)))
+                return text
         if not len(display.GaussianWidgets):
             from .seeding import auto_widgets
 
