@@ -54,6 +54,9 @@ void pqGaussianWidgetsDock::constructor()
   auto* scroll = new QScrollArea(this);
   scroll->setObjectName("GaussianWidgetsScroll");
   scroll->setWidgetResizable(true);
+  // The tab beside Properties must not widen the left dock area (a scroll area's size hint
+  // is as wide as its rows): the views keep their width.
+  scroll->setSizePolicy(QSizePolicy::Ignored, QSizePolicy::Preferred);
   auto* content = new QWidget(scroll);
   content->setObjectName("GaussianWidgetsContent");
   this->Layout = new QVBoxLayout(content);

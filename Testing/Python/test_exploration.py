@@ -23,7 +23,8 @@ Known answers:
   (components 1, 2, ...), not the row index, and only 'value' plotted; titles say
   component and eigenvalue, the chart title names the method, the number kept and the
   variance retained (the filter's own VarianceRetained, in percent); it opens in the
-  volume view's layout (one more view there); the spectrum's X values are 1..n.
+  volume view's layout (one more view there); the spectrum's X values are 1..n, the axis
+  shows the 20 leading ones (520 on small_64D's 24D features).
 """
 import math
 import os
@@ -123,6 +124,9 @@ table = result.reduction.GetClientSideObject().GetOutputDataObject(1)
 index = [table.GetColumnByName("index").GetValue(i) for i in range(table.GetNumberOfRows())]
 C.check(index == list(range(1, len(index) + 1)) and len(index) >= 3,
         "the X values are the components 1..%d" % len(index))
+C.check(int(chart.BottomAxisUseCustomRange) == 1 and chart.BottomAxisRangeMinimum == 0.5 and
+        chart.BottomAxisRangeMaximum == 20.5,
+        "the X axis on the 20 leading components of %d" % len(index))
 simple.SaveScreenshot(os.path.join(out, "spectrum.png"), chart, ImageResolution=[500, 300])
 
 # --- three single-channel files on one grid, gathered from one -----------------------------

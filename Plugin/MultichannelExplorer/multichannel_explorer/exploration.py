@@ -248,12 +248,13 @@ def _enumeration_text(proxy, name):
     return str(value)
 
 
-def show_spectrum(target=None, view=None, fraction=0.4):
+def show_spectrum(target=None, view=None, fraction=0.4, leading=20):
     """The eigenvalue spectrum of a DimensionReduction (`target`, or the reduction
     upstream of it, e.g. the ReducedDomain or the Gaussian TF display; default: the active
     source) as a bar chart: X the component (1, 2, ...), Y the eigenvalue, the title the
     method and the variance the kept components retain. It opens below `view` (default:
-    the active view), taking `fraction` of its cell; returns (chart view, its display)."""
+    the active view), taking `fraction` of its cell, its X axis on the `leading` first
+    components; returns (chart view, its display)."""
     simple = _simple()
     reduction = _reduction_of(target if target is not None else simple.GetActiveSource())
     if reduction is None:
@@ -288,6 +289,17 @@ def show_spectrum(target=None, view=None, fraction=0.4):
     chart.BottomAxisTitle = "Component"
     chart.LeftAxisTitle = "Eigenvalue" if method in ("LLE", "UMAP") else "Eigenvalue (variance)"
     chart.ShowLegend = 0
+    # The leading components: a 65-channel volume has 130 or 520 eigenvalues, whose bars
+    # would be hairlines; the others stay in the table (and a zoom away).
+    count = len([float(v) for v in reduction.GetProperty("EigenvalueSpectrum")]) \
+        if reduction.GetProperty("EigenvalueSpectrum") is not None else 0
+    shown = min(count, int(leading)) if count else int(leading)
+    chart.BottomAxisUseCustomRange = 1
+    chart.BottomAxisRangeMinimum = 0.5
+    chart.BottomAxisRangeMaximum = shown + 0.5
+    chart.ChartTitleFontSize = 14
+    chart.LeftAxisTitleFontSize = 12
+    chart.BottomAxisTitleFontSize = 12
     simple.Render(chart)
     return chart, bars
 
