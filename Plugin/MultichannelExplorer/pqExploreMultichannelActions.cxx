@@ -233,8 +233,9 @@ void pqExploreMultichannelActions::onExplore()
             "_x._gui_begin([%1])\n"
             "del _x\n")
       .arg(ids.join(", ")));
-  // One step per call, its description in the status bar while it runs.
-  while (ran && !pqMultichannelPython::flag(Module, "done"))
+  // One step per call, its description in the status bar while it runs. The exploration
+  // has 6 steps; the bound only matters when Python cannot run the module at all.
+  for (int step = 0; ran && step < 20 && !pqMultichannelPython::flag(Module, "done"); ++step)
   {
     this->showStatus(pqMultichannelPython::text(Module, "text"), 0);
     QApplication::processEvents(QEventLoop::ExcludeUserInputEvents);
@@ -250,10 +251,13 @@ void pqExploreMultichannelActions::onExplore()
     return;
   }
   const QString text = pqMultichannelPython::text(Module, "text");
-  if (pqMultichannelPython::flag(Module, "failed"))
+  if (pqMultichannelPython::flag(Module, "failed") || !pqMultichannelPython::flag(Module, "done"))
   {
     this->showStatus(QString(), 0);
-    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Explore Multichannel", text);
+    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Explore Multichannel",
+      text.isEmpty() ? QString("Explore Multichannel did not finish: see the Output Messages "
+                               "window.")
+                     : text);
     return;
   }
   // Readers opened but never applied now feed the exploration: they are applied (the

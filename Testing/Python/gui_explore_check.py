@@ -2,8 +2,9 @@
 and paraview's exit status): the three files opened through the file dialog became one
 exploration (the pipeline's pieces named after them), the volume and the reduced domain
 side by side, widgets seeded, the camera at the best view, the drag moved one widget as
-one named undo step, the probe answered, and Edit > Undo took back the drag, then the
-whole exploration in one step."""
+one named undo step, the probe answered, Add Widget Here was one named undo step, and
+Edit > Undo took back the added widget, the drag, then the whole exploration in one
+step."""
 import math
 import os
 import sys
@@ -83,7 +84,7 @@ ours = pushed[pushed.index("Explore Multichannel"):] if "Explore Multichannel" i
 check(ours and not any(label.startswith("Changed '") for label in ours),
       "no undo step named after a class from Explore Multichannel on: %s" % ours)
 moves = [label for label in pushed if label.startswith("Move Gaussian Widget ")]
-moved = None
+moved = after = None
 if check(len(moves) == 1, "the drag is one undo step %s" % moves):
     moved = int(moves[0].split()[-1]) - 1
     # The widgets when the drag's undo set was pushed (the drag's last change).
@@ -101,16 +102,21 @@ probes = s.get("probes", [])
 check(len(probes) == 1 and probes[0]["point_id"] is not None,
       "the probe click in the volume view found a voxel: %s" % probes)
 
+added = [label for label in pushed if label == "Add Gaussian Widget Here"]
+check(len(added) == 1, "Add Widget Here after the probe: one undo step named after it (%s)"
+      % pushed[-3:])
 undone = [u for u in s["undo"] if u["event"] == "undone"]
-if check(len(undone) == 2, "Edit > Undo ran twice (%d)" % len(undone)):
-    first, second = undone
+if check(len(undone) == 3, "Edit > Undo ran three times (%d)" % len(undone)):
+    added_undone, first, second = undone
+    check(moved is not None and added_undone.get("widgets") == after,
+          "the first Undo removed the added widget (the %d widgets as after the drag)" % count)
     check(first.get("widgets") == widgets,
-          "the first Undo put the dragged widget back (all %d widgets as seeded)" % count)
+          "the second Undo put the dragged widget back (all %d widgets as seeded)" % count)
     left = first["snapshot"]["sources"]
     check(all(piece in left for piece in expected), "... and kept the exploration")
     left = second["snapshot"]["sources"]
     check(sorted(left) == sorted(readers),
-          "the second Undo removed the whole exploration in one step (left: %s)"
+          "the third Undo removed the whole exploration in one step (left: %s)"
           % sorted(left))
     check(len(second["snapshot"]["views"]) == 1,
           "... and its domain view (%d views left)" % len(second["snapshot"]["views"]))
