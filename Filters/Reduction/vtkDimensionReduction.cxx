@@ -29,6 +29,7 @@
 #include "FeatureBricks.h"
 #include "FeatureRows.h"
 #include "MemoryBudget.h"
+#include "ReductionMethods.h"
 #include "mcvReductionModelFile.h"
 #include "vtkDimensionReductionInternals.h"
 
@@ -69,21 +70,21 @@ const char* featureSetName(int set)
   }
 }
 
+// The filter's Method values are the core's ReductionMethod values (checked below).
+const mcv::ReductionMethodInfo* methodInfo(int method)
+{
+  return mcv::findReductionMethod(static_cast<mcv::ReductionMethod>(method));
+}
+static_assert(static_cast<int>(mcv::ReductionMethod::PCA) == vtkDimensionReduction::PCA &&
+    static_cast<int>(mcv::ReductionMethod::Isomap) == vtkDimensionReduction::ISOMAP &&
+    static_cast<int>(mcv::ReductionMethod::LLE) == vtkDimensionReduction::LLE &&
+    static_cast<int>(mcv::ReductionMethod::UMAP) == vtkDimensionReduction::UMAP,
+  "vtkDimensionReduction's Method values follow mcv::ReductionMethod (ReductionMethods.h)");
+
 const char* methodName(int method)
 {
-  switch (method)
-  {
-    case vtkDimensionReduction::PCA:
-      return "PCA";
-    case vtkDimensionReduction::ISOMAP:
-      return "Isomap";
-    case vtkDimensionReduction::LLE:
-      return "LLE";
-    case vtkDimensionReduction::UMAP:
-      return "UMAP";
-    default:
-      return "unknown";
-  }
+  const mcv::ReductionMethodInfo* info = methodInfo(method);
+  return info ? info->name : "unknown";
 }
 
 void addFieldValue(vtkFieldData* fd, const char* name, double value)
@@ -372,6 +373,7 @@ void vtkDimensionReduction::ResetResults()
   this->NumberOfFeaturesUsed = 0;
   this->NumberOfSampledVoxels = 0;
   this->NumberOfOutOfModelVoxels = 0;
+  this->VarianceSpectrum = false;
   for (double& t : this->StageTimings)
   {
     t = 0.0;
@@ -767,9 +769,11 @@ int vtkDimensionReduction::RequestMultichannelData(
       positiveSum += v;
     }
   }
-  // LLE's and UMAP's eigenvalues are not variances.
-  const std::string methodText = method;
-  const bool fractions = methodText != "LLE" && methodText != "UMAP" && positiveSum > 0;
+  // Only a variance spectrum has shares (LLE's and UMAP's eigenvalues are a graph operator's).
+  const mcv::ReductionMethodInfo* info =
+    model ? mcv::findReductionMethod(model->reduction.method) : methodInfo(this->Method);
+  this->VarianceSpectrum = info && info->varianceSpectrum;
+  const bool fractions = this->VarianceSpectrum && positiveSum > 0;
   const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
   vtkNew<vtkIntArray> indexColumn;
   indexColumn->SetName("index");

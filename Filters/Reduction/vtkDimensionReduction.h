@@ -300,6 +300,11 @@ public:
   /** Results of the last execution (empty / zero before the first or after a failure). */
   /** Eigenvalue spectrum as returned by the core (PCA, Isomap: descending). */
   vtkDoubleArray* GetEigenvalueSpectrum();
+  /**
+   * True when the spectrum's eigenvalues are variances (PCA, Isomap: ReductionMethods.h),
+   * so that their shares and VarianceRetained mean what they say.
+   */
+  vtkGetMacro(VarianceSpectrum, bool);
   /** Fraction of the spectrum kept by the OutputDimension leading values (PCA, Isomap). */
   vtkGetMacro(VarianceRetained, double);
   /**
@@ -359,6 +364,7 @@ protected:
   int FitTimeStep = -1;
   int FittedTimeStep = -1;
   vtkIdType NumberOfOutOfModelVoxels = 0;
+  bool VarianceSpectrum = false;
 
   double VarianceRetained = 0.0;
   double Trustworthiness = 0.0;
