@@ -12,6 +12,9 @@ bar what is running; scripts call ``explore_multichannel``::
     print(result.name, result.widgets)       # "ch2 + aal + brodmann", 4
 """
 
+import os
+import re
+
 from ._common import _filter, _same_proxy, _simple, _warn
 
 __all__ = [
@@ -32,8 +35,22 @@ def _registered_name(proxy):
     return name or proxy.GetXMLLabel()
 
 
+def _file_name(proxy):
+    """The one file a reader reads, or None."""
+    for prop in ("FileNames", "FileName"):
+        if proxy.GetProperty(prop) is not None:
+            value = proxy.GetPropertyValue(prop)
+            files = [value] if isinstance(value, str) else list(value or [])
+            if len(files) == 1 and files[0]:
+                return os.path.basename(files[0])
+    return None
+
+
 def _short_name(proxy):
     name = _registered_name(proxy)
+    # A script's OpenDataFile names a reader "NIfTIImageReader3"; its file says more.
+    if re.fullmatch(r"[A-Za-z]+[0-9]+", name) and _file_name(proxy):
+        name = _file_name(proxy)
     for ending in _ENDINGS:
         if name.lower().endswith(ending):
             return name[:-len(ending)]
