@@ -19,6 +19,8 @@
 #include <QVBoxLayout>
 
 #include <algorithm>
+#include <string>
+#include <vector>
 
 namespace
 {
@@ -102,11 +104,19 @@ void pqChannelListPropertyWidget::rebuild()
     info = source->GetDataInformation(input.GetOutputPort());
   }
 
-  this->Updating = true;
-  this->Tree->clear();
+  // The channels in the domain's order: the order the property is filled in and the
+  // filters take them in (the feature vector's layout), which the numbers show.
+  std::vector<std::string> order;
   for (unsigned int i = 0; domain && i < domain->GetNumberOfStrings(); ++i)
   {
-    const QString name = QString::fromUtf8(domain->GetString(i));
+    order.emplace_back(domain->GetString(i));
+  }
+
+  this->Updating = true;
+  this->Tree->clear();
+  for (unsigned int i = 0; i < order.size(); ++i)
+  {
+    const QString name = QString::fromUtf8(order[i].c_str());
     auto* item = new QTreeWidgetItem(this->Tree);
     item->setText(0, QString("#%1  %2").arg(i + 1).arg(name));
     item->setData(0, Qt::UserRole, name);

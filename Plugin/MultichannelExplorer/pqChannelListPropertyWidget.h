@@ -2,7 +2,8 @@
 // DimensionReduction's and BestViewpoint's Channels): one row per channel of the input, as
 // vtkSMChannelArrayListDomain offers them (channels only: no Features, Foreground,
 // ReducedCoordinates, ghost or validity arrays), each numbered in the order the filters take
-// them ("#1 ch2", "#2 aal", ...), with its type, components and range, and "atlas: named
+// them, the domain's (ParaView lists arrays by name: "#1 aal", "#2 brodmann", "#3 ch2"),
+// with its type, components and range, and "atlas: named
 // labels" for a channel that carries a label table (mcvLabelTables.h). A check box per row
 // says whether the channel is used; the line above the list says how many are ("2 of 3
 // channels used", or "all 3 used" when none is ticked, which the filters read as every
