@@ -150,6 +150,7 @@ C.check(loaded is not None and [str(n) for n in loaded.GaussianWidgetNames] == r
 display = loaded
 view = [v for v in simple.GetRenderViews() if display in v.Representations][0]
 reduction = display.Input
+reduction.UpdatePipeline()
 image = reduction.GetClientSideObject().GetOutputDataObject(0)
 pd = image.GetPointData()
 aal = vtk_to_numpy(pd.GetArray("aal"))
