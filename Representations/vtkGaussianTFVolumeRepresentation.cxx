@@ -326,7 +326,8 @@ vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
   this->Internals->Swatch->SetPolys(square);
   vtkLegendBoxActor* legend = this->Internals->Legend;
   legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  legend->GetPosition2Coordinate()->SetCoordinateSystemToNormalizedViewport();
+  // Position2 is an offset from Position (its reference coordinate), in pixels.
+  legend->GetPosition2Coordinate()->SetCoordinateSystemToDisplay();
   legend->SetBorder(false);
   legend->SetUseBackground(true);
   legend->SetBackgroundColor(0.08, 0.08, 0.08);
@@ -633,10 +634,11 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     legend->SetEntry(static_cast<int>(r), swatch.Get(), rows[r].c_str(), unset);
     longest = std::max(longest, rows[r].size());
   }
-  // Bottom left; the box grows with the rows and the longest text (about 0.011 of the
-  // view's width per character at the text height used here).
-  const double height = std::min(0.5, 0.045 * static_cast<double>(rows.size()));
-  const double width = std::min(0.6, 0.06 + 0.0115 * static_cast<double>(longest));
+  // Bottom left, a fixed size in pixels whatever the view's size (the legend box scales
+  // its text to the box): 20 pixels a row (text of about 14 pixels), 8 pixels a character
+  // plus the swatch.
+  const double height = 20.0 * static_cast<double>(rows.size()) + 8.0;
+  const double width = 44.0 + 8.0 * static_cast<double>(longest);
   legend->GetPositionCoordinate()->SetValue(0.015, 0.015);
   legend->GetPosition2Coordinate()->SetValue(width, height);
 }

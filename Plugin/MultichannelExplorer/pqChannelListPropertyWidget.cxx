@@ -68,6 +68,32 @@ pqChannelListPropertyWidget::pqChannelListPropertyWidget(
   }
   this->rebuild();
   this->addPropertyLink(this, "channels", SIGNAL(channelsChanged()), smproperty);
+  // The domain fills the property after it changed (vtkSMChannelArrayListDomain): the
+  // ticks follow the property whoever sets it.
+  this->Connections->Connect(smproperty, vtkCommand::ModifiedEvent, this, SLOT(readTicks()));
+  this->Connections->Connect(
+    smproperty, vtkCommand::UncheckedPropertyModifiedEvent, this, SLOT(readTicks()));
+}
+
+//-----------------------------------------------------------------------------
+QList<QVariant> pqChannelListPropertyWidget::propertyValues() const
+{
+  QList<QVariant> values;
+  vtkSMUncheckedPropertyHelper helper(this->property());
+  for (unsigned int i = 0; i < helper.GetNumberOfElements(); ++i)
+  {
+    values.append(QString::fromUtf8(helper.GetAsString(i)));
+  }
+  return values;
+}
+
+//-----------------------------------------------------------------------------
+void pqChannelListPropertyWidget::readTicks()
+{
+  if (!this->Updating)
+  {
+    this->setChannels(this->propertyValues());
+  }
 }
 
 //-----------------------------------------------------------------------------
@@ -77,23 +103,11 @@ pqChannelListPropertyWidget::~pqChannelListPropertyWidget() = default;
 void pqChannelListPropertyWidget::rebuild()
 {
   auto* domain = this->property()->FindDomain<vtkSMArrayListDomain>();
-  // The ticks to keep: the rows' (a new input keeps the channels of the same name), or the
-  // property's on the first build.
+  // The ticks: the property's values as the panel holds them (unchecked: not applied yet).
   QSet<QString> keep;
-  if (this->Tree->topLevelItemCount() > 0)
+  for (const QVariant& v : this->propertyValues())
   {
-    for (const QVariant& v : this->channels())
-    {
-      keep.insert(v.toString());
-    }
-  }
-  else
-  {
-    vtkSMUncheckedPropertyHelper values(this->property());
-    for (unsigned int i = 0; i < values.GetNumberOfElements(); ++i)
-    {
-      keep.insert(QString::fromUtf8(values.GetAsString(i)));
-    }
+    keep.insert(v.toString());
   }
 
   // The input's data information: type, components, range and label tables.

@@ -45,8 +45,12 @@ private Q_SLOTS:
   /** The domain (the input's arrays) changed: rebuild the rows, keeping the ticks. */
   void rebuild();
   void updateSummary();
+  /** The property changed (the domain filled it, a script, undo): show its values. */
+  void readTicks();
 
 private:
+  QList<QVariant> propertyValues() const;
+
   QTreeWidget* Tree;
   QLabel* Summary;
   bool Updating = false;

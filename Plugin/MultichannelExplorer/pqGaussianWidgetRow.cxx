@@ -74,7 +74,7 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   }
 
   // Three short lines, so that a row fits the default width of the Properties dock:
-  // shown, colour, sigma / opacity / centre.
+  // shown, colour, name / opacity, sigma / centre.
   auto* grid = new QGridLayout(this);
   grid->setContentsMargins(4, 2, 4, 2);
   grid->setVerticalSpacing(2);
@@ -82,14 +82,14 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   auto* line1 = new QHBoxLayout();
   line1->addWidget(this->Visible);
   line1->addWidget(this->Colour);
-  line1->addWidget(this->Name, 2);
-  line1->addWidget(new QLabel(QString::fromUtf8("\xcf\x83"), this)); // sigma
-  line1->addWidget(this->Sigma, 1);
+  line1->addWidget(this->Name, 1);
   grid->addLayout(line1, 0, 1);
   auto* line2 = new QHBoxLayout();
   line2->addWidget(new QLabel("Opacity", this));
   line2->addWidget(this->Opacity, 1);
   line2->addWidget(this->OpacityValue);
+  line2->addWidget(new QLabel(QString::fromUtf8("\xcf\x83"), this)); // sigma
+  line2->addWidget(this->Sigma, 1);
   grid->addLayout(line2, 1, 1);
   auto* line3 = new QHBoxLayout();
   for (int axis = 0; axis < 3; ++axis)
