@@ -16,6 +16,7 @@
 #include "vtkLegendBoxActor.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
+#include "vtkCoordinate.h"
 #include "vtkPVRenderView.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -293,6 +294,7 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   std::string LegendKey;            // what the legend shows now
   std::string LegendText;           // its rows, one per line
   vtkNew<vtkLegendBoxActor> Legend;
+  vtkNew<vtkCoordinate> LegendCorner; // the view's top right corner
   vtkNew<vtkPolyData> Swatch;       // the legend's colour square
   std::vector<vtkSmartPointer<vtkPolyData>> Swatches; // one per row, in its colour
   vtkWeakPointer<vtkRenderer> LegendRenderer;
@@ -312,7 +314,7 @@ vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
   this->Internals->AlphaRamp->AddPoint(0.0, 0.0);
   this->Internals->AlphaRamp->AddPoint(255.0, 1.0);
 
-  // The legend: bottom left, white text on a dark translucent box, one square swatch per
+  // The legend: top right, white text on a dark translucent box, one square swatch per
   // widget.
   vtkNew<vtkPoints> corners;
   corners->InsertNextPoint(0, 0, 0);
@@ -325,8 +327,12 @@ vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
   this->Internals->Swatch->SetPoints(corners);
   this->Internals->Swatch->SetPolys(square);
   vtkLegendBoxActor* legend = this->Internals->Legend;
-  legend->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  // Position2 is an offset from Position (its reference coordinate), in pixels.
+  // Position: pixels from the view's top right corner (its reference coordinate);
+  // Position2: the box's size in pixels from Position (its own reference).
+  this->Internals->LegendCorner->SetCoordinateSystemToNormalizedViewport();
+  this->Internals->LegendCorner->SetValue(1.0, 1.0);
+  legend->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+  legend->GetPositionCoordinate()->SetReferenceCoordinate(this->Internals->LegendCorner);
   legend->GetPosition2Coordinate()->SetCoordinateSystemToDisplay();
   legend->SetBorder(false);
   legend->SetUseBackground(true);
@@ -634,12 +640,12 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     legend->SetEntry(static_cast<int>(r), swatch.Get(), rows[r].c_str(), unset);
     longest = std::max(longest, rows[r].size());
   }
-  // Bottom left, a fixed size in pixels whatever the view's size (the legend box scales
+  // Top right, a fixed size in pixels whatever the view's size (the legend box scales
   // its text to the box): 20 pixels a row (text of about 14 pixels), 8 pixels a character
-  // plus the swatch.
+  // plus the swatch; 10 pixels from the view's corner.
   const double height = 20.0 * static_cast<double>(rows.size()) + 8.0;
   const double width = 44.0 + 8.0 * static_cast<double>(longest);
-  legend->GetPositionCoordinate()->SetValue(0.015, 0.015);
+  legend->GetPositionCoordinate()->SetValue(-width - 10.0, -height - 10.0);
   legend->GetPosition2Coordinate()->SetValue(width, height);
 }
 

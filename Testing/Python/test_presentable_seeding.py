@@ -21,7 +21,11 @@ Known answers:
 - the share SeededWidgetDetails reports for each widget is its cluster's share of the
   sample, and the opacities follow a = (1 - 0.5^(1 / (s L))) / g, capped at 0.5
   (WidgetSeeding.h), recomputed here from the reported s and g.
-The same measurement of the former rule (peak 0.5, the largest 0.025) is printed beside.
+- Add Widget Here at a voxel in the middle of the head gets an opacity whose ray opacity
+  stays below 0.6, and a name;
+- show_dual_domain's points and spheres show the widgets' colours with no colour bar.
+The same measurement of the former rule (peak 0.5, the largest 0.025; Add Widget Here
+0.5) is printed beside.
 """
 import math
 import os
@@ -131,4 +135,31 @@ for w in range(count):
     C.check(abs(actual - expected) <= 1e-9 + 1e-6 * expected,
             "widget %d: opacity %.6g = the rule's %.6g (share %.3f, ray %.1f units, mean "
             "weight %.3f)" % (w, actual, expected, s, ray, g))
+
+# Add Widget Here at a voxel in the middle of the head: the opacity presentable_opacity
+# gives it lets light through (the former fixed 0.5 is measured beside it).
+centre = (dims[0] // 2, dims[1] // 2, dims[2] // 2)
+hit = mce.probe(display, centre, mark=False)
+domain_messages = T.Messages(seeding[0])
+added = mce.add_widget_at(display, hit)
+cx, cy, cz, s = added[:4]
+gauss = np.exp(-((coords - np.array([cx, cy, cz])) ** 2).sum(axis=1) / (2.0 * s * s))
+share = float((gauss[head] >= 0.5).mean())
+now, former = ray_opacity(added[7] * gauss), ray_opacity(0.5 * gauss)
+names = [str(n) for n in display.GaussianWidgetNames]
+print("added widget at %s: share of the head %.1f%%, opacity %.4f (ray opacity %.2f); former "
+      "0.5 (ray opacity %.2f)" % (centre, 100 * share, added[7], now, former))
+C.check(now < 0.6 and added[7] <= 0.5 and len(names) == count + 1 and names[-1],
+        "Add Widget Here lets light through: ray opacity %.2f (former %.2f), named %r"
+        % (now, former, names[-1]))
+C.check(not domain_messages.warnings and not domain_messages.errors,
+        "no message from the domain filter while the display has widgets (%s)"
+        % domain_messages.warnings)
+
+# The domain view: coloured by the widgets, no colour bar.
+dual = mce.show_dual_domain(display, view)
+bars = [rep.SMProxy.IsScalarBarVisible(dual.domain_view.SMProxy)
+        for rep in (dual.domain_display, dual.widget_display)]
+C.check(not any(bars) and int(dual.domain_display.MapScalars) == 0,
+        "the domain view shows the widgets' own colours (MapScalars 0) and no colour bar")
 C.finish()

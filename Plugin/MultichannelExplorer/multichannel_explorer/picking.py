@@ -10,7 +10,7 @@ one nearest the depth where half of the opacity seen through that pixel has accu
 
 import math
 
-from ._common import _coordinate_tuple, _is_float16
+from ._common import _coordinate_tuple
 from ._voxels import _Grid, _fetch_voxels, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -136,9 +136,9 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
 
     Only the voxels around the ray are read back from the server, in one ExtractVoxels
     round trip that also brings the picked voxel's values (a few thousand voxels, not
-    the volume): the ray is sampled every half voxel, the coordinates and the mask
-    interpolated trilinearly from the 8 voxels around each sample (float16 coordinates:
-    the nearest voxel's, since interpolating their bits means nothing)."""
+    the volume): the ray is sampled every half voxel, the coordinates (float16 ones
+    decoded first) and the mask interpolated trilinearly from the 8 voxels around each
+    sample, as the ray caster interpolates them."""
     display = display or _gaussian_tf_in(view)
     if display is None:
         raise ValueError("no \"Gaussian TF Volume\" display visible in this view")
@@ -149,8 +149,10 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     if hit is None:
         return None
     name = _coordinates_name(display)
-    samples, seg = _ray_samples(grid, origin, direction, hit[0], hit[1],
-                                nearest=_is_float16(source.PointData[name]))
+    # float16 coordinates too: each voxel's bits are decoded here, and their values
+    # interpolated (interpolating the bits themselves, as a server-side probe would, means
+    # nothing).
+    samples, seg = _ray_samples(grid, origin, direction, hit[0], hit[1], nearest=False)
     voxels = _fetch_voxels(source, sorted(set(i for _, c in samples for i, _ in c)))
     pd = voxels.GetPointData()
     found = pd.GetArray("VoxelId")

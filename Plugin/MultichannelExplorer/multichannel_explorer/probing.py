@@ -174,19 +174,24 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
 ADDED_WIDGET_PEAK = 0.5
 
 
-def presentable_opacity(source, coords, sigma, peak=ADDED_WIDGET_PEAK, coordinates=None):
+def presentable_opacity(source, coords, sigma, peak=ADDED_WIDGET_PEAK, coordinates=None,
+                        widgets=None):
     """The peak opacity that lets a widget at `coords` with `sigma` show what lies behind
     it, by the seeding rule (WidgetSeeding.h): its share s of the drawn voxels (the
     ReducedDomain sample's points within its half maximum), the mean length L of a ray
     through them (ReducedDomain's ForegroundRayLength) and its mean Gaussian weight g
     over those points give a = (1 - 0.5^(1 / (s L))) / g, at most `peak` (a widget that
-    selects nothing gets `peak`). Returns (opacity, share)."""
+    selects nothing gets `peak`). `widgets`: the display's widgets, which the domain
+    filter colours by (it warns of a transparent volume without any). Returns (opacity,
+    share)."""
     import math
 
     from paraview import servermanager
     from .dual_domain import reduced_domain_filter
 
     props = {"Coordinates": ["POINTS", coordinates]} if coordinates else {}
+    if widgets:
+        props["GaussianWidgets"] = list(widgets)
     domain = reduced_domain_filter(source, **props)
     domain.UpdatePipeline()
     domain.UpdatePropertyInformation()
@@ -241,7 +246,10 @@ def add_widget_at(target, coords, sigma=None, opacity=None, color=None, view=Non
     rgb = list(color) if color is not None else _unused_color(widgets)
     if opacity is None:
         opacity, _ = presentable_opacity(source, coords, float(sigma),
-                                         coordinates=_coordinates_name(display))
+                                         coordinates=_coordinates_name(display),
+                                         widgets=widgets or (coords + [0.0])[:3] +
+                                         [float(sigma)] + [float(c) for c in rgb] +
+                                         [ADDED_WIDGET_PEAK])
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
     check_widget_values(widget, "add_widget_at", size, first=len(widgets) // 8)
     values = widgets + widget

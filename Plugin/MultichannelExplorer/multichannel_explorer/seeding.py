@@ -137,9 +137,10 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
 
     `target` is a volume with ReducedCoordinates or its "Gaussian TF Volume" display; when
     a display is given (or the volume is shown as one in `view`), its GaussianWidgets,
-    GaussianWidgetsHidden and GaussianWidgetNames are set. Returns the flat widget list (8
-    numbers per widget: cx, cy, cz, sigma, r, g, b, opacity; a hidden widget's opacity is
-    the one it gets when shown)::
+    GaussianWidgetsHidden and GaussianWidgetNames are set. Returns the flat widget list as
+    drawn (8 numbers per widget: cx, cy, cz, sigma, r, g, b, opacity; a hidden widget has
+    opacity 0, the one it gets when shown is in GaussianWidgetsHidden and in the
+    ReducedDomain's SeededWidgets)::
 
         display = mce.show_gaussian_tf(reduction, view)
         mce.auto_widgets(display, 3)
@@ -172,16 +173,20 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
         names = widget_names(_cloud_columns(servermanager.Fetch(domain)), seeded,
                              label_tables(_fetch_voxels(source, [0])))
     domain.SeedWidgetCount = 0  # one suggestion; later updates only recolour
-    if display is None:
-        return widgets
     hidden = [-1.0] * seeded
     drawn = list(widgets)
     for w in range(seeded):
         if len(details) >= 3 * (w + 1) and details[3 * w + 1] > 0 and widgets[8 * w + 7] > 0:
             hidden[w] = widgets[8 * w + 7]
             drawn[8 * w + 7] = 0.0
+    if display is None:
+        return drawn
     with _TracedProperties(display):  # recorded in a trace being recorded
         display.GaussianWidgets = drawn
         display.GaussianWidgetsHidden = hidden if any(h >= 0 for h in hidden) else []
         display.GaussianWidgetNames = names
-    return widgets
+    with _TracedProperties(domain):
+        # The domain colours by the display's widgets (without any, its next update would
+        # warn of a transparent volume while the display has widgets).
+        domain.GaussianWidgets = drawn
+    return drawn
