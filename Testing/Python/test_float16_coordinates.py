@@ -184,9 +184,11 @@ def render_pair(classification):
     tag = classification.replace(" ", "_").lower()
     a = shot(disp32, r32, "float16_%s_float32.png" % tag)
     b = shot(disp16, r16, "float16_%s_float16.png" % tag)
-    # The yardstick: float32 with the first widget moved by 2 % of its sigma along x.
+    # The yardstick: float32 with the first drawn widget (auto_widgets may start one
+    # hidden, at opacity 0) moved by 2 % of its sigma along x.
+    first = next(w for w in range(len(widgets) // 8) if widgets[8 * w + 7] > 0)
     moved = list(widgets)
-    moved[0] += 0.02 * widgets[3]
+    moved[8 * first] += 0.02 * widgets[8 * first + 3]
     disp32.GaussianWidgets = moved
     c = shot(disp32, r32, "float16_%s_moved.png" % tag)
     disp32.GaussianWidgets = widgets
