@@ -600,7 +600,9 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     key << rows.back() << '|' << widget.color[0] << ',' << widget.color[1] << ','
         << widget.color[2] << '\n';
   }
-  const bool visible = this->ShowWidgetLegend && !rows.empty() && this->GetVisibility();
+  // Only with the volume it explains: not for a volume drawn as nothing (an error).
+  const bool visible =
+    this->ShowWidgetLegend && !rows.empty() && this->GetVisibility() && internals.Valid;
   key << visible;
   if (key.str() == internals.LegendKey)
   {

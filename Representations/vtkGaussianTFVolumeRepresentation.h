@@ -91,7 +91,8 @@ public:
 
   ///@{
   /**
-   * Show the widget legend in the view's top right corner (default on): one row per drawn widget
+   * Show the widget legend in the view's top right corner (default on; hidden while the
+   * volume is drawn as nothing after an error): one row per drawn widget
    * (peak opacity above 0): its colour, its name and the share of the voxels it
    * selects, i.e. of the drawn voxels (mask non-zero, finite coordinates) within its
    * half maximum (|x - mu| <= sigma sqrt(2 ln 2), where alpha_i >= a_i / 2), counted on
