@@ -13,6 +13,15 @@
 #include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
+#include "vtkLegendBoxActor.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCoordinate.h"
+#include "vtkPVRenderView.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkRenderer.h"
+#include "vtkTextProperty.h"
 #include "vtkObjectFactory.h"
 #include "vtkOpenGLShaderProperty.h"
 #include "vtkPVLODVolume.h"
@@ -34,6 +43,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iomanip>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -277,6 +287,17 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   vtkNew<vtkPiecewiseFunction> AlphaRamp;
   vtkNew<vtkOpenGLShaderProperty> ShaderProperty; // per-sample replacements and uniforms
   std::string ShaderKey;                          // blend mode and jitter of the replacements
+  std::vector<std::string> Names;   // GaussianWidgetNames
+  std::vector<double> Shares;       // each widget's share of the drawn voxels
+  InputStamp ShareInputs;           // what the shares were counted on
+  vtkTimeStamp ShareTime;           // when they were
+  std::string LegendKey;            // what the legend shows now
+  std::string LegendText;           // its rows, one per line
+  vtkNew<vtkLegendBoxActor> Legend;
+  vtkNew<vtkCoordinate> LegendCorner; // the view's top right corner
+  vtkNew<vtkPolyData> Swatch;       // the legend's colour square
+  std::vector<vtkSmartPointer<vtkPolyData>> Swatches; // one per row, in its colour
+  vtkWeakPointer<vtkRenderer> LegendRenderer;
   bool HadWidgets = false;          // the last list checked had widgets
   bool RenderModeReported = false; // the error about a render mode without the GPU ray caster
 
@@ -292,6 +313,39 @@ vtkGaussianTFVolumeRepresentation::vtkGaussianTFVolumeRepresentation()
   this->VolumeMapper = vtkSmartPointer<vtkGaussianTFVolumeMapper>::New();
   this->Internals->AlphaRamp->AddPoint(0.0, 0.0);
   this->Internals->AlphaRamp->AddPoint(255.0, 1.0);
+
+  // The legend: top right, white text on a dark translucent box, one square swatch per
+  // widget.
+  vtkNew<vtkPoints> corners;
+  corners->InsertNextPoint(0, 0, 0);
+  corners->InsertNextPoint(1, 0, 0);
+  corners->InsertNextPoint(1, 1, 0);
+  corners->InsertNextPoint(0, 1, 0);
+  vtkNew<vtkCellArray> square;
+  const vtkIdType ids[4] = { 0, 1, 2, 3 };
+  square->InsertNextCell(4, ids);
+  this->Internals->Swatch->SetPoints(corners);
+  this->Internals->Swatch->SetPolys(square);
+  vtkLegendBoxActor* legend = this->Internals->Legend;
+  // Position: pixels from the view's top right corner (its reference coordinate);
+  // Position2: the box's size in pixels from Position (its own reference).
+  this->Internals->LegendCorner->SetCoordinateSystemToNormalizedViewport();
+  this->Internals->LegendCorner->SetValue(1.0, 1.0);
+  legend->GetPositionCoordinate()->SetCoordinateSystemToDisplay();
+  legend->GetPositionCoordinate()->SetReferenceCoordinate(this->Internals->LegendCorner);
+  legend->GetPosition2Coordinate()->SetCoordinateSystemToDisplay();
+  legend->SetBorder(false);
+  legend->SetUseBackground(true);
+  legend->SetBackgroundColor(0.08, 0.08, 0.08);
+  legend->SetBackgroundOpacity(0.65);
+  legend->SetPadding(4);
+  legend->GetEntryTextProperty()->SetColor(1, 1, 1);
+  legend->GetEntryTextProperty()->SetFontFamilyToArial();
+  legend->GetEntryTextProperty()->SetShadow(false);
+  legend->GetEntryTextProperty()->SetBold(false);
+  legend->GetEntryTextProperty()->SetItalic(false);
+  legend->SetVisibility(false);
+  legend->PickableOff();
 }
 
 //------------------------------------------------------------------------------
@@ -345,6 +399,256 @@ int vtkGaussianTFVolumeRepresentation::GetNumberOfGaussianWidgetValues()
 double vtkGaussianTFVolumeRepresentation::GetGaussianWidgetValue(int index)
 {
   return this->Internals->WidgetValues.Get(index);
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::ClearGaussianWidgetNames()
+{
+  this->Internals->Names.clear();
+}
+
+void vtkGaussianTFVolumeRepresentation::AddGaussianWidgetName(const char* name)
+{
+  this->Internals->Names.emplace_back(name ? name : "");
+}
+
+int vtkGaussianTFVolumeRepresentation::GetNumberOfGaussianWidgetNames()
+{
+  return static_cast<int>(this->Internals->Names.size());
+}
+
+const char* vtkGaussianTFVolumeRepresentation::GetGaussianWidgetName(int index)
+{
+  return index >= 0 && index < static_cast<int>(this->Internals->Names.size())
+    ? this->Internals->Names[static_cast<size_t>(index)].c_str()
+    : nullptr;
+}
+
+void vtkGaussianTFVolumeRepresentation::SetShowWidgetLegend(bool show)
+{
+  this->ShowWidgetLegend = show; // read at every render
+  this->Internals->Legend->SetVisibility(show && !this->Internals->LegendText.empty() &&
+    this->GetVisibility());
+  this->Internals->LegendKey.clear();
+}
+
+const char* vtkGaussianTFVolumeRepresentation::GetWidgetLegendText()
+{
+  return this->Internals->LegendText.c_str();
+}
+
+void vtkGaussianTFVolumeRepresentation::SetVisibility(bool visible)
+{
+  this->Superclass::SetVisibility(visible);
+  // A hidden volume takes its legend with it (no render-time update runs for it).
+  this->Internals->Legend->SetVisibility(
+    visible && this->ShowWidgetLegend && !this->Internals->LegendText.empty());
+  this->Internals->LegendKey.clear();
+}
+
+int vtkGaussianTFVolumeRepresentation::GetNumberOfWidgetShares()
+{
+  return static_cast<int>(this->Internals->Shares.size());
+}
+
+double vtkGaussianTFVolumeRepresentation::GetWidgetShare(int index)
+{
+  return index >= 0 && index < static_cast<int>(this->Internals->Shares.size())
+    ? this->Internals->Shares[static_cast<size_t>(index)]
+    : -1.0;
+}
+
+//------------------------------------------------------------------------------
+bool vtkGaussianTFVolumeRepresentation::AddToView(vtkView* view)
+{
+  if (auto rview = vtkPVRenderView::SafeDownCast(view))
+  {
+    vtkRenderer* renderer = rview->GetRenderer(vtkPVRenderView::NON_COMPOSITED_RENDERER);
+    renderer->AddActor2D(this->Internals->Legend);
+    this->Internals->LegendRenderer = renderer;
+  }
+  return this->Superclass::AddToView(view);
+}
+
+bool vtkGaussianTFVolumeRepresentation::RemoveFromView(vtkView* view)
+{
+  if (this->Internals->LegendRenderer)
+  {
+    this->Internals->LegendRenderer->RemoveActor2D(this->Internals->Legend);
+    this->Internals->LegendRenderer = nullptr;
+  }
+  return this->Superclass::RemoveFromView(view);
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::UpdateWidgetShares(const mcv::WidgetList& widgets)
+{
+  vtkInternals& internals = *this->Internals;
+  const std::vector<vtkImageData*> pieces = imagePieces(
+    this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
+                                                           : nullptr);
+  internals.Shares.clear();
+  vtkIdType points = 0;
+  for (vtkImageData* piece : pieces)
+  {
+    points += piece->GetNumberOfPoints();
+  }
+  if (points == 0 || widgets.widgets.empty())
+  {
+    return;
+  }
+  // At most ~10^6 voxels, evenly spread: the share to a fraction of a percent, in a few
+  // milliseconds per widget edit.
+  const vtkIdType stride = std::max<vtkIdType>(1, points / 1000000);
+  const size_t count = widgets.widgets.size();
+  std::vector<double> limit(count);
+  for (size_t w = 0; w < count; ++w)
+  {
+    // Half maximum: exp(-d^2 / (2 sigma^2)) >= 1/2  <=>  d^2 <= 2 ln 2 sigma^2.
+    limit[w] = 2.0 * std::log(2.0) * widgets.widgets[w].sigma * widgets.widgets[w].sigma;
+  }
+  std::vector<vtkIdType> selected(count, 0);
+  vtkIdType drawn = 0;
+  for (vtkImageData* piece : pieces)
+  {
+    std::string error;
+    vtkDataArray* coords = coordinatesOf(piece, internals.CoordinateArray, error);
+    if (!coords)
+    {
+      return; // said by the classification
+    }
+    vtkDataArray* mask = maskOf(piece, internals.MaskArray);
+    const int dims = coords->GetNumberOfComponents();
+    const vtkIdType n = coords->GetNumberOfTuples();
+    for (vtkIdType t = 0; t < n; t += stride)
+    {
+      if (mask && mask->GetComponent(t, 0) == 0)
+      {
+        continue;
+      }
+      double x[3] = { 0, 0, 0 };
+      bool finite = true;
+      for (int c = 0; c < dims; ++c)
+      {
+        x[c] = mcv::vtkhelpers::coordinateComponent(coords, t, c);
+        finite = finite && std::isfinite(x[c]);
+      }
+      if (!finite)
+      {
+        continue;
+      }
+      ++drawn;
+      for (size_t w = 0; w < count; ++w)
+      {
+        double d2 = 0;
+        for (int c = 0; c < dims; ++c)
+        {
+          const double d = x[c] - widgets.widgets[w].center[c];
+          d2 += d * d;
+        }
+        selected[w] += d2 <= limit[w] ? 1 : 0;
+      }
+    }
+  }
+  if (drawn > 0)
+  {
+    for (size_t w = 0; w < count; ++w)
+    {
+      internals.Shares.push_back(static_cast<double>(selected[w]) / static_cast<double>(drawn));
+    }
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::UpdateLegend()
+{
+  vtkInternals& internals = *this->Internals;
+  const mcv::WidgetList widgets =
+    mcv::parseGaussianWidgets(internals.WidgetValues.Data(), internals.WidgetValues.Size());
+  const std::vector<vtkImageData*> pieces = imagePieces(
+    this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
+                                                           : nullptr);
+  if (widgets.ok() &&
+    (internals.SettingsTime > internals.ShareTime ||
+      internals.ShareInputs.Changed(pieces, internals.CoordinateArray, internals.MaskArray)))
+  {
+    this->UpdateWidgetShares(widgets);
+    internals.ShareInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
+    internals.ShareTime.Modified();
+  }
+  // One row per drawn widget: colour, name, share.
+  std::vector<std::string> rows;
+  std::vector<const mcv::GaussianWidget*> shown;
+  std::ostringstream key;
+  for (size_t w = 0; widgets.ok() && w < widgets.widgets.size(); ++w)
+  {
+    const mcv::GaussianWidget& widget = widgets.widgets[w];
+    if (!(widget.opacity > 0))
+    {
+      continue; // hidden (the editor writes 0): not in the picture
+    }
+    std::ostringstream row;
+    const std::string& name = w < internals.Names.size() ? internals.Names[w] : std::string();
+    row << (name.empty() ? "Widget " + std::to_string(w + 1) : name);
+    if (w < internals.Shares.size())
+    {
+      const double percent = 100.0 * internals.Shares[w];
+      row << "  " << std::fixed << std::setprecision(percent < 10 ? 1 : 0) << percent << "%";
+    }
+    rows.push_back(row.str());
+    shown.push_back(&widget);
+    key << rows.back() << '|' << widget.color[0] << ',' << widget.color[1] << ','
+        << widget.color[2] << '\n';
+  }
+  // Only with the volume it explains: not for a volume drawn as nothing (an error).
+  const bool visible =
+    this->ShowWidgetLegend && !rows.empty() && this->GetVisibility() && internals.Valid;
+  key << visible;
+  if (key.str() == internals.LegendKey)
+  {
+    return;
+  }
+  internals.LegendKey = key.str();
+  internals.LegendText.clear();
+  for (const std::string& row : rows)
+  {
+    internals.LegendText += (internals.LegendText.empty() ? "" : "\n") + row;
+  }
+  vtkLegendBoxActor* legend = internals.Legend;
+  legend->SetVisibility(visible);
+  if (rows.empty())
+  {
+    return;
+  }
+  legend->SetNumberOfEntries(static_cast<int>(rows.size()));
+  size_t longest = 0;
+  internals.Swatches.clear();
+  for (size_t r = 0; r < rows.size(); ++r)
+  {
+    // The swatch carries its colour as cell scalars; the entry colour stays unset (-1),
+    // so the text keeps the legend's white (an entry colour would tint the text too).
+    auto swatch = vtkSmartPointer<vtkPolyData>::New();
+    swatch->ShallowCopy(internals.Swatch);
+    vtkNew<vtkUnsignedCharArray> colour;
+    colour->SetNumberOfComponents(3);
+    for (int c = 0; c < 3; ++c)
+    {
+      colour->InsertNextValue(static_cast<unsigned char>(
+        std::lround(255.0 * std::min(1.0, std::max(0.0, shown[r]->color[c])))));
+    }
+    swatch->GetCellData()->SetScalars(colour);
+    internals.Swatches.push_back(swatch);
+    double unset[3] = { -1, -1, -1 };
+    legend->SetEntry(static_cast<int>(r), swatch.Get(), rows[r].c_str(), unset);
+    longest = std::max(longest, rows[r].size());
+  }
+  // Top right, a fixed size in pixels whatever the view's size (the legend box scales
+  // its text to the box): 20 pixels a row (text of about 14 pixels), 8 pixels a character
+  // plus the swatch; 10 pixels from the view's corner.
+  const double height = 20.0 * static_cast<double>(rows.size()) + 8.0;
+  const double width = 44.0 + 8.0 * static_cast<double>(longest);
+  legend->GetPositionCoordinate()->SetValue(-width - 10.0, -height - 10.0);
+  legend->GetPosition2Coordinate()->SetValue(width, height);
 }
 
 //------------------------------------------------------------------------------
@@ -808,6 +1112,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     smartMapper->SetVectorComponent(0);
   }
   timer->StopTimer();
+  this->UpdateLegend(); // after the timer: the classification's cost is measured alone
   if (this->NumberOfComputations + this->NumberOfTextureBuilds != updatesBefore)
   {
     // Only a preparation that did work: a render calls this more than once.

@@ -78,6 +78,46 @@ public:
   ///@}
 
   ///@{
+  /**
+   * The widgets' names, one per widget in the order of the widget list (the ParaView
+   * property `GaussianWidgetNames`, set by clearing then adding each name). A widget
+   * without a name (the list is shorter) is "Widget N" in the legend.
+   */
+  void ClearGaussianWidgetNames();
+  void AddGaussianWidgetName(const char* name);
+  int GetNumberOfGaussianWidgetNames();
+  const char* GetGaussianWidgetName(int index);
+  ///@}
+
+  ///@{
+  /**
+   * Show the widget legend in the view's top right corner (default on; hidden while the
+   * volume is drawn as nothing after an error): one row per drawn widget
+   * (peak opacity above 0): its colour, its name and the share of the voxels it
+   * selects, i.e. of the drawn voxels (mask non-zero, finite coordinates) within its
+   * half maximum (|x - mu| <= sigma sqrt(2 ln 2), where alpha_i >= a_i / 2), counted on
+   * at most 10^6 voxels evenly spread over the volume. The share is counted where the
+   * volume is delivered; a process that holds no voxels (the client of a remote render
+   * server) shows names and colours only.
+   */
+  void SetShowWidgetLegend(bool show);
+  vtkGetMacro(ShowWidgetLegend, bool);
+  ///@}
+
+  /**
+   * The share of the voxels each widget selects (see SetShowWidgetLegend), from the last
+   * render that counted it; empty before it, or when this process holds no voxels.
+   */
+  int GetNumberOfWidgetShares();
+  double GetWidgetShare(int index);
+
+  /** The legend's rows as shown, one per line ("" when it shows none). */
+  const char* GetWidgetLegendText();
+
+  /** Hides the legend with the volume. */
+  void SetVisibility(bool visible) override;
+
+  ///@{
   /** Name of the point array of reduced coordinates (2 or 3 components). */
   void SetCoordinateArray(const char* name);
   const char* GetCoordinateArray();
@@ -176,6 +216,12 @@ public:
   /** Name of the 16-bit coordinate texture array added to the delivered volume (per sample). */
   static const char* GetTextureArrayName() { return "GaussianTF_Coordinates"; }
 
+  ///@{
+  /** The legend goes into the view's non-composited (annotation) renderer. */
+  bool AddToView(vtkView* view) override;
+  bool RemoveFromView(vtkView* view) override;
+  ///@}
+
 protected:
   vtkGaussianTFVolumeRepresentation();
   ~vtkGaussianTFVolumeRepresentation() override;
@@ -195,6 +241,11 @@ private:
   bool UpdatePerSample();
   bool GPURayCasterRequested();
   void ReportWidgetWarnings(const mcv::WidgetList& widgets);
+  // Counts each widget's share of the delivered voxels and refills the legend.
+  void UpdateWidgetShares(const mcv::WidgetList& widgets);
+  void UpdateLegend();
+
+  bool ShowWidgetLegend = true;
 
   int Classification = PER_SAMPLE;
   int RequestedRenderMode = 0;

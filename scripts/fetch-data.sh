@@ -4,7 +4,8 @@
 # needs no network. Needs no root (apt-get download works as any user once the package
 # lists exist; as root, `apt-get update` is run when a package is not known yet).
 #
-#   mricron-data     -> ch2.nii.gz (Colin27 T1, 181x217x181 uint8), aal.nii.gz, brodmann.nii.gz
+#   mricron-data     -> ch2.nii.gz (Colin27 T1, 181x217x181 uint8), aal.nii.gz, brodmann.nii.gz,
+#                       aal.nii.txt (the AAL labels: "<value> <name> <code>" per line)
 #   libvolpack1-dev  -> brainsmall.den (VolPack MRI head, 128x128x84 uint8), denfile.c
 #   python3-dipy     -> small_64D.nii (10x10x10 x 65 diffusion volumes)
 #
@@ -21,6 +22,7 @@ entries=(
   "mricron-data|usr/share/mricron/templates/ch2.nii.gz|ch2.nii.gz"
   "mricron-data|usr/share/mricron/templates/aal.nii.gz|aal.nii.gz"
   "mricron-data|usr/share/mricron/templates/brodmann.nii.gz|brodmann.nii.gz"
+  "mricron-data|usr/share/mricron/templates/aal.nii.txt|aal.nii.txt"
   "libvolpack1-dev|usr/share/doc/libvolpack1-dev/examples/brainsmall.den|brainsmall.den"
   "libvolpack1-dev|usr/share/doc/libvolpack1-dev/examples/denfile.c|denfile.c"
   "python3-dipy|usr/lib/python3/dist-packages/dipy/data/files/small_64D.nii|small_64D.nii"

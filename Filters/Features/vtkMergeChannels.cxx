@@ -1,5 +1,9 @@
 #include "vtkMergeChannels.h"
 
+#include "../Common/mcvLabelTables.h"
+#include "vtkFieldData.h"
+#include "vtkStringArray.h"
+
 #include "../Common/mcvFileNames.h"     // fileStem, isGenericReaderArrayName
 #include "../Common/mcvInternalArrays.h" // isInternalArray
 
@@ -287,6 +291,15 @@ void vtkMergeChannels::NameChannels(vtkInformationVector* inputs, vtkDataSet* ou
       }
       copy->SetName(unique.c_str());
       merged->AddArray(copy);
+      // The channel's label table (an atlas's names), renamed with it (mcvLabelTables.h).
+      if (auto* table = vtkStringArray::SafeDownCast(input->GetFieldData()->GetAbstractArray(
+            mcv::vtkhelpers::labelTableName(name ? name : "").c_str())))
+      {
+        vtkNew<vtkStringArray> renamed;
+        renamed->DeepCopy(table);
+        renamed->SetName(mcv::vtkhelpers::labelTableName(unique).c_str());
+        output->GetFieldData()->AddArray(renamed);
+      }
       if (i == 0 && array == pd->GetScalars())
       {
         merged->SetActiveScalars(unique.c_str());

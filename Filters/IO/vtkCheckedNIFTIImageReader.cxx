@@ -7,6 +7,11 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkObjectFactory.h"
+#include "vtkDataArray.h"
+#include "vtkPointData.h"
+#include "vtkFieldData.h"
+
+#include "../Common/mcvLabelTables.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -125,8 +130,29 @@ int vtkCheckedNIFTIImageReader::RequestInformation(
 int vtkCheckedNIFTIImageReader::RequestData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  return mcv::checkedSeriesRequestData(this, outputVector, this->Describe(), this->Refused,
+  const int ok = mcv::checkedSeriesRequestData(this, outputVector, this->Describe(), this->Refused,
     [&] { return this->Superclass::RequestData(request, inputVector, outputVector); });
+  vtkImageData* output = vtkImageData::GetData(outputVector, 0);
+  vtkDataArray* scalars = output ? output->GetPointData()->GetScalars() : nullptr;
+  const std::string labels =
+    ok && scalars && scalars->GetName() && this->GetFileName()
+    ? mcv::vtkhelpers::labelFileBeside(this->GetFileName())
+    : std::string();
+  if (!labels.empty())
+  {
+    // An atlas: the names of its values (mcvLabelTables.h). A bad table is said, and the
+    // volume is still read.
+    std::string error;
+    if (auto table = mcv::vtkhelpers::readLabelFile(labels, scalars->GetName(), error))
+    {
+      output->GetFieldData()->AddArray(table);
+    }
+    else
+    {
+      vtkWarningMacro(<< this->Describe() << ": " << error << "; its values stay unnamed.");
+    }
+  }
+  return ok;
 }
 
 //------------------------------------------------------------------------------

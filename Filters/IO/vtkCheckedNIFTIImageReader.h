@@ -19,6 +19,10 @@
  * of files is a time series), the array is named after the series ("vol" for vol_0,
  * vol_1, ...) at every step, and a file whose grid differs from the first file's (the grid
  * the series announced) is refused with an error naming both (CheckedReading.h).
+ *
+ * An atlas's label file beside the volume (MRIcron's aal.nii.txt beside aal.nii.gz: one
+ * "<value> <name>" per line) is attached as the field array `<channel>_labels`, the
+ * names of its values (mcvLabelTables.h), which the probe shows.
  */
 #ifndef vtkCheckedNIFTIImageReader_h
 #define vtkCheckedNIFTIImageReader_h

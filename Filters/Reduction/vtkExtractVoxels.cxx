@@ -3,6 +3,7 @@
 #include "vtkCellArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "../Common/mcvLabelTables.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
 #include "vtkInformation.h"
@@ -244,6 +245,17 @@ int vtkExtractVoxels::RequestMultichannelData(
     std::copy(values, values + n, array->GetPointer(0));
     output->GetFieldData()->AddArray(array);
   };
+  // The channels' label tables (an atlas's names: mcvLabelTables.h): the probe's one fetch
+  // brings the voxel and the names of its values.
+  vtkFieldData* inFD = image->GetFieldData();
+  for (int a = 0; a < inFD->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* array = inFD->GetAbstractArray(a);
+    if (array && mcv::vtkhelpers::isLabelTableName(array->GetName()))
+    {
+      output->GetFieldData()->AddArray(array);
+    }
+  }
   fieldArray("Origin", 3, image->GetOrigin());
   fieldArray("Spacing", 3, image->GetSpacing());
   fieldArray("Direction", 9, image->GetDirectionMatrix()->GetData());

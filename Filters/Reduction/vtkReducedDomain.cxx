@@ -5,6 +5,7 @@
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
+#include "vtkImageData.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
@@ -36,6 +37,7 @@ struct vtkReducedDomain::vtkInternals
 {
   mcv::vtkhelpers::WidgetValues GaussianWidgets;
   vtkNew<vtkDoubleArray> SeededWidgets;
+  vtkNew<vtkDoubleArray> SeededWidgetDetails;
 };
 
 namespace
@@ -129,6 +131,7 @@ vtkReducedDomain::vtkReducedDomain()
   this->SetInputArrayToProcess(
     0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, "ReducedCoordinates");
   this->Internals->SeededWidgets->SetName("SeededWidgets");
+  this->Internals->SeededWidgetDetails->SetName("SeededWidgetDetails");
 }
 
 //------------------------------------------------------------------------------
@@ -189,6 +192,39 @@ vtkDoubleArray* vtkReducedDomain::GetSeededWidgets()
 }
 
 //------------------------------------------------------------------------------
+vtkDoubleArray* vtkReducedDomain::GetSeededWidgetDetails()
+{
+  return this->Internals->SeededWidgetDetails;
+}
+
+//------------------------------------------------------------------------------
+double vtkReducedDomain::ForegroundRayLength(vtkDataSet* input, double foregroundPoints)
+{
+  auto* image = vtkImageData::SafeDownCast(input);
+  if (!image || foregroundPoints < 1 || image->GetNumberOfCells() < 1)
+  {
+    return 0; // no grid to measure a ray on: the fixed opacities (and veil) of the core
+  }
+  double spacing[3];
+  image->GetSpacing(spacing);
+  const double voxel = std::cbrt(std::abs(spacing[0] * spacing[1] * spacing[2]));
+  double bounds[6];
+  image->GetBounds(bounds);
+  const double diagonal = std::sqrt(std::pow(bounds[1] - bounds[0], 2) +
+    std::pow(bounds[3] - bounds[2], 2) + std::pow(bounds[5] - bounds[4], 2));
+  // ParaView's default Scalar Opacity Unit Distance (vtkSMBoundsDomain's
+  // approximate_cell_length): the diagonal over the cube root of the number of cells.
+  const double unit = diagonal / std::cbrt(static_cast<double>(image->GetNumberOfCells()));
+  if (!(voxel > 0) || !(unit > 0) || !std::isfinite(voxel) || !std::isfinite(unit))
+  {
+    return 0;
+  }
+  // Mean chord of a ball of the foreground's volume (Cauchy: 4 V / S = 4/3 r), in voxels.
+  const double radius = std::cbrt(3.0 * foregroundPoints / (4.0 * 3.14159265358979323846));
+  return (4.0 / 3.0) * radius * voxel / unit;
+}
+
+//------------------------------------------------------------------------------
 int vtkReducedDomain::FillOutputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
@@ -200,6 +236,7 @@ int vtkReducedDomain::RequestMultichannelData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
   this->Internals->SeededWidgets->Reset();
+  this->Internals->SeededWidgetDetails->Reset();
   vtkDataSet* input = vtkDataSet::GetData(inputVector[0], 0);
   vtkPolyData* domain = vtkPolyData::GetData(outputVector, 0);
   vtkPolyData* widgetOutput = vtkPolyData::GetData(outputVector, 1);
@@ -308,6 +345,7 @@ int vtkReducedDomain::RequestMultichannelData(
     vtkErrorMacro("SeedWidgetOpacity is NaN: give a peak opacity in [0, 1].");
     return 0;
   }
+  this->LastForegroundRayLength = ForegroundRayLength(input, static_cast<double>(eligibleCount));
   const std::vector<vtkIdType> sample = selectionSample(eligible, eligibleCount,
     static_cast<std::size_t>(this->SampleSize), static_cast<std::uint64_t>(this->RandomSeed));
   const vtkIdType m = static_cast<vtkIdType>(sample.size());
@@ -435,6 +473,7 @@ int vtkReducedDomain::RequestMultichannelData(
     options.skipLargest = this->SkipLargestCluster && !foreground;
     std::vector<float> distinct = packed;
     std::vector<double> multiplicity; // sampled voxels at each distinct point
+    std::vector<vtkIdType> distinctOf(static_cast<std::size_t>(m)); // sample -> distinct point
     {
       // Distinct rows: sort row indices lexicographically, keep the first of each run.
       std::vector<std::size_t> order(static_cast<std::size_t>(m));
@@ -455,10 +494,12 @@ int vtkReducedDomain::RequestMultichannelData(
           multiplicity.push_back(0.0);
         }
         multiplicity.back() += 1.0;
+        distinctOf[order[i]] = static_cast<vtkIdType>(multiplicity.size() - 1);
       }
     }
     // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
     options.weights = multiplicity.data();
+    options.rayLength = this->LastForegroundRayLength;
     // One distinct point is one cluster, the one SkipLargestCluster leaves out: the domain
     // is still a valid output, only the suggestion is empty.
     const bool onlyBackground = options.skipLargest && multiplicity.size() < 2;
@@ -471,6 +512,7 @@ int vtkReducedDomain::RequestMultichannelData(
       domain->Initialize(); // an error leaves no output behind
       widgetOutput->Initialize();
       this->Internals->SeededWidgets->Reset();
+      this->Internals->SeededWidgetDetails->Reset();
       return 0;
     }
     if (onlyBackground)
@@ -489,6 +531,25 @@ int vtkReducedDomain::RequestMultichannelData(
     for (double v : mcv::flattenGaussianWidgets(seeding.widgets))
     {
       this->Internals->SeededWidgets->InsertNextValue(v);
+    }
+    for (std::size_t w = 0; w < seeding.widgets.size(); ++w)
+    {
+      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.shares[w]);
+      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.hidden[w] ? 1.0 : 0.0);
+      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.meanWeights[w]);
+    }
+    if (!onlyBackground)
+    {
+      // The seeded widget of every sampled point (-1: none, e.g. the skipped background):
+      // what each widget selects, for names and legends.
+      vtkNew<vtkIntArray> seededWidget;
+      seededWidget->SetName("SeededWidget");
+      seededWidget->SetNumberOfTuples(m);
+      for (vtkIdType s = 0; s < m; ++s)
+      {
+        seededWidget->SetValue(s, std::max(-1, seeding.labels[static_cast<std::size_t>(distinctOf[s])]));
+      }
+      outPD->AddArray(seededWidget);
     }
     if (widgets.widgets.empty())
     {

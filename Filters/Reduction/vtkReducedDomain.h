@@ -35,7 +35,11 @@
  * array (the mask already removed the background; the largest foreground cluster is a
  * structure). A Foreground array that marks no point is ignored (warning). Seeded widgets
  * take the suite's palette (mcv::widgetColor: ColorBrewer Set1), sigmas that overlap
- * little, and the largest is a faint veil (WidgetSeeding.h).
+ * little, and peak opacities derived from the voxels each selects and the mean length of
+ * a ray through the foreground, so that no widget hides what is behind it; a widget that
+ * selects more than half of the voxels is flagged to start hidden (GetSeededWidgetDetails;
+ * WidgetSeeding.h). With seeding, port 0 also has `SeededWidget` (int): the seeded widget
+ * of each sampled point (-1: none).
  */
 
 #ifndef vtkReducedDomain_h
@@ -98,8 +102,8 @@ public:
 
   ///@{
   /**
-   * Peak opacity of the seeded widgets (default 0.5); the largest of several (in sampled
-   * voxels) gets 0.05 of it: a veil over the structures it holds. NaN is an error, a
+   * Highest peak opacity of the seeded widgets (default 0.5); each gets less when a ray
+   * through the volume crosses many of its voxels (WidgetSeeding.h). NaN is an error, a
    * value outside [0, 1] is clamped with a warning.
    */
   vtkSetMacro(SeedWidgetOpacity, double);
@@ -121,6 +125,21 @@ public:
   /** The seeded widgets of the last execution (8 values each; empty when none). */
   vtkDoubleArray* GetSeededWidgets();
 
+  /**
+   * 3 values per seeded widget: its share of the voxels of all seeded widgets' clusters,
+   * 1 when it should start hidden (its share exceeds 1/2: the background-sized class
+   * around the others), and its mean Gaussian weight over its cluster (WidgetSeeding.h).
+   */
+  vtkDoubleArray* GetSeededWidgetDetails();
+
+  /**
+   * Mean length of a ray through the drawn voxels (the foreground, or every voxel with
+   * finite coordinates without a Foreground array) taken as a ball, in ParaView's default
+   * Scalar Opacity Unit Distance, from the last update (0 for input that is no image):
+   * the L of the seeded opacities (WidgetSeeding.h).
+   */
+  vtkGetMacro(LastForegroundRayLength, double);
+
 protected:
   vtkReducedDomain();
   ~vtkReducedDomain() override;
@@ -136,6 +155,11 @@ protected:
   int SeedWidgetCount = 0;
   double SeedWidgetOpacity = 0.5;
   bool SkipLargestCluster = true;
+  double LastForegroundRayLength = 0;
+
+  // Mean length of a ray through the foreground (`foregroundPoints` voxels taken as a
+  // ball) in ParaView's default opacity unit distances; 0 for input that is no image.
+  static double ForegroundRayLength(vtkDataSet* input, double foregroundPoints);
 
 private:
   vtkReducedDomain(const vtkReducedDomain&) = delete;

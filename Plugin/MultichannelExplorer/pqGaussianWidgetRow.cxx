@@ -9,6 +9,7 @@
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSlider>
 
 #include <algorithm>
@@ -39,6 +40,12 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   this->Visible->setToolTip("Shown: unchecked, the widget is kept but draws nothing "
                             "(opacity 0 in GaussianWidgets; its opacity comes back when checked)");
 
+  this->Name = new QLineEdit(this);
+  this->Name->setObjectName("name" + suffix);
+  this->Name->setPlaceholderText(QString("Widget %1").arg(index + 1));
+  this->Name->setToolTip("Name of the widget, shown in the volume view's legend "
+                         "(seeded widgets are named after what they select)");
+
   this->Colour = new pqColorChooserButton(this);
   this->Colour->setObjectName("colour" + suffix);
   this->Colour->setToolTip("Colour of the widget");
@@ -67,7 +74,7 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   }
 
   // Three short lines, so that a row fits the default width of the Properties dock:
-  // shown, colour, sigma / opacity / centre.
+  // shown, colour, name / opacity, sigma / centre.
   auto* grid = new QGridLayout(this);
   grid->setContentsMargins(4, 2, 4, 2);
   grid->setVerticalSpacing(2);
@@ -75,13 +82,14 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
   auto* line1 = new QHBoxLayout();
   line1->addWidget(this->Visible);
   line1->addWidget(this->Colour);
-  line1->addWidget(new QLabel(QString::fromUtf8("\xcf\x83"), this)); // sigma
-  line1->addWidget(this->Sigma, 1);
+  line1->addWidget(this->Name, 1);
   grid->addLayout(line1, 0, 1);
   auto* line2 = new QHBoxLayout();
   line2->addWidget(new QLabel("Opacity", this));
   line2->addWidget(this->Opacity, 1);
   line2->addWidget(this->OpacityValue);
+  line2->addWidget(new QLabel(QString::fromUtf8("\xcf\x83"), this)); // sigma
+  line2->addWidget(this->Sigma, 1);
   grid->addLayout(line2, 1, 1);
   auto* line3 = new QHBoxLayout();
   for (int axis = 0; axis < 3; ++axis)
@@ -117,6 +125,13 @@ pqGaussianWidgetRow::pqGaussianWidgetRow(int index, QWidget* parentWidget)
     [this]() { Q_EMIT this->dragStarted(this->Index); });
   QObject::connect(this->Opacity, &QSlider::sliderReleased, this,
     [this]() { Q_EMIT this->dragFinished(this->Index); });
+  QObject::connect(this->Name, &QLineEdit::editingFinished, this, [this]() {
+    if (!this->Updating && this->Name->isModified())
+    {
+      this->Name->setModified(false);
+      Q_EMIT this->nameEdited(this->Index, this->Name->text());
+    }
+  });
   QObject::connect(this->Sigma, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this,
     [this](double v) {
       if (!this->Updating)
@@ -179,6 +194,18 @@ void pqGaussianWidgetRow::setValues(const double values[8], bool visible)
     show(this->Centre[axis], values[CX + axis]);
   }
   this->Updating = false;
+}
+
+//-----------------------------------------------------------------------------
+void pqGaussianWidgetRow::setName(const QString& name)
+{
+  if (this->Name->text() != name && !this->Name->hasFocus())
+  {
+    this->Updating = true;
+    this->Name->setText(name);
+    this->Name->setModified(false);
+    this->Updating = false;
+  }
 }
 
 //-----------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 // One Gaussian widget in the editor of a "Gaussian TF Volume" display
-// (pqGaussianWidgetsPropertyWidget): visibility, colour, peak opacity, sigma and centre.
+// (pqGaussianWidgetsPropertyWidget): visibility, colour, name, peak opacity, sigma and
+// centre.
 // The row only shows values and reports the user's edits; the editor owns the values
 // (a spin box rounds to its decimals, so values are never read back from the widgets).
 #ifndef pqGaussianWidgetRow_h
@@ -10,6 +11,7 @@
 class QCheckBox;
 class QDoubleSpinBox;
 class QLabel;
+class QLineEdit;
 class QSlider;
 class pqColorChooserButton;
 
@@ -35,6 +37,9 @@ public:
    * hidden widget gets back) without emitting edits. */
   void setValues(const double values[8], bool visible);
 
+  /** Shows the widget's name (GaussianWidgetNames; "" shows "Widget N" greyed). */
+  void setName(const QString& name);
+
   /** Centre spin box ranges per axis; the third axis is disabled for 2D coordinates.
    * `step` is the spin boxes' step (and sets their decimals). */
   void setCentreRanges(const double ranges[3][2], int dimensions, double step);
@@ -46,6 +51,8 @@ Q_SIGNALS:
   void valueEdited(int index, int field, double value);
   void colourEdited(int index, double r, double g, double b);
   void visibilityEdited(int index, bool visible);
+  /** The user renamed the widget (Enter or leaving the field). */
+  void nameEdited(int index, const QString& name);
   /** The user pressed or released the opacity slider (a drag is one undo step). */
   void dragStarted(int index);
   void dragFinished(int index);
@@ -63,6 +70,7 @@ private:
   int Index;
   bool Updating = false;
   QCheckBox* Visible;
+  QLineEdit* Name;
   pqColorChooserButton* Colour;
   QSlider* Opacity;
   QLabel* OpacityValue;

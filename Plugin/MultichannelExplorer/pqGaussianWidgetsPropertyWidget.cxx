@@ -44,6 +44,7 @@
 namespace
 {
 const char* HiddenProperty = "GaussianWidgetsHidden";
+const char* NamesProperty = "GaussianWidgetNames";
 
 // Colours of new widgets, in turn (ColorBrewer Set1, as auto_widgets seeds them).
 const double Palette[][3] = { { 0.894, 0.102, 0.110 }, { 0.216, 0.494, 0.722 },
@@ -130,6 +131,10 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   {
     this->Connections->Connect(hidden, vtkCommand::ModifiedEvent, this, SLOT(readProperties()));
   }
+  if (vtkSMProperty* names = smproxy->GetProperty(NamesProperty))
+  {
+    this->Connections->Connect(names, vtkCommand::ModifiedEvent, this, SLOT(readProperties()));
+  }
   if (vtkSMProperty* coordinates = smproxy->GetProperty("CoordinateArray"))
   {
     this->Connections->Connect(
@@ -212,6 +217,15 @@ void pqGaussianWidgetsPropertyWidget::readProperties()
   // A hidden-list that does not match (a script changed the widgets) is ignored, and so
   // is the mark of a widget a script gave an opacity again.
   const bool hiddenMatches = hidden.size() == count;
+  this->Names.assign(count, QString());
+  if (vtkSMProperty* namesProperty = this->proxy()->GetProperty(NamesProperty))
+  {
+    vtkSMPropertyHelper names(namesProperty);
+    for (unsigned int i = 0; i < names.GetNumberOfElements() && i < count; ++i)
+    {
+      this->Names[i] = QString::fromUtf8(names.GetAsString(i));
+    }
+  }
   const size_t before = this->Widgets.size();
   this->Widgets.resize(count);
   this->Shown.assign(count, true);
@@ -233,6 +247,7 @@ void pqGaussianWidgetsPropertyWidget::readProperties()
     for (size_t i = 0; i < count; ++i)
     {
       this->Rows[static_cast<int>(i)]->setValues(this->Widgets[i].data(), this->Shown[i]);
+      this->Rows[static_cast<int>(i)]->setName(this->Names[i]);
     }
   }
   if (this->Selected >= static_cast<int>(count))
@@ -274,6 +289,19 @@ void pqGaussianWidgetsPropertyWidget::writeProperties(const QString& label)
       vtkSMPropertyHelper(hiddenProperty)
         .Set(hidden.data(), static_cast<unsigned int>(hidden.size()));
     }
+    if (vtkSMProperty* namesProperty = this->proxy()->GetProperty(NamesProperty))
+    {
+      // Kept one per widget while any has a name (an empty list: none named).
+      this->Names.resize(this->Widgets.size());
+      const bool anyNamed = std::any_of(
+        this->Names.begin(), this->Names.end(), [](const QString& n) { return !n.isEmpty(); });
+      vtkSMPropertyHelper names(namesProperty);
+      names.SetNumberOfElements(anyNamed ? static_cast<unsigned int>(this->Names.size()) : 0);
+      for (size_t i = 0; anyNamed && i < this->Names.size(); ++i)
+      {
+        names.Set(static_cast<unsigned int>(i), this->Names[i].toUtf8().constData());
+      }
+    }
     vtkSMPropertyHelper(this->property()).Set(flat.data(), static_cast<unsigned int>(flat.size()));
     this->proxy()->UpdateVTKObjects();
   }
@@ -300,6 +328,7 @@ void pqGaussianWidgetsPropertyWidget::rebuildRows()
     auto* row = new pqGaussianWidgetRow(static_cast<int>(i), this);
     row->setCentreRanges(this->Ranges, this->Dimensions, step);
     row->setValues(this->Widgets[i].data(), this->Shown[i]);
+    row->setName(i < this->Names.size() ? this->Names[i] : QString());
     row->setHighlighted(static_cast<int>(i) == this->Selected);
     this->RowsLayout->addWidget(row);
     this->Rows.append(row);
@@ -322,6 +351,13 @@ void pqGaussianWidgetsPropertyWidget::rebuildRows()
         this->Widgets[index][6] = b;
         this->select(index);
         this->writeProperties("Gaussian Widget Colour");
+      });
+    QObject::connect(
+      row, &pqGaussianWidgetRow::nameEdited, this, [this](int index, const QString& name) {
+        this->Names.resize(this->Widgets.size());
+        this->Names[index] = name;
+        this->select(index);
+        this->writeProperties("Rename Gaussian Widget");
       });
     QObject::connect(row, &pqGaussianWidgetRow::visibilityEdited, this, [this](int index, bool on) {
       this->Shown[index] = on;
@@ -460,6 +496,7 @@ void pqGaussianWidgetsPropertyWidget::addWidget()
   w[7] = 0.5;
   this->Widgets.push_back(w);
   this->Shown.push_back(true);
+  this->Names.resize(this->Widgets.size());
   this->rebuildRows();
   this->writeProperties("Add Gaussian Widget");
   this->select(static_cast<int>(this->Widgets.size()) - 1);
@@ -474,6 +511,8 @@ void pqGaussianWidgetsPropertyWidget::duplicateWidget()
   }
   this->Widgets.push_back(this->Widgets[this->Selected]);
   this->Shown.push_back(this->Shown[this->Selected]);
+  this->Names.resize(this->Widgets.size() - 1);
+  this->Names.push_back(this->Names[this->Selected]);
   this->rebuildRows();
   this->writeProperties("Duplicate Gaussian Widget");
   this->select(static_cast<int>(this->Widgets.size()) - 1);
@@ -489,6 +528,8 @@ void pqGaussianWidgetsPropertyWidget::removeWidget()
   }
   this->Widgets.erase(this->Widgets.begin() + index);
   this->Shown.erase(this->Shown.begin() + index);
+  this->Names.resize(this->Widgets.size() + 1);
+  this->Names.erase(this->Names.begin() + index);
   this->Selected = -1;
   this->rebuildRows();
   this->writeProperties("Remove Gaussian Widget");
@@ -516,7 +557,6 @@ void pqGaussianWidgetsPropertyWidget::seedWidgets()
             "_display = _sm._getPyProxy(_sm.ProxyManager().SMProxyManager.GetProxy("
             "'representations', '%1'))\n"
             "_mce.auto_widgets(_display, %2)\n"
-            "_display.GaussianWidgetsHidden = []\n"
             "del _display\n")
       .arg(QString(name).replace('\'', "\\'"))
       .arg(this->SeedCount->value());

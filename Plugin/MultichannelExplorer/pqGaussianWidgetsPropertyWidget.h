@@ -76,6 +76,7 @@ private:
 
   std::vector<Widget> Widgets; // values[7]: the opacity shown (a hidden one's remembered)
   std::vector<bool> Shown;
+  std::vector<QString> Names; // GaussianWidgetNames, one per widget ("" unnamed)
   int Selected = -1;
   bool Writing = false;
   bool Dragging = false; // an opacity slider is pressed: its edits are one undo set

@@ -15,6 +15,8 @@
 
 #include <QAction>
 #include <QActionGroup>
+#include <QApplication>
+#include <QCursor>
 #include <QEvent>
 #include <QIcon>
 #include <QLabel>
@@ -143,6 +145,8 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
             .arg(x)
             .arg(y));
         this->showText(widget, text);
+        // The markers: drawn once the answer is up (the helper does not render).
+        pqApplicationCore::instance()->render();
       }
     }
   }
@@ -189,8 +193,12 @@ QString pqMultichannelProbe::runPython(const QString& code)
       "Probing needs ParaView's Python support, which is not available.");
     return QString();
   }
+  // The hourglass while the helper works (a probe reads one voxel back from the server;
+  // Add Widget Here and Brush Selection read a sample).
+  QApplication::setOverrideCursor(QCursor(Qt::WaitCursor));
   // executeCode reports errors in the Output Messages window, as the other buttons do.
   python->executeCode(code.toUtf8());
+  QApplication::restoreOverrideCursor();
   vtkPythonInterpreter::Initialize();
   vtkPythonScopeGilEnsurer gil;
   QString result;

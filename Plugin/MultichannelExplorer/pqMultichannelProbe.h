@@ -23,7 +23,9 @@ class pqView;
  *   the domain view probe_domain_at_pixel (the voxel of the cloud point there); the voxel
  *   is marked in both views. Its values appear in a small label over the view (top
  *   left, object name "MultichannelProbeLabel") until the next probe or the toggle goes
- *   off. The click also makes the view active (ParaView's own handling of the press).
+ *   off; the hourglass cursor shows while the helper works, and the views are rendered
+ *   with the markers once the label is up. The click also makes the view active
+ *   (ParaView's own handling of the press).
  * - "Add Widget Here": add_widget_at the last probed voxel's reduced coordinates (a
  *   palette colour no widget has, sigma 5% of the coordinates' range, opacity 0.5).
  * - "Brush Selection": brush(GetActiveSource()): the points selected in the domain view

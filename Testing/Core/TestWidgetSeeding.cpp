@@ -238,3 +238,44 @@ TEST(WidgetSeeding, SkipLargestLeavesTheBackgroundOut)
   EXPECT_EQ(s.labels[5300], 1);
   EXPECT_NE(mcv::flattenGaussianWidgets(s.widgets)[4], mcv::flattenGaussianWidgets(s.widgets)[12]);
 }
+
+TEST(WidgetSeeding, OpacityFromShareAndRayLengthHidesTheBackgroundSizedClass)
+{
+  // Three blobs standing for 7000, 2000 and 1000 voxels: shares 0.7, 0.2, 0.1 of the
+  // widgets' clusters. A ray crossing L = 50 unit distances of foreground crosses s L of
+  // each; the peak lets half the light through: a = (1 - 0.5^(1 / (s L))) / g, at most
+  // the asked opacity; the class of more than half of the voxels is flagged hidden.
+  const std::vector<float> points = sampleBlobs(
+    { { { -6, 0, 0 }, 0.4, 100 }, { { 6, 0, 0 }, 0.4, 100 }, { { 0, 8, 0 }, 0.4, 100 } }, 3, 5);
+  std::vector<double> weights(300);
+  std::fill(weights.begin(), weights.begin() + 100, 70.0);
+  std::fill(weights.begin() + 100, weights.begin() + 200, 20.0);
+  std::fill(weights.begin() + 200, weights.end(), 10.0);
+  mcv::WidgetSeedingOptions options;
+  options.count = 3;
+  options.opacity = 0.5;
+  options.weights = weights.data();
+  options.rayLength = 50.0;
+  const mcv::WidgetSeeding s = mcv::seedGaussianWidgets({ points.data(), 300, 3 }, options);
+  ASSERT_TRUE(s.ok()) << s.error;
+  ASSERT_EQ(s.widgets.size(), 3u);
+  const double shares[3] = { 0.7, 0.2, 0.1 };
+  for (int w = 0; w < 3; ++w)
+  {
+    EXPECT_NEAR(s.shares[w], shares[w], 1e-12);
+    EXPECT_GT(s.meanWeights[w], 0.0);
+    EXPECT_LE(s.meanWeights[w], 1.0);
+    const double crossed = shares[w] * 50.0;
+    const double expected = std::min(0.5, (1.0 - std::pow(0.5, 1.0 / crossed)) / s.meanWeights[w]);
+    EXPECT_NEAR(s.widgets[w].opacity, expected, 1e-12) << "widget " << w;
+    EXPECT_EQ(s.hidden[w], w == 0);
+  }
+  // The larger the share, the fainter: 0.7 of the voxels gets less than 0.1 of them.
+  EXPECT_LT(s.widgets[0].opacity, s.widgets[2].opacity);
+  // Without a ray length: the fixed peaks and the veil, nothing hidden.
+  options.rayLength = 0;
+  const mcv::WidgetSeeding fixed = mcv::seedGaussianWidgets({ points.data(), 300, 3 }, options);
+  EXPECT_NEAR(fixed.widgets[0].opacity, 0.025, 1e-12);
+  EXPECT_NEAR(fixed.widgets[1].opacity, 0.5, 1e-12);
+  EXPECT_EQ(fixed.hidden, (std::vector<bool>{ false, false, false }));
+}

@@ -90,6 +90,7 @@ for label, reduction in (("one_fit", one), ("fit_per_step", each)):
     if widgets is None:
         widgets = mce.auto_widgets(display, count=4, view=view, opacity=0.3)
     display.GaussianWidgets = widgets
+    display.ShowWidgetLegend = 0  # the volume's colours only (the legend's shares move too)
     for t in (times[0], times[2]):
         GetAnimationScene().AnimationTime = t
         view.ViewTime = t

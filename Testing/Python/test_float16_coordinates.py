@@ -153,9 +153,16 @@ C.check(list(hits[1].coordinates) == [float(v) for v in x16[pid]] and
 view = G.black_view((500, 420))
 disp32 = mce.show_gaussian_tf(r32, view)
 widgets = list(mce.auto_widgets(disp32, 4, seed=0))
+# Every widget at peak 0.5 (auto_widgets makes large ones faint and may hide one): the
+# yardstick below, a 2 %-of-sigma move, then changes the picture visibly.
+for w in range(len(widgets) // 8):
+    widgets[8 * w + 7] = 0.5
+disp32.GaussianWidgets = widgets
 Hide(r32, view)
 disp16 = mce.show_gaussian_tf(r16, view, widgets=widgets)
 Hide(r16, view)
+for d in (disp32, disp16):  # the volumes' colours only (the legend's shares may differ)
+    d.ShowWidgetLegend = 0
 simple.Render(view)
 view.CameraPosition = [300.0, -420.0, 260.0]
 view.CameraFocalPoint = [90.0, 108.0, 90.0]
@@ -182,9 +189,11 @@ def render_pair(classification):
     tag = classification.replace(" ", "_").lower()
     a = shot(disp32, r32, "float16_%s_float32.png" % tag)
     b = shot(disp16, r16, "float16_%s_float16.png" % tag)
-    # The yardstick: float32 with the first widget moved by 2 % of its sigma along x.
+    # The yardstick: float32 with the first drawn widget (auto_widgets may start one
+    # hidden, at opacity 0) moved by 2 % of its sigma along x.
+    first = next(w for w in range(len(widgets) // 8) if widgets[8 * w + 7] > 0)
     moved = list(widgets)
-    moved[0] += 0.02 * widgets[3]
+    moved[8 * first] += 0.02 * widgets[8 * first + 3]
     disp32.GaussianWidgets = moved
     c = shot(disp32, r32, "float16_%s_moved.png" % tag)
     disp32.GaussianWidgets = widgets
@@ -220,7 +229,7 @@ Show(r16, view)
 C.check(hit is not None and list(hit.coordinates) == [float(v) for v in x16[hit.point_id]],
         "probe_at_pixel through the float16 volume picks a voxel and reads its coordinates (%s)"
         % str(None if hit is None else (hit.index, hit.coordinates)))
-# float32 is sampled by interpolation, float16 at the nearest voxels: the same spot.
+# Both are sampled by interpolation (float16 decoded per voxel first): the same spot.
 apart = math.sqrt(sum((a - b) ** 2 for a, b in zip(hit.index, hit32.index))) if hit and hit32 else -1
 print("picked voxel: float16 %s, float32 %s, %.2f voxels apart"
       % (str(hit and hit.index), str(hit32 and hit32.index), apart))

@@ -258,6 +258,7 @@ if C.check(camera is not None, "report: best_camera recorded"):
     background = np.array([round(255 * c) for c in camera["background"]])
     outside = ~silhouette
     outside[: h // 4, : w // 4] = False  # the orientation axes (bottom left)
+    outside[-(h // 4):, -(w // 2):] = False  # the widget legend (top right; rows bottom up)
     glow = outside & (np.abs(best_rgb - background).max(axis=2) > 2)
     print("silhouette covers %d of %d pixels; %d pixels outside it are not the background %s"
           % (silhouette.sum(), w * h, glow.sum(), background.tolist()))

@@ -124,10 +124,13 @@ before = list(display.GaussianWidgets)
 added = mce.add_widget_at(display, hit)
 after = [float(v) for v in display.GaussianWidgets]
 span = max(rc.GetRange(c)[1] - rc.GetRange(c)[0] for c in range(3))
+expected, share = mce.presentable_opacity(volume, hit.coordinates, after[-5])
 C.check(len(after) == len(before) + 8 and close(after[:len(before)], before) and
         close(after[-8:-5], hit.coordinates) and abs(after[-5] - 0.05 * span) < 1e-5 and
-        after[-1] == 0.5, "add_widget_at: one widget appended at the coordinates, sigma 5%% of "
-        "the range (%.4f), opacity 0.5" % after[-5])
+        0 < after[-1] <= 0.5 and abs(after[-1] - expected) < 1e-9,
+        "add_widget_at: one widget appended at the coordinates, sigma 5%% of the range "
+        "(%.4f), opacity %.4f = presentable_opacity's (share %.3f), at most 0.5"
+        % (after[-5], after[-1], share))
 C.check(close(after[-4:-1], mce.palette_color(2)) and
         all(not close(after[-4:-1], c, 1e-3) for c in colors),
         "add_widget_at: a palette colour no widget had (%s)" % ["%.3f" % v for v in after[-4:-1]])

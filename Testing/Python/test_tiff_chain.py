@@ -76,6 +76,9 @@ def chain(source, label):
     view = G.black_view((500, 500))
     display = mce.show_gaussian_tf(reduction, view)
     widgets = mce.auto_widgets(display, 3, seed=0)
+    # The volumes' pixels only: the legend names the widgets after the channels, which
+    # are named differently in the two files (C1.. against ch2..).
+    display.ShowWidgetLegend = 0
     best = mce.apply_best_viewpoint(reduction, view)
     simple.Render(view)
     shot = G.Shot(view, os.path.join(OUT, "chain_%s.png" % label))

@@ -174,6 +174,7 @@ C.check(red_a.GetProperty("NumberOfOutOfModelVoxels").GetElement(0) == 0,
 pictures = []
 for name, v, d in (("a", view_a, disp_a), ("b", view_b, disp_b)):
     d.Classification = "Per voxel"
+    d.ShowWidgetLegend = 0  # the volume's colours only (the legend's shares differ)
     v.ViewSize = [300, 300]
     v.OrientationAxesVisibility = 0
     v.UseColorPaletteForBackground = 0

@@ -218,6 +218,9 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&size](int a, int b) { return size[a] > size[b]; });
 
+  // Shares count the voxels of the widgets' clusters, not the skipped background's.
+  const double totalSize = std::accumulate(size.begin(), size.end(), 0.0) -
+    (first > 0 ? size[static_cast<std::size_t>(order[0])] : 0.0);
   std::vector<int> rank(static_cast<std::size_t>(k), -2);
   if (first > 0)
   {
@@ -241,10 +244,40 @@ WidgetSeeding seedGaussianWidgets(const CoordinateView& points, const WidgetSeed
       w.sigma = std::min(w.sigma, 0.25 * nearest);
     }
     widgetColor(i - first, w.color);
-    // The largest of several widgets is the class that holds the others (a head's scalp
-    // and skull around the brain once the air is masked): a faint veil.
-    const bool veil = i == first && k - first > 1;
-    w.opacity = std::min(1.0, std::max(0.0, options.opacity)) * (veil ? kVeilOpacity : 1.0);
+    const double peak = std::min(1.0, std::max(0.0, options.opacity));
+    const double share = totalSize > 0 ? size[static_cast<std::size_t>(c)] / totalSize : 0.0;
+    // Mean Gaussian weight of the widget over the points of its cluster (weighted).
+    double weightSum = 0, weightedGauss = 0;
+    for (Eigen::Index r = 0; r < X.rows(); ++r)
+    {
+      if (label[static_cast<std::size_t>(r)] == c)
+      {
+        const double wr = options.weights ? options.weights[finite[static_cast<std::size_t>(r)]] : 1.0;
+        const double d2 = (X.row(r) - centres.row(c)).squaredNorm();
+        weightSum += wr;
+        weightedGauss += wr * std::exp(-d2 / (2 * w.sigma * w.sigma));
+      }
+    }
+    const double meanWeight = weightSum > 0 ? weightedGauss / weightSum : 1.0;
+    if (options.rayLength > 0)
+    {
+      // WidgetSeeding.h, "Opacity from the voxels a widget selects".
+      const double crossed = share * options.rayLength;
+      const double t = std::min(1.0, std::max(1e-6, options.transmission));
+      const double perVoxel = crossed > 1 ? 1.0 - std::pow(t, 1.0 / crossed) : 1.0 - t;
+      w.opacity = std::min(peak, perVoxel / std::max(meanWeight, 1e-6));
+      out.hidden.push_back(share > options.hideShare);
+    }
+    else
+    {
+      // The largest of several widgets is the class that holds the others (a head's scalp
+      // and skull around the brain once the air is masked): a faint veil.
+      const bool veil = i == first && k - first > 1;
+      w.opacity = peak * (veil ? kVeilOpacity : 1.0);
+      out.hidden.push_back(false);
+    }
+    out.shares.push_back(share);
+    out.meanWeights.push_back(meanWeight);
     out.widgets.push_back(w);
     out.clusterSizes.push_back(static_cast<std::size_t>(std::llround(size[static_cast<std::size_t>(c)])));
   }

@@ -39,10 +39,13 @@ The package, one module per capability (every public name is also here, at the t
                         apply_transfer_function, read_transfer_function (Gaussian
                         widgets kept as a .mcvtf file with the model they live in)
     dual_domain         reduced_domain_filter, show_dual_domain
-    seeding             auto_widgets
+    seeding             auto_widgets, widget_names (opacities that let inner structures
+                        show, the background-sized class hidden, names from what each
+                        widget selects)
     exploration         explore_multichannel, exploration_name, show_spectrum (the GUI's
                         Explore Multichannel, Show Reduced Domain and Show Spectrum)
-    probing             probe, add_widget_at, palette_color, PROBE_MARKER
+    probing             probe, add_widget_at, presentable_opacity, palette_color,
+                        PROBE_MARKER
     picking             probe_at_pixel, probe_domain_at_pixel, pixel_ray (the voxel
                         under a pixel of the volume or domain view: the GUI's Probe)
     brushing            brush, BRUSHED_VOXELS
@@ -64,9 +67,9 @@ from .exploration import exploration_name, explore_multichannel, show_spectrum
 from .images import image_entropy, image_statistics
 from .models import MODEL_FORMAT_VERSION, read_model, save_model
 from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
-from .probing import PROBE_MARKER, add_widget_at, palette_color, probe
+from .probing import PROBE_MARKER, add_widget_at, palette_color, presentable_opacity, probe
 from .reduction import reduce_multichannel
-from .seeding import auto_widgets
+from .seeding import auto_widgets, widget_names
 from .states import check_state_file, load_state
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
                                 show_gaussian_tf)
@@ -105,6 +108,8 @@ __all__ = [
     "explore_multichannel",
     "exploration_name",
     "show_spectrum",
+    "widget_names",
+    "presentable_opacity",
     "check_widget_values",
     "check_state_file",
     "load_state",

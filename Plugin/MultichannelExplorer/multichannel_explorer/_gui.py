@@ -20,17 +20,24 @@ def _numbers(values, limit=6):
 
 
 def describe(hit):
-    """The label's text for a probe() result."""
+    """The label's text for a probe() result: one line per value, the names in a column
+    as wide as the longest (channel names are whole), an atlas value with its label."""
+    channels = sorted(hit.channels.items())
+    width = max([len("coordinates")] + [len(name) for name, _ in channels])
+    row = "%%-%ds  %%s" % width
     lines = ["Voxel (%d, %d, %d)   id %d" % (tuple(hit.index) + (hit.point_id,)),
-             "position     (%s)" % _numbers(hit.position),
-             "coordinates  (%s)" % _numbers(hit.coordinates)]
+             row % ("position", "(%s)" % _numbers(hit.position)),
+             row % ("coordinates", "(%s)" % _numbers(hit.coordinates))]
     if hit.foreground is not None:
-        lines.append("foreground   %d" % hit.foreground)
-    for name, value in sorted(hit.channels.items()):
+        lines.append(row % ("foreground", "%d" % hit.foreground))
+    labels = hit.get("labels") or {}
+    for name, value in channels:
         shown = _numbers(value) if isinstance(value, list) else "%.6g" % value
-        lines.append("%-12s %s" % (name[:12], shown))
+        if name in labels:
+            shown += "  " + labels[name]
+        lines.append(row % (name, shown))
     if hit.features is not None:
-        lines.append("features     %s" % _numbers(hit.features))
+        lines.append(row % ("features", _numbers(hit.features)))
     return "\n".join(lines)
 
 
@@ -43,9 +50,10 @@ def probe(x, y):
     view = simple.GetActiveView()
     try:
         if mce.picking._gaussian_tf_in(view) is None and mce.picking._domain_in(view):
-            hit = mce.probe_domain_at_pixel(view, x, y)  # a click in the domain view
+            hit = mce.probe_domain_at_pixel(view, x, y, render=False)  # the domain view
         else:
-            hit = mce.probe_at_pixel(view, x, y)
+            # The views are rendered by the GUI after the answer is shown.
+            hit = mce.probe_at_pixel(view, x, y, render=False)
         text = describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
         last_hit = hit if hit is not None else last_hit
     except ValueError as error:  # nothing to probe in this view: the label says so

@@ -19,20 +19,33 @@ _NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
                  "vtkValidPointMask", "VoxelId", "VoxelIJK")
 
 
+# The last grids read, by (proxy, extent, bounds): a probe reads the grid once, not at
+# every click (the one-voxel read-back is a server round trip).
+_GRIDS = {}
+
+
 class _Grid(object):
     """The volume's whole extent and its index -> world transform (origin, spacing,
-    direction), read from a one-voxel extract so that nothing large is fetched."""
+    direction), read from a one-voxel extract so that nothing large is fetched, and kept
+    while the volume's extent and bounds stay the same."""
 
     def __init__(self, source):
         source.UpdatePipeline()
         _check_server_alive()  # a server lost during the update leaves no extent
-        extent = [int(v) for v in source.GetDataInformation().GetExtent()]
+        info = source.GetDataInformation()
+        extent = [int(v) for v in info.GetExtent()]
         if extent[1] < extent[0] or extent[3] < extent[2] or extent[5] < extent[4]:
             raise ValueError("probe/brush need image data (a volume with an extent); %s has "
                              "none%s" % (source.SMProxy.GetXMLLabel(), _remote_hint()))
         self.source = source
         self.extent = extent
         self.dims = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
+        key = (source.SMProxy.GetGlobalID(), getattr(source, "Port", 0), tuple(extent),
+               tuple(float(v) for v in info.GetBounds()))
+        known = _GRIDS.get(key)
+        if known is not None:
+            self.origin, self.spacing, self.direction = known
+            return
         corner = _fetch_voxels(source, [0])
         fd = corner.GetFieldData()
         arrays = [fd.GetArray(n) for n in ("Origin", "Spacing", "Direction")]
@@ -44,6 +57,9 @@ class _Grid(object):
         self.origin = origin
         self.spacing = spacing
         self.direction = [direction[3 * r:3 * r + 3] for r in range(3)]
+        if len(_GRIDS) > 16:
+            _GRIDS.clear()
+        _GRIDS[key] = (self.origin, self.spacing, self.direction)
 
     def point_id(self, index):
         i, j, k = index
@@ -129,18 +145,8 @@ def _fetch_voxels(source, ids):
     return servermanager.Fetch(extract)
 
 
-def _voxel_values(source, grid, index, coordinates="ReducedCoordinates"):
-    """{array name: tuple of values} of one voxel (exact values, no interpolation). The
-    array named `coordinates` is read as reduced coordinates: float16 (unsigned-short
-    bits) decoded; other unsigned-short arrays (16-bit channels) are plain numbers."""
-    point_id = grid.point_id(index)
-    voxels = _fetch_voxels(source, [point_id])
-    found = voxels.GetPointData().GetArray("VoxelId") if voxels is not None else None
-    if found is None or found.GetNumberOfTuples() != 1 or found.GetValue(0) != point_id:
-        raise RuntimeError("voxel %s (id %d) of %s was not returned by the server (%d "
-                           "points came back)" % (tuple(index), point_id,
-                                                  source.SMProxy.GetXMLLabel(),
-                                                  found.GetNumberOfTuples() if found else 0))
+def _values_at(voxels, row, coordinates="ReducedCoordinates"):
+    """{array name: tuple of values} of point `row` of an ExtractVoxels output."""
     pd = voxels.GetPointData()
     values = {}
     for a in range(pd.GetNumberOfArrays()):
@@ -150,10 +156,33 @@ def _voxel_values(source, grid, index, coordinates="ReducedCoordinates"):
         if array.GetName() in ("VoxelId", "VoxelIJK"):
             continue
         if array.GetName() == coordinates:
-            values[array.GetName()] = _coordinate_tuple(array, 0)
+            values[array.GetName()] = _coordinate_tuple(array, row)
             continue
-        values[array.GetName()] = tuple(float(v) for v in array.GetTuple(0))
+        values[array.GetName()] = tuple(float(v) for v in array.GetTuple(row))
     return values
+
+
+def _voxel_values(source, grid, index, coordinates="ReducedCoordinates", fetched=None):
+    """{array name: tuple of values} of one voxel (exact values, no interpolation), and
+    the label tables that came with it ({channel: {value: label}}). The array named
+    `coordinates` is read as reduced coordinates: float16 (unsigned-short bits) decoded;
+    other unsigned-short arrays (16-bit channels) are plain numbers. `fetched`: an
+    ExtractVoxels output already read back that may hold the voxel (probe_at_pixel's ray):
+    no second round trip then."""
+    point_id = grid.point_id(index)
+    found = None
+    for voxels in ([fetched] if fetched is not None else []) + [None]:
+        if voxels is None:
+            voxels = _fetch_voxels(source, [point_id])
+        found = voxels.GetPointData().GetArray("VoxelId") if voxels is not None else None
+        rows = [r for r in range(found.GetNumberOfTuples()) if found.GetValue(r) == point_id] \
+            if found is not None else []
+        if rows:
+            return _values_at(voxels, rows[0], coordinates), label_tables(voxels)
+    raise RuntimeError("voxel %s (id %d) of %s was not returned by the server (%d "
+                       "points came back)" % (tuple(index), point_id,
+                                              source.SMProxy.GetXMLLabel(),
+                                              found.GetNumberOfTuples() if found else 0))
 
 
 def _coordinate_range(source, name):
@@ -201,3 +230,29 @@ def _find_or_create(name, factory):
         if active is not None:
             simple.SetActiveSource(active)
     return proxy
+
+
+LABEL_TABLE_SUFFIX = "_labels"  # mcvLabelTables.h: field array <channel>_labels
+
+
+def label_tables(data):
+    """{channel: {value: label}} from the label tables in a dataset's field data (an
+    atlas's names, attached by the NIfTI reader from the label file beside the volume,
+    e.g. MRIcron's aal.nii.txt; entries "<value>\\t<name>"). ExtractVoxels passes them
+    on, so the probe's fetch brings them."""
+    tables = {}
+    fd = data.GetFieldData() if data is not None else None
+    for a in range(fd.GetNumberOfArrays() if fd is not None else 0):
+        array = fd.GetAbstractArray(a)
+        name = array.GetName() if array is not None else None
+        if not name or not name.endswith(LABEL_TABLE_SUFFIX) or not hasattr(array, "GetValue"):
+            continue
+        table = {}
+        for v in range(array.GetNumberOfValues()):
+            value, _, label = str(array.GetValue(v)).partition("\t")
+            try:
+                table[int(value)] = label
+            except ValueError:
+                continue
+        tables[name[:-len(LABEL_TABLE_SUFFIX)]] = table
+    return tables

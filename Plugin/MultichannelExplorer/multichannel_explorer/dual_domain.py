@@ -77,6 +77,10 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
     with _TracedProperties(spheres):
         spheres.MapScalars = 0
         spheres.Opacity = widget_opacity
+    # The points and spheres show the widgets' own colours (MapScalars off): a colour bar
+    # of their values would mean nothing (the GUI may have shown one on Show).
+    for rep in (points, spheres):
+        rep.SetScalarBarVisibility(domain_view, False)
     simple.ResetCamera(domain_view)
     simple.Render(domain_view)
 

@@ -2,16 +2,16 @@
 of the domain point there), for the GUI's Probe toggle.
 
 A volume has no surface to pick, so the pixel's ray (from the view's camera, computed
-here, so it works in any session) is sampled through the volume on the server (Plot Over
-Line, interpolated; float16 coordinates at the nearest voxels) and the widgets' opacity
-is composited along it as the ray caster does; the picked voxel is the one nearest the depth where half of the opacity seen
-through that pixel has accumulated.
+here, so it works in any session) is sampled every half voxel, interpolated from the voxels
+around it, read back from the server in one round trip (only those voxels), and the
+widgets' opacity is composited along it as the ray caster does; the picked voxel is the
+one nearest the depth where half of the opacity seen through that pixel has accumulated.
 """
 
 import math
 
-from ._common import _coordinate_tuple, _is_float16
-from ._voxels import _Grid, _views_showing
+from ._common import _coordinate_tuple
+from ._voxels import _Grid, _fetch_voxels, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
                                 _widget_values)
@@ -92,13 +92,53 @@ def _gaussian_tf_in(view):
     return None
 
 
+def _ray_samples(grid, origin, direction, t0, t1, nearest):
+    """The ray from t0 to t1 sampled every half of the smallest spacing: for each sample
+    its position and the voxels that give its value with their weights (the 8 corners of
+    its cell, trilinear, as the ray caster interpolates the coordinates; or, `nearest`,
+    its nearest voxel alone), and the sample step length."""
+    step = 0.5 * min(grid.spacing)
+    count = max(2, int(math.ceil((t1 - t0) / step)))
+    samples = []
+    for s in range(count + 1):
+        t = t0 + (t1 - t0) * s / float(count)
+        at = [o + t * d for o, d in zip(origin, direction)]
+        if nearest:
+            samples.append((at, [(grid.point_id(grid.nearest_index(at)), 1.0)]))
+            continue
+        ci = grid.continuous_index(at)
+        base, frac = [], []
+        for a in range(3):
+            top = max(grid.dims[a] - 2, 0)
+            b = min(max(int(math.floor(ci[a])), 0), top)
+            base.append(b)
+            frac.append(min(max(ci[a] - b, 0.0), 1.0) if grid.dims[a] > 1 else 0.0)
+        corners = []
+        for dk in (0, 1):
+            for dj in (0, 1):
+                for di in (0, 1):
+                    w = ((frac[0] if di else 1 - frac[0]) * (frac[1] if dj else 1 - frac[1])
+                         * (frac[2] if dk else 1 - frac[2]))
+                    index = [min(base[0] + di, grid.dims[0] - 1),
+                             min(base[1] + dj, grid.dims[1] - 1),
+                             min(base[2] + dk, grid.dims[2] - 1)]
+                    if w > 0:
+                        corners.append((grid.point_id(index), w))
+        samples.append((at, corners))
+    return samples, (t1 - t0) / count
+
+
 def probe_at_pixel(view, x, y, display=None, **probe_args):
     """probe() of the voxel seen at display pixel (x, y) of `view` through `display` (a
     "Gaussian TF Volume" display; default the first visible one in the view). None when
     the ray misses the volume or sees nothing (no opacity along it). The result also
-    has `ray` (origin, direction) and `depth` (distance from the ray origin)."""
-    from paraview import servermanager
+    has `ray` (origin, direction) and `depth` (distance from the ray origin).
 
+    Only the voxels around the ray are read back from the server, in one ExtractVoxels
+    round trip that also brings the picked voxel's values (a few thousand voxels, not
+    the volume): the ray is sampled every half voxel, the coordinates (float16 ones
+    decoded first) and the mask interpolated trilinearly from the 8 voxels around each
+    sample, as the ray caster interpolates them."""
     display = display or _gaussian_tf_in(view)
     if display is None:
         raise ValueError("no \"Gaussian TF Volume\" display visible in this view")
@@ -108,53 +148,60 @@ def probe_at_pixel(view, x, y, display=None, **probe_args):
     hit = _clip_to_box(origin, direction, grid.bounds())
     if hit is None:
         return None
-    t0, t1 = hit
-    step = 0.5 * min(grid.spacing)
-    samples = max(2, int(math.ceil((t1 - t0) / step)))
     name = _coordinates_name(display)
-    p1 = [o + t0 * d for o, d in zip(origin, direction)]
-    p2 = [o + t1 * d for o, d in zip(origin, direction)]
-    if _is_float16(source.PointData[name]):
-        # Interpolating float16 bits is no interpolation of the values (it gives garbage,
-        # inf or NaN across a sign or exponent change): each sample is moved to its nearest
-        # voxel centre, where the probe's weights select that voxel's bits alone.
-        centres = []
-        for s in range(samples + 1):
-            at = [a + (b - a) * s / float(samples) for a, b in zip(p1, p2)]
-            centres.extend(grid.position(grid.nearest_index(at)))
-        segment = servermanager.sources.PolyLineSource(Points=centres)
-        line = servermanager.filters.ResampleWithDataset(SourceDataArrays=source,
-                                                         DestinationMesh=segment)
-    else:
-        line = servermanager.filters.PlotOverLine(Input=source)
-        line.Point1 = p1
-        line.Point2 = p2
-        line.SamplingPattern = "Sample Uniformly"
-        line.Resolution = samples
-    polyline = servermanager.Fetch(line)
-    pd = polyline.GetPointData()
+    # float16 coordinates too: each voxel's bits are decoded here, and their values
+    # interpolated (interpolating the bits themselves, as a server-side probe would, means
+    # nothing).
+    samples, seg = _ray_samples(grid, origin, direction, hit[0], hit[1], nearest=False)
+    voxels = _fetch_voxels(source, sorted(set(i for _, c in samples for i, _ in c)))
+    pd = voxels.GetPointData()
+    found = pd.GetArray("VoxelId")
+    row_of = {int(found.GetValue(r)): r for r in range(found.GetNumberOfTuples())} \
+        if found is not None else {}
     coords = pd.GetArray(name)
-    valid = pd.GetArray("vtkValidPointMask")
-    mask = pd.GetArray("Foreground")
+    if coords is None:
+        raise ValueError("the volume has no point array %s (reduced coordinates)" % name)
+    mask = pd.GetArray(str(display.MaskArray)) if str(display.MaskArray) else None
+    values = {}  # row -> (coordinates, drawn): each voxel decoded once
+
+    def voxel(row):
+        if row not in values:
+            c = list(_coordinate_tuple(coords, row)) + [0.0]
+            drawn = (mask is None or mask.GetTuple1(row) != 0) and \
+                all(math.isfinite(v) for v in c)
+            values[row] = (c[:3], drawn)
+        return values[row]
+
     widgets = _widget_values(display)
     unit = float(display.ScalarOpacityUnitDistance) or 1.0
-    seg = (t1 - t0) / samples
-    # Composite front to back, as the ray caster does (opacity per unit distance).
+    # Composite front to back, as the ray caster does (opacity per unit distance); a
+    # sample is drawn where the interpolated mask is at least 1/2.
     keep, opacities = 1.0, []
-    for p in range(polyline.GetNumberOfPoints()):
+    for _, corners in samples:
+        c, inside, total = [0.0, 0.0, 0.0], 0.0, 0.0
+        for pid, w in corners:
+            row = row_of.get(pid)
+            if row is None:
+                continue
+            xyz, drawn = voxel(row)
+            total += w
+            inside += w if drawn else 0.0
+            if drawn:
+                c = [a + w * b for a, b in zip(c, xyz)]
         alpha = 0.0
-        if (valid is None or valid.GetTuple1(p)) and (mask is None or mask.GetTuple1(p) >= 0.5):
-            c = list(_coordinate_tuple(coords, p)) + [0.0]
-            alpha = 1.0 - (1.0 - _widget_alpha(widgets, c[:3])) ** (seg / unit)
+        if total > 0 and inside >= 0.5 * total:
+            c = [a / inside for a in c]
+            alpha = 1.0 - (1.0 - _widget_alpha(widgets, c)) ** (seg / unit)
         keep *= 1.0 - alpha
         opacities.append(1.0 - keep)
     seen = opacities[-1] if opacities else 0.0
     if seen < 1e-3:  # nothing visible along this ray
         return None
     pick = next(p for p, o in enumerate(opacities) if o >= 0.5 * seen)
-    point = list(polyline.GetPoint(pick))
+    point = samples[pick][0]
     probe_args.setdefault("view", view)
-    result = probe(display, position=point, **probe_args)
+    result = probe(display, grid.nearest_index(point), _grid=grid, _fetched=voxels,
+                   **probe_args)
     result.ray = (origin, direction)
     result.depth = math.sqrt(sum((a - b) ** 2 for a, b in zip(point, origin)))
     return result

@@ -17,6 +17,7 @@ __all__ = [
     "probe",
     "add_widget_at",
     "palette_color",
+    "presentable_opacity",
     "PROBE_MARKER",
 ]
 
@@ -89,7 +90,8 @@ def _show_marker(name, center, radius, view, color):
     return sphere
 
 
-def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=True):
+def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=True,
+          render=True, _grid=None, _fetched=None):
     """Reads one voxel of the volume behind `target` (a "Gaussian TF Volume" display, or
     the volume itself) and marks it in the reduced domain.
 
@@ -101,13 +103,17 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
     with attribute access): index, point_id, position (world), coordinates (the voxel's
     ReducedCoordinates, or the display's coordinate array), channels ({name: value(s)}),
     features, foreground (None without a Foreground array), values (every point array),
-    display (the volume's "Gaussian TF Volume" display, if any: for add_widget_at).
+    labels ({channel: label} for channels with a label table, e.g. AAL's "Precentral_L"
+    for value 1: the NIfTI reader attaches the atlas's label file beside it,
+    mcvLabelTables.h), display (the volume's "Gaussian TF Volume" display, if any: for
+    add_widget_at).
 
     With `mark` and a domain view (`domain_view`, else the view show_dual_domain made
     for this volume), a sphere named PROBE_MARKER moves to the coordinates there (z = 0
     for 2D coordinates), and one named "ProbeVoxelMarker" to the voxel in `view` (the
     volume's view; default the view showing the display). Both are replaced, not added,
-    by the next probe::
+    by the next probe. `render`: render the views with the markers now (the GUI leaves
+    that to its own render, after the answer is shown)::
 
         hit = mce.probe(display, (40, 52, 30))
         print(hit.coordinates, hit.channels, hit.foreground)
@@ -118,10 +124,10 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
                                     for v in _views_showing(source)) if d is not None), None)
     if voxel is None and position is None:
         raise ValueError("probe needs a voxel: (i, j, k), a point id or a world position")
-    grid = _Grid(source)
+    grid = _grid or _Grid(source)
     index = _resolve_voxel(grid, voxel, position)
     name = _coordinates_name(display) if display is not None else "ReducedCoordinates"
-    values = _voxel_values(source, grid, index, name)
+    values, tables = _voxel_values(source, grid, index, name, fetched=_fetched)
     if name not in values:
         raise ValueError("the volume has no point array %s (reduced coordinates)" % name)
     coordinates = list(values[name])
@@ -133,7 +139,10 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
                   if k not in _NOT_CHANNELS and k != name},
         features=list(values["Features"]) if "Features" in values else None,
         foreground=int(foreground[0]) if foreground is not None else None,
-        values=values, marker=None, domain_view=None, display=display)
+        values=values, marker=None, domain_view=None, display=display,
+        labels={channel: tables[channel][int(round(values[channel][0]))]
+                for channel in tables if channel in values and len(values[channel]) == 1
+                and int(round(values[channel][0])) in tables[channel]})
     if not mark:
         return result
 
@@ -146,7 +155,8 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
         result.marker = _show_marker(PROBE_MARKER, center, 0.025 * span, domain_view,
                                      (1.0, 1.0, 1.0))
         result.domain_view = domain_view
-        simple.Render(domain_view)
+        if render:
+            simple.Render(domain_view)
     volume_views = [view] if view is not None else _views_showing(source)
     if volume_views and volume_views[0] is not domain_view:
         b = grid.bounds()
@@ -155,17 +165,66 @@ def probe(target, voxel=None, view=None, domain_view=None, position=None, mark=T
         radius = max(0.01 * diagonal, 0.5 * min(grid.spacing))
         _show_marker(PROBE_VOXEL_MARKER, result.position, radius, volume_views[0],
                      (1.0, 1.0, 1.0))
-        simple.Render(volume_views[0])
+        if render:
+            simple.Render(volume_views[0])
     return result
 
 
-def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None):
+# The peak opacity a new widget gets at most (a small structure's).
+ADDED_WIDGET_PEAK = 0.5
+
+
+def presentable_opacity(source, coords, sigma, peak=ADDED_WIDGET_PEAK, coordinates=None,
+                        widgets=None):
+    """The peak opacity that lets a widget at `coords` with `sigma` show what lies behind
+    it, by the seeding rule (WidgetSeeding.h): its share s of the drawn voxels (the
+    ReducedDomain sample's points within its half maximum), the mean length L of a ray
+    through them (ReducedDomain's ForegroundRayLength) and its mean Gaussian weight g
+    over those points give a = (1 - 0.5^(1 / (s L))) / g, at most `peak` (a widget that
+    selects nothing gets `peak`). `widgets`: the display's widgets, which the domain
+    filter colours by (it warns of a transparent volume without any). Returns (opacity,
+    share)."""
+    import math
+
+    from paraview import servermanager
+    from .dual_domain import reduced_domain_filter
+
+    props = {"Coordinates": ["POINTS", coordinates]} if coordinates else {}
+    if widgets:
+        props["GaussianWidgets"] = list(widgets)
+    domain = reduced_domain_filter(source, **props)
+    domain.UpdatePipeline()
+    domain.UpdatePropertyInformation()
+    ray = float(domain.GetProperty("ForegroundRayLength")[0])
+    points = servermanager.Fetch(domain).GetPoints()
+    centre = (list(coords) + [0.0])[:3]
+    limit = 2.0 * math.log(2.0) * sigma * sigma  # half maximum
+    weights = []
+    for p in range(points.GetNumberOfPoints() if points is not None else 0):
+        d2 = sum((a - b) ** 2 for a, b in zip(points.GetPoint(p), centre))
+        if d2 <= limit:
+            weights.append(math.exp(-d2 / (2.0 * sigma * sigma)))
+    total = points.GetNumberOfPoints() if points is not None else 0
+    if not weights or not total or ray <= 0:
+        return peak, 0.0
+    share = float(len(weights)) / total
+    mean_weight = sum(weights) / len(weights)
+    crossed = share * ray
+    per_voxel = 1.0 - 0.5 ** (1.0 / crossed) if crossed > 1 else 0.5
+    return min(peak, per_voxel / mean_weight), share
+
+
+def add_widget_at(target, coords, sigma=None, opacity=None, color=None, view=None, name=None):
     """Appends a Gaussian widget at `coords` (2 or 3 reduced coordinates, or the result of
     probe()) to the GaussianWidgets of `target` (a "Gaussian TF Volume" display, or the
     volume shown as one in `view`): colour the first of the core's palette (ColorBrewer
     Set1, then darker) that no widget of the display has yet, sigma 5% of the largest
-    range of the coordinates over the volume, peak opacity `opacity`. Returns the new
-    widget (8 numbers)::
+    range of the coordinates over the volume, peak opacity `opacity` (default: the one
+    that lets what lies behind it show, presentable_opacity, at most 0.5: a widget that
+    selects a large class stays a veil instead of washing the picture in its colour).
+    Its name (GaussianWidgetNames): `name`, else the atlas label of the probed voxel
+    when `coords` is a probe() result with one, else "Widget N". Returns the new widget
+    (8 numbers)::
 
         hit = mce.probe(display, (40, 52, 30))
         mce.add_widget_at(display, hit)        # "add widget here"
@@ -173,8 +232,9 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     source, display = _source_and_display(target, view)
     if display is None:
         raise ValueError("add_widget_at needs a \"Gaussian TF Volume\" display")
-    if isinstance(coords, dict):
-        coords = coords["coordinates"]
+    hit = coords if isinstance(coords, dict) else None
+    if hit is not None:
+        coords = hit["coordinates"]
     coords = [float(c) for c in coords]
     if len(coords) not in (2, 3):
         raise ValueError("widget coordinates are 2 or 3 numbers, not %r" % (coords,))
@@ -184,12 +244,28 @@ def add_widget_at(target, coords, sigma=None, opacity=0.5, color=None, view=None
     size = _domain_size(source, _coordinates_name(display))
     widgets = _widget_values(display)
     rgb = list(color) if color is not None else _unused_color(widgets)
+    if opacity is None:
+        opacity, _ = presentable_opacity(source, coords, float(sigma),
+                                         coordinates=_coordinates_name(display),
+                                         widgets=widgets or (coords + [0.0])[:3] +
+                                         [float(sigma)] + [float(c) for c in rgb] +
+                                         [ADDED_WIDGET_PEAK])
     widget = (coords + [0.0])[:3] + [float(sigma)] + [float(c) for c in rgb] + [float(opacity)]
     check_widget_values(widget, "add_widget_at", size, first=len(widgets) // 8)
     values = widgets + widget
+    count = len(values) // 8
+    if name is None:
+        labels = (hit.get("labels") or {}) if hit is not None else {}
+        name = sorted(labels.values())[0] if labels else "Widget %d" % count
+    names = [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+    names = (names + [""] * count)[:count - 1] + [str(name)]
+    hidden = [float(v) for v in display.GetProperty("GaussianWidgetsHidden")]
     # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
     # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.
     with _TracedProperties(display):  # recorded in a trace being recorded
+        if len(hidden) == count - 1:  # the editor's hidden list keeps matching
+            display.GaussianWidgetsHidden = hidden + [-1.0]
+        display.GaussianWidgetNames = names
         display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
         display.SMProxy.UpdateVTKObjects()
     return widget

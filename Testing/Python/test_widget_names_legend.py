@@ -1,0 +1,184 @@
+"""Widget names, the widget legend and the probe's atlas labels, on the real brain.
+
+Chain: Colin27 T1 + AAL + Brodmann (aal.nii.txt beside aal.nii.gz) -> MergeChannels ->
+MultichannelFeatures -> DimensionReduction (defaults) -> "Gaussian TF Volume" ->
+auto_widgets(4). Known answers:
+- widget_names on a hand-made sample: a widget whose points are 2/3 AAL label 1 is
+  "Precentral_L"; one whose T1 mean lies far above the sample's is "ch2 bright", one
+  near it "ch2 mid"; two with the same name get their medians;
+- on the brain: 4 names, none empty, all different, in GaussianWidgetNames;
+- the legend (GaussianWidgetLegend, what the view shows) has one row per drawn widget:
+  its name and its share of the drawn voxels within its half maximum, counted here with
+  numpy on the same voxels (every 7th: 7.1 M / 10^6) and formatted the same way;
+  a rename shows in the legend; ShowWidgetLegend 0 removes it from the picture (the
+  top-right corner changes);
+- names and hidden widgets survive a state file (SaveState, ResetSession, LoadState);
+- probe() of a voxel whose AAL value is 1 says aal = 1, label "Precentral_L" (the line
+  of aal.nii.txt), and its other values equal the volume's at that voxel, bit for bit;
+  probe_at_pixel's values equal the volume's at the voxel it picked.
+Screenshots (with and without the legend) go to the test output folder.
+"""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import mcv_testing as T  # noqa: E402
+
+from paraview import servermanager, simple  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+mce = T.load_plugin(globals())
+C = T.Checker("test_widget_names_legend")
+out = os.path.join(T.output_dir(), "widget_names_legend")
+os.makedirs(out, exist_ok=True)
+
+# ---- widget_names on a hand-made sample -------------------------------------------------
+columns = {
+    "SeededWidget": [(w,) for w in (0, 0, 0, 1, 1, 1, 2, 2, 3, 3)],
+    "aal": [(v,) for v in (1, 1, 0, 0, 0, 0, 0, 0, 0, 0)],
+    "ch2": [(v,) for v in (10.5, 12.5, 11.5, 200.5, 210.5, 205.5, 100.5, 101.5, 190.5, 199.5)],
+}
+names = mce.widget_names(columns, 4, {"aal": {1: "Precentral_L"}})
+C.check(names == ["Precentral_L", "ch2 bright ~206", "ch2 mid", "ch2 bright ~200"],
+        "widget_names: an atlas label, a bright and a mid T1 class, twins told apart by "
+        "their medians: %s" % names)
+
+# ---- the brain -----------------------------------------------------------------------------
+T.data_file("aal.nii.txt")  # the AAL labels beside aal.nii.gz (scripts/fetch-data.sh), else SKIP
+readers = [simple.OpenDataFile(T.data_file(f))
+           for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+merged = simple.MergeChannels(Input=readers)
+features = simple.MultichannelFeatures(Input=merged)
+reduction = simple.DimensionReduction(Input=features)
+reduction.UpdatePipeline()
+view = simple.CreateRenderView()
+view.ViewSize = [500, 500]
+view.OrientationAxesVisibility = 0
+display = mce.show_gaussian_tf(reduction, view)
+mce.auto_widgets(display, 4)
+names = [str(n) for n in display.GaussianWidgetNames]
+C.check(len(names) == 4 and all(names) and len(set(names)) == 4,
+        "auto_widgets names the 4 widgets after what they select: %s" % names)
+
+image = reduction.GetClientSideObject().GetOutputDataObject(0)
+pd = image.GetPointData()
+coords = np.asarray(mce.coordinate_values(pd.GetArray("ReducedCoordinates")),
+                    dtype=np.float64).reshape(-1, 3)
+mask = vtk_to_numpy(pd.GetArray("Foreground"))
+
+
+def expected_legend(widgets, names):
+    n = coords.shape[0]
+    idx = np.arange(0, n, max(1, n // 1000000))
+    keep = (mask[idx] != 0) & np.isfinite(coords[idx]).all(axis=1)
+    sample = coords[idx][keep]
+    rows = []
+    for w in range(len(widgets) // 8):
+        cx, cy, cz, s = widgets[8 * w:8 * w + 4]
+        if not widgets[8 * w + 7] > 0:
+            continue
+        d2 = ((sample - np.array([cx, cy, cz])) ** 2).sum(axis=1)
+        percent = 100.0 * float((d2 <= 2.0 * math.log(2.0) * s * s).sum()) / len(sample)
+        name = names[w] if w < len(names) and names[w] else "Widget %d" % (w + 1)
+        rows.append("%s  %s%%" % (name, ("%.1f" if percent < 10 else "%.0f") % percent))
+    return "\n".join(rows)
+
+
+def legend():
+    simple.Render(view)
+    display.UpdatePropertyInformation()
+    return display.GetProperty("GaussianWidgetLegend").GetElement(0)
+
+
+widgets = [float(v) for v in display.GaussianWidgets]
+shown = legend()
+C.check(shown == expected_legend(widgets, names) and shown.count("\n") == 2,
+        "the legend: one row per drawn widget (3; the hidden one is not drawn), name and "
+        "share:\n%s" % shown)
+simple.SaveScreenshot(os.path.join(out, "legend.png"), view, ImageResolution=[500, 500])
+
+renamed = ["Scalp and skull", "Grey matter", "Ventricles", "Eyes"]
+display.GaussianWidgetNames = renamed
+shown = legend()
+C.check(shown == expected_legend(widgets, renamed) and "Grey matter" in shown,
+        "a rename shows in the legend:\n%s" % shown)
+
+
+with_legend = os.path.join(out, "with_legend.png")
+without = os.path.join(out, "without_legend.png")
+simple.SaveScreenshot(with_legend, view, ImageResolution=[500, 500])
+display.ShowWidgetLegend = 0
+simple.Render(view)
+simple.SaveScreenshot(without, view, ImageResolution=[500, 500])
+display.ShowWidgetLegend = 1
+
+
+def top_right(path):
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    data = reader.GetOutput()
+    w, h, _ = data.GetDimensions()
+    pixels = vtk_to_numpy(data.GetPointData().GetScalars()).reshape(h, w, -1)[:, :, :3]
+    return pixels[-(h // 6):, w // 2:].astype(int)  # VTK rows start at the bottom
+
+
+diff_on = np.abs(top_right(with_legend) - top_right(without)).mean()
+C.check(diff_on > 3.0, "ShowWidgetLegend 0 takes the legend out of the picture (top-right "
+        "corner differs by %.1f grey levels on average)" % diff_on)
+
+# ---- state file ------------------------------------------------------------------------------
+hidden = [float(v) for v in display.GaussianWidgetsHidden]
+state = os.path.join(out, "names.pvsm")
+simple.SaveState(state)
+simple.ResetSession()
+simple.LoadState(state)
+pxm = servermanager.ProxyManager()
+loaded = None
+for (name, _), proxy in pxm.GetProxiesInGroup("representations").items():
+    if proxy.GetProperty("GaussianWidgetNames") is not None and len(proxy.GaussianWidgetNames):
+        loaded = proxy
+C.check(loaded is not None and [str(n) for n in loaded.GaussianWidgetNames] == renamed and
+        [float(v) for v in loaded.GaussianWidgetsHidden] == hidden and
+        [float(v) for v in loaded.GaussianWidgets] == widgets,
+        "a state file keeps the names %s and the hidden widget %s"
+        % (loaded and list(loaded.GaussianWidgetNames), hidden))
+
+# ---- the probe's labels and values -----------------------------------------------------------
+display = loaded
+view = [v for v in simple.GetRenderViews() if display in v.Representations][0]
+reduction = display.Input
+reduction.UpdatePipeline()
+image = reduction.GetClientSideObject().GetOutputDataObject(0)
+pd = image.GetPointData()
+aal = vtk_to_numpy(pd.GetArray("aal"))
+first = int(np.nonzero(aal == 1)[0][0])
+dims = image.GetDimensions()
+voxel = (first % dims[0], (first // dims[0]) % dims[1], first // (dims[0] * dims[1]))
+hit = mce.probe(display, voxel, mark=False)
+
+
+def exact(hit, point_id):
+    same = all(hit.channels[n] == float(pd.GetArray(n).GetTuple1(point_id))
+               for n in ("ch2", "aal", "brodmann"))
+    return same and list(hit.coordinates) == [float(v) for v in
+                                             pd.GetArray("ReducedCoordinates").GetTuple3(point_id)]
+
+
+C.check(hit.channels["aal"] == 1 and hit.labels.get("aal") == "Precentral_L" and
+        "brodmann" not in hit.labels and exact(hit, first),
+        "probe of voxel %s (AAL value 1): labels %s, values equal the volume's" %
+        (voxel, hit.labels))
+from multichannel_explorer import _gui  # noqa: E402
+text = _gui.describe(hit)
+C.check("Precentral_L" in text and "brodmann" in text and "NIFTI" not in text,
+        "the probe's label text names the atlas label and whole channel names:\n%s" % text)
+simple.ResetCamera(view)
+picked = mce.probe_at_pixel(view, 250, 250, mark=False)
+C.check(picked is not None and exact(picked, picked.point_id),
+        "probe_at_pixel: the picked voxel %s, its values equal the volume's"
+        % (picked and tuple(picked.index),))
+C.finish()
