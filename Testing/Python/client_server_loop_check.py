@@ -335,10 +335,7 @@ def run(mce, out, reference, previous=None):
               if key not in before and key[0] == mce.BRUSHED_VOXELS]
     answers["state_brush"] = None
     if len(loaded) == 1:
-        # The volume first, as the helpers do: on several processes an ExtractVoxels that
-        # is the first consumer of a DimensionReduction never updated before fails ("the
-        # input's pieces do not cover the block"; see docs/client-server.md).
-        loaded[0].Input.UpdatePipeline()
+        # Updated on its own, first: the loaded chain was never updated before.
         loaded[0].UpdatePipeline()
         data = servermanager.Fetch(loaded[0])
         got = data.GetPointData().GetArray("VoxelId")
@@ -535,4 +532,5 @@ def main():
         C.finish()
 
 
-main()
+if __name__ == "__main__":
+    main()
