@@ -13,7 +13,7 @@ mpiexec="$3"
 shift 3
 counts="${*:-2}"
 here="$(cd "$(dirname "$0")" && pwd)"
-out="${MCV_OUTPUT_DIR:-/tmp}/client_server_loop"
+out="${MCV_OUTPUT_DIR:-/tmp}/client_server_loop_$(echo "$counts" | tr " " "_")"
 rm -rf "$out"
 mkdir -p "$out"
 
@@ -26,6 +26,7 @@ rc=$?
 
 . "$here/pvserver_control.sh"
 
+failed=0
 for n in $counts; do
   echo "== pvserver with $n processes"
   start_server_retrying "$n" || exit 1
@@ -33,12 +34,19 @@ for n in $counts; do
     --compare "$out" --connect "$port" --processes "$n"
   rc=$?
   stop_server
-  [ $rc -eq 0 ] || exit $rc
+  [ $rc -eq 0 ] || failed=$rc
 done
 
+# The table: every check, built-in against each server (a run that stopped has no column).
+echo "== the checks, built-in against pvserver with $counts processes"
+/usr/bin/python3 "$here/client_server_table.py" "$out" || failed=1
+[ $failed -eq 0 ] || exit $failed
+
+# Bad input on a server of the first count's processes.
+n=$(echo "$counts" | cut -d' ' -f1)
 # A server without the plugin: the helpers say what is missing.
-echo "== pvserver with 2 processes, without the plugin"
-start_server_retrying 2 || exit 1
+echo "== pvserver with $n processes, without the plugin"
+start_server_retrying "$n" || exit 1
 sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
   --no-server-plugin --connect "$port"
 rc=$?
@@ -47,8 +55,8 @@ stop_server
 
 # A server process killed during an update: the client reports it, nothing hangs (the
 # client is given 300 s; a hang ends as exit 124).
-echo "== pvserver with 2 processes, one killed during an update"
-start_server_retrying 2 || exit 1
+echo "== pvserver with $n processes, one killed during an update"
+start_server_retrying "$n" || exit 1
 marker="$out/updating"
 rm -f "$marker"
 timeout 300 sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
