@@ -28,7 +28,7 @@ def main():
             if name not in names:
                 names.append(name)
     print("| check | built-in | %s |" % " | ".join(label for _, label, _ in runs))
-    print("|---|---|%s" % "---|" * len(runs))
+    print("|---|---|%s" % ("---|" * len(runs)))
     failed = 0
     for name in names:
         cells = []

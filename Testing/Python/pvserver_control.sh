@@ -5,6 +5,9 @@
 #                              sets $port, $server_pid, $xvfb_pid
 #   start_server_retrying N    start_server, 3 attempts (a port taken meanwhile)
 #   stop_server                TERM, then KILL, to mpiexec and its pvservers; the X server
+#   lost_display N             0 when the server of N processes stopped because it lost
+#                              its X server ("bad X server connection", seen now and then
+#                              on a loaded machine): a run worth retrying
 # Needs $mpiexec, $pvserver and $out (where the logs go). Installs an EXIT/INT/TERM trap
 # that stops the server.
 
@@ -78,7 +81,17 @@ start_server() {  # start_server PROCESSES: 0 when the server accepts connection
   display=$(free_display)
   Xvfb ":$display" -screen 0 1280x1024x24 -nolisten tcp >"$out/xvfb_$n.log" 2>&1 &
   xvfb_pid=$!
-  sleep 1
+  # The X server answers before the server starts (xdpyinfo), else another display.
+  for _ in $(seq 1 20); do
+    DISPLAY=":$display" xdpyinfo >/dev/null 2>&1 && break
+    sleep 0.5
+  done
+  if ! DISPLAY=":$display" xdpyinfo >/dev/null 2>&1; then
+    echo "pvserver_control.sh: the X server :$display did not start:" >&2
+    cat "$out/xvfb_$n.log" >&2
+    stop_server
+    return 1
+  fi
   port=$(free_port)
   DISPLAY=":$display" "$mpiexec" -n "$n" "$pvserver" --server-port="$port" \
     >"$out/pvserver_$n.log" 2>&1 &
@@ -106,4 +119,8 @@ start_server_retrying() {  # start_server_retrying PROCESSES: 3 attempts
     echo "pvserver_control.sh: retrying the server start (attempt $attempt)" >&2
   done
   return 1
+}
+
+lost_display() {  # lost_display PROCESSES: 0 when that server's log says its X server went
+  grep -q "bad X server connection" "$out/pvserver_$1.log" 2>/dev/null
 }
