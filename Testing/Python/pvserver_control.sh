@@ -112,11 +112,12 @@ start_server() {  # start_server PROCESSES: 0 when the server accepts connection
 }
 
 start_server_retrying() {  # start_server_retrying PROCESSES: 3 attempts
-  for attempt in 1 2 3; do
+  # (sh has no local variables: names of its own, not the callers' loop variables)
+  for _start_try in 1 2 3; do
     if start_server "$1"; then
       return 0
     fi
-    echo "pvserver_control.sh: retrying the server start (attempt $attempt)" >&2
+    echo "pvserver_control.sh: retrying the server start (attempt $_start_try)" >&2
   done
   return 1
 }
