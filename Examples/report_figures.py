@@ -97,9 +97,9 @@ def spectrum_figure(path, method, values, kept, variance_retained, size=(900, 56
     return len(heights)
 
 
-def _panel_title(name, variance_retained, trustworthiness):
+def _panel_title(name, variance_retained, trustworthiness, variance_spectrum):
     variance = ("variance retained %.1f%%" % (100.0 * variance_retained)
-                if name not in ("LLE", "UMAP") else "variance retained: n/a")
+                if variance_spectrum else "variance retained: n/a")
     trust = ("trustworthiness %.3f" % trustworthiness if math.isfinite(trustworthiness)
              else "trustworthiness n/a")
     return "%s\n%s, %s" % (name, variance, trust)
@@ -131,7 +131,8 @@ def methods_figure(path, panels, caption, size=None):
         ax.scatter([panel["x"][i] for i in order], [panel["y"][i] for i in order],
                    c=[_rgb(colours[i]) for i in order], s=3, linewidths=0)
         ax.set_title(_panel_title(panel["name"], panel["variance_retained"],
-                                  panel["trustworthiness"]), fontsize=11)
+                                  panel["trustworthiness"], panel["variance_spectrum"]),
+                     fontsize=11)
         ax.set_xlabel("dimension 1")
         ax.set_ylabel("dimension 2")
         ax.tick_params(labelsize=8)

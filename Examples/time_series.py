@@ -2,7 +2,7 @@
 colour means the same tissue in every frame.
 
     xvfb-run -a pvbatch Examples/time_series.py --input FILE [FILE ...] --output DIR
-        [--model FILE.mcvmodel | --fit-step N --method PCA --features 6D]
+        [--model FILE.mcvmodel | --fit-step N | --fit-all] [--method PCA --features 6D]
         [--widgets 4] [--camera fixed|follow] [--turn-frames 6] [--size W H]
         [--movie NAME.ogv | --movie none] [--plugin PATH]
 
@@ -11,7 +11,9 @@ with t, a ParaView file series) or one file per time step (listed in order).
 The reduction: --model applies a saved model (multichannel_explorer.save_model, or File >
 Save Data on a DimensionReduction's Spectrum output) to every step; without one, the steps
 are reduced with DimensionReduction's FitTime "One time step" on --fit-step (default 0): one
-fit, every step placed with it, and the model is written as OUTPUT/model.mcvmodel.
+fit, every step placed with it, and the model is written as OUTPUT/model.mcvmodel; --fit-all
+fits once on all steps instead (FitTime "All time steps": the normalisation of every step, the
+reference sample drawn across them), for a series whose later steps hold what the first lacks.
 Widgets: seeded once at the fit step (auto_widgets) and kept for every step.
 Camera: "fixed" (default) looks from the best viewpoint of the fit step in every frame;
 "follow" turns smoothly to each step's best viewpoint (--turn-frames frames between steps).
@@ -38,6 +40,8 @@ def parse_args(argv):
     p.add_argument("--output", required=True)
     p.add_argument("--model", help="a .mcvmodel to apply to every step")
     p.add_argument("--fit-step", type=int, default=0)
+    p.add_argument("--fit-all", action="store_true",
+                   help="fit on all time steps (widgets are still seeded at --fit-step)")
     p.add_argument("--method", default="PCA", choices=("PCA", "Isomap", "LLE", "UMAP"))
     p.add_argument("--features", default="6D", choices=("6D", "24D"))
     p.add_argument("--reference-size", type=int, default=10000)
@@ -81,7 +85,7 @@ def main(argv):
         else:
             _, reduction = mce.reduce_multichannel(
                 source, args.method, args.features, ReferenceSampleSize=args.reference_size)
-            reduction.FitTime = "One time step"
+            reduction.FitTime = "All time steps" if args.fit_all else "One time step"
             reduction.FitTimeStep = fit_step
 
         scene = simple.GetAnimationScene()
@@ -153,7 +157,9 @@ def main(argv):
             written.append(args.movie)
         report = dict(input=[os.path.abspath(f) for f in args.input], steps=steps,
                       model=os.path.abspath(args.model) if args.model else "model.mcvmodel",
-                      fit_step=None if args.model else fit_step, widgets=widgets,
+                      fit_step=None if args.model else fit_step,
+                      fit=("model" if args.model else "all time steps" if args.fit_all
+                           else "one time step"), widgets=widgets,
                       camera=args.camera, files=written + ["report.json"])
         B.write_json(run.path("report.json"), report)
         run.commit(set(written + ["report.json", "frames"]))

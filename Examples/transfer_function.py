@@ -411,6 +411,7 @@ def main():
             panels.append(dict(
                 name=method, x=xyz[:, 0].tolist(), y=xyz[:, 1].tolist(), colours=colours,
                 variance_retained=float(other.GetPropertyValue("VarianceRetained")),
+                variance_spectrum=bool(other.GetPropertyValue("VarianceSpectrum")),
                 trustworthiness=float(other.GetPropertyValue("Trustworthiness")),
                 seconds=round(time.time() - start, 3)))
             Delete(other)
@@ -452,6 +453,7 @@ def main():
         "reference_sample_size": args.reference_size,
         "coordinate_precision": precision,
         "variance_retained": float(reduction.GetPropertyValue("VarianceRetained")),
+        "variance_spectrum": bool(reduction.GetPropertyValue("VarianceSpectrum")),
         "trustworthiness": float(reduction.GetPropertyValue("Trustworthiness")),
         "reduction_eigenvalues": [float(v) for v in
                                   reduction.GetPropertyValue("EigenvalueSpectrum")],
@@ -483,7 +485,7 @@ def main():
 
     fmt = lambda v: "(%+.3f, %+.3f, %+.3f)" % tuple(v)  # noqa: E731
     variance_text = ("n/a (%s has no variance spectrum)" % args.method
-                     if args.method in ("LLE", "UMAP") else "%.3f" % report["variance_retained"])
+                     if not report["variance_spectrum"] else "%.3f" % report["variance_retained"])
     print("\n%d voxels, %s features, %s: variance retained %s, trustworthiness %.3f"
           % (report["voxels"], args.features, args.method, variance_text,
              report["trustworthiness"]))

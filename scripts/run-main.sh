@@ -14,14 +14,7 @@
 # run replaces ./output/transfer_function (docs/reliability.md).
 set -euo pipefail
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-build="${MCV_BUILD_DIR:-$repo/build}"
 bash "$repo/scripts/setup.sh"
 bash "$repo/scripts/build.sh"
-plugin="$(find "$build" -name 'MultichannelExplorer.so' -print -quit)"
-[ -n "$plugin" ] || { echo "run-main: plugin not built" >&2; exit 1; }
-data="${MCV_DATA_DIR:-$repo/.cache/volumes}"
-export MCV_DATA_DIR="$data"
-# A free display from a random number, not always from :99 (as Testing/Python/run_pvbatch.sh).
-exec xvfb-run -a -n $(( 100 + $(od -An -N2 -tu2 /dev/urandom) % 800 )) \
-  -s "-screen 0 1280x1024x24" pvbatch "$repo/Examples/transfer_function.py" \
-  --plugin "$plugin" --output "$repo/output/transfer_function" "$@"
+# The job itself (plugin, display, a trial start under memory limits): scripts/main-job.sh.
+exec bash "$repo/scripts/main-job.sh" --output "$repo/output/transfer_function" "$@"

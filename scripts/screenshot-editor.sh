@@ -1,5 +1,5 @@
 #!/bin/sh
-# Refreshes docs/images/gui_editor.png, the README's picture of the Gaussian widget editor:
+# Refreshes docs/images/gui_editor.png, docs/gui.md's picture of the Gaussian widget editor:
 # ParaView under a virtual X server plays the GUI test's edits (Testing/Python/
 # gui_editor_{setup.py,click.xml}), the setup script takes a screenshot of the screen after
 # the last edit, and this script crops it to the Properties panel.

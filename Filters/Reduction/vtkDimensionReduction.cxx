@@ -29,7 +29,9 @@
 #include "FeatureBricks.h"
 #include "FeatureRows.h"
 #include "MemoryBudget.h"
+#include "ReductionMethods.h"
 #include "mcvReductionModelFile.h"
+#include "vtkDimensionReductionInternals.h"
 
 #include "../Common/mcvChannelArrays.h" // availableArrays
 #include "../Common/mcvPieces.h"        // PieceLayout
@@ -45,38 +47,6 @@
 #include <vector>
 
 vtkStandardNewMacro(vtkDimensionReduction);
-
-struct vtkDimensionReduction::vtkInternals
-{
-  vtkNew<vtkDoubleArray> Spectrum;
-  // A float32 copy of a feature array of another type, for the length of one run.
-  vtkSmartPointer<vtkFloatArray> ConvertedFeatures;
-
-  // The model of the last run (fitted or applied) and its file bytes, which the Spectrum
-  // output carries as field data `ReductionModel` for the model writer.
-  std::shared_ptr<const mcv::vtkhelpers::ModelFile> Model;
-  std::vector<char> ModelBytes;
-
-  // ModelFile as last read: the path, its size and modification time (a changed file is
-  // read again), and what it held.
-  std::string ReadPath;
-  unsigned long long ReadSize = 0;
-  long ReadTime = 0;
-  std::shared_ptr<const mcv::vtkhelpers::ModelFile> ReadModel;
-  std::vector<char> ReadBytes;
-
-  // FIT_ONE_STEP: the fit of step OneStepTime, made while the filter and its input were at
-  // OneStepKey (their modification times); a pass that fits (FittingPass) asks the input
-  // for that step, and the next one for DownstreamTime, the step asked of this filter.
-  std::shared_ptr<const mcv::vtkhelpers::ModelFile> OneStepModel;
-  std::vector<char> OneStepBytes;
-  vtkMTimeType OneStepKey = 0;
-  double OneStepTime = 0;
-  bool FittingPass = false;
-  bool ApplyOneStep = false; // this pass places with OneStepModel
-  bool HasDownstreamTime = false;
-  double DownstreamTime = 0;
-};
 
 namespace
 {
@@ -100,21 +70,21 @@ const char* featureSetName(int set)
   }
 }
 
+// The filter's Method values are the core's ReductionMethod values (checked below).
+const mcv::ReductionMethodInfo* methodInfo(int method)
+{
+  return mcv::findReductionMethod(static_cast<mcv::ReductionMethod>(method));
+}
+static_assert(static_cast<int>(mcv::ReductionMethod::PCA) == vtkDimensionReduction::PCA &&
+    static_cast<int>(mcv::ReductionMethod::Isomap) == vtkDimensionReduction::ISOMAP &&
+    static_cast<int>(mcv::ReductionMethod::LLE) == vtkDimensionReduction::LLE &&
+    static_cast<int>(mcv::ReductionMethod::UMAP) == vtkDimensionReduction::UMAP,
+  "vtkDimensionReduction's Method values follow mcv::ReductionMethod (ReductionMethods.h)");
+
 const char* methodName(int method)
 {
-  switch (method)
-  {
-    case vtkDimensionReduction::PCA:
-      return "PCA";
-    case vtkDimensionReduction::ISOMAP:
-      return "Isomap";
-    case vtkDimensionReduction::LLE:
-      return "LLE";
-    case vtkDimensionReduction::UMAP:
-      return "UMAP";
-    default:
-      return "unknown";
-  }
+  const mcv::ReductionMethodInfo* info = methodInfo(method);
+  return info ? info->name : "unknown";
 }
 
 void addFieldValue(vtkFieldData* fd, const char* name, double value)
@@ -229,6 +199,30 @@ vtkMTimeType vtkDimensionReduction::PipelineKey()
 }
 
 //------------------------------------------------------------------------------
+void vtkDimensionReduction::SetFitTime(int fitTime)
+{
+  fitTime = std::min(std::max(fitTime, static_cast<int>(FIT_EACH_STEP)), static_cast<int>(FIT_ALL_STEPS));
+  if (fitTime != this->FitTime)
+  {
+    this->FitTime = fitTime;
+    this->Internals->HasCurrentStep = false;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
+void vtkDimensionReduction::SetFitTimeStep(int step)
+{
+  step = std::max(step, -1);
+  if (step != this->FitTimeStep)
+  {
+    this->FitTimeStep = step;
+    this->Internals->HasCurrentStep = false;
+    this->Modified();
+  }
+}
+
+//------------------------------------------------------------------------------
 int vtkDimensionReduction::RequestUpdateExtent(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -239,9 +233,14 @@ int vtkDimensionReduction::RequestUpdateExtent(
   vtkInternals& internals = *this->Internals;
   internals.FittingPass = false;
   internals.ApplyOneStep = false;
+  internals.CollectingPass = false;
+  if (this->FitTime != FIT_ONE_STEP)
+  {
+    this->FittedTimeStep = -1;
+  }
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   const bool modelFile = this->ModelFile && *this->ModelFile;
-  if (this->FitTime != FIT_ONE_STEP || modelFile || !inInfo ||
+  if (this->FitTime == FIT_EACH_STEP || modelFile || !inInfo ||
     !inInfo->Has(vtkStreamingDemandDrivenPipeline::TIME_STEPS()))
   {
     return 1;
@@ -252,21 +251,92 @@ int vtkDimensionReduction::RequestUpdateExtent(
     return 1;
   }
   const double* times = inInfo->Get(vtkStreamingDemandDrivenPipeline::TIME_STEPS());
-  const double fitTime = times[std::min(std::max(this->FitTimeStep, 0), steps - 1)];
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   internals.HasDownstreamTime = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
   internals.DownstreamTime =
-    internals.HasDownstreamTime ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()) : fitTime;
-  const bool fitted = internals.OneStepModel && internals.OneStepKey == this->PipelineKey() &&
-    internals.OneStepTime == fitTime;
-  if (!fitted)
+    internals.HasDownstreamTime ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()) : times[0];
+  const bool all = this->FitTime == FIT_ALL_STEPS;
+  double fitTime = times[0];
+  if (!all && this->FitTimeStep >= 0)
   {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP(), fitTime);
-    internals.FittingPass = true;
-    internals.OneStepTime = fitTime;
+    fitTime = times[std::min(this->FitTimeStep, steps - 1)];
   }
+  else if (!all)
+  {
+    if (!internals.HasCurrentStep)
+    {
+      // The step the downstream time falls in (the last one at or before it).
+      int current = 0;
+      while (current + 1 < steps && times[current + 1] <= internals.DownstreamTime)
+      {
+        ++current;
+      }
+      internals.CurrentStepTime = times[current];
+      internals.HasCurrentStep = true;
+    }
+    fitTime = internals.CurrentStepTime;
+  }
+  const vtkMTimeType key = this->PipelineKey();
+  const bool fitted = internals.OneStepModel && internals.OneStepKey == key && internals.OneStepAll == all &&
+    (all || internals.OneStepTime == fitTime);
   internals.ApplyOneStep = fitted;
+  if (fitted)
+  {
+    return 1;
+  }
+  internals.FittingPass = true;
+  if (all)
+  {
+    if (internals.CollectKey != key || internals.StepCount != steps)
+    {
+      internals.ResetSeries();
+      internals.CollectKey = key;
+      internals.StepCount = steps;
+    }
+    internals.CollectingPass = true;
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP(), times[internals.NextStep]);
+    return 1;
+  }
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP(), fitTime);
+  internals.OneStepTime = fitTime;
+  this->FittedTimeStep = static_cast<int>(std::find(times, times + steps, fitTime) - times);
   return 1;
+}
+
+//------------------------------------------------------------------------------
+mcv::ReductionOptions vtkDimensionReduction::MethodOptions()
+{
+  mcv::ReductionOptions options;
+  options.method = static_cast<mcv::ReductionMethod>(this->Method);
+  options.outputDimension = this->OutputDimension;
+  options.numberOfNeighbors = this->NumberOfNeighbors;
+  options.numberOfLandmarks = this->NumberOfLandmarks;
+  options.minimumDistance = this->MinimumDistance;
+  options.numberOfEpochs = this->NumberOfEpochs;
+  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
+  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
+  options.device = this->GetRequestedDevice();
+  return options;
+}
+
+//------------------------------------------------------------------------------
+std::shared_ptr<mcv::vtkhelpers::ModelFile> vtkDimensionReduction::NewModelFile(mcv::vtkhelpers::FeatureRecipe recipe,
+  mcv::ReductionModel fitted, const mcv::ReductionResult& result, std::uint64_t seed,
+  const std::array<int, 3>& volumeDimensions, const std::string& fittedOn)
+{
+  auto made = std::make_shared<mcv::vtkhelpers::ModelFile>();
+  made->features = std::move(recipe);
+  made->reduction = std::move(fitted);
+  made->fit.numberOfNeighbors = this->NumberOfNeighbors;
+  made->fit.numberOfLandmarks = this->NumberOfLandmarks;
+  made->fit.numberOfEpochs = this->NumberOfEpochs;
+  made->fit.minimumDistance = this->MinimumDistance;
+  made->fit.referenceSampleSize = static_cast<std::uint64_t>(this->ReferenceSampleSize);
+  made->fit.randomSeed = seed;
+  made->fit.sampledVoxels = result.sampledVoxels;
+  made->fit.volumeDimensions = volumeDimensions;
+  made->fit.fittedOn = fittedOn;
+  return made;
 }
 
 //------------------------------------------------------------------------------
@@ -319,6 +389,7 @@ void vtkDimensionReduction::ResetResults()
   this->NumberOfFeaturesUsed = 0;
   this->NumberOfSampledVoxels = 0;
   this->NumberOfOutOfModelVoxels = 0;
+  this->VarianceSpectrum = false;
   for (double& t : this->StageTimings)
   {
     t = 0.0;
@@ -329,6 +400,9 @@ void vtkDimensionReduction::ResetResults()
 int vtkDimensionReduction::RequestMultichannelData(
   vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  // A pass that fits for the others asks for another pass (CONTINUE_EXECUTING); any other
+  // ends here, also when it fails (the request object outlives the pass).
+  request->Remove(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING());
   this->ResetResults();
   vtkImageData* output = vtkImageData::GetData(outputVector, 0);
   vtkTable* spectrumTable = vtkTable::GetData(outputVector, 1);
@@ -389,8 +463,12 @@ int vtkDimensionReduction::RequestMultichannelData(
     return 0;
   }
 
-  // ---- The model: a file's, the fit of one time step, or none (fit here) -----------------
+  // ---- The model: a file's, the fit of one or all time steps, or none (fit here) ---------
   vtkInternals& internals = *this->Internals;
+  if (internals.CollectingPass)
+  {
+    return this->CollectSeriesStep(request, image, grid, piece, output);
+  }
   std::shared_ptr<const mcv::vtkhelpers::ModelFile> model;
   const std::vector<char>* modelBytes = nullptr;
   std::string modelSource;
@@ -412,7 +490,14 @@ int vtkDimensionReduction::RequestMultichannelData(
     model = internals.OneStepModel;
     modelBytes = &internals.OneStepBytes;
     std::ostringstream os;
-    os << "the fit of time " << internals.OneStepTime;
+    if (internals.OneStepAll)
+    {
+      os << "the fit of all time steps";
+    }
+    else
+    {
+      os << "the fit of time " << internals.OneStepTime;
+    }
     modelSource = os.str();
   }
   if (model)
@@ -469,16 +554,7 @@ int vtkDimensionReduction::RequestMultichannelData(
     return 0;
   }
 
-  mcv::ReductionOptions options;
-  options.method = static_cast<mcv::ReductionMethod>(this->Method);
-  options.outputDimension = this->OutputDimension;
-  options.numberOfNeighbors = this->NumberOfNeighbors;
-  options.numberOfLandmarks = this->NumberOfLandmarks;
-  options.minimumDistance = this->MinimumDistance;
-  options.numberOfEpochs = this->NumberOfEpochs;
-  options.referenceSampleSize = static_cast<std::size_t>(this->ReferenceSampleSize);
-  options.randomSeed = static_cast<std::uint64_t>(static_cast<std::uint32_t>(this->RandomSeed));
-  options.device = this->GetRequestedDevice();
+  mcv::ReductionOptions options = this->MethodOptions();
   options.sampleMask = fromChannels ? (foreground ? foreground->GetPointer(0) : nullptr)
                                     : this->ForegroundMask(pd, count);
   // The channels' features took the first tenth of the progress.
@@ -569,23 +645,15 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
   else if (fromChannels)
   {
-    auto made = std::make_shared<mcv::vtkhelpers::ModelFile>();
-    made->features = std::move(recipe);
-    made->reduction = std::move(fittedModel);
-    made->fit.numberOfNeighbors = this->NumberOfNeighbors;
-    made->fit.numberOfLandmarks = this->NumberOfLandmarks;
-    made->fit.numberOfEpochs = this->NumberOfEpochs;
-    made->fit.minimumDistance = this->MinimumDistance;
-    made->fit.referenceSampleSize = static_cast<std::uint64_t>(this->ReferenceSampleSize);
-    made->fit.randomSeed = options.randomSeed;
-    made->fit.sampledVoxels = result.sampledVoxels;
-    made->fit.volumeDimensions = options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : grid.dims;
+    std::string fittedOn;
     if (internals.FittingPass)
     {
       std::ostringstream os;
       os << "time " << internals.OneStepTime;
-      made->fit.fittedOn = os.str();
+      fittedOn = os.str();
     }
+    auto made = this->NewModelFile(std::move(recipe), std::move(fittedModel), result, options.randomSeed,
+      options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : grid.dims, fittedOn);
     internals.Model = made;
     internals.ModelBytes = mcv::vtkhelpers::encodeModel(*made);
     if (internals.FittingPass)
@@ -593,6 +661,7 @@ int vtkDimensionReduction::RequestMultichannelData(
       internals.OneStepModel = made;
       internals.OneStepBytes = internals.ModelBytes;
       internals.OneStepKey = this->PipelineKey();
+      internals.OneStepAll = false;
     }
   }
   else
@@ -707,9 +776,11 @@ int vtkDimensionReduction::RequestMultichannelData(
       positiveSum += v;
     }
   }
-  // LLE's and UMAP's eigenvalues are not variances.
-  const std::string methodText = method;
-  const bool fractions = methodText != "LLE" && methodText != "UMAP" && positiveSum > 0;
+  // Only a variance spectrum has shares (LLE's and UMAP's eigenvalues are a graph operator's).
+  const mcv::ReductionMethodInfo* info =
+    model ? mcv::findReductionMethod(model->reduction.method) : methodInfo(this->Method);
+  this->VarianceSpectrum = info && info->varianceSpectrum;
+  const bool fractions = this->VarianceSpectrum && positiveSum > 0;
   const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
   vtkNew<vtkIntArray> indexColumn;
   indexColumn->SetName("index");

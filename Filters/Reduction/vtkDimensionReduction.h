@@ -69,7 +69,10 @@
 #include "mcvFiltersReductionModule.h" // for export macro
 #include "vtkMultichannelAlgorithm.h"
 
+#include <array>   // for std::array
 #include <cstddef> // for std::size_t
+#include <cstdint> // for std::uint64_t
+#include <string>  // for std::string
 #include <memory>  // for std::unique_ptr
 
 class vtkDataArray;
@@ -85,6 +88,9 @@ namespace mcv
 {
 class FeatureRows;
 struct GridPiece;
+struct ReductionModel;
+struct ReductionOptions;
+struct ReductionResult;
 struct ImageGrid;
 namespace vtkhelpers
 {
@@ -262,21 +268,31 @@ public:
   enum FitTimeType
   {
     FIT_EACH_STEP = 0,
-    FIT_ONE_STEP = 1
+    FIT_ONE_STEP = 1,
+    FIT_ALL_STEPS = 2
   };
 
   ///@{
   /**
    * With time steps: FIT_EACH_STEP (default) fits every step on its own; FIT_ONE_STEP fits
-   * once, on step FitTimeStep (an index, clamped to the steps), and places every other step
-   * with that fit, so that unchanged voxels keep their coordinates across steps. Ignored
-   * with a ModelFile.
+   * once, on step FitTimeStep (an index, clamped to the steps; -1, the default: the step
+   * current at the first update after FitTime or FitTimeStep was set), and places every
+   * step with that fit, so that unchanged voxels keep their coordinates across steps;
+   * FIT_ALL_STEPS fits once on all steps: the normalisation from the statistics of every
+   * step, the reference sample drawn across them (while it fits, the filter holds a copy of
+   * every step's channels). Ignored with a ModelFile.
    */
-  vtkSetClampMacro(FitTime, int, FIT_EACH_STEP, FIT_ONE_STEP);
+  virtual void SetFitTime(int fitTime);
   vtkGetMacro(FitTime, int);
-  vtkSetMacro(FitTimeStep, int);
+  virtual void SetFitTimeStep(int step);
   vtkGetMacro(FitTimeStep, int);
   ///@}
+
+  /**
+   * The time step (index) the one-step fit used, once it ran; -1 before, with FIT_EACH_STEP
+   * or FIT_ALL_STEPS.
+   */
+  vtkGetMacro(FittedTimeStep, int);
 
   /** Voxels of the last execution outside the applied model (0 when fitting). */
   vtkGetMacro(NumberOfOutOfModelVoxels, vtkIdType);
@@ -285,6 +301,11 @@ public:
   /** Results of the last execution (empty / zero before the first or after a failure). */
   /** Eigenvalue spectrum as returned by the core (PCA, Isomap: descending). */
   vtkDoubleArray* GetEigenvalueSpectrum();
+  /**
+   * True when the spectrum's eigenvalues are variances (PCA, Isomap: ReductionMethods.h),
+   * so that their shares and VarianceRetained mean what they say.
+   */
+  vtkGetMacro(VarianceSpectrum, bool);
   /** Fraction of the spectrum kept by the OutputDimension leading values (PCA, Isomap). */
   vtkGetMacro(VarianceRetained, double);
   /**
@@ -308,7 +329,8 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestMultichannelData(
     vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  // FIT_ONE_STEP: asks the input for the fit step first, then for the step asked of us.
+  // FIT_ONE_STEP: asks the input for the fit step first, then for the step asked of us;
+  // FIT_ALL_STEPS: for every step in turn, then for the step asked of us.
   int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // Split runs: one ghost layer, the reach of the features computed from the channels (a
   // Features array needs none; its ghost voxels are placed and cropped away).
@@ -340,8 +362,10 @@ protected:
   int RandomSeed = 0;
   char* ModelFile = nullptr;
   int FitTime = FIT_EACH_STEP;
-  int FitTimeStep = 0;
+  int FitTimeStep = -1;
+  int FittedTimeStep = -1;
   vtkIdType NumberOfOutOfModelVoxels = 0;
+  bool VarianceSpectrum = false;
 
   double VarianceRetained = 0.0;
   double Trustworthiness = 0.0;
@@ -358,6 +382,18 @@ private:
   const unsigned char* ForegroundMask(vtkPointData* pd, std::size_t count);
 
 #ifndef __VTK_WRAP__
+  // FIT_ALL_STEPS, one pass per step (vtkDimensionReductionSeries.cxx): keeps the step's
+  // channels and feature statistics; after the last step, fits on all of them and asks for
+  // one more pass, which places the step asked of us with that fit. 0 on an error.
+  int CollectSeriesStep(vtkInformation* request, vtkImageData* image, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& piece, vtkImageData* output);
+  int FitSeries(const mcv::ImageGrid& grid, const mcv::GridPiece& piece);
+  // The core's options of the method and its sample, from the properties.
+  mcv::ReductionOptions MethodOptions();
+  // The model file of a fit: its features, its reduction and the fit's settings.
+  std::shared_ptr<mcv::vtkhelpers::ModelFile> NewModelFile(mcv::vtkhelpers::FeatureRecipe recipe,
+    mcv::ReductionModel fitted, const mcv::ReductionResult& result, std::uint64_t seed,
+    const std::array<int, 3>& volumeDimensions, const std::string& fittedOn);
   // The rows the core reads: the selected feature array (nullptr after an error), or, on
   // the fused path, the features computed from the channels a slab at a time (prepared:
   // their statistics are known) with the Foreground mask in `foreground` (MaskBackground).

@@ -2,11 +2,13 @@
 
 #include "pqActiveObjects.h"
 #include "pqCoreUtilities.h"
+#include "pqExploreMultichannelActions.h"
 #include "pqMultichannelProbe.h"
 #include "pqPVApplicationCore.h"
 #include "pqPipelineSource.h"
 #include "pqPythonManager.h"
 #include "pqRenderView.h"
+#include "pqUndoStack.h"
 
 #include <QAction>
 #include <QIcon>
@@ -16,9 +18,12 @@
 pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
   : Superclass(parentObject)
 {
+  // Explore Multichannel, Show Reduced Domain, Show Spectrum: the toolbar's first buttons.
+  new pqExploreMultichannelActions(this);
   this->BestViewpointAction =
     new QAction(QIcon(":/MultichannelExplorer/Icons/BestViewpoint.svg"), "Best Viewpoint", this);
   this->BestViewpointAction->setObjectName("actionMultichannelBestViewpoint");
+  this->BestViewpointAction->setIconText("Best View");
   this->BestViewpointAction->setToolTip(
     "Best Viewpoint: turn the camera of the active view to the best view of the active "
     "volume (3D Harris interest points + PCA of its opacity, following the volume "
@@ -29,6 +34,7 @@ pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
   this->FollowAction = new QAction(
     QIcon(":/MultichannelExplorer/Icons/FollowBestViewpoint.svg"), "Follow Best Viewpoint", this);
   this->FollowAction->setObjectName("actionMultichannelFollowBestViewpoint");
+  this->FollowAction->setIconText("Follow");
   this->FollowAction->setCheckable(true);
   this->FollowAction->setToolTip(
     "Follow Best Viewpoint: while on, the camera turns to the best view of the active "
@@ -39,12 +45,25 @@ pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
   this->SeedWidgetsAction = new QAction(
     QIcon(":/MultichannelExplorer/Icons/SeedWidgets.svg"), "Seed Gaussian Widgets", this);
   this->SeedWidgetsAction->setObjectName("actionMultichannelSeedWidgets");
+  this->SeedWidgetsAction->setIconText("Seed");
   this->SeedWidgetsAction->setToolTip(
     "Seed Gaussian Widgets: put 4 widgets at the k-means clusters of the reduced domain "
     "of the active \"Gaussian TF Volume\" display (a starting point to edit)");
   this->SeedWidgetsAction->setStatusTip(this->SeedWidgetsAction->toolTip());
   this->addAction(this->SeedWidgetsAction);
   new pqMultichannelProbe(this); // Probe, Add Widget Here, Brush Selection, in this toolbar
+  // Short texts beside their icons (the full ones stay in menus and tooltips).
+  for (QAction* action : this->actions())
+  {
+    if (action->objectName() == "actionMultichannelAddWidget")
+    {
+      action->setIconText("Add Here");
+    }
+    else if (action->objectName() == "actionMultichannelBrush")
+    {
+      action->setIconText("Brush");
+    }
+  }
   this->setExclusive(false);
 
   QObject::connect(
@@ -110,6 +129,8 @@ void pqBestViewpointActions::onFollowToggled(bool follow)
 //-----------------------------------------------------------------------------
 void pqBestViewpointActions::onSeedWidgets()
 {
+  // One undo step named after what it does (not "Changed 'vtkSMSourceProxy'").
+  SCOPED_UNDO_SET("Seed 4 Gaussian widgets");
   this->runPython("Seed Gaussian Widgets",
     "from paraview.simple import *\n"
     "import multichannel_explorer\n"
@@ -121,7 +142,9 @@ void pqBestViewpointActions::onSeedWidgets()
 void pqBestViewpointActions::onTriggered()
 {
   // Errors (no image data, flat volume...) are reported by the filter and the helper in
-  // the Output Messages window; the camera stays as it was.
+  // the Output Messages window; the camera stays as it was. The camera is not in the undo
+  // stack; the BestViewpoint filter the helper makes is, as one step.
+  SCOPED_UNDO_SET("Best Viewpoint");
   this->runPython("Best Viewpoint",
     "from paraview.simple import *\n"
     "import multichannel_explorer\n"

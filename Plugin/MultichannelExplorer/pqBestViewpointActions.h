@@ -1,4 +1,5 @@
-// Toolbar "Multichannel Explorer": Best Viewpoint, Follow Best Viewpoint, Seed Widgets
+// Toolbar "Multichannel Explorer": Best Viewpoint, Follow Best Viewpoint, Seed Widgets (after
+// pqExploreMultichannelActions' Explore, Domain and Spectrum)
 // (and pqMultichannelProbe's Probe, Add Widget Here and Brush Selection).
 #ifndef pqBestViewpointActions_h
 #define pqBestViewpointActions_h

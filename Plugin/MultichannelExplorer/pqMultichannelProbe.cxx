@@ -10,6 +10,7 @@
 #include "pqPythonManager.h"
 #include "pqRenderView.h"
 #include "pqServerManagerModel.h"
+#include "pqUndoStack.h"
 #include "vtkPythonInterpreter.h"
 
 #include <QAction>
@@ -133,6 +134,9 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
         const double ratio = widget->devicePixelRatioF();
         const int x = static_cast<int>(mouse->pos().x() * ratio);
         const int y = static_cast<int>((widget->height() - 1 - mouse->pos().y()) * ratio);
+        // A probe changes no data the user made (only the marker it keeps): no undo step,
+        // so Edit > Undo after a probe undoes the user's last edit.
+        SCOPED_UNDO_EXCLUDE();
         const QString text = this->runPython(
           QString("import multichannel_explorer._gui\n"
                   "multichannel_explorer._gui.probe(%1, %2)\n")
@@ -148,6 +152,7 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
 //-----------------------------------------------------------------------------
 void pqMultichannelProbe::onBrush()
 {
+  SCOPED_UNDO_SET("Brush Selection");
   const QString text = this->runPython("import multichannel_explorer._gui\n"
                                        "multichannel_explorer._gui.brush()\n");
   pqView* view = pqActiveObjects::instance().activeView();
@@ -160,8 +165,12 @@ void pqMultichannelProbe::onBrush()
 //-----------------------------------------------------------------------------
 void pqMultichannelProbe::onAddWidget()
 {
-  const QString text = this->runPython("import multichannel_explorer._gui\n"
-                                       "multichannel_explorer._gui.add_widget()\n");
+  QString text;
+  {
+    SCOPED_UNDO_SET("Add Gaussian Widget Here");
+    text = this->runPython("import multichannel_explorer._gui\n"
+                           "multichannel_explorer._gui.add_widget()\n");
+  }
   pqView* view = pqActiveObjects::instance().activeView();
   if (view && view->widget())
   {
@@ -208,6 +217,17 @@ void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
     this->Label->setStyleSheet("QLabel { background: rgba(20, 20, 20, 200); color: white; "
                                "padding: 6px; font-family: monospace; }");
     this->Label->setAttribute(Qt::WA_TransparentForMouseEvents);
+    // The label's "Widget N added" goes when that widget is undone.
+    if (pqUndoStack* stack = pqApplicationCore::instance()->getUndoStack())
+    {
+      QLabel* label = this->Label;
+      QObject::connect(stack, &pqUndoStack::undone, label, [label]() {
+        if (label->text().startsWith("Widget "))
+        {
+          label->hide();
+        }
+      });
+    }
   }
   if (text.isEmpty())
   {

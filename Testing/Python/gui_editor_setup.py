@@ -4,7 +4,7 @@ A synthetic volume whose ReducedCoordinates are the voxel positions (-20..20 on 
 axis) is shown as a Gaussian TF Volume with one widget; every change of GaussianWidgets
 and of GaussianWidgetsHidden is recorded into $MCV_GUI_STATE for gui_editor_check.py.
 After the last edit a screenshot of the whole screen goes to $MCV_OUTPUT_DIR (or to
-$MCV_EDITOR_SCREENSHOT, for the README's picture)."""
+$MCV_EDITOR_SCREENSHOT, for the picture in docs/gui.md)."""
 import json
 import os
 import subprocess

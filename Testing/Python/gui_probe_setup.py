@@ -41,6 +41,19 @@ for v, data in ((view, volume), (dual.domain_view, dual.filter)):
     v.CameraParallelProjection = 1
     v.CameraParallelScale = 0.6 * max(b[1] - b[0], b[3] - b[2])
     Render(v)
+# gui_probe_click.xml clicks the domain view at (0.6043, 0.5408) of its size (from its top
+# left) for the cloud point (0.2, -0.1): the camera's centre is placed so that this point
+# is drawn there whatever the view's aspect (parallel projection: 2 * scale / height units
+# per pixel).
+domain_view = dual.domain_view
+width, height = [int(n) for n in domain_view.ViewSize]
+scale = float(domain_view.CameraParallelScale)
+centre = [0.2 - (0.6043 - 0.5) * width * 2 * scale / height, -0.1 + (0.5408 - 0.5) * 2 * scale]
+focal_z = float(domain_view.CameraFocalPoint[2])
+z = float(domain_view.CameraPosition[2])
+domain_view.CameraFocalPoint = [centre[0], centre[1], focal_z]
+domain_view.CameraPosition = [centre[0], centre[1], z]
+Render(domain_view)
 SetActiveView(view)
 SetActiveSource(volume)
 state = {"events": []}

@@ -56,6 +56,38 @@ def field_strings(image, name):
     return None if a is None else [a.GetValue(i) for i in range(a.GetNumberOfValues())]
 
 
+def brain_series(folder, factors=(1.0, 1.0, 1.2), step=3):
+    """A time series of the real brain (Colin27 T1 + AAL, every `step`-th voxel) as
+    folder/step_<i>.vti, step i's T1 multiplied by factors[i]. Returns (paths, t1, aal)."""
+    import numpy as np
+
+    brain = brain_arrays(("ch2", "aal"), step=step).astype(np.float32)
+    t1, aal = brain[0], brain[1]
+    paths = [write_vti(os.path.join(folder, "step_%d.vti" % i), [("ch2", t1 * f), ("aal", aal)])
+             for i, f in enumerate(factors)]
+    return paths, t1, aal
+
+
+def coordinates_at(reduction, time):
+    """The reduction's ReducedCoordinates at `time` as numpy (None when there are none) and
+    its output's ReductionModelSource field strings (None without a model)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    reduction.UpdatePipeline(time)
+    data = reduction.GetClientSideObject().GetOutputDataObject(0)
+    array = data.GetPointData().GetArray("ReducedCoordinates")
+    source = field_strings(data, "ReductionModelSource")
+    return (None if array is None else vtk_to_numpy(array).copy()), source
+
+
+def pca_reduction(mce, source, **props):
+    """reduce_multichannel(source, "PCA", "6D") on a sample of 3000, with `props` set."""
+    _, reduction = mce.reduce_multichannel(source, "PCA", "6D", ReferenceSampleSize=3000)
+    for name, value in props.items():
+        setattr(reduction, name, value)
+    return reduction
+
+
 def brain_arrays(names=BRAIN, step=1):
     """The real volumes `names` (ch2, aal, brodmann: 181 x 217 x 181, one grid) read with the
     plugin's NIfTI reader, every `step`-th voxel per axis, as one (c, z, y, x) numpy array

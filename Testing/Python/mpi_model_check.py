@@ -6,12 +6,12 @@ the same one-fit series on R processes as on one.
       DIR/half.vti (upper half of the T1 x 1.3) and a 3-step series DIR/step_*.vti (step 2:
       T1 x 1.2); fits PCA and Isomap models on fit.vti (DIR/<method>.mcvmodel); saves the
       coordinates and ModelDistance of each model applied to half.vti and of FitTime One time
-      step on the series (DIR/reference.npz);
+      step and All time steps on the series (DIR/reference.npz);
   mpiexec -np R pvbatch --mpi mpi_model_check.py --compare DIR
       R processes: a fit of fit.vti saves a model file byte-identical to the one-process
       one; each model applied to half.vti gives the reference coordinates, ModelDistance and
       out-of-model count bit for bit (every process's piece placed by its extent); FitTime
-      One time step gives the reference coordinates at every step.
+      One time step and All time steps give the reference coordinates at every step.
 Test driver: mpi_reference_compare.sh.
 """
 import argparse
@@ -134,20 +134,23 @@ def main():
 
     series = simple.OpenDataFile([os.path.join(folder, "step_%d.vti" % i) for i in range(3)])
     series.UpdatePipelineInformation()
-    _, one = mce.reduce_multichannel(series, "PCA", "6D", ReferenceSampleSize=SAMPLE)
-    one.FitTime = "One time step"
-    for t in series.TimestepValues:
-        forced = simple.ForceTime(Input=one, ForcedTime=t, IgnorePipelineTime=1)
-        forced.UpdatePipeline()
-        got = gathered(forced, ("ReducedCoordinates",), shape, R)["ReducedCoordinates"]
-        key = "series_%d" % int(t)
-        if args.reference:
-            results[key] = got
-        else:
-            C.check(got is not None and np.array_equal(got, reference[key]),
-                    "FitTime One time step on %d processes, step %d: the one-process "
-                    "coordinates bit for bit" % (R, int(t)))
-        simple.Delete(forced)
+    for fit_time, label in (("One time step", "series"), ("All time steps", "all_steps")):
+        _, one = mce.reduce_multichannel(series, "PCA", "6D", ReferenceSampleSize=SAMPLE)
+        one.FitTime = fit_time
+        one.FitTimeStep = 0
+        for t in series.TimestepValues:
+            forced = simple.ForceTime(Input=one, ForcedTime=t, IgnorePipelineTime=1)
+            forced.UpdatePipeline()
+            got = gathered(forced, ("ReducedCoordinates",), shape, R)["ReducedCoordinates"]
+            key = "%s_%d" % (label, int(t))
+            if args.reference:
+                results[key] = got
+            else:
+                C.check(got is not None and np.array_equal(got, reference[key]),
+                        "FitTime %s on %d processes, step %d: the one-process "
+                        "coordinates bit for bit" % (fit_time, R, int(t)))
+            simple.Delete(forced)
+        simple.Delete(one)
     if args.reference:
         np.savez(os.path.join(folder, "reference.npz"), **results)
         C.check(all(results["%s_ReducedCoordinates" % m] is not None for m in METHODS),

@@ -28,31 +28,15 @@ OUT = os.path.join(T.output_dir(), "fit_time")
 os.makedirs(OUT, exist_ok=True)
 
 
-def write_vti(name, t1, atlas):
-    return T.write_vti(os.path.join(OUT, name), [("ch2", t1), ("aal", atlas)])
-
-
-brain = T.brain_arrays(("ch2", "aal"), step=3).astype(np.float32)
-t1, aal = brain[0], brain[1]
-steps = [write_vti("step_%d.vti" % i, t1 * factor, aal)
-         for i, factor in enumerate((1.0, 1.0, 1.2))]
+steps, t1, aal = T.brain_series(OUT)
 foreground = t1.ravel() > 0
 
 
-def coordinates_at(reduction, time):
-    """The reduction's ReducedCoordinates at `time` (and its field data's model source)."""
-    reduction.UpdatePipeline(time)
-    data = reduction.GetClientSideObject().GetOutputDataObject(0)
-    array = data.GetPointData().GetArray("ReducedCoordinates")
-    source = T.field_strings(data, "ReductionModelSource")
-    return (None if array is None else vtk_to_numpy(array).copy()), source
+coordinates_at = T.coordinates_at
 
 
 def reduction_of(source, **props):
-    _, reduction = mce.reduce_multichannel(source, "PCA", "6D", ReferenceSampleSize=3000)
-    for name, value in props.items():
-        setattr(reduction, name, value)
-    return reduction
+    return T.pca_reduction(mce, source, **props)
 
 
 series = OpenDataFile(steps)

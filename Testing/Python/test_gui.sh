@@ -14,8 +14,11 @@ state="$MCV_OUTPUT_DIR/gui_${name}_state.json"
 rm -f "$state"
 export MCV_GUI_STATE="$state"
 # --dr: default settings (no welcome dialog); a failed playback would wait on a dialog,
-# hence the timeout. --test-directory: $PARAVIEW_TEST_ROOT in a file dialog's playback.
-sh "$here/run_pvbatch.sh" timeout 300 "$paraview" --dr --test-directory="$MCV_OUTPUT_DIR" \
+# hence the timeout (MCV_GUI_TIMEOUT seconds, default 300). --test-directory: $PARAVIEW_TEST_ROOT in a file dialog's playback.
+# MCV_GUI_GEOMETRY (e.g. 1280x1000+0+0): the main window's size, for tests whose screenshot
+# is shown in the documentation.
+sh "$here/run_pvbatch.sh" timeout "${MCV_GUI_TIMEOUT:-300}" "$paraview" --dr --test-directory="$MCV_OUTPUT_DIR" \
+  ${MCV_GUI_GEOMETRY:+-geometry "$MCV_GUI_GEOMETRY"} \
   --script="$here/gui_${name}_setup.py" \
   --test-script="$here/gui_${name}_click.xml" --exit
 rc=$?

@@ -82,6 +82,16 @@ C.check(all(np.array_equal(pixels(one, "frames/frame_%04d.png" % i),
                            pixels(again, "frames/frame_%04d.png" % i)) for i in range(3)),
         "with the saved model the frames are the same, pixel for pixel")
 
+every = os.path.join(work, "fit_all")
+every_report = example(every, "--fit-all", "--movie", "none")
+e0, e1, e2 = (pixels(every, "frames/frame_%04d.png" % i) for i in range(3))
+C.check(every_report["fit"] == "all time steps" and
+        mce.read_model(os.path.join(every, "model.mcvmodel"))["fit"]["fittedOn"] ==
+        "all 3 time steps",
+        "--fit-all: one fit on all 3 steps (report and model say so)")
+C.check(np.array_equal(e0, e1) and float(np.mean(np.abs(e2 - e0).max(axis=1) > 10)) > 0.01,
+        "--fit-all: frame 1 is pixel-identical to frame 0, frame 2 (T1 x 1.2) differs")
+
 follow = os.path.join(work, "follow")
 followed = example(follow, "--camera", "follow", "--turn-frames", "3", "--movie", "none")
 names = sorted(os.listdir(os.path.join(follow, "frames")))

@@ -277,6 +277,7 @@ bool FeatureBricks::prepare(FeatureResult& result)
   const detail::VolumeStats volume = detail::combineStats(detail::mergeStats(parts), badPerChannel, badVoxels,
     static_cast<double>(piece.ownedCount()), comm);
   detail::normalizationFromStats(options_.normalization, volume.columns, result);
+  statistics_ = volume.columns;
   offset_ = result.columnOffset;
   scale_ = result.columnScale;
   result.nonFiniteVoxels = static_cast<std::size_t>(volume.badVoxels);

@@ -54,6 +54,12 @@ public:
   // on the CPU with a warning.
   bool prepare(FeatureResult& result);
 
+  // The statistics pass's column statistics of the whole volume (all processes), from which
+  // prepare() took the offsets and scales; empty with given ones. Those of several volumes
+  // merge (detail::mergeStats) into the statistics of all of them: the normalisation of a
+  // fit over the time steps of a series.
+  const detail::ColumnStats& statistics() const { return statistics_; }
+
   std::size_t rows() const override { return grid_.voxelCount(); }
   int cols() const override { return cols_; }
   std::size_t blockCount() const override;
@@ -138,6 +144,7 @@ private:
   int cols_ = 0;
   int slices_ = 1;
   std::vector<double> offset_, scale_;
+  detail::ColumnStats statistics_;
   std::size_t deviceBytes_ = 0;
   DeviceStats deviceStats_;
   std::vector<DevicePass> devicePasses_;

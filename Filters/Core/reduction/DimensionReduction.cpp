@@ -6,16 +6,14 @@
 #include "DimensionReduction.h"
 
 #include "HalfCoordinates.h"
-#include "IsomapEmbedding.h"
 #include "KeptRows.h"
-#include "LLEEmbedding.h"
 #include "ModelDistance.h"
 #include "OutOfSample.h"
 #include "PCAEmbedding.h"
+#include "ReductionMethods.h"
 #include "ReferenceSample.h"
 #include "SeededRandom.h"
 #include "Trustworthiness.h"
-#include "UMAPEmbedding.h"
 
 #include <algorithm>
 #include <array>
@@ -63,7 +61,7 @@ std::string checkRows(const FeatureRows& f, const ReductionOptions& o)
   }
   const GridPiece& p = o.piece;
   const ImageGrid& b = o.block;
-  if (b.voxelCount() != f.rows())
+  if (b.voxelCount() * static_cast<std::size_t>(std::max(o.timeSteps, 1)) != f.rows())
   {
     return "The block of " + dimsText(b.dims) + " voxels does not match the " + std::to_string(f.rows()) +
       " feature rows.";
@@ -136,7 +134,7 @@ RowLayout makeLayout(const FeatureRows& f, const ReductionOptions& o, const Comm
 {
   if (hasGrid(o))
   {
-    return RowLayout::grid(o.piece, o.block);
+    return RowLayout::grid(o.piece, o.block, o.timeSteps);
   }
   std::int64_t first = 0;
   if (isDistributed(comm))
@@ -401,50 +399,8 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
   Fit fit;
   const auto start = Clock::now();
   const int d = options.outputDimension;
-  Embedding embedding;
-  switch (options.method)
-  {
-    case ReductionMethod::PCA:
-      progress("PCA", 0.0);
-      embedding = fitPCA(refX.data(), static_cast<std::size_t>(refX.rows()), static_cast<int>(refX.cols()), {}, {}, d,
-        &fit.pca);
-      break;
-    case ReductionMethod::Isomap:
-    {
-      IsomapOptions io;
-      io.outputDimension = d;
-      io.numberOfNeighbors = options.numberOfNeighbors;
-      io.numberOfLandmarks = options.numberOfLandmarks;
-      io.seed = options.randomSeed;
-      io.progress = progress;
-      embedding = fitIsomap(refX, io);
-      break;
-    }
-    case ReductionMethod::LLE:
-    {
-      LLEOptions lo;
-      lo.outputDimension = d;
-      lo.numberOfNeighbors = options.numberOfNeighbors;
-      lo.numberOfLandmarks = options.numberOfLandmarks;
-      lo.seed = options.randomSeed;
-      lo.progress = progress;
-      embedding = fitLLE(refX, lo);
-      break;
-    }
-    case ReductionMethod::UMAP:
-    {
-      UMAPOptions uo;
-      uo.outputDimension = d;
-      uo.numberOfNeighbors = options.numberOfNeighbors;
-      uo.minimumDistance = options.minimumDistance;
-      uo.numberOfEpochs = options.numberOfEpochs;
-      uo.seed = options.randomSeed;
-      uo.device = resolveDevice(options.device); // reduceDimension warns once if the GPU is missing
-      uo.progress = progress;
-      embedding = fitUMAP(refX, uo);
-      break;
-    }
-  }
+  // reduceDimension checked the method: it is in the table.
+  Embedding embedding = findReductionMethod(options.method)->fit(refX, options, progress, &fit.pca);
   fit.ms = msSince(start);
   fit.warnings = std::move(embedding.warnings);
   if (!embedding.error.empty())
@@ -644,12 +600,13 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("OutputDimension must be 2 or 3 (got " + std::to_string(d) + ").");
   }
-  if (method != ReductionMethod::PCA && method != ReductionMethod::Isomap && method != ReductionMethod::LLE &&
-    method != ReductionMethod::UMAP)
+  const ReductionMethodInfo* const methodInfo = findReductionMethod(method);
+  if (!methodInfo)
   {
     return fail("Unknown reduction method " + std::to_string(static_cast<int>(method)) + ".");
   }
-  const bool graphMethod = method != ReductionMethod::PCA && !model;
+  const bool projects = methodInfo->projects;
+  const bool graphMethod = methodInfo->neighbourGraph && !model;
   if (graphMethod && options.numberOfNeighbors < 1)
   {
     return fail("NumberOfNeighbors must be at least 1 (got " + std::to_string(options.numberOfNeighbors) + ").");
@@ -677,6 +634,11 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("A model distance (modelDistanceOutput) is measured against a model: set options.model.");
   }
+  if (options.timeSteps < 1 || (options.timeSteps > 1 && (!options.fitOnly || options.model)))
+  {
+    return fail("Several time steps (timeSteps " + std::to_string(options.timeSteps) +
+      ") are fitted together only (fitOnly, no model); each step is placed on its own.");
+  }
   result.outputDimension = d;
   report("Checking features", 0.0);
 
@@ -701,7 +663,8 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return fail("The feature array has no rows (no voxels): nothing to reduce.");
   }
-  if (hasGrid(options) && N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount())
+  if (hasGrid(options) &&
+    N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount() * static_cast<std::size_t>(options.timeSteps))
   {
     return fail("The processes own " + std::to_string(N) + " voxels of a volume of " +
       dimsText(options.piece.wholeDims) + ": every voxel must be owned by exactly one process.");
@@ -737,8 +700,8 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     refX = Eigen::Map<const RowMatrixF>(model->referenceFeatures.data(), static_cast<Eigen::Index>(M), D);
     fit.coordinates = Eigen::Map<const RowMatrixF>(model->referenceCoordinates.data(), static_cast<Eigen::Index>(M), d);
     fit.pca.mean = Eigen::Map<const Eigen::VectorXd>(model->pcaMean.data(), static_cast<Eigen::Index>(model->pcaMean.size()));
-    fit.pca.axes = Eigen::Map<const Eigen::MatrixXd>(model->pcaAxes.data(), method == ReductionMethod::PCA ? D : 0,
-      method == ReductionMethod::PCA ? d : 0);
+    fit.pca.axes = Eigen::Map<const Eigen::MatrixXd>(model->pcaAxes.data(), projects ? D : 0,
+      projects ? d : 0);
     fit.referenceRadius = model->referenceRadius;
     result.usedColumns = used;
     result.eigenvalues = model->eigenvalues;
@@ -878,7 +841,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     out.references = M;
     out.referenceFeatures.assign(refX.data(), refX.data() + refX.size());
     out.referenceCoordinates.assign(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size());
-    if (method == ReductionMethod::PCA)
+    if (projects)
     {
       out.pcaMean.assign(fit.pca.mean.data(), fit.pca.mean.data() + fit.pca.mean.size());
       out.pcaAxes.assign(fit.pca.axes.data(), fit.pca.axes.data() + fit.pca.axes.size());
@@ -985,11 +948,11 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
       }
     });
   };
-  if (method == ReductionMethod::PCA && options.device == Device::GPU)
+  if (projects && options.device == Device::GPU)
   {
     result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
   }
-  if (!model && method != ReductionMethod::PCA && !isDistributed(comm) && !hasGrid(options) && M == n)
+  if (!model && !projects && !isDistributed(comm) && !hasGrid(options) && M == n)
   {
     // Every row is a reference point (M distinct indices of [0, rows) in order): its
     // embedding is the fit's, which the placement would return after a kNN search per row.
@@ -1009,7 +972,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     // with one warning.
     std::size_t placedRows = 0;
     Device blockDevice = device;
-    if (method != ReductionMethod::PCA && device == Device::GPU)
+    if (!projects && device == Device::GPU)
     {
       DevicePlacement request;
       request.refX = refX.data();
@@ -1089,7 +1052,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     // Block by block (one block for a matrix in memory; the fused path computes each
     // block's features here): progress after each, so an abort stops between blocks.
     const std::size_t blocks = placedRows == n ? 0 : features.blockCount();
-    const char* const stage = method == ReductionMethod::PCA ? "PCA projection" : "Out-of-sample placement";
+    const char* const stage = projects ? "PCA projection" : "Out-of-sample placement";
     for (std::size_t b = 0; b < blocks; ++b)
     {
       const std::size_t blockBegin = features.blockBegin(b), blockEnd = features.blockBegin(b + 1);
@@ -1114,7 +1077,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
         report(stage, lo);
         const float* rowsOfBlock = blockRows + (begin - blockBegin) * static_cast<std::size_t>(cols);
         float* out = floatsFor(begin, count);
-        if (method == ReductionMethod::PCA)
+        if (projects)
         {
           projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
           written(begin, count, out);

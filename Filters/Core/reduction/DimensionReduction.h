@@ -45,12 +45,17 @@ struct FeatureMatrix
 
 struct ReductionOptions
 {
+  // ---- The method and its parameters (ReductionMethods.h: which method uses which) --------
   ReductionMethod method = ReductionMethod::PCA;
   int outputDimension = 3;              // 2 or 3
-  int numberOfNeighbors = 50;           // K of the Isomap / LLE neighbourhood graph
+  // Neighbour-graph methods (Isomap, LLE, UMAP):
+  int numberOfNeighbors = 50;           // K of the neighbourhood graph
   int numberOfLandmarks = 500;          // L of landmark Isomap and LLE (>= M: exact)
-  double minimumDistance = 0.1;         // UMAP: min_dist of the layout, in [0, 1]
-  int numberOfEpochs = 0;               // UMAP: SGD epochs; 0: 500 up to 10000 points, else 200
+  // UMAP alone:
+  double minimumDistance = 0.1;         // min_dist of the layout, in [0, 1]
+  int numberOfEpochs = 0;               // SGD epochs; 0: 500 up to 10000 points, else 200
+
+  // ---- The reference sample, where it runs, progress -------------------------------------
   std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
   Device device = Device::Auto;         // the out-of-sample step (touches every voxel) and
@@ -60,6 +65,8 @@ struct ReductionOptions
   std::size_t trustworthinessSample = 2000; // points it is measured on (from the reference)
   // Optional progress: stage name and overall fraction in [0,1].
   std::function<void(const char* stage, double fraction)> progress;
+
+  // ---- Where the results go ------------------------------------------------------------
   // Optional: rows x outputDimension floats the caller owns (the output VTK array's memory),
   // where the coordinates are written; ReductionResult::coordinates then stays empty. Saves
   // a zero-filled buffer and a copy as large as the output (85 MB for the 7.1 M-voxel brain
@@ -78,6 +85,7 @@ struct ReductionOptions
   // mask that marks no row at all is ignored (warning).
   const unsigned char* sampleMask = nullptr;
 
+  // ---- A volume split over processes (MPI) ---------------------------------------------
   // Split over processes (Communicator.h): every process calls reduceDimension with its own
   // rows and the same options, and all get the answer one process would give for the whole
   // (same reference sample, embedding and coordinates for the same seed). Null, or a
@@ -98,7 +106,14 @@ struct ReductionOptions
   // defaults (outputHi < outputLo): every row.
   std::array<int, 3> outputLo{ 0, 0, 0 };
   std::array<int, 3> outputHi{ -1, -1, -1 };
+  // The fit of a time series (with fitOnly): the rows are timeSteps volumes one after
+  // another, each laid out as above (rows == timeSteps x block.voxelCount() with a grid;
+  // the steps' rows in order without one), and step s's voxels have global index
+  // s x (whole voxels) + voxel, so the reference sample is drawn across the steps with the
+  // keys, strata and duplicates rule of one volume, the same for any split.
+  int timeSteps = 1;
 
+  // ---- Models: apply one, or keep the fit -----------------------------------------------
   // Optional: apply this model (ReductionModel.h) instead of fitting: no statistics, no
   // sample, no fit; the rows are placed with the model's references (or projected on its PCA
   // basis). The rows must have the model's featureColumns columns, in its order; method,

@@ -1,6 +1,7 @@
 #include "ReductionModel.h"
 
 #include "DimensionReduction.h"
+#include "ReductionMethods.h"
 
 #include <cmath>
 
@@ -25,37 +26,23 @@ bool allFinite(const std::vector<T>& values)
 
 const char* reductionMethodName(ReductionMethod method)
 {
-  switch (method)
-  {
-    case ReductionMethod::PCA:
-      return "PCA";
-    case ReductionMethod::Isomap:
-      return "Isomap";
-    case ReductionMethod::LLE:
-      return "LLE";
-    case ReductionMethod::UMAP:
-      return "UMAP";
-  }
-  return "unknown";
+  const ReductionMethodInfo* info = findReductionMethod(method);
+  return info ? info->name : "unknown";
 }
 
 bool reductionMethodFromName(const std::string& name, ReductionMethod& method)
 {
-  for (ReductionMethod m : { ReductionMethod::PCA, ReductionMethod::Isomap, ReductionMethod::LLE, ReductionMethod::UMAP })
+  const ReductionMethodInfo* info = findReductionMethod(name);
+  if (info)
   {
-    if (name == reductionMethodName(m))
-    {
-      method = m;
-      return true;
-    }
+    method = info->method;
   }
-  return false;
+  return info != nullptr;
 }
 
 std::string ReductionModel::check() const
 {
-  ReductionMethod known;
-  if (!reductionMethodFromName(reductionMethodName(method), known))
+  if (!findReductionMethod(method))
   {
     return "unknown reduction method " + std::to_string(static_cast<int>(method));
   }
@@ -95,7 +82,7 @@ std::string ReductionModel::check() const
     return "reference coordinates hold " + std::to_string(referenceCoordinates.size()) + " values, not " +
       std::to_string(references) + " x " + std::to_string(outputDimension);
   }
-  if (method == ReductionMethod::PCA &&
+  if (findReductionMethod(method)->projects &&
     (pcaMean.size() != static_cast<std::size_t>(D) ||
       pcaAxes.size() != static_cast<std::size_t>(D) * static_cast<std::size_t>(outputDimension)))
   {

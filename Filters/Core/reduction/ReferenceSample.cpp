@@ -827,10 +827,11 @@ RowLayout RowLayout::plain(std::size_t n, std::int64_t first)
   return l;
 }
 
-RowLayout RowLayout::grid(const GridPiece& piece, const ImageGrid& block)
+RowLayout RowLayout::grid(const GridPiece& piece, const ImageGrid& block, int steps)
 {
   RowLayout l;
-  l.rows_ = block.voxelCount();
+  l.steps_ = std::max(steps, 1);
+  l.rows_ = block.voxelCount() * static_cast<std::size_t>(l.steps_);
   l.grid_ = true;
   l.piece_ = piece;
   l.block_ = block;
@@ -839,7 +840,17 @@ RowLayout RowLayout::grid(const GridPiece& piece, const ImageGrid& block)
 
 std::size_t RowLayout::ownedCount() const
 {
-  return grid_ ? piece_.ownedCount() : rows_;
+  return grid_ ? piece_.ownedCount() * static_cast<std::size_t>(steps_) : rows_;
+}
+
+std::size_t RowLayout::stepRuns() const
+{
+  if (piece_.ownedCount() == 0)
+  {
+    return 0;
+  }
+  return static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1) *
+    static_cast<std::size_t>(piece_.ownedHi[2] - piece_.ownedLo[2] + 1);
 }
 
 std::size_t RowLayout::runCount() const
@@ -848,12 +859,7 @@ std::size_t RowLayout::runCount() const
   {
     return (rows_ + kPlainRun - 1) / kPlainRun;
   }
-  if (ownedCount() == 0)
-  {
-    return 0;
-  }
-  return static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1) *
-    static_cast<std::size_t>(piece_.ownedHi[2] - piece_.ownedLo[2] + 1);
+  return stepRuns() * static_cast<std::size_t>(steps_);
 }
 
 std::pair<std::size_t, std::size_t> RowLayout::runsWithin(std::size_t begin, std::size_t end) const
@@ -890,6 +896,9 @@ RowLayout::Run RowLayout::run(std::size_t r) const
     out.count = std::min(kPlainRun, rows_ - out.row);
     return out;
   }
+  const std::size_t perStep = stepRuns();
+  const std::size_t step = r / perStep;
+  r %= perStep;
   const std::size_t ny = static_cast<std::size_t>(piece_.ownedHi[1] - piece_.ownedLo[1] + 1);
   const std::size_t j = static_cast<std::size_t>(piece_.ownedLo[1]) + r % ny;
   const std::size_t k = static_cast<std::size_t>(piece_.ownedLo[2]) + r / ny;
@@ -897,6 +906,13 @@ RowLayout::Run RowLayout::run(std::size_t r) const
   out.row = (k * static_cast<std::size_t>(block_.dims[1]) + j) * nx + static_cast<std::size_t>(piece_.ownedLo[0]);
   out.global = piece_.globalIndex(static_cast<std::int64_t>(out.row), block_);
   out.count = static_cast<std::size_t>(piece_.ownedHi[0] - piece_.ownedLo[0] + 1);
+  if (step > 0)
+  {
+    const std::size_t wholeVoxels = static_cast<std::size_t>(piece_.wholeDims[0]) *
+      static_cast<std::size_t>(piece_.wholeDims[1]) * static_cast<std::size_t>(piece_.wholeDims[2]);
+    out.row += step * block_.voxelCount();
+    out.global += static_cast<std::int64_t>(step * wholeVoxels);
+  }
   return out;
 }
 

@@ -51,8 +51,10 @@ class RowLayout
 public:
   // n rows, all owned, global index = first + row.
   static RowLayout plain(std::size_t n, std::int64_t first = 0);
-  // The voxels of `block`, placed in the volume and owned as `piece` says.
-  static RowLayout grid(const GridPiece& piece, const ImageGrid& block);
+  // The voxels of `block`, placed in the volume and owned as `piece` says. With steps > 1,
+  // the rows are `steps` such blocks one after another (the time steps of a series, each
+  // block split alike), and step s's voxels have global index s x (whole voxels) + voxel.
+  static RowLayout grid(const GridPiece& piece, const ImageGrid& block, int steps = 1);
 
   std::size_t size() const { return rows_; }
   std::size_t ownedCount() const;
@@ -78,6 +80,9 @@ private:
   std::int64_t first_ = 0;
   GridPiece piece_;
   ImageGrid block_;
+  int steps_ = 1;
+  // Of one step (grid layouts): its runs, and its rows and global indices.
+  std::size_t stepRuns() const;
 };
 
 struct ReferenceSampleOptions

@@ -43,6 +43,8 @@ The package, one module per capability (every public name is also here, at the t
                         widgets kept as a .mcvtf file with the model they live in)
     dual_domain         reduced_domain_filter, show_dual_domain
     seeding             auto_widgets
+    exploration         explore_multichannel, exploration_name, show_spectrum (the GUI's
+                        Explore Multichannel, Show Reduced Domain and Show Spectrum)
     probing             probe, add_widget_at, palette_color, PROBE_MARKER
     picking             probe_at_pixel, probe_domain_at_pixel, pixel_ray (the voxel
                         under a pixel of the volume or domain view: the GUI's Probe)
@@ -61,6 +63,7 @@ GUI tests do for the functions the toolbar buttons call) changes what callers of
 from . import _common, images
 from .brushing import BRUSHED_VOXELS, brush
 from .dual_domain import reduced_domain_filter, show_dual_domain
+from .exploration import exploration_name, explore_multichannel, show_spectrum
 from .images import image_entropy, image_statistics
 from .models import MODEL_FORMAT_VERSION, read_model, save_model
 from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
@@ -107,6 +110,9 @@ __all__ = [
     "coordinate_values",
     "reduced_domain_filter",
     "auto_widgets",
+    "explore_multichannel",
+    "exploration_name",
+    "show_spectrum",
     "check_widget_values",
     "check_state_file",
     "load_state",

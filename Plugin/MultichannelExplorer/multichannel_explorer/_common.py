@@ -188,6 +188,7 @@ class _TracedProperties(object):
     recorded, as the GUI's property editors record theirs (smtrace.PropertiesModified,
     the item SM_SCOPED_TRACE(PropertiesModified) makes); nothing without a trace::
 
+        from multichannel_explorer._common import _TracedProperties
         with _TracedProperties(display):
             display.GaussianWidgets = widgets
     """

@@ -60,7 +60,7 @@ def reduce_multichannel(source, method="Isomap", features="24D", output_dimensio
 
         feats, red = mce.reduce_multichannel(volume, "PCA", "6D", ReferenceSampleSize=5000)
         red.UpdatePipeline(); red.UpdatePropertyInformation()
-        print(red.VarianceRetained, red.Trustworthiness)
+        print(red.GetPropertyValue("VarianceRetained"), red.GetPropertyValue("Trustworthiness"))
     """
     precision = _PRECISIONS.get(str(coordinate_precision).lower())
     if precision is None:
