@@ -388,6 +388,23 @@ void vtkMultichannelAlgorithm::GetOutputExtent(
   }
   int requested[6];
   outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), requested);
+  // On a request of several pieces the executive replaces UPDATE_EXTENT, before this
+  // filter runs, by this piece's part of it (vtkStreamingDemandDrivenPipeline::
+  // ExecuteDataStart splits the extent asked with vtkExtentTranslator, as this output can
+  // produce sub-extents) and keeps what was asked in ALL_PIECES_EXTENT. A consumer that
+  // asked for an extent of its own (ExtractVoxels: the voxels its process owns) gets that
+  // extent, not a piece of it cut along another axis; a request of the whole volume
+  // (representations, UpdatePipeline) gets this process's piece as before.
+  if (outInfo->Has(vtkDataObject::ALL_PIECES_EXTENT()))
+  {
+    int asked[6];
+    outInfo->Get(vtkDataObject::ALL_PIECES_EXTENT(), asked);
+    const int* whole = this->Internals->Layout.Whole;
+    if (!std::equal(asked, asked + 6, whole))
+    {
+      std::copy(asked, asked + 6, requested);
+    }
+  }
   for (int a = 0; a < 3; ++a)
   {
     const int lo = std::max(extent[2 * a], requested[2 * a]);

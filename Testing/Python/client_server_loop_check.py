@@ -335,17 +335,52 @@ def run(mce, out, reference, previous=None):
               if key not in before and key[0] == mce.BRUSHED_VOXELS]
     answers["state_brush"] = None
     if len(loaded) == 1:
-        # The volume first, as the helpers do: on several processes an ExtractVoxels that
-        # is the first consumer of a DimensionReduction never updated before fails ("the
-        # input's pieces do not cover the block"; see docs/client-server.md).
-        loaded[0].Input.UpdatePipeline()
+        # Updated on its own, first: the loaded chain was never updated before.
         loaded[0].UpdatePipeline()
         data = servermanager.Fetch(loaded[0])
         got = data.GetPointData().GetArray("VoxelId")
         answers["state_brush"] = sorted(int(got.GetValue(p))
                                         for p in range(got.GetNumberOfTuples())) if got else []
     dual.stop()
+
+    # A transfer-function file: saved (the fitted model written beside it by the server's
+    # processes), the widgets changed, loaded back (the reduction now applies the model).
+    stage("transfer function file")
+    tf = os.path.join(out, "loop%s.mcvtf" % ("" if reference else "_compare"))
+    for old in (tf, tf[:-len(".mcvtf")] + ".mcvmodel"):
+        if os.path.exists(old):
+            os.remove(old)
+    mce.save_transfer_function(display, tf)
+    saved = [float(v) for v in display.GaussianWidgets]
+    display.GaussianWidgets = saved[:8]
+    mce.load_transfer_function(display, tf)
+    model = tf[:-len(".mcvtf")] + ".mcvmodel"
+    red.UpdatePipeline()
+    ranges = red.PointData["ReducedCoordinates"]
+    answers["tf_file"] = {
+        "saved_widgets": saved,
+        "loaded_widgets": [float(v) for v in display.GaussianWidgets],
+        "model_file": os.path.basename(str(red.ModelFile)),
+        "model_sha256": file_digest(model),
+        "model_size": os.path.getsize(model) if os.path.exists(model) else None,
+        # The header (channels, normalisation, method, fit): the z-score scales are sums
+        # over the processes' pieces, equal to about 1e-13, not bit for bit (and the file
+        # may be a byte longer or shorter for a digit more or less).
+        "model_header": {k: v for k, v in mce.read_model(model).items() if k != "crc32"}
+        if os.path.exists(model) else None,
+        "ranges_with_model": [list(ranges.GetRange(c)) for c in range(3)],
+    }
     return answers, picture, red
+
+
+def file_digest(path):
+    """sha256 of a file's bytes, None when it does not exist."""
+    import hashlib
+
+    if not os.path.exists(path):
+        return None
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
 
 
 def ground_truth_checks(C, answers, red):
@@ -414,13 +449,13 @@ def picture_difference(reference, picture):
 
 
 def compare(C, reference, answers, ref_picture, picture, processes):
-    """Each answer equal to the built-in one: a table row per check."""
+    """Each answer equal to the built-in one: a table row per check, [(name, ok, detail)]."""
     rows = []
 
     def row(name, ok, detail=""):
         C.check(ok, "%-26s built-in vs %d process(es): %s %s"
                 % (name, processes, "equal" if ok else "DIFFERENT", detail))
-        rows.append((name, ok))
+        rows.append((name, ok, detail))
 
     row("chain (extent)", answers["dims"] == reference["dims"], str(answers["dims"]))
     row("coordinate ranges", close(answers["coordinate_ranges"], reference["coordinate_ranges"],
@@ -468,6 +503,16 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         reference["state_brush"], "the loaded BrushedVoxels: %s" % answers["state_brush"])
     row("bad input errors", answers["errors"] == reference["errors"] and
         all(answers["errors"].values()))
+    tf, ref_tf = answers["tf_file"], reference["tf_file"]
+    row("transfer-function file", tf["loaded_widgets"] == tf["saved_widgets"] and
+        close(tf["saved_widgets"], ref_tf["saved_widgets"], 1e-3) and
+        tf["model_header"] is not None and
+        close(tf["model_header"], ref_tf["model_header"], 1e-9) and
+        close(tf["ranges_with_model"], ref_tf["ranges_with_model"], COORD_TOLERANCE),
+        "saved, changed, loaded back: %d widgets; %s's header equal within 1e-9 (%s bit "
+        "for bit), the coordinates it gives equal"
+        % (len(tf["loaded_widgets"]) // 8, tf["model_file"],
+           "also" if tf["model_sha256"] == ref_tf["model_sha256"] else "not"))
     return rows
 
 
@@ -503,6 +548,15 @@ def main():
                 answers["extract_listed"] == listed,
                 "built-in: ExtractVoxels of an id outside: nothing; of 6 listed ids (one "
                 "twice): those 6 (%s), VoxelIJK of each id" % answers["extract_listed"])
+        tf = answers["tf_file"]
+        C.check(tf["loaded_widgets"] == tf["saved_widgets"] and len(tf["saved_widgets"]) == 32
+                and tf["model_sha256"] is not None and tf["model_file"] == "loop.mcvmodel",
+                "built-in: a transfer-function file saved, the widgets changed, loaded back: "
+                "the 4 widgets (3 seeded, 1 added), the reduction applies the model written "
+                "beside it (%s)" % tf["model_file"])
+        C.check(close(tf["ranges_with_model"], answers["coordinate_ranges"], COORD_TOLERANCE),
+                "built-in: the model applied gives the fitted coordinate ranges %s"
+                % tf["ranges_with_model"])
         C.check(answers["state_brush"] == answers["brush_selection"],
                 "built-in: a saved state loaded back has BrushedVoxels with the brushed voxels "
                 "%s (got %s)" % (answers["brush_selection"], answers["state_brush"]))
@@ -524,9 +578,13 @@ def main():
         C.check(args.processes is None or processes == args.processes,
                 "the %s runs %d process(es) (expected %s)"
                 % ("server" if args.connect else "pvbatch", processes, args.processes))
-        compare(C, reference, answers, os.path.join(out, "picture.png"), picture, processes)
-        with open(os.path.join(out, "answers_%d.json" % processes), "w") as f:
+        rows = compare(C, reference, answers, os.path.join(out, "picture.png"), picture,
+                       processes)
+        label = "%s_%d" % ("pvserver" if args.connect else "pvbatch", processes)
+        with open(os.path.join(out, "answers_%s.json" % label), "w") as f:
             json.dump(answers, f)
+        with open(os.path.join(out, "rows_%s.json" % label), "w") as f:
+            json.dump(rows, f)
     if args.connect:
         simple.Disconnect()
     if args.compare and not args.connect:
@@ -535,4 +593,5 @@ def main():
         C.finish()
 
 
-main()
+if __name__ == "__main__":
+    main()

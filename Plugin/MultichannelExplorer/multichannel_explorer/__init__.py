@@ -30,7 +30,10 @@ The package, one module per capability (every public name is also here, at the t
     transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf,
                         check_widget_values (nan, inf, absurd widget values: an error)
     states              check_state_file, load_state (a state file's widgets checked
-                        before ParaView loads them: its loader reads "nan" as 0)
+                        before ParaView loads them: its loader reads "nan" as 0),
+                        save_state, state_plugin_lines (Python state files that load
+                        the plugin; importing the package makes ParaView's own Python
+                        state do so too)
     reduction           reduce_multichannel
     models              save_model, read_model, MODEL_FORMAT_VERSION (a fit kept as a
                         .mcvmodel file and applied to other volumes and time steps)
@@ -70,7 +73,7 @@ from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
 from .probing import PROBE_MARKER, add_widget_at, palette_color, presentable_opacity, probe
 from .reduction import reduce_multichannel
 from .seeding import auto_widgets, widget_names
-from .states import check_state_file, load_state
+from .states import check_state_file, load_state, save_state, state_plugin_lines
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
                                 show_gaussian_tf)
 from .transfer_function_files import (TRANSFER_FUNCTION_VERSION, apply_transfer_function,
@@ -81,6 +84,11 @@ from .viewpoint import (ViewpointResult, apply_best_viewpoint, best_viewpoint_fi
                         turn_camera)
 
 from ._common import coordinate_values
+from .states import _install_state_hook
+
+# ParaView's Python state files (File > Save State as .py, paraview.smstate) load the plugin
+# from now on in this process.
+_install_state_hook()
 
 # Private helpers the tests reach through the package (Testing/Python); not in __all__.
 _find_filter = _common._find_filter
@@ -113,6 +121,8 @@ __all__ = [
     "check_widget_values",
     "check_state_file",
     "load_state",
+    "save_state",
+    "state_plugin_lines",
     "show_dual_domain",
     "follow_best_viewpoint",
     "stop_following",

@@ -171,12 +171,12 @@ def _trace_plugin_load():
     if output is None or _traced_plugin_for[0] is output:
         return
     _traced_plugin_for[0] = output
-    lines = ["", "# load the MultichannelExplorer plugin (its readers, filters and "
-             "representation)"]
-    for filename, remote in sorted(_plugin_files(), key=lambda f: not f[1]):
-        lines.append("LoadPlugin(%r, remote=%s, ns=globals())" % (filename, remote))
-    if len(lines) < 3:
+    from .states import state_plugin_lines  # states imports this module
+
+    lines = state_plugin_lines()
+    if not lines:
         return
+    lines.insert(0, "")
     data = output.raw_data()
     anchor = "from paraview.simple import *"
     at = next((i + 1 for i, line in enumerate(data) if line == anchor), 0)

@@ -5,7 +5,7 @@ display of a source in a view (its widgets, its coordinate array).
 
 import math
 
-from ._common import _is_representation, _simple
+from ._common import _TracedProperties, _is_representation, _simple
 
 __all__ = [
     "GAUSSIAN_TF_REPRESENTATION",
@@ -170,12 +170,14 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
                            "only; is the MultichannelExplorer plugin loaded?)"
                            % GAUSSIAN_TF_REPRESENTATION)
     display.SetRepresentationType(GAUSSIAN_TF_REPRESENTATION)
-    display.CoordinateArray = str(coordinates)
-    display.GaussianBlendMode = str(blend)
-    display.Classification = str(classification)
-    display.GaussianWidgets = check_widget_values(
+    values = check_widget_values(
         _flat_widgets(widgets), "show_gaussian_tf widgets",
         _domain_size(source, str(coordinates)) if widgets else None)
+    with _TracedProperties(display):  # recorded in a trace being recorded
+        display.CoordinateArray = str(coordinates)
+        display.GaussianBlendMode = str(blend)
+        display.Classification = str(classification)
+        display.GaussianWidgets = values
     if empty:
         simple.ResetCamera(view)
     return display

@@ -1,0 +1,127 @@
+# pvserver_control.sh: sourced by the client-server tests (test_client_server.sh,
+# test_gui_server.sh). Starts an MPI pvserver under its own virtual X server on a free
+# port and stops it again by process id, also after a failure or an interrupt.
+#   start_server N [LOG_DIR]   0 when the server of N processes accepts connections;
+#                              sets $port, $server_pid, $xvfb_pid
+#   start_server_retrying N    start_server, 3 attempts (a port taken meanwhile)
+#   stop_server                TERM, then KILL, to mpiexec and its pvservers; the X server
+#   lost_display N             0 when the server of N processes stopped because it lost
+#                              its X server ("bad X server connection", seen now and then
+#                              on a loaded machine): a run worth retrying
+# Needs $mpiexec, $pvserver and $out (where the logs go). Installs an EXIT/INT/TERM trap
+# that stops the server.
+
+# Open MPI refuses root and more processes than cores unless told (ignored by other MPIs).
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+export OMP_NUM_THREADS=1
+
+server_pid=""
+xvfb_pid=""
+port=""
+alive() {  # alive PID...: the ids among them of processes still running (not zombies)
+  for p in "$@"; do
+    state=$(ps -o stat= -p "$p" 2>/dev/null)
+    case "$state" in
+      ""|Z*) ;;
+      *) echo "$p" ;;
+    esac
+  done
+}
+stop_server() {
+  # The server's processes by id: TERM to mpiexec, which passes it on to its children (the
+  # pvservers) and reaps them; after 10 s TERM to the children left, then KILL to all.
+  # A process left over is reported. Then the X server.
+  if [ -n "$server_pid" ]; then
+    procs="$(pgrep -P "$server_pid" 2>/dev/null) $server_pid"
+    kill "$server_pid" 2>/dev/null
+    for _ in $(seq 1 20); do
+      [ -z "$(alive $procs)" ] && break
+      sleep 0.5
+    done
+    left=$(alive $procs)
+    if [ -n "$left" ]; then
+      kill $left 2>/dev/null
+      sleep 2
+    fi
+    left=$(alive $procs)
+    if [ -n "$left" ]; then
+      kill -9 $left 2>/dev/null
+      sleep 1
+    fi
+    wait "$server_pid" 2>/dev/null
+    left=$(alive $procs)
+    if [ -n "$left" ]; then
+      echo "pvserver_control.sh: server processes still running: $left" >&2
+    fi
+  fi
+  if [ -n "$xvfb_pid" ]; then
+    kill "$xvfb_pid" 2>/dev/null
+    wait "$xvfb_pid" 2>/dev/null
+  fi
+  server_pid=""
+  xvfb_pid=""
+}
+trap 'stop_server' EXIT
+trap 'stop_server; exit 130' INT TERM
+
+# A free display number (no lock file) and a free TCP port (bound by the OS, released).
+free_display() {
+  while :; do
+    d=$(( 200 + $(od -An -N2 -tu2 /dev/urandom) % 700 ))
+    [ -e "/tmp/.X$d-lock" ] || { echo "$d"; return; }
+  done
+}
+free_port() {
+  /usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("localhost", 0)); print(s.getsockname()[1])'
+}
+
+start_server() {  # start_server PROCESSES: 0 when the server accepts connections
+  n="$1"
+  display=$(free_display)
+  Xvfb ":$display" -screen 0 1280x1024x24 -nolisten tcp >"$out/xvfb_$n.log" 2>&1 &
+  xvfb_pid=$!
+  # The X server answers before the server starts (xdpyinfo), else another display.
+  for _ in $(seq 1 20); do
+    DISPLAY=":$display" xdpyinfo >/dev/null 2>&1 && break
+    sleep 0.5
+  done
+  if ! DISPLAY=":$display" xdpyinfo >/dev/null 2>&1; then
+    echo "pvserver_control.sh: the X server :$display did not start:" >&2
+    cat "$out/xvfb_$n.log" >&2
+    stop_server
+    return 1
+  fi
+  port=$(free_port)
+  DISPLAY=":$display" "$mpiexec" -n "$n" "$pvserver" --server-port="$port" \
+    >"$out/pvserver_$n.log" 2>&1 &
+  server_pid=$!
+  for _ in $(seq 1 120); do
+    if grep -q "Accepting connection" "$out/pvserver_$n.log" 2>/dev/null; then
+      return 0
+    fi
+    if ! kill -0 "$server_pid" 2>/dev/null; then
+      break  # it died (a port taken in the meantime, an X server that did not start)
+    fi
+    sleep 0.5
+  done
+  echo "pvserver_control.sh: pvserver on port $port did not start:" >&2
+  cat "$out/pvserver_$n.log" >&2
+  stop_server
+  return 1
+}
+
+start_server_retrying() {  # start_server_retrying PROCESSES: 3 attempts
+  # (sh has no local variables: names of its own, not the callers' loop variables)
+  for _start_try in 1 2 3; do
+    if start_server "$1"; then
+      return 0
+    fi
+    echo "pvserver_control.sh: retrying the server start (attempt $_start_try)" >&2
+  done
+  return 1
+}
+
+lost_display() {  # lost_display PROCESSES: 0 when that server's log says its X server went
+  grep -q "bad X server connection" "$out/pvserver_$1.log" 2>/dev/null
+}
