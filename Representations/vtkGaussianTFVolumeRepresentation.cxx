@@ -600,6 +600,26 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     key << rows.back() << '|' << widget.color[0] << ',' << widget.color[1] << ','
         << widget.color[2] << '\n';
   }
+  // At most 16 rows, and no taller than half the view: the rest is one row that counts
+  // them (10 000 widgets would make a box 200 000 pixels tall that veils the whole view).
+  int* viewSize = internals.LegendRenderer ? internals.LegendRenderer->GetSize() : nullptr;
+  const size_t kLegendRows = std::max<size_t>(2,
+    std::min<size_t>(16, viewSize && viewSize[1] > 0 ? static_cast<size_t>((viewSize[1] / 2 - 8) / 20) : 16));
+  key << kLegendRows << '|';
+  static const mcv::GaussianWidget moreSwatch = [] {
+    mcv::GaussianWidget grey;
+    grey.color[0] = grey.color[1] = grey.color[2] = 0.5;
+    return grey;
+  }();
+  if (rows.size() > kLegendRows)
+  {
+    const size_t more = rows.size() - (kLegendRows - 1);
+    rows.resize(kLegendRows - 1);
+    shown.resize(kLegendRows - 1);
+    rows.push_back("+ " + std::to_string(more) + " more widgets");
+    shown.push_back(&moreSwatch);
+    key << rows.back() << '\n';
+  }
   // Only with the volume it explains: not for a volume drawn as nothing (an error).
   const bool visible =
     this->ShowWidgetLegend && !rows.empty() && this->GetVisibility() && internals.Valid;

@@ -252,6 +252,15 @@ def project_names(repo):
             if f == "CMakeLists.txt":
                 text += open(os.path.join(root, f), encoding="utf-8").read()
     names.update(re.findall(r"add_executable\s*\(\s*([\w.+-]+)", text))
+    # Shell functions of the project's scripts, which other scripts source (e.g.
+    # Testing/Python/pvserver_control.sh): called like programs, provided by the project.
+    for root, _, files in os.walk(repo):
+        if "/.git" in root or "/build" in root or "/.cache" in root:
+            continue
+        for f in files:
+            if f.endswith(".sh"):
+                source = open(os.path.join(root, f), encoding="utf-8", errors="replace").read()
+                names.update(re.findall(r"(?:^|\n)\s*(?:function\s+)?([\w-]+)\s*\(\)\s*\{", source))
     return names
 
 

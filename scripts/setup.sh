@@ -31,8 +31,9 @@ packages=(
   # ... and the core, its tests, benchmarks and the data fetch.
   xvfb xauth libgtest-dev googletest libbenchmark-dev ninja-build cmake g++ make
   python3-numpy
-  # GUI tests and screenshot scripts: xwd (x11-apps), ImageMagick's convert, xdotool.
-  x11-apps imagemagick xdotool
+  # GUI tests and screenshot scripts: xwd (x11-apps), ImageMagick's convert, xdotool;
+  # client-server tests: xdpyinfo (x11-utils) checks the X server before a pvserver starts.
+  x11-apps imagemagick xdotool x11-utils
   # Microscopy formats: the tests write ImageJ hyperstacks, OME-TIFF and OME-Zarr with
   # tifffile and zarr; the OME-Zarr reader decodes Blosc chunks with libblosc.
   python3-tifffile python3-zarr python3-numcodecs libblosc-dev

@@ -581,6 +581,7 @@ def render_tf(src, props, before=None, label="tf", view=None):
     view = view or G.black_view(SHOT_SIZE)
     display = simple.Show(src, view)
     display.SetRepresentationType("Gaussian TF Volume")
+    display.ShowWidgetLegend = 0  # the pixel checks look at the volume, not at the legend
     msgs = G.messages(display)
     bounds = src.GetDataInformation().GetBounds()
     if any(bounds[2 * a + 1] <= bounds[2 * a] for a in range(2)):

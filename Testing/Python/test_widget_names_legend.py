@@ -106,6 +106,17 @@ C.check(shown == expected_legend(widgets, renamed) and "Grey matter" in shown,
         "a rename shows in the legend:\n%s" % shown)
 
 
+# Many widgets: at most 16 rows (and no taller than half the view), the rest counted in one.
+many = widgets + [0.0, 0.0, 0.0, 0.01, 0.5, 0.5, 0.5, 0.2] * 40
+display.GaussianWidgets = many
+display.GaussianWidgetNames = []
+rows = legend().split("\n")
+drawn = sum(1 for w in range(len(many) // 8) if many[8 * w + 7] > 0)
+C.check(len(rows) <= 16 and rows[-1] == "+ %d more widgets" % (drawn - len(rows) + 1),
+        "%d drawn widgets: a legend of %d rows, the last '%s'" % (drawn, len(rows), rows[-1]))
+display.GaussianWidgets = widgets
+display.GaussianWidgetNames = renamed
+
 with_legend = os.path.join(out, "with_legend.png")
 without = os.path.join(out, "without_legend.png")
 simple.SaveScreenshot(with_legend, view, ImageResolution=[500, 500])
