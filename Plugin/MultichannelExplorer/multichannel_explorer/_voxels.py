@@ -14,9 +14,10 @@ holds the voxel, and ID selections count ids within each process's piece).
 from ._common import (_check_server_alive, _check_server_plugin, _coordinate_tuple, _is_float16,
                       _remote_hint, _same_proxy, _simple)
 
-# Point arrays of the volume that are not channels (VoxelId and VoxelIJK: ExtractVoxels').
-_NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "vtkGhostType",
-                 "vtkValidPointMask", "VoxelId", "VoxelIJK")
+# Point arrays of the volume that are not channels (ModelDistance: an applied model's
+# distances; VoxelId and VoxelIJK: ExtractVoxels').
+_NOT_CHANNELS = ("Features", "ReducedCoordinates", "Foreground", "ModelDistance",
+                 "vtkGhostType", "vtkValidPointMask", "VoxelId", "VoxelIJK")
 
 
 # The last grids read, by (proxy, extent, bounds): a probe reads the grid once, not at
