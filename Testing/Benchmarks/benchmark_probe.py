@@ -93,14 +93,7 @@ def main():
     mce = T.load_plugin(globals())
     from multichannel_explorer import _gui
 
-    readers = [simple.OpenDataFile(T.data_file(f))
-               for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.MergeChannels(Input=readers)
-    features = simple.MultichannelFeatures(Input=merged)
-    reduction = simple.DimensionReduction(Input=features)
-    reduction.UpdatePipeline()
-    view = simple.CreateRenderView()
-    view.ViewSize = [600, 500]
+    reduction, view = T.default_brain_reduction((600, 500))
     display = mce.show_gaussian_tf(reduction, view)
     mce.auto_widgets(display, 4)
     simple.SetActiveView(view)

@@ -80,6 +80,22 @@ def coordinates_at(reduction, time):
     return (None if array is None else vtk_to_numpy(array).copy()), source
 
 
+def default_brain_reduction(size):
+    """The chain a new user builds with every default: the real brain's three files ->
+    MergeChannels -> MultichannelFeatures -> DimensionReduction, updated; and a render view
+    of `size` pixels. Returns (reduction, view)."""
+    from paraview import simple
+
+    readers = [simple.OpenDataFile(data_file(f))
+               for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
+    merged = simple.MergeChannels(Input=readers)
+    reduction = simple.DimensionReduction(Input=simple.MultichannelFeatures(Input=merged))
+    reduction.UpdatePipeline()
+    view = simple.CreateRenderView()
+    view.ViewSize = list(size)
+    return reduction, view
+
+
 def pca_reduction(mce, source, **props):
     """reduce_multichannel(source, "PCA", "6D") on a sample of 3000, with `props` set."""
     _, reduction = mce.reduce_multichannel(source, "PCA", "6D", ReferenceSampleSize=3000)

@@ -41,14 +41,7 @@ import numpy as np  # noqa: E402
 mce = T.load_plugin(globals())
 C = T.Checker("test_presentable_seeding")
 
-readers = [simple.OpenDataFile(T.data_file(f))
-           for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-merged = simple.MergeChannels(Input=readers)
-features = simple.MultichannelFeatures(Input=merged)
-reduction = simple.DimensionReduction(Input=features)
-reduction.UpdatePipeline()
-view = simple.CreateRenderView()
-view.ViewSize = [500, 500]
+reduction, view = T.default_brain_reduction((500, 500))
 display = mce.show_gaussian_tf(reduction, view)
 widgets = [float(v) for v in mce.auto_widgets(display, 4)]
 count = len(widgets) // 8

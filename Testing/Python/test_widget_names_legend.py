@@ -47,14 +47,7 @@ C.check(names == ["Precentral_L", "ch2 bright ~206", "ch2 mid", "ch2 bright ~200
 
 # ---- the brain -----------------------------------------------------------------------------
 T.data_file("aal.nii.txt")  # the AAL labels beside aal.nii.gz (scripts/fetch-data.sh), else SKIP
-readers = [simple.OpenDataFile(T.data_file(f))
-           for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-merged = simple.MergeChannels(Input=readers)
-features = simple.MultichannelFeatures(Input=merged)
-reduction = simple.DimensionReduction(Input=features)
-reduction.UpdatePipeline()
-view = simple.CreateRenderView()
-view.ViewSize = [500, 500]
+reduction, view = T.default_brain_reduction((500, 500))
 view.OrientationAxesVisibility = 0
 display = mce.show_gaussian_tf(reduction, view)
 mce.auto_widgets(display, 4)
