@@ -13,8 +13,18 @@
 // PxP pixels (default 128); volumes with at least --large-from voxels per side (default
 // 192) may use --large-entropy-samples instead (default: the same S); the table prints the
 // samples actually used, and the ratio column is always measured, never extrapolated.
+//
+// The former CPU path (ReferenceHarrisCPU.h: whole-slice smoothing without FMA, the response
+// volume stored, then a priority-queue selection) runs interleaved with the current one, run
+// for run, on the same volume: the `former` and `speed-up` columns; `agree` is the largest
+// difference of the two response volumes over the largest |response|, `overlap` the share
+// of the top-N both select, and `ang.old` the angle between their best views. The `peak`
+// column is the current Harris + top-N time against the floor of the method's floating-
+// point operations at the CPU's FMA peak (--fma-peak-gflops, else cores x MHz x 32: two
+// 256-bit FMA units per core).
 #include "BestViewpoint.h"
 #include "OpacityFunction.h"
+#include "ReferenceHarrisCPU.h"
 
 #include "TestVolumes.h"
 
@@ -28,6 +38,7 @@
 #include <cstring>
 #include <sstream>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace
@@ -48,6 +59,8 @@ struct Config
   bool real = true;
   bool synthetic = true;
   int threads = 0; // 0: OpenMP's default
+  double peakGflops = 0; // 0: from /proc/cpuinfo
+  bool former = true;
 };
 
 struct Row
@@ -60,6 +73,9 @@ struct Row
   int entropySamples = 0;
   double entropyMs = 0, areaMs = 0;
   double angleEntropy = NAN, angleArea = NAN;
+  double formerMs = NAN, formerHarrisMs = NAN, formerSelectMs = NAN; // the former CPU path
+  double agreement = NAN, overlap = NAN, angleFormer = NAN;
+  double floorMs = NAN; // the method's flops at the FMA peak
   std::string note;
 };
 
@@ -103,11 +119,55 @@ double loadAverage()
   return l;
 }
 
+// Floating-point operations per voxel of the Harris response (an FMA counts 2): gradient
+// (3 differences, 3 scalings), 6 products, three Gaussian passes of `width` FMAs on 6
+// channels, and the response (20 for the 3D form).
+double harrisFlopsPerVoxel(int width)
+{
+  return 6 + 6 + 3 * 6 * 2.0 * width + 20;
+}
+
+// Cores x clock x 32 single-precision flops per cycle (two 256-bit FMA units), from
+// /proc/cpuinfo's first "cpu MHz"; 0 if unknown.
+double fmaPeakGflops()
+{
+  double mhz = 0;
+  if (FILE* f = std::fopen("/proc/cpuinfo", "r"))
+  {
+    char line[512];
+    while (std::fgets(line, sizeof(line), f))
+    {
+      if (std::strncmp(line, "cpu MHz", 7) == 0)
+      {
+        const char* colon = std::strchr(line, ':');
+        if (colon)
+          mhz = std::atof(colon + 1);
+        break;
+      }
+    }
+    std::fclose(f);
+  }
+  return mhz * 1e-3 * omp_get_max_threads() * 32.0;
+}
+
+// Share of a's indices that b holds too (1 for two empty lists).
+double indexOverlap(const mcv::InterestPoints& a, const mcv::InterestPoints& b)
+{
+  if (a.size() == 0 && b.size() == 0)
+    return 1.0;
+  const std::unordered_set<std::int64_t> in(b.indices.begin(), b.indices.end());
+  std::size_t shared = 0;
+  for (std::int64_t i : a.indices)
+    shared += in.count(i);
+  return static_cast<double>(shared) / static_cast<double>(std::max(a.size(), b.size()));
+}
+
 void usage()
 {
   std::printf("usage: mcvBenchmarkCPU [--quick] [--runs N] [--entropy-runs N] [--sizes a,b,..]\n"
               "         [--entropy-samples S] [--large-entropy-samples S] [--large-from N]\n"
-              "         [--image-size P] [--threads T] [--no-real] [--no-synthetic]\n");
+              "         [--image-size P] [--threads T] [--no-real] [--no-synthetic]\n"
+              "         [--fma-peak-gflops G] [--no-former]\n");
 }
 
 bool parseArgs(int argc, char** argv, Config& c)
@@ -152,6 +212,10 @@ bool parseArgs(int argc, char** argv, Config& c)
       c.real = false;
     else if (a == "--no-synthetic")
       c.synthetic = false;
+    else if (a == "--fma-peak-gflops")
+      c.peakGflops = std::atof(next("--fma-peak-gflops"));
+    else if (a == "--no-former")
+      c.former = false;
     else if (a == "--help" || a == "-h")
     {
       usage();
@@ -205,6 +269,33 @@ Row benchmarkVolume(const std::string& name, const mcv::ImageGrid& grid,
     row.note = "harris error";
     return row;
   }
+  // The former CPU path on the grid computeBestViewpoint uses (spacing over its geometric
+  // mean), timed as it ran: the response volume allocated, computed, then searched.
+  mcv::ImageGrid unitFree = grid;
+  const double mean = std::cbrt(grid.spacing[0] * grid.spacing[1] * grid.spacing[2]);
+  for (int a = 0; a < 3; ++a)
+    unitFree.spacing[a] = grid.spacing[a] / mean;
+  mcv::InterestPoints formerPoints;
+  std::vector<double> fh, fs, ft;
+  auto runFormer = [&]() {
+    const auto start = Clock::now();
+    std::vector<float> response(grid.voxelCount());
+    mcv::benchmark::referenceHarrisResponseCPU(opacity.data(), unitFree, opt.harris, response.data());
+    const double h = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    formerPoints = mcv::benchmark::referenceSelectTopResponsesCPU(
+      response.data(), response.size(), opt.numberOfInterestPoints);
+    const double t = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    fh.push_back(h);
+    fs.push_back(t - h);
+    ft.push_back(t);
+  };
+  if (cfg.former)
+  {
+    runFormer(); // its warm-up
+    fh.clear();
+    fs.clear();
+    ft.clear();
+  }
   for (int r = 0; r < cfg.runs; ++r)
   {
     harris = mcv::computeBestViewpoint(opacity.data(), grid, opt);
@@ -212,6 +303,8 @@ Row benchmarkVolume(const std::string& name, const mcv::ImageGrid& grid,
     s.push_back(harris.timings.selectMs);
     p.push_back(harris.timings.pcaMs);
     t.push_back(harris.timings.totalMs);
+    if (cfg.former)
+      runFormer();
   }
   row.harrisMs = median(h);
   row.selectMs = median(s);
@@ -219,16 +312,54 @@ Row benchmarkVolume(const std::string& name, const mcv::ImageGrid& grid,
   row.totalMs = median(t);
   row.points = harris.points.size();
   row.harrisValid = harris.view.valid;
-  std::printf("   Harris/PCA  (median of %d): harris %.2f ms, select %.2f ms, pca %.3f ms, "
+  std::printf("   Harris/PCA  (median of %d): harris + top-N %.2f ms, merge %.2f ms, pca %.3f ms, "
               "total %.2f ms; %zu points\n",
     cfg.runs, row.harrisMs, row.selectMs, row.pcaMs, row.totalMs, row.points);
+  const double peak = cfg.peakGflops > 0 ? cfg.peakGflops : fmaPeakGflops();
+  if (peak > 0)
+  {
+    const double flops = harrisFlopsPerVoxel(opt.harris.kernelWidth);
+    row.floorMs = flops * static_cast<double>(grid.voxelCount()) / (peak * 1e6);
+    std::printf("   limit: %.0f flops per voxel at the FMA peak %.1f GFLOP/s = %.2f ms; "
+                "harris + top-N at %.1fx that (%.0f%% of the peak)\n",
+      flops, peak, row.floorMs, (row.harrisMs + row.selectMs) / row.floorMs,
+      100.0 * row.floorMs / (row.harrisMs + row.selectMs));
+  }
+  if (cfg.former)
+  {
+    row.formerHarrisMs = median(fh);
+    row.formerSelectMs = median(fs);
+    row.formerMs = median(ft);
+    // Agreement of the response volumes (the current path computed once more, whole).
+    std::vector<float> now(grid.voxelCount()), before(grid.voxelCount());
+    mcv::computeHarrisResponseCPU(opacity.data(), unitFree, opt.harris, now.data());
+    mcv::benchmark::referenceHarrisResponseCPU(opacity.data(), unitFree, opt.harris, before.data());
+    double maxAbs = 0, maxDiff = 0;
+    for (std::size_t v = 0; v < now.size(); ++v)
+    {
+      maxAbs = std::max(maxAbs, static_cast<double>(std::fabs(before[v])));
+      maxDiff = std::max(maxDiff, static_cast<double>(std::fabs(now[v] - before[v])));
+    }
+    row.agreement = maxAbs > 0 ? maxDiff / maxAbs : maxDiff;
+    row.overlap = indexOverlap(harris.points, formerPoints);
+    if (harris.view.valid && formerPoints.size() >= 3)
+    {
+      const mcv::ViewDirections fv = mcv::computeViewDirections(mcv::worldPositions(formerPoints, grid));
+      if (fv.valid)
+        row.angleFormer = mcv::axisAngleDegrees(harris.view.best, fv.best);
+    }
+    std::printf("   former CPU path (interleaved, median of %d): harris %.2f ms + select %.2f ms = "
+                "%.2f ms; speed-up %.2fx; responses differ by %.2e of max|R|; top-N overlap "
+                "%.4f; best views %.3f deg apart\n",
+      cfg.runs, row.formerHarrisMs, row.formerSelectMs, row.formerMs,
+      row.formerMs / (row.harrisMs + row.selectMs), row.agreement, row.overlap, row.angleFormer);
+  }
   for (const auto& w : harris.warnings)
     std::printf("   warning: %s\n", w.c_str());
   if (harris.view.valid)
     std::printf("     best %s worst %s eigenvalues (%.3f, %.3f, %.3f)\n",
       fmtVec(harris.view.best).c_str(), fmtVec(harris.view.worst).c_str(),
       harris.view.eigenvalues[0], harris.view.eigenvalues[1], harris.view.eigenvalues[2]);
-
   // --- Area maximising baseline.
   opt.method = mcv::ViewMethod::AreaMaximizing;
   std::vector<double> a;
@@ -354,23 +485,34 @@ int main(int argc, char** argv)
   }
 
   // Final table.
-  std::printf("\n%-16s %-12s %9s %9s %8s %9s | %7s %11s %9s | %8s | %7s %7s\n", "volume",
-    "dims", "harris", "select", "pca", "total", "samples", "entropy", "ent/tot", "areamax",
-    "ang.ent", "ang.area");
-  std::printf("%-16s %-12s %9s %9s %8s %9s | %7s %11s %9s | %8s | %7s %7s\n", "", "", "ms", "ms",
-    "ms", "ms", "", "ms", "ratio", "ms", "deg", "deg");
-  std::printf("%s\n", std::string(132, '-').c_str());
+  std::printf("\n%-16s %-12s %9s %7s %8s %9s | %9s %8s %8s %8s %7s | %6s | %7s %11s %9s | "
+              "%8s | %7s %7s\n",
+    "volume", "dims", "harris", "merge", "pca", "total", "former", "speed-up", "agree", "overlap",
+    "ang.old", "peak", "samples", "entropy", "ent/tot", "areamax", "ang.ent", "ang.area");
+  std::printf("%-16s %-12s %9s %7s %8s %9s | %9s %8s %8s %8s %7s | %6s | %7s %11s %9s | %8s | "
+              "%7s %7s\n",
+    "", "", "+top-N ms", "ms", "ms", "ms", "ms", "x", "", "", "deg", "x", "", "ms", "ratio", "ms",
+    "deg", "deg");
+  std::printf("%s\n", std::string(184, '-').c_str());
   for (const Row& r : rows)
   {
-    std::printf("%-16s %-12s %9.2f %9.2f %8.3f %9.2f | %7d %11.1f %9.1f | %8.2f | %7.1f %7.1f%s\n",
-      r.name.c_str(), r.dims.c_str(), r.harrisMs, r.selectMs, r.pcaMs, r.totalMs,
-      r.entropySamples, r.entropyMs, r.totalMs > 0 ? r.entropyMs / r.totalMs : NAN, r.areaMs,
-      r.angleEntropy, r.angleArea, r.note.empty() ? "" : ("  " + r.note).c_str());
+    const double now = r.harrisMs + r.selectMs;
+    std::printf("%-16s %-12s %9.2f %7.2f %8.3f %9.2f | %9.2f %8.2f %8.1e %8.4f %7.3f | %6.2f | "
+                "%7d %11.1f %9.1f | %8.2f | %7.1f %7.1f%s\n",
+      r.name.c_str(), r.dims.c_str(), r.harrisMs, r.selectMs, r.pcaMs, r.totalMs, r.formerMs,
+      r.formerMs / now, r.agreement, r.overlap, r.angleFormer, now / r.floorMs, r.entropySamples,
+      r.entropyMs, r.totalMs > 0 ? r.entropyMs / r.totalMs : NAN, r.areaMs, r.angleEntropy,
+      r.angleArea, r.note.empty() ? "" : ("  " + r.note).c_str());
   }
   std::printf("load average at the end: %.2f (times are only comparable on a quiet machine)\n",
     loadAverage());
-  std::printf("harris/select/pca/total: Harris pipeline stages (Device CPU); entropy: viewpoint "
-              "entropy baseline with `samples` views; ent/tot = entropy / Harris total (same "
-              "run); ang.*: angle between the Harris best axis and the baseline's best axis.\n");
+  std::printf("harris+top-N/merge/pca/total: Harris pipeline stages (Device CPU; the top-N is "
+              "selected while the response is computed, merge is what remains); former: the former "
+              "CPU path's harris + select, interleaved with the current one; speed-up = former / "
+              "(harris + merge); agree: max |R_now - R_former| / max |R_former|; overlap: share of "
+              "the top-N both select; ang.old: angle between their best views; peak: (harris + "
+              "merge) / the method's flops at the FMA peak; entropy: viewpoint entropy baseline "
+              "with `samples` views; ent/tot = entropy / Harris total (same run); ang.*: angle "
+              "between the Harris best axis and the baseline's best axis.\n");
   return 0;
 }

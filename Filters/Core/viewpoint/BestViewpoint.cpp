@@ -143,21 +143,27 @@ InterestPoints findInterestPoints(const float* opacity, const ImageGrid& worldGr
     }
   }
 #endif
+  InterestPoints points;
   if (response.empty())
   {
+    // The CPU selects while it computes, tile by tile (no response volume is stored): the
+    // selection's time is inside harrisMs, and selectMs stays 0.
     const auto start = Clock::now();
-    response.resize(grid.voxelCount());
-    computeHarrisResponseCPU(opacity, grid, options.harris, response.data());
+    VoxelBox owned;
+    owned.lo = options.piece.ownedLo;
+    owned.hi = options.piece.ownedHi;
+    points = computeHarrisTopNCPU(opacity, grid, options.harris, N, partial ? &owned : nullptr);
     result.timings.harrisMs = millisecondsSince(start);
+    report(options, 0.7);
   }
-  report(options, 0.7);
-
-  const auto start = Clock::now();
-  if (partial)
+  else
   {
+    report(options, 0.7);
+    const auto start = Clock::now();
     keepOwnedResponses(options.piece, grid, response.data());
+    points = selectTopResponsesCPU(response.data(), response.size(), N);
+    result.timings.selectMs = millisecondsSince(start);
   }
-  InterestPoints points = selectTopResponsesCPU(response.data(), response.size(), N);
   if (partial)
   {
     for (std::int64_t& index : points.indices)
@@ -165,7 +171,6 @@ InterestPoints findInterestPoints(const float* opacity, const ImageGrid& worldGr
       index = options.piece.globalIndex(index, grid);
     }
   }
-  result.timings.selectMs = millisecondsSince(start);
   return points;
 }
 

@@ -5,14 +5,36 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
-// The CPU path streams through the volume one z-slice at a time: each slice's six
-// gradient products are smoothed along x and y once and kept in a ring of KernelWidth
-// slices, from which the z pass and the response are formed. No full-size temporary is
-// allocated (six float volumes would be 24 bytes per voxel), and the working set of a
-// thread stays near KernelWidth slices. Written by hand because VTK-free libraries offer
-// no fused, border-replicating separable 3D filter over six channels.
+// The CPU path works on tiles of the volume: a run of whole x rows (or of 256 columns of
+// wider volumes) by tileY rows, streamed along z. For each z-slice, the six gradient
+// products of one row are formed and smoothed along x at once; the rows of the tile (plus
+// the y halo) are smoothed along y into a ring of KernelWidth slices; the z pass reads the
+// ring and forms the response row by row. The ring of a tile stays in the core's L2 cache
+// (about 0.5 MB), so after the input is read once nothing leaves the cache but the
+// responses; every loop runs along contiguous x and vectorises (AVX2 with FMA where the
+// CPU has it, chosen at run time). Written by hand because VTK-free libraries offer no
+// fused, border-replicating separable 3D filter over six channels.
+//
+// Rounding follows the CUDA kernel: every Gaussian pass is a chain of fused multiply-adds
+// from 0 in tap order, the gradients and products are the same expressions, and the
+// response is formed as harrisFromTensor below says. This file is compiled with
+// -ffp-contract=off, so only the written fma calls fuse.
+
+#if defined(__GNUC__) || defined(__clang__)
+#define MCV_HARRIS_INLINE inline __attribute__((always_inline))
+#define MCV_HARRIS_LAMBDA_INLINE __attribute__((always_inline))
+#else
+#define MCV_HARRIS_INLINE inline
+#define MCV_HARRIS_LAMBDA_INLINE
+#endif
+// GCC compiles a second copy of the kernels for AVX2 + FMA (#pragma GCC target).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define MCV_HARRIS_X86 1
+#include <immintrin.h>
+#endif
 
 namespace mcv
 {
@@ -56,220 +78,341 @@ namespace
 {
 
 constexpr int Channels = 6; // xx, xy, xz, yy, yz, zz
+constexpr int kMaxWidth = 31;
+// Widest tile along x: wider rows are cut into tiles of at most this many columns.
+constexpr int kMaxTileX = 384;
+// Bytes of a tile's ring of y-smoothed slices, to stay within a core's L2 cache.
+constexpr std::size_t kTileBytes = 640 * 1024;
 
 inline int clampIndex(int i, int n)
 {
   return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
-// Response from the smoothed structure tensor. `plane` < 0: 3D form; otherwise the axis of
-// size 1 whose two complementary axes span the slice (2D form det - k tr^2).
-inline float harrisFromTensor(const float m[Channels], float k, int plane)
+struct Setup
 {
-  const float xx = m[0], xy = m[1], xz = m[2], yy = m[3], yz = m[4], zz = m[5];
-  if (plane < 0)
+  const float* opacity = nullptr;
+  int nx = 0, ny = 0, nz = 0;
+  int width = 0, radius = 0;
+  float taps[kMaxWidth] = {};
+  float scale[3] = { 0, 0, 0 }; // 0.5 / spacing
+  float k = 0;
+  int plane = -1; // < 0: 3D form; else the axis of size 1 (2D form on the other two)
+  int tileX = 0, tileY = 0;
+};
+
+struct Tile
+{
+  int x0, x1, y0, y1, z0, z1; // output voxels [x0, x1) x [y0, y1) x [z0, z1)
+};
+
+// One thread's working memory, sized for the largest tile.
+struct Scratch
+{
+  explicit Scratch(const Setup& s)
+    : products(static_cast<std::size_t>(Channels) * (s.tileX + 2 * s.radius))
+    , xSmoothed(static_cast<std::size_t>(s.width) * Channels * s.tileX)
+    , ring(static_cast<std::size_t>(s.width + 1) * s.tileY * Channels * s.tileX)
+    , ringSlice(static_cast<std::size_t>(s.width + 1), -1)
+    , tensor(static_cast<std::size_t>(2) * Channels * s.tileX)
+    , row(static_cast<std::size_t>(s.tileX))
   {
-    const float det = xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-    const float tr = xx + yy + zz;
-    return det - k * tr * tr * tr;
   }
-  float a, b, c; // the in-plane 2x2 block [a b; b c]
-  if (plane == 2)
+  std::vector<float> products;  // [channel][tileX + 2 radius]: one row, x halo included
+  std::vector<float> xSmoothed; // [row % width][channel][tileX]: x-smoothed rows
+  std::vector<float> ring;      // [slice % (width + 1)][row of tile][channel][tileX]
+  std::vector<int> ringSlice;   // the z-slice each slot holds (-1: none)
+  std::vector<float> tensor;    // [slice of the pair][channel][tileX]: one row, smoothed
+  std::vector<float> row;       // one row of responses (when they are not kept)
+};
+
+// Writes the responses into the whole response volume.
+struct VolumeSink
+{
+  float* response;
+  std::size_t nx, plane;
+  int x0;
+  float* row(int z, int j) const { return response + z * plane + j * nx + x0; }
+  void done(int, int, const float*) const {}
+};
+
+// Offers the responses of the candidate voxels to a collector.
+struct CollectSink
+{
+  TopResponseCollector* collector;
+  float* scratchRow;
+  std::int64_t nx, plane;
+  int x0, x1;
+  VoxelBox box;
+  float* row(int, int) const { return scratchRow; }
+  void done(int z, int j, const float* values) const
   {
-    a = xx, b = xy, c = yy;
+    if (z < box.lo[2] || z > box.hi[2] || j < box.lo[1] || j > box.hi[1])
+    {
+      return;
+    }
+    const int a = std::max(x0, box.lo[0]), b = std::min(x1 - 1, box.hi[0]);
+    if (a <= b)
+    {
+      collector->offer(values + (a - x0), z * plane + j * nx + a, static_cast<std::size_t>(b - a + 1));
+    }
   }
-  else if (plane == 1)
+};
+
+// The tile kernels, portable: Pack is one float.
+namespace portable
+{
+using Pack = float;
+constexpr int kLanes = 1;
+template <class P>
+MCV_HARRIS_INLINE P load(const float* p)
+{
+  return *p;
+}
+template <class P>
+MCV_HARRIS_INLINE P splat(float x)
+{
+  return x;
+}
+MCV_HARRIS_INLINE void store(float* p, float v)
+{
+  *p = v;
+}
+MCV_HARRIS_INLINE float fmadd(float a, float b, float c)
+{
+  return std::fma(a, b, c);
+}
+#include "HarrisTileKernels.inl"
+} // namespace portable
+
+#ifdef MCV_HARRIS_X86
+// The same kernels for AVX2 with FMA, eight floats a time (the scalar tails use the FMA
+// instruction too, so they round exactly as the portable build's std::fma).
+#pragma GCC push_options
+#pragma GCC target("avx2,fma")
+namespace avx2
+{
+struct Pack
+{
+  __m256 v;
+};
+constexpr int kLanes = 8;
+MCV_HARRIS_INLINE Pack operator+(Pack a, Pack b)
+{
+  return { _mm256_add_ps(a.v, b.v) };
+}
+MCV_HARRIS_INLINE Pack operator-(Pack a, Pack b)
+{
+  return { _mm256_sub_ps(a.v, b.v) };
+}
+MCV_HARRIS_INLINE Pack operator*(Pack a, Pack b)
+{
+  return { _mm256_mul_ps(a.v, b.v) };
+}
+template <class P>
+MCV_HARRIS_INLINE P load(const float* p);
+template <>
+MCV_HARRIS_INLINE float load<float>(const float* p)
+{
+  return *p;
+}
+template <>
+MCV_HARRIS_INLINE Pack load<Pack>(const float* p)
+{
+  return { _mm256_loadu_ps(p) };
+}
+template <class P>
+MCV_HARRIS_INLINE P splat(float x);
+template <>
+MCV_HARRIS_INLINE float splat<float>(float x)
+{
+  return x;
+}
+template <>
+MCV_HARRIS_INLINE Pack splat<Pack>(float x)
+{
+  return { _mm256_set1_ps(x) };
+}
+MCV_HARRIS_INLINE void store(float* p, float v)
+{
+  *p = v;
+}
+MCV_HARRIS_INLINE void store(float* p, Pack v)
+{
+  _mm256_storeu_ps(p, v.v);
+}
+MCV_HARRIS_INLINE float fmadd(float a, float b, float c)
+{
+  return std::fma(a, b, c);
+}
+MCV_HARRIS_INLINE Pack fmadd(Pack a, Pack b, Pack c)
+{
+  return { _mm256_fmadd_ps(a.v, b.v, c.v) };
+}
+#include "HarrisTileKernels.inl"
+} // namespace avx2
+#pragma GCC pop_options
+
+bool hasAvx2Fma()
+{
+  static const bool ok = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return ok;
+}
+#endif
+
+// The tile function for this CPU and kernel width (the common widths unrolled).
+template <class Sink>
+using TileFn = void (*)(const Setup&, const Tile&, Scratch&, Sink&);
+
+template <class Sink, int W>
+TileFn<Sink> tileFunctionFor()
+{
+#ifdef MCV_HARRIS_X86
+  if (hasAvx2Fma())
   {
-    a = xx, b = xz, c = zz;
+    return &avx2::runTile<W, Sink>;
   }
-  else
-  {
-    a = yy, b = yz, c = zz;
-  }
-  const float tr = a + c;
-  return (a * c - b * b) - k * tr * tr;
+#endif
+  return &portable::runTile<W, Sink>;
 }
 
-class SliceSmoother
+template <class Sink>
+TileFn<Sink> tileFunction(int width)
 {
-public:
-  SliceSmoother(const float* opacity, const ImageGrid& grid, const std::vector<float>& taps)
-    : Opacity(opacity)
-    , Nx(grid.dims[0])
-    , Ny(grid.dims[1])
-    , Nz(grid.dims[2])
-    , Taps(taps)
-    , Radius(static_cast<int>(taps.size()) / 2)
-    , Scale{ static_cast<float>(0.5 / grid.spacing[0]), static_cast<float>(0.5 / grid.spacing[1]),
-      static_cast<float>(0.5 / grid.spacing[2]) }
-    , Products(static_cast<std::size_t>(Channels) * Nx * Ny)
-    , PaddedRow(static_cast<std::size_t>(Nx + 2 * Radius))
-    , RowSmoothed(static_cast<std::size_t>(Channels) * Nx * Ny)
+  switch (width)
   {
+    case 3:
+      return tileFunctionFor<Sink, 3>();
+    case 5:
+      return tileFunctionFor<Sink, 5>();
+    case 7:
+      return tileFunctionFor<Sink, 7>();
+    default:
+      return tileFunctionFor<Sink, 0>();
   }
+}
 
-  // Six gradient products of slice z, smoothed along x then y, into `out`
-  // (channel-major: out[c * Nx * Ny + j * Nx + i]).
-  void smoothSlice(int z, float* out)
+Setup makeSetup(const float* opacity, const ImageGrid& grid, const HarrisParameters& params)
+{
+  Setup s;
+  s.opacity = opacity;
+  s.nx = grid.dims[0];
+  s.ny = grid.dims[1];
+  s.nz = grid.dims[2];
+  s.width = params.kernelWidth;
+  s.radius = params.kernelWidth / 2;
+  gaussianTaps(params, s.taps);
+  for (int a = 0; a < 3; ++a)
   {
-    computeProducts(z);
-    const std::size_t sliceSize = static_cast<std::size_t>(Nx) * Ny;
-    const int width = static_cast<int>(Taps.size());
-    for (int c = 0; c < Channels; ++c)
+    s.scale[a] = static_cast<float>(0.5 / grid.spacing[a]);
+  }
+  s.k = static_cast<float>(params.k);
+  if (grid.extendedAxes() == 2)
+  {
+    s.plane = s.nx == 1 ? 0 : (s.ny == 1 ? 1 : 2);
+  }
+  // Tiles: whole rows up to kMaxTileX columns (else near-equal parts of at most 256), and
+  // as many rows as keep the ring of width + 1 slices within kTileBytes.
+  const int xTiles = s.nx <= kMaxTileX ? 1 : (s.nx + 255) / 256;
+  s.tileX = (s.nx + xTiles - 1) / xTiles;
+  const std::size_t rowBytes = sizeof(float) * Channels * static_cast<std::size_t>(s.tileX) * (s.width + 1);
+  s.tileY = std::max(1, std::min(s.ny, std::max(4, static_cast<int>(kTileBytes / rowBytes))));
+  return s;
+}
+
+// Every tile of the volume, in z chunks when there are too few tiles to keep every thread
+// busy (a chunk recomputes 2 radius halo slices).
+std::vector<Tile> makeTiles(const Setup& s, int threads)
+{
+  const int xTiles = (s.nx + s.tileX - 1) / s.tileX;
+  const int yTiles = (s.ny + s.tileY - 1) / s.tileY;
+  const int planeTiles = xTiles * yTiles;
+  int zChunks = 1;
+  if (planeTiles < 4 * threads)
+  {
+    zChunks = std::max(1, std::min((4 * threads + planeTiles - 1) / planeTiles, s.nz / (4 * s.width)));
+  }
+  std::vector<Tile> tiles;
+  tiles.reserve(static_cast<std::size_t>(planeTiles) * zChunks);
+  for (int c = 0; c < zChunks; ++c)
+  {
+    const int z0 = static_cast<int>(static_cast<std::int64_t>(s.nz) * c / zChunks);
+    const int z1 = static_cast<int>(static_cast<std::int64_t>(s.nz) * (c + 1) / zChunks);
+    for (int ty = 0; ty < yTiles; ++ty)
     {
-      const float* in = Products.data() + c * sliceSize;
-      float* rows = RowSmoothed.data() + c * sliceSize;
-      for (int j = 0; j < Ny; ++j)
+      for (int tx = 0; tx < xTiles; ++tx)
       {
-        const float* row = in + static_cast<std::size_t>(j) * Nx;
-        float* pad = PaddedRow.data();
-        std::fill(pad, pad + Radius, row[0]);
-        std::copy(row, row + Nx, pad + Radius);
-        std::fill(pad + Radius + Nx, pad + 2 * Radius + Nx, row[Nx - 1]);
-        float* dst = rows + static_cast<std::size_t>(j) * Nx;
-        for (int i = 0; i < Nx; ++i)
-        {
-          float s = 0.f;
-          for (int t = 0; t < width; ++t)
-          {
-            s += Taps[t] * pad[i + t];
-          }
-          dst[i] = s;
-        }
-      }
-      float* cols = out + c * sliceSize;
-      for (int j = 0; j < Ny; ++j)
-      {
-        float* dst = cols + static_cast<std::size_t>(j) * Nx;
-        std::fill(dst, dst + Nx, 0.f);
-        for (int t = 0; t < width; ++t)
-        {
-          const float* src = rows + static_cast<std::size_t>(clampIndex(j - Radius + t, Ny)) * Nx;
-          const float w = Taps[t];
-          for (int i = 0; i < Nx; ++i)
-          {
-            dst[i] += w * src[i];
-          }
-        }
+        const int x0 = static_cast<int>(static_cast<std::int64_t>(s.nx) * tx / xTiles);
+        const int x1 = static_cast<int>(static_cast<std::int64_t>(s.nx) * (tx + 1) / xTiles);
+        const int y0 = ty * s.tileY, y1 = std::min(s.ny, y0 + s.tileY);
+        tiles.push_back(Tile{ x0, x1, y0, y1, z0, z1 });
       }
     }
   }
-
-private:
-  void computeProducts(int z)
-  {
-    const std::size_t sliceSize = static_cast<std::size_t>(Nx) * Ny;
-    const float* cur = Opacity + static_cast<std::size_t>(z) * sliceSize;
-    const float* below = Opacity + static_cast<std::size_t>(clampIndex(z - 1, Nz)) * sliceSize;
-    const float* above = Opacity + static_cast<std::size_t>(clampIndex(z + 1, Nz)) * sliceSize;
-    float* p = Products.data();
-    for (int j = 0; j < Ny; ++j)
-    {
-      const std::size_t row = static_cast<std::size_t>(j) * Nx;
-      const float* prevRow = cur + static_cast<std::size_t>(clampIndex(j - 1, Ny)) * Nx;
-      const float* nextRow = cur + static_cast<std::size_t>(clampIndex(j + 1, Ny)) * Nx;
-      for (int i = 0; i < Nx; ++i)
-      {
-        const int im = i > 0 ? i - 1 : 0, ip = i + 1 < Nx ? i + 1 : Nx - 1;
-        const float gx = (cur[row + ip] - cur[row + im]) * Scale[0];
-        const float gy = (nextRow[i] - prevRow[i]) * Scale[1];
-        const float gz = (above[row + i] - below[row + i]) * Scale[2];
-        const std::size_t v = row + i;
-        p[0 * sliceSize + v] = gx * gx;
-        p[1 * sliceSize + v] = gx * gy;
-        p[2 * sliceSize + v] = gx * gz;
-        p[3 * sliceSize + v] = gy * gy;
-        p[4 * sliceSize + v] = gy * gz;
-        p[5 * sliceSize + v] = gz * gz;
-      }
-    }
-  }
-
-  const float* Opacity;
-  const int Nx, Ny, Nz;
-  const std::vector<float>& Taps;
-  const int Radius;
-  const float Scale[3];
-  std::vector<float> Products;
-  std::vector<float> PaddedRow;
-  std::vector<float> RowSmoothed;
-};
+  return tiles;
+}
 
 } // namespace
 
 void computeHarrisResponseCPU(
   const float* opacity, const ImageGrid& grid, const HarrisParameters& params, float* response)
 {
-  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
-  std::vector<float> taps(static_cast<std::size_t>(params.kernelWidth));
-  gaussianTaps(params, taps.data());
-  const int width = params.kernelWidth, radius = width / 2;
-  const float k = static_cast<float>(params.k);
-  int plane = -1;
-  if (grid.extendedAxes() == 2)
-  {
-    plane = nx == 1 ? 0 : (ny == 1 ? 1 : 2);
-  }
-  const std::size_t sliceSize = static_cast<std::size_t>(nx) * ny;
-
+  const Setup s = makeSetup(opacity, grid, params);
+  const std::vector<Tile> tiles = makeTiles(s, omp_get_max_threads());
+  const TileFn<VolumeSink> run = tileFunction<VolumeSink>(s.width);
+  const long long count = static_cast<long long>(tiles.size());
 #pragma omp parallel
   {
-    // Each thread owns a contiguous run of output slices and the ring of smoothed slices
-    // it needs; the 2*radius halo slices at the ends of a run are computed twice.
-    const int threads = omp_get_num_threads(), id = omp_get_thread_num();
-    const int z0 = static_cast<int>(static_cast<std::int64_t>(nz) * id / threads);
-    const int z1 = static_cast<int>(static_cast<std::int64_t>(nz) * (id + 1) / threads);
-    if (z0 < z1)
+    Scratch scratch(s);
+#pragma omp for schedule(dynamic, 1)
+    for (long long i = 0; i < count; ++i)
     {
-      SliceSmoother smoother(opacity, grid, taps);
-      std::vector<float> ring(static_cast<std::size_t>(width) * Channels * sliceSize);
-      std::vector<int> ringSlice(static_cast<std::size_t>(width), -1);
-      std::vector<float> tensorRow(static_cast<std::size_t>(Channels) * nx);
-      auto smoothed = [&](int zClamped) -> const float* {
-        const int slot = zClamped % width;
-        float* data = ring.data() + static_cast<std::size_t>(slot) * Channels * sliceSize;
-        if (ringSlice[slot] != zClamped)
-        {
-          smoother.smoothSlice(zClamped, data);
-          ringSlice[slot] = zClamped;
-        }
-        return data;
-      };
-      std::vector<const float*> window(static_cast<std::size_t>(width));
-      for (int z = z0; z < z1; ++z)
-      {
-        for (int t = 0; t < width; ++t)
-        {
-          window[t] = smoothed(clampIndex(z - radius + t, nz));
-        }
-        for (int j = 0; j < ny; ++j)
-        {
-          const std::size_t row = static_cast<std::size_t>(j) * nx;
-          for (int c = 0; c < Channels; ++c)
-          {
-            float* dst = tensorRow.data() + static_cast<std::size_t>(c) * nx;
-            std::fill(dst, dst + nx, 0.f);
-            for (int t = 0; t < width; ++t)
-            {
-              const float* src = window[t] + c * sliceSize + row;
-              const float w = taps[t];
-              for (int i = 0; i < nx; ++i)
-              {
-                dst[i] += w * src[i];
-              }
-            }
-          }
-          float* out = response + static_cast<std::size_t>(z) * sliceSize + row;
-          for (int i = 0; i < nx; ++i)
-          {
-            const float m[Channels] = { tensorRow[i], tensorRow[nx + i], tensorRow[2 * nx + i],
-              tensorRow[3 * nx + i], tensorRow[4 * nx + i], tensorRow[5 * nx + i] };
-            out[i] = harrisFromTensor(m, k, plane);
-          }
-        }
-      }
+      const Tile& t = tiles[static_cast<std::size_t>(i)];
+      VolumeSink sink{ response, static_cast<std::size_t>(s.nx),
+        static_cast<std::size_t>(s.nx) * static_cast<std::size_t>(s.ny), t.x0 };
+      run(s, t, scratch, sink);
     }
   }
+}
+
+InterestPoints computeHarrisTopNCPU(const float* opacity, const ImageGrid& grid,
+  const HarrisParameters& params, int N, const VoxelBox* candidates)
+{
+  if (N <= 0)
+  {
+    return InterestPoints();
+  }
+  const Setup s = makeSetup(opacity, grid, params);
+  const std::vector<Tile> tiles = makeTiles(s, omp_get_max_threads());
+  const TileFn<CollectSink> run = tileFunction<CollectSink>(s.width);
+  VoxelBox box;
+  for (int a = 0; a < 3; ++a)
+  {
+    box.hi[a] = grid.dims[a] - 1;
+  }
+  if (candidates)
+  {
+    box = *candidates;
+  }
+  const long long count = static_cast<long long>(tiles.size());
+  std::vector<TopResponseCollector> collectors;
+#pragma omp parallel
+  {
+#pragma omp single
+    collectors.assign(static_cast<std::size_t>(omp_get_num_threads()),
+      TopResponseCollector(static_cast<std::size_t>(N)));
+    Scratch scratch(s);
+    TopResponseCollector& mine = collectors[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (long long i = 0; i < count; ++i)
+    {
+      const Tile& t = tiles[static_cast<std::size_t>(i)];
+      CollectSink sink{ &mine, scratch.row.data(), s.nx,
+        static_cast<std::int64_t>(s.nx) * s.ny, t.x0, t.x1, box };
+      run(s, t, scratch, sink);
+    }
+  }
+  return mergeCollectors(collectors, N);
 }
 
 } // namespace mcv

@@ -6,9 +6,16 @@
 //
 // For a single slice (one axis of size 1) the 2D form R = det(M2) - k tr(M2)^2 on the two
 // in-plane axes is used, since the 3D determinant of a slice is always zero.
+//
+// The CPU path rounds as the CUDA kernel does (cuda/HarrisKernel.cu): each Gaussian pass
+// is a chain of fused multiply-adds from 0 in tap order (x, then y, then z), the gradient
+// products and the response are formed from the same expressions.
 #pragma once
 
 #include "ImageGrid.h"
+#include "TopResponses.h"
+
+#include <array>
 
 namespace mcv
 {
@@ -30,5 +37,20 @@ const char* checkHarrisParameters(const HarrisParameters& params);
 // floats, x fastest. Requires grid.extendedAxes() >= 2 and valid parameters.
 void computeHarrisResponseCPU(
   const float* opacity, const ImageGrid& grid, const HarrisParameters& params, float* response);
+
+// Voxels that may become interest points: the box [lo, hi] of block indices (inclusive).
+struct VoxelBox
+{
+  std::array<int, 3> lo{ 0, 0, 0 };
+  std::array<int, 3> hi{ -1, -1, -1 };
+};
+
+// CPU (OpenMP) top-N of the response, without storing it: the same points, in the same
+// order, as computeHarrisResponseCPU followed by selectTopResponsesCPU (the response of
+// each tile is offered to a per-thread TopResponseCollector while it is in cache).
+// `candidates` (optional) limits the points to a box, e.g. the voxels a process owns; its
+// responses are still computed from the whole block. Same requirements as above.
+InterestPoints computeHarrisTopNCPU(const float* opacity, const ImageGrid& grid,
+  const HarrisParameters& params, int N, const VoxelBox* candidates = nullptr);
 
 } // namespace mcv
