@@ -20,8 +20,9 @@
 //
 // Rounding follows the CUDA kernel: every Gaussian pass is a chain of fused multiply-adds
 // from 0 in tap order, the gradients and products are the same expressions, and the
-// response is formed as harrisFromTensor below says. This file is compiled with
-// -ffp-contract=off, so only the written fma calls fuse.
+// response is fused where the kernel's machine code fuses it (HarrisTileKernels.inl,
+// harrisFromTensor). This file is compiled with -ffp-contract=off, so only the written fma
+// calls fuse.
 
 #if defined(__GNUC__) || defined(__clang__)
 #define MCV_HARRIS_INLINE inline __attribute__((always_inline))
@@ -182,6 +183,10 @@ MCV_HARRIS_INLINE float fmadd(float a, float b, float c)
 {
   return std::fma(a, b, c);
 }
+MCV_HARRIS_INLINE float negate(float a)
+{
+  return -a;
+}
 #include "HarrisTileKernels.inl"
 } // namespace portable
 
@@ -249,6 +254,14 @@ MCV_HARRIS_INLINE Pack fmadd(Pack a, Pack b, Pack c)
 {
   return { _mm256_fmadd_ps(a.v, b.v, c.v) };
 }
+MCV_HARRIS_INLINE float negate(float a)
+{
+  return -a;
+}
+MCV_HARRIS_INLINE Pack negate(Pack a)
+{
+  return { _mm256_xor_ps(a.v, _mm256_set1_ps(-0.f)) };
+}
 #include "HarrisTileKernels.inl"
 } // namespace avx2
 #pragma GCC pop_options
@@ -265,30 +278,32 @@ template <class Sink>
 using TileFn = void (*)(const Setup&, const Tile&, Scratch&, Sink&);
 
 template <class Sink, int W>
-TileFn<Sink> tileFunctionFor()
+TileFn<Sink> tileFunctionFor(HarrisCpuKernel kernel)
 {
 #ifdef MCV_HARRIS_X86
-  if (hasAvx2Fma())
+  if (kernel == HarrisCpuKernel::Auto && hasAvx2Fma())
   {
     return &avx2::runTile<W, Sink>;
   }
+#else
+  (void)kernel;
 #endif
   return &portable::runTile<W, Sink>;
 }
 
 template <class Sink>
-TileFn<Sink> tileFunction(int width)
+TileFn<Sink> tileFunction(int width, HarrisCpuKernel kernel)
 {
   switch (width)
   {
     case 3:
-      return tileFunctionFor<Sink, 3>();
+      return tileFunctionFor<Sink, 3>(kernel);
     case 5:
-      return tileFunctionFor<Sink, 5>();
+      return tileFunctionFor<Sink, 5>(kernel);
     case 7:
-      return tileFunctionFor<Sink, 7>();
+      return tileFunctionFor<Sink, 7>(kernel);
     default:
-      return tileFunctionFor<Sink, 0>();
+      return tileFunctionFor<Sink, 0>(kernel);
   }
 }
 
@@ -354,12 +369,12 @@ std::vector<Tile> makeTiles(const Setup& s, int threads)
 
 } // namespace
 
-void computeHarrisResponseCPU(
-  const float* opacity, const ImageGrid& grid, const HarrisParameters& params, float* response)
+void computeHarrisResponseCPU(const float* opacity, const ImageGrid& grid,
+  const HarrisParameters& params, float* response, HarrisCpuKernel kernel)
 {
   const Setup s = makeSetup(opacity, grid, params);
   const std::vector<Tile> tiles = makeTiles(s, omp_get_max_threads());
-  const TileFn<VolumeSink> run = tileFunction<VolumeSink>(s.width);
+  const TileFn<VolumeSink> run = tileFunction<VolumeSink>(s.width, kernel);
   const long long count = static_cast<long long>(tiles.size());
 #pragma omp parallel
   {
@@ -384,7 +399,7 @@ InterestPoints computeHarrisTopNCPU(const float* opacity, const ImageGrid& grid,
   }
   const Setup s = makeSetup(opacity, grid, params);
   const std::vector<Tile> tiles = makeTiles(s, omp_get_max_threads());
-  const TileFn<CollectSink> run = tileFunction<CollectSink>(s.width);
+  const TileFn<CollectSink> run = tileFunction<CollectSink>(s.width, HarrisCpuKernel::Auto);
   VoxelBox box;
   for (int a = 0; a < 3; ++a)
   {

@@ -33,10 +33,18 @@ void gaussianTaps(const HarrisParameters& params, float* taps);
 // Returns an empty string when the parameters are usable, else what is wrong.
 const char* checkHarrisParameters(const HarrisParameters& params);
 
+// The CPU path's instructions: AVX2 with FMA where the CPU has them, else plain floats
+// (std::fma); Portable forces the latter. Both give the same bits (a test compares them).
+enum class HarrisCpuKernel
+{
+  Auto,
+  Portable
+};
+
 // CPU (OpenMP) response for every voxel. `opacity` and `response` hold grid.voxelCount()
 // floats, x fastest. Requires grid.extendedAxes() >= 2 and valid parameters.
-void computeHarrisResponseCPU(
-  const float* opacity, const ImageGrid& grid, const HarrisParameters& params, float* response);
+void computeHarrisResponseCPU(const float* opacity, const ImageGrid& grid,
+  const HarrisParameters& params, float* response, HarrisCpuKernel kernel = HarrisCpuKernel::Auto);
 
 // Voxels that may become interest points: the box [lo, hi] of block indices (inclusive).
 struct VoxelBox

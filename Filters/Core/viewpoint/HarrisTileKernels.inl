@@ -2,7 +2,7 @@
 // and included there twice: in a namespace compiled for AVX2 + FMA and in a portable one.
 // The includer provides, in the enclosing namespace:
 //   Pack, kLanes      a vector of kLanes floats (float and 1 in the portable build) with
-//                     +, -, * and fmadd(a, b, c) = a * b + c rounded once,
+//                     +, -, *, negate(a) = -a and fmadd(a, b, c) = a * b + c rounded once,
 //   load<P>(p), store(p, v), splat<P>(x) for P = Pack and P = float.
 // The loops go kLanes voxels at a time; a row's last, partial vector is done as the
 // vector ending at the row's end (overlapping the one before, which writes the same values
@@ -40,19 +40,23 @@ MCV_HARRIS_INLINE void forEachVector(int begin, int end, F&& f)
   }
 }
 
-// Response from the smoothed structure tensor, as the CUDA kernel rounds it (its 3D form
-// compiles to separate products and differences, the last cofactor term fused).
+// Response from the smoothed structure tensor, rounded as the CUDA kernel's machine code
+// does (nvcc 13 for sm_90 fuses each product-difference a b - c d into fma(a, b, -(c d)),
+// the last cofactor term and the trace term; read from its SASS): with the passes above
+// alike, the CPU's float response is the GPU's, bit for bit.
 template <class P>
 MCV_HARRIS_INLINE P harrisFromTensor(P xx, P xy, P xz, P yy, P yz, P zz, float kValue, int plane)
 {
   const P k = splat<P>(kValue);
   if (plane < 0)
   {
-    const P a = xx * (yy * zz - yz * yz);
-    const P b = xy * (xy * zz - yz * xz);
-    const P det = fmadd(xz, xy * yz - yy * xz, a - b);
+    const P minorX = fmadd(yy, zz, negate(yz * yz));       // yy zz - yz^2
+    const P minorY = fmadd(xy, zz, negate(yz * xz));       // xy zz - yz xz
+    const P minorZ = fmadd(xy, yz, negate(yy * xz));       // xy yz - yy xz
+    const P twoTerms = fmadd(xx, minorX, negate(xy * minorY));
+    const P det = fmadd(xz, minorZ, twoTerms);
     const P tr = (xx + yy) + zz;
-    return det - tr * (tr * (tr * k));
+    return fmadd(negate(tr), tr * (tr * k), det); // det - k tr^3
   }
   P a, b, c; // the in-plane 2x2 block [a b; b c]
   if (plane == 2)
@@ -68,7 +72,7 @@ MCV_HARRIS_INLINE P harrisFromTensor(P xx, P xy, P xz, P yy, P yz, P zz, float k
     a = yy, b = yz, c = zz;
   }
   const P tr = a + c;
-  return (a * c - b * b) - tr * (tr * k);
+  return fmadd(negate(tr), tr * k, fmadd(a, c, negate(b * b))); // (a c - b^2) - k tr^2
 }
 
 // The six gradient products of voxels i .. i + lanes - 1 of a row, into products q ...
