@@ -331,7 +331,9 @@ Setup makeSetup(const float* opacity, const ImageGrid& grid, const HarrisParamet
   const int xTiles = s.nx <= kMaxTileX ? 1 : (s.nx + 255) / 256;
   s.tileX = (s.nx + xTiles - 1) / xTiles;
   const std::size_t rowBytes = sizeof(float) * Channels * static_cast<std::size_t>(s.tileX) * (s.width + 1);
-  s.tileY = std::max(1, std::min(s.ny, std::max(4, static_cast<int>(kTileBytes / rowBytes))));
+  const int fit = std::max(4, static_cast<int>(kTileBytes / rowBytes));
+  const int yTiles = (s.ny + fit - 1) / fit; // then rows shared out evenly among them
+  s.tileY = std::max(1, (s.ny + yTiles - 1) / yTiles);
   return s;
 }
 
