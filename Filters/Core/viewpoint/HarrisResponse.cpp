@@ -20,7 +20,7 @@
 //
 // Rounding follows the CUDA kernel: every Gaussian pass is a chain of fused multiply-adds
 // from 0 in tap order, the gradients and products are the same expressions, and the
-// response is fused where the kernel's machine code fuses it (HarrisTileKernels.inl,
+// response is fused where the kernel's machine code fuses it (HarrisTileKernels.h,
 // harrisFromTensor). This file is compiled with -ffp-contract=off, so only the written fma
 // calls fuse.
 
@@ -187,7 +187,7 @@ MCV_HARRIS_INLINE float negate(float a)
 {
   return -a;
 }
-#include "HarrisTileKernels.inl"
+#include "HarrisTileKernels.h"
 } // namespace portable
 
 #ifdef MCV_HARRIS_X86
@@ -262,7 +262,7 @@ MCV_HARRIS_INLINE Pack negate(Pack a)
 {
   return { _mm256_xor_ps(a.v, _mm256_set1_ps(-0.f)) };
 }
-#include "HarrisTileKernels.inl"
+#include "HarrisTileKernels.h"
 } // namespace avx2
 #pragma GCC pop_options
 

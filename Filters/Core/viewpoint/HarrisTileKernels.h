@@ -1,5 +1,6 @@
 // The CPU Harris response of one tile (HarrisResponse.cpp), written once for any SIMD width
-// and included there twice: in a namespace compiled for AVX2 + FMA and in a portable one.
+// and included there twice: in a namespace compiled for AVX2 + FMA and in a portable one
+// (hence no include guard; no other file includes it).
 // The includer provides, in the enclosing namespace:
 //   Pack, kLanes      a vector of kLanes floats (float and 1 in the portable build) with
 //                     +, -, *, negate(a) = -a and fmadd(a, b, c) = a * b + c rounded once,
