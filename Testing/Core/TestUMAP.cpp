@@ -2,6 +2,7 @@
 // kNN distances, two separated blobs, the order along a curve, determinism, bad inputs.
 #include "DimensionReduction.h"
 #include "FeatureKnn.h"
+#include "ModelDistance.h"
 #include "OutOfSample.h"
 #include "UMAPEmbedding.h"
 #include "UMAPGraph.h"
@@ -251,6 +252,40 @@ TEST(UMAP, TwoBlobsStaySeparated)
     {
       EXPECT_EQ(i < n ? 0 : 1, c) << "point " << i << " among the 10 nearest of centre " << c;
     }
+  }
+}
+
+// The reference radius (ModelDistance.h) that UMAP's kNN graph finds on the way is the one
+// referenceRadius searches for, bit for bit, with and without duplicate rows; where the
+// graph cannot know it (its kd-tree in low dimension), the fit leaves it to referenceRadius.
+TEST(UMAP, ReferenceRadiusFromTheGraphIsTheSearchedOne)
+{
+  const Blobs b = twoBlobs(300, 11);
+  mcv::UMAPOptions o;
+  o.numberOfEpochs = 5;
+  mcv::RowMatrixF dup(400, 10);
+  dup << b.X.topRows(200), b.X.topRows(200);
+  for (const mcv::RowMatrixF* X : std::vector<const mcv::RowMatrixF*>{ &b.X, &dup })
+  {
+    const mcv::KnnGraph g = mcv::buildKnnGraph(X->data(), static_cast<std::size_t>(X->rows()), 10, 15);
+    if (g.largestFourthSquaredDistance < 0)
+    {
+      GTEST_SKIP() << "the graph of 10D points came from the kd-tree here";
+    }
+    const mcv::Embedding e = mcv::fitUMAP(*X, o);
+    ASSERT_TRUE(e.error.empty()) << e.error;
+    EXPECT_EQ(e.referenceRadius, mcv::referenceRadius(*X)) << X->rows() << " rows";
+    EXPECT_GT(e.referenceRadius, 0.0);
+  }
+  const mcv::RowMatrixF low = b.X.leftCols(2);
+  const mcv::KnnGraph g = mcv::buildKnnGraph(low.data(), static_cast<std::size_t>(low.rows()), 2, 15);
+  if (g.largestFourthSquaredDistance < 0)
+  {
+    EXPECT_EQ(mcv::fitUMAP(low, o).referenceRadius, -1.0);
+  }
+  else
+  {
+    EXPECT_EQ(mcv::fitUMAP(low, o).referenceRadius, mcv::referenceRadius(low));
   }
 }
 

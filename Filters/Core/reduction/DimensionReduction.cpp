@@ -418,7 +418,7 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
   fit.eigenvalues = std::move(embedding.eigenvalues);
   fit.varianceRetained = embedding.varianceRetained;
   measureTrustworthiness(refX, options, fit);
-  fit.referenceRadius = referenceRadius(refX);
+  fit.referenceRadius = embedding.referenceRadius >= 0.0 ? embedding.referenceRadius : referenceRadius(refX);
   return fit;
 }
 

@@ -24,6 +24,10 @@ struct Embedding
   RowMatrixF coordinates;            // n x d, one row per reference point
   std::vector<double> eigenvalues;   // the method's spectrum (see ReductionResult)
   double varianceRetained = 0.0;     // top-d / sum of positive eigenvalues (PCA, Isomap)
+  // referenceRadius(X) (ModelDistance.h), where the method found it on the way (UMAP's exact
+  // kNN graph holds every point's 3 nearest others), so it need not be searched again; -1
+  // when not computed.
+  double referenceRadius = -1.0;
 };
 
 // Makes each column's largest-magnitude entry positive: eigenvectors come with an

@@ -152,7 +152,9 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
   std::unique_ptr<ExactKnn> tiled(bruteForce ? new ExactKnn(data, n, dim, KnnMethod::BruteForce) : nullptr);
   std::unique_ptr<KnnIndex> tree(bruteForce ? nullptr : new KnnIndex(data, n, dim));
   const long long blocks = static_cast<long long>((n + kKnnQueryBlock - 1) / kKnnQueryBlock);
-#pragma omp parallel
+  const bool fourthKnown = tiled && k1 >= 4;
+  double largestFourth = 0.0;
+#pragma omp parallel reduction(max : largestFourth)
   {
     std::vector<std::uint32_t> idx(kKnnQueryBlock * static_cast<std::size_t>(k1));
     std::vector<double> d2(idx.size());
@@ -179,6 +181,10 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
       for (std::size_t r = 0; r < count; ++r)
       {
         const std::size_t i = first + r;
+        if (fourthKnown)
+        {
+          largestFourth = std::max(largestFourth, d2[r * k1 + 3]);
+        }
         // Drop the point itself; if an exact duplicate took its place, drop the last one.
         std::size_t out = 0;
         bool selfSeen = false;
@@ -196,6 +202,10 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
         }
       }
     }
+  }
+  if (fourthKnown)
+  {
+    g.largestFourthSquaredDistance = largestFourth;
   }
   return g;
 }

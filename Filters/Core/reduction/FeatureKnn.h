@@ -45,6 +45,11 @@ struct KnnGraph
   int k = 0;
   std::vector<std::uint32_t> neighbors;
   std::vector<float> distances;
+  // The largest, over the points, squared distance to the 4th nearest point counting the
+  // point itself, in ExactKnn's canonical double arithmetic: what referenceRadius
+  // (ModelDistance.h) takes the root of, found on the way by the tiled brute force when
+  // k >= 3. -1 when not known (the kd-tree's float distances, or k < 3).
+  double largestFourthSquaredDistance = -1.0;
 };
 KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k);
 
