@@ -23,6 +23,7 @@
 // points, and prints its stages and the ratio slabs / whole (volume resident, and with the
 // whole volume's pageable upload). --large N streams an N^3 uint8 volume (tiles of the
 // structured volume) whose whole-volume buffers exceed the device, under the default budget.
+#include "cuda/DeviceProbe.h"
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
 #include "cuda/HarrisSlabStream.h"

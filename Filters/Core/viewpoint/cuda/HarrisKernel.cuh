@@ -56,10 +56,6 @@ template <typename T>
 cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
   cudaStream_t stream, int* usedZChunk, int variant = -1);
 
-// cudaSuccess when this build holds code the current device can run (else, typically,
-// cudaErrorNoKernelImageForDevice).
-cudaError_t probeHarrisKernel();
-
 } // namespace detail
 } // namespace cuda
 } // namespace mcv

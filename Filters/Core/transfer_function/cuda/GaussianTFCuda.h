@@ -9,7 +9,7 @@
 // operations as the CPU path for the log-weights, expf for the exponentials.
 #pragma once
 
-#include "../Filters/Core/transfer_function/GaussianTransferFunction.h"
+#include "GaussianTransferFunction.h"
 
 #include <cstddef>
 #include <cstdint>

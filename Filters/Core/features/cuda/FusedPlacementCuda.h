@@ -16,9 +16,9 @@
 // (whole slabs, in order), so the core places the rest on the CPU.
 #pragma once
 
-#include "OutOfSampleCuda.h"
+#include "cuda/OutOfSampleCuda.h"
 
-#include "../Filters/Core/features/FeatureVectors.h"
+#include "FeatureVectors.h"
 
 #include <cstddef>
 #include <functional>

@@ -1,7 +1,7 @@
 #include "HarrisPipeline.h"
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
 #include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "TopNSelect.cuh"

@@ -5,8 +5,8 @@
 // sample the same edges.
 #include "UMAPLayoutCuda.h"
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
 #include "UMAPLayoutStep.h"
 
 #include <algorithm>

@@ -4,7 +4,7 @@
 // step by step (__f*_rn: no FMA contraction) so both give the same bits.
 #pragma once
 
-#include "../Filters/Core/features/FeatureVectors.h"
+#include "FeatureVectors.h"
 
 #include <cstdint>
 

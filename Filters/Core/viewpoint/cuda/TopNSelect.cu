@@ -1,6 +1,6 @@
 #include "TopNSelect.cuh"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 #include "HarrisKernel.cuh" // kLevel1Bins
 
 #include <cub/block/block_scan.cuh>

@@ -4,9 +4,9 @@
 // partials summed on the host in double, and an elementwise normalisation.
 #include "FeaturesCuda.h"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 #include "FeatureKernels.cuh"
-#include "OrderedKey.cuh"
+#include "cuda/OrderedKey.cuh"
 
 #include <algorithm>
 #include <cmath>

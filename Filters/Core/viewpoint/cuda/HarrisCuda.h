@@ -3,9 +3,9 @@
 // MCV_ENABLE_CUDA is on (the core then defines MCV_HAS_CUDA).
 #pragma once
 
-#include "../Filters/Core/viewpoint/HarrisResponse.h"
-#include "../Filters/Core/common/ImageGrid.h"
-#include "../Filters/Core/viewpoint/TopResponses.h"
+#include "HarrisResponse.h"
+#include "ImageGrid.h"
+#include "TopResponses.h"
 
 #include <cstddef>
 #include <string>
@@ -14,14 +14,6 @@ namespace mcv
 {
 namespace cuda
 {
-
-// True when a CUDA device can be used; else `reason` says why (never reads the device
-// count after an error: see notes/gpu.md).
-bool deviceUsable(std::string* reason = nullptr);
-
-// True once a sticky CUDA error (illegal address, launch failure, ...) has left this
-// process's GPU context unusable; `reason` says which. Every later CUDA call would fail.
-bool contextLost(std::string* reason = nullptr);
 
 struct GpuStageTimings
 {

@@ -22,7 +22,7 @@
 // stable CUB radix sort do the same steps.
 #pragma once
 
-#include "../Filters/Core/viewpoint/TopResponses.h"
+#include "TopResponses.h"
 
 #include <cuda_runtime.h>
 

@@ -3,7 +3,7 @@
 // every transfer-function edit), and grow to the largest volume seen.
 #include "HarrisCuda.h"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 #include "HarrisKernel.cuh"
 #include "HarrisPipeline.h"
 #include "HarrisSlabStream.h"
@@ -58,58 +58,7 @@ void releaseAfterFailure(HarrisPipeline& pipeline, InterestPoints* out)
   }
 }
 
-bool setReason(std::string* reason, const std::string& why)
-{
-  if (reason)
-  {
-    *reason = why;
-  }
-  return false;
-}
-
 } // namespace
-
-bool deviceUsable(std::string* reason)
-{
-  std::string lost;
-  if (contextLost(&lost))
-  {
-    return setReason(reason, lost);
-  }
-  int count = 0;
-  cudaError_t err = cudaGetDeviceCount(&count);
-  if (err != cudaSuccess)
-  {
-    // Without a driver (or with one too old) the count is undefined: never read it.
-    (void)cudaGetLastError();
-    return setReason(reason, std::string("no usable CUDA driver: ") + cudaGetErrorString(err));
-  }
-  if (count <= 0)
-  {
-    return setReason(reason, "no CUDA device");
-  }
-  int device = 0, major = 0, minor = 0;
-  if ((err = cudaGetDevice(&device)) != cudaSuccess ||
-    (err = cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, device)) != cudaSuccess ||
-    (err = cudaDeviceGetAttribute(&minor, cudaDevAttrComputeCapabilityMinor, device)) != cudaSuccess)
-  {
-    (void)cudaGetLastError();
-    return setReason(reason, std::string("cannot query the CUDA device: ") + cudaGetErrorString(err));
-  }
-  if ((err = cudaFree(nullptr)) != cudaSuccess) // creates the context: busy/unavailable devices
-  {
-    (void)cudaGetLastError();
-    return setReason(reason, std::string("cannot use CUDA device ") + std::to_string(device) +
-        ": " + cudaGetErrorString(err));
-  }
-  if ((err = detail::probeHarrisKernel()) != cudaSuccess)
-  {
-    (void)cudaGetLastError();
-    return setReason(reason, "this build has no GPU code for compute capability " +
-        std::to_string(major) + "." + std::to_string(minor) + " (" + cudaGetErrorString(err) + ")");
-  }
-  return true;
-}
 
 bool harrisTopN(const float* hostOpacity, const ImageGrid& grid, const HarrisParameters& params,
   int N, InterestPoints& out, std::string* error, GpuStageTimings* timings)

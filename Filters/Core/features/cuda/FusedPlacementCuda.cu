@@ -3,9 +3,9 @@
 // coordinates down.
 #include "FusedPlacementCuda.h"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 #include "SlabStream.cuh"
-#include "StagingCopy.h"
+#include "cuda/StagingCopy.h"
 
 #include <cstring>
 

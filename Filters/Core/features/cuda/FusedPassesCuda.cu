@@ -4,11 +4,11 @@
 // every run.
 #include "FusedPassesCuda.h"
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
-#include "OrderedKey.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
+#include "cuda/OrderedKey.cuh"
 #include "SlabStream.cuh"
-#include "StagingCopy.h"
+#include "cuda/StagingCopy.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Error handling of the CUDA path: every CUDA call is checked; a failure becomes `false`
 // with a message (file, line, call, CUDA's own words) so the core can fall back to the CPU.
 // A sticky error (the context is lost until the process ends) is also recorded, so that
-// later GPU requests go to the CPU at once (contextLost in HarrisCuda.h). Checked calls
+// later GPU requests go to the CPU at once (contextLost in DeviceProbe.h). Checked calls
 // are the injection points of FaultInjection.h.
 #pragma once
 

@@ -1,6 +1,6 @@
-// The sticky-error record of CudaCheck.h and contextLost (HarrisCuda.h).
+// The sticky-error record of CudaCheck.h and contextLost (DeviceProbe.h).
 #include "CudaCheck.h"
-#include "HarrisCuda.h"
+#include "DeviceProbe.h"
 
 #include <atomic>
 #include <mutex>

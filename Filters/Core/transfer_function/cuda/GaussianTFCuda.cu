@@ -1,6 +1,6 @@
 #include "GaussianTFCuda.h"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 
 #include <cuda_fp16.h>
 #include <cuda_runtime.h>

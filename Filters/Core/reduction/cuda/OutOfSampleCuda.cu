@@ -6,8 +6,8 @@
 
 #include <math_constants.h>
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
 #include "ReferenceTiles.h"
 
 #include <cub/device/device_radix_sort.cuh>

@@ -2,8 +2,8 @@
 // compacted (an atomic counter; sorted on the host, they are few).
 #include "SampleKeysCuda.h"
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
 
 #include <algorithm>
 

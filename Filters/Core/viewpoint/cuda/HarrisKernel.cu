@@ -510,12 +510,6 @@ cudaError_t launchRadius(
 
 } // namespace
 
-cudaError_t probeHarrisKernel()
-{
-  cudaFuncAttributes attributes;
-  return cudaFuncGetAttributes(&attributes, harrisKernel<float, 2, kHarrisDefaultVariant>);
-}
-
 template <typename T>
 cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
   cudaStream_t stream, int* usedZChunk, int variant)

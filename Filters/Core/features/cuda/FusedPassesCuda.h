@@ -23,7 +23,7 @@
 
 #include "FusedPlacementCuda.h"
 
-#include "../Filters/Core/common/FeatureRows.h"
+#include "FeatureRows.h"
 
 #include <cstddef>
 #include <cstdint>

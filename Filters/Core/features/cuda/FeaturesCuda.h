@@ -8,7 +8,7 @@
 // buffer. Same per-voxel float arithmetic as the CPU path; statistics in double.
 #pragma once
 
-#include "../Filters/Core/features/FeatureVectors.h"
+#include "FeatureVectors.h"
 
 #include <cstddef>
 #include <memory>

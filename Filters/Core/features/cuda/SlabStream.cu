@@ -2,7 +2,7 @@
 // features (and the normalisation) on the device, then the pass's own work; two streams.
 #include "SlabStream.cuh"
 
-#include "CudaCheck.h"
+#include "cuda/CudaCheck.h"
 #include "FeatureKernels.cuh"
 
 #include <algorithm>

@@ -1,11 +1,11 @@
 #include "HarrisSlabStream.h"
 
-#include "CudaCheck.h"
-#include "DeviceBuffer.cuh"
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
 #include "HarrisArgs.cuh"
 #include "HarrisKernel.cuh"
 #include "HarrisPipeline.h"
-#include "StagingCopy.h"
+#include "cuda/StagingCopy.h"
 #include "TopNSelect.cuh"
 
 #include <algorithm>
