@@ -65,6 +65,318 @@ __device__ __forceinline__ void forPhases(F& f, int sv, int svEnd)
   }
 }
 
+// The block's level-1 histogram (kLevel1Bins counts in shared memory), cleared.
+__device__ __forceinline__ void clearHistogram(unsigned* sHist, int tid)
+{
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+  {
+    sHist[i] = 0;
+  }
+}
+
+// In-plane source offsets of this thread's input-tile elements (clamped: replicated border);
+// -1 for an element past the tile.
+template <int R>
+__device__ __forceinline__ void inputOffsets(
+  int (&inOff)[TileShape<R>::LOADS], int tid, int x0, int y0, int nx, int ny)
+{
+  using S = TileShape<R>;
+#pragma unroll
+  for (int i = 0; i < S::LOADS; ++i)
+  {
+    const int e = tid + i * kHarrisThreads;
+    if (e < S::IS)
+    {
+      const int ly = e / S::IW, lx = e - ly * S::IW;
+      inOff[i] = clampi(y0 - R - 1 + ly, 0, ny - 1) * nx + clampi(x0 - R - 1 + lx, 0, nx - 1);
+    }
+    else
+    {
+      inOff[i] = -1;
+    }
+  }
+}
+
+// This thread's elements of input slice q into registers (the next slice, loaded ahead of
+// its use).
+template <int R, typename T>
+__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], const T* in, int q,
+  std::size_t plane, const int (&inOff)[TileShape<R>::LOADS])
+{
+  const T* src = in + static_cast<std::size_t>(q) * plane;
+#pragma unroll
+  for (int i = 0; i < TileShape<R>::LOADS; ++i)
+  {
+    pre[i] = inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
+  }
+}
+
+// The loaded slice q into its slot of the ring of three input slices.
+template <int R>
+__device__ __forceinline__ void storeSlice(
+  float* sIn, int q, const float (&pre)[TileShape<R>::LOADS], int tid)
+{
+  using S = TileShape<R>;
+  float* dst = sIn + (q % 3) * S::IS;
+#pragma unroll
+  for (int i = 0; i < S::LOADS; ++i)
+  {
+    const int e = tid + i * kHarrisThreads;
+    if (e < S::IS)
+    {
+      dst[e] = pre[i];
+    }
+  }
+}
+
+// Six gradient products of slice cz on the product tile. A product position outside the
+// grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
+// Interior blocks (the whole product tile inside the grid) skip the clamping.
+template <int R>
+__device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn, int cz,
+  bool interior, int x0, int y0, const HarrisKernelArgs& a, int tid)
+{
+  using S = TileShape<R>;
+  constexpr int IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
+  constexpr int CS = PH * PW; // channel stride of the product tile
+  const int nx = a.nx, ny = a.ny, nz = a.nz;
+  const float* sc = sIn + (cz % 3) * IS;
+  const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
+  const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+  auto at = [&](int c, int py, int px) {
+    const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
+    const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
+    const float gz = (sp[c] - sm[c]) * a.scaleZ;
+    float* d = sProd + py * PW + px;
+    d[0] = gx * gx;
+    d[CS] = gx * gy;
+    d[2 * CS] = gx * gz;
+    d[3 * CS] = gy * gy;
+    d[4 * CS] = gy * gz;
+    d[5 * CS] = gz * gz;
+  };
+  if (interior)
+  {
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+    {
+      const int py = p / PWa, px = p - py * PWa;
+      at((py + 1) * IW + px + 1, py, px);
+    }
+  }
+  else
+  {
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+    {
+      const int py = p / PWa, px = p - py * PWa;
+      const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
+      const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
+      at(cy * IW + cx, py, px);
+    }
+  }
+}
+
+// x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
+template <int R>
+__device__ __forceinline__ void xPass(float* sXb, const float* sProd, const HarrisKernelArgs& a, int tid)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, PW = S::PW, PH = S::PH, TX = kHarrisTileX;
+  constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
+  for (int t = tid; t < TASKS; t += kHarrisThreads)
+  {
+    const int row = t / XG; // channel * PH + row
+    const int g = t - row * XG;
+    const float4* src = reinterpret_cast<const float4*>(sProd + row * PW) + g;
+    float v[4 * NV];
+#pragma unroll
+    for (int j = 0; j < NV; ++j)
+    {
+      const float4 q = src[j];
+      v[4 * j] = q.x;
+      v[4 * j + 1] = q.y;
+      v[4 * j + 2] = q.z;
+      v[4 * j + 3] = q.w;
+    }
+    float o[4];
+#pragma unroll
+    for (int u = 0; u < 4; ++u)
+    {
+      float s = 0.f;
+#pragma unroll
+      for (int tt = 0; tt < W; ++tt)
+      {
+        s = fmaf(a.taps[tt], v[u + tt], s);
+      }
+      o[u] = s;
+    }
+    reinterpret_cast<float4*>(sXb + row * TX)[g] = make_float4(o[0], o[1], o[2], o[3]);
+  }
+}
+
+// The z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of a
+// thread: win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of slots).
+template <int W>
+using ZWindow = float[2][W][6];
+
+template <int W>
+__device__ __forceinline__ void clearWindow(ZWindow<W>& win)
+{
+#pragma unroll
+  for (int r = 0; r < 2; ++r)
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+#pragma unroll
+      for (int c = 0; c < 6; ++c)
+        win[r][t][c] = 0.f;
+}
+
+// y pass for the two voxels of this thread -> the newest z-window slot (slot P of the ring
+// when unrolled, else the window shifts by one).
+template <int R, bool UNROLL, int P>
+__device__ __forceinline__ void yPassStore(
+  ZWindow<2 * R + 1>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, PH = S::PH, TX = kHarrisTileX;
+  const int r0 = 2 * warp;
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    float col[W + 1];
+#pragma unroll
+    for (int j = 0; j < W + 1; ++j)
+    {
+      col[j] = sXb[(c * PH + r0 + j) * TX + lane];
+    }
+    float s0 = 0.f, s1 = 0.f;
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+    {
+      s0 = fmaf(a.taps[t], col[t], s0);
+      s1 = fmaf(a.taps[t], col[t + 1], s1);
+    }
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = s0;
+      win[1][P][c] = s1;
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+      win[0][W - 1][c] = s0;
+      win[1][W - 1][c] = s1;
+    }
+  }
+}
+
+// The clamped slice repeats (z border): the newest slice enters the window again.
+template <int W, bool UNROLL, int P>
+__device__ __forceinline__ void repeatStore(ZWindow<W>& win)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = win[0][(P + W - 1) % W][c];
+      win[1][P][c] = win[1][(P + W - 1) % W][c];
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+    }
+  }
+}
+
+// z pass of voxel rr of this thread after phase P: the smoothed structure tensor
+// m = (xx, xy, xz, yy, yz, zz).
+template <int W, bool UNROLL, int P>
+__device__ __forceinline__ void zSmooth(
+  float (&m)[6], const ZWindow<W>& win, int rr, const HarrisKernelArgs& a)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    float s = 0.f;
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+    {
+      // slot of the t-th oldest slice: a ring after phase P, else the shifted window
+      s = fmaf(a.taps[t], win[rr][UNROLL ? (P + 1 + t) % W : t][c], s);
+    }
+    m[c] = s;
+  }
+}
+
+// The Harris response of a smoothed tensor: det - k tr^3, or det2 - k tr2^2 on the x,y
+// block (planar).
+__device__ __forceinline__ float harrisResponse(const float (&m)[6], const HarrisKernelArgs& a)
+{
+  const float xx = m[0], xy = m[1], xz = m[2], yy = m[3], yz = m[4], zz = m[5];
+  float response;
+  if (a.planar)
+  {
+    const float tr = xx + yy;
+    response = (xx * yy - xy * xy) - a.k * tr * tr;
+  }
+  else
+  {
+    const float det =
+      xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    const float tr = xx + yy + zz;
+    response = det - a.k * tr * tr * tr;
+  }
+  return response;
+}
+
+// Candidates (R > 0, finite) counted by their top 11 bits in the block's histogram.
+__device__ __forceinline__ void countCandidate(
+  unsigned* sHist, float response, bool inside, int histMode, int lane)
+{
+  const bool cand = inside && response > 0.f && response <= FLT_MAX;
+  const unsigned bin = __float_as_uint(response) >> 21;
+  if (histMode == 0)
+  {
+    // one atomic per group of lanes that share a bin
+    const unsigned active = __ballot_sync(0xffffffffu, cand);
+    if (cand)
+    {
+      const unsigned peers = __match_any_sync(active, bin);
+      if (lane == __ffs(peers) - 1)
+      {
+        atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
+      }
+    }
+  }
+  else if (cand)
+  {
+    atomicAdd(&sHist[bin], 1u);
+  }
+}
+
+// The block's histogram added to the global one.
+__device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
+{
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+  {
+    const unsigned c = sHist[i];
+    if (c)
+    {
+      atomicAdd(&hist[i], static_cast<unsigned long long>(c));
+    }
+  }
+}
+
 // V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
 // compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2.
 template <typename T, int R, int V>
@@ -73,10 +385,8 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
 {
   constexpr bool UNROLL = (V & 1) != 0;
   using S = TileShape<R>;
-  constexpr int W = S::W, IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
-  constexpr int LOADS = S::LOADS;
+  constexpr int W = S::W;
   constexpr int TX = kHarrisTileX;
-  constexpr int CS = PH * PW; // channel stride of the product tile
 
   extern __shared__ float4 smem4[];
   float* sProd = reinterpret_cast<float*>(smem4);
@@ -93,232 +403,26 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   const bool withHist = a.hist != nullptr;
   if (withHist)
   {
-    for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
-    {
-      sHist[i] = 0;
-    }
+    clearHistogram(sHist, tid);
   }
 
-  // In-plane source offsets of this thread's input-tile elements (clamped: replicated border).
-  int inOff[LOADS];
-#pragma unroll
-  for (int i = 0; i < LOADS; ++i)
-  {
-    const int e = tid + i * kHarrisThreads;
-    if (e < IS)
-    {
-      const int ly = e / IW, lx = e - ly * IW;
-      inOff[i] = clampi(y0 - R - 1 + ly, 0, ny - 1) * nx + clampi(x0 - R - 1 + lx, 0, nx - 1);
-    }
-    else
-    {
-      inOff[i] = -1;
-    }
-  }
-  float pre[LOADS]; // the next input slice, loaded ahead of its use
-
-  auto loadSlice = [&](int q) {
-    const T* src = in + static_cast<std::size_t>(q) * plane;
-#pragma unroll
-    for (int i = 0; i < LOADS; ++i)
-    {
-      pre[i] = inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
-    }
-  };
-  auto storeSlice = [&](int q) {
-    float* dst = sIn + (q % 3) * IS;
-#pragma unroll
-    for (int i = 0; i < LOADS; ++i)
-    {
-      const int e = tid + i * kHarrisThreads;
-      if (e < IS)
-      {
-        dst[e] = pre[i];
-      }
-    }
-  };
-
-  // Six gradient products of slice cz on the product tile. A product position outside the
-  // grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
-  // Interior blocks (the whole product tile inside the grid) skip the clamping.
+  int inOff[S::LOADS];
+  inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
+  float pre[S::LOADS]; // the next input slice, loaded ahead of its use
   const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
     y0 + kHarrisTileY + R <= ny;
-  auto products = [&](int cz) {
-    const float* sc = sIn + (cz % 3) * IS;
-    const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
-    const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
-    auto at = [&](int c, int py, int px) {
-      const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
-      const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
-      const float gz = (sp[c] - sm[c]) * a.scaleZ;
-      float* d = sProd + py * PW + px;
-      d[0] = gx * gx;
-      d[CS] = gx * gy;
-      d[2 * CS] = gx * gz;
-      d[3 * CS] = gy * gy;
-      d[4 * CS] = gy * gz;
-      d[5 * CS] = gz * gz;
-    };
-    if (interior)
-    {
-      for (int p = tid; p < PH * PWa; p += kHarrisThreads)
-      {
-        const int py = p / PWa, px = p - py * PWa;
-        at((py + 1) * IW + px + 1, py, px);
-      }
-    }
-    else
-    {
-      for (int p = tid; p < PH * PWa; p += kHarrisThreads)
-      {
-        const int py = p / PWa, px = p - py * PWa;
-        const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
-        const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
-        at(cy * IW + cx, py, px);
-      }
-    }
-  };
-
-  // x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
-  auto xpass = [&]() {
-    constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
-    for (int t = tid; t < TASKS; t += kHarrisThreads)
-    {
-      const int row = t / XG; // channel * PH + row
-      const int g = t - row * XG;
-      const float4* src = reinterpret_cast<const float4*>(sProd + row * PW) + g;
-      float v[4 * NV];
-#pragma unroll
-      for (int j = 0; j < NV; ++j)
-      {
-        const float4 q = src[j];
-        v[4 * j] = q.x;
-        v[4 * j + 1] = q.y;
-        v[4 * j + 2] = q.z;
-        v[4 * j + 3] = q.w;
-      }
-      float o[4];
-#pragma unroll
-      for (int u = 0; u < 4; ++u)
-      {
-        float s = 0.f;
-#pragma unroll
-        for (int tt = 0; tt < W; ++tt)
-        {
-          s = fmaf(a.taps[tt], v[u + tt], s);
-        }
-        o[u] = s;
-      }
-      reinterpret_cast<float4*>(sXb + row * TX)[g] = make_float4(o[0], o[1], o[2], o[3]);
-    }
-  };
-
-  // z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of this
-  // thread: win[row][t][channel], t = 0 the oldest slice.
   float win[2][W][6];
-#pragma unroll
-  for (int r = 0; r < 2; ++r)
-#pragma unroll
-    for (int t = 0; t < W; ++t)
-#pragma unroll
-      for (int c = 0; c < 6; ++c)
-        win[r][t][c] = 0.f;
+  clearWindow<W>(win);
 
-  // y pass for the two voxels of this thread -> the newest z-window slot.
-  auto ypassStore = [&](auto phase) {
-    constexpr int P = decltype(phase)::value;
-    (void)P;
-    const int r0 = 2 * warp;
-#pragma unroll
-    for (int c = 0; c < 6; ++c)
-    {
-      float col[W + 1];
-#pragma unroll
-      for (int j = 0; j < W + 1; ++j)
-      {
-        col[j] = sXb[(c * PH + r0 + j) * TX + lane];
-      }
-      float s0 = 0.f, s1 = 0.f;
-#pragma unroll
-      for (int t = 0; t < W; ++t)
-      {
-        s0 = fmaf(a.taps[t], col[t], s0);
-        s1 = fmaf(a.taps[t], col[t + 1], s1);
-      }
-      if constexpr (UNROLL)
-      {
-        win[0][P][c] = s0;
-        win[1][P][c] = s1;
-      }
-      else
-      {
-#pragma unroll
-        for (int t = 0; t + 1 < W; ++t)
-        {
-          win[0][t][c] = win[0][t + 1][c];
-          win[1][t][c] = win[1][t + 1][c];
-        }
-        win[0][W - 1][c] = s0;
-        win[1][W - 1][c] = s1;
-      }
-    }
-  };
-  // The clamped slice repeats (z border): the newest slice enters the window again.
-  auto repeatStore = [&](auto phase) {
-    constexpr int P = decltype(phase)::value;
-    (void)P;
-#pragma unroll
-    for (int c = 0; c < 6; ++c)
-    {
-      if constexpr (UNROLL)
-      {
-        win[0][P][c] = win[0][(P + W - 1) % W][c];
-        win[1][P][c] = win[1][(P + W - 1) % W][c];
-      }
-      else
-      {
-#pragma unroll
-        for (int t = 0; t + 1 < W; ++t)
-        {
-          win[0][t][c] = win[0][t + 1][c];
-          win[1][t][c] = win[1][t + 1][c];
-        }
-      }
-    }
-  };
-
+  // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
     constexpr int P = decltype(phase)::value;
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
     {
       float m[6];
-#pragma unroll
-      for (int c = 0; c < 6; ++c)
-      {
-        float s = 0.f;
-#pragma unroll
-        for (int t = 0; t < W; ++t)
-        {
-          // slot of the t-th oldest slice: a ring after phase P, else the shifted window
-          s = fmaf(a.taps[t], win[rr][UNROLL ? (P + 1 + t) % W : t][c], s);
-        }
-        m[c] = s;
-      }
-      const float xx = m[0], xy = m[1], xz = m[2], yy = m[3], yz = m[4], zz = m[5];
-      float response;
-      if (a.planar)
-      {
-        const float tr = xx + yy;
-        response = (xx * yy - xy * xy) - a.k * tr * tr;
-      }
-      else
-      {
-        const float det =
-          xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
-        const float tr = xx + yy + zz;
-        response = det - a.k * tr * tr * tr;
-      }
+      zSmooth<W, UNROLL, P>(m, win, rr, a);
+      const float response = harrisResponse(m, a);
       const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
       const bool inside = gx < nx && gy < ny;
       if (inside)
@@ -329,26 +433,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       }
       if (withHist)
       {
-        // Candidates (R > 0, finite) counted by their top 11 bits.
-        const bool cand = inside && response > 0.f && response <= FLT_MAX;
-        const unsigned bin = __float_as_uint(response) >> 21;
-        if (a.histMode == 0)
-        {
-          // one atomic per group of lanes that share a bin
-          const unsigned active = __ballot_sync(0xffffffffu, cand);
-          if (cand)
-          {
-            const unsigned peers = __match_any_sync(active, bin);
-            if (lane == __ffs(peers) - 1)
-            {
-              atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
-            }
-          }
-        }
-        else if (cand)
-        {
-          atomicAdd(&sHist[bin], 1u);
-        }
+        countCandidate(sHist, response, inside, a.histMode, lane);
       }
     }
   };
@@ -361,40 +446,41 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
   for (int q = max(czFirst - 1, 0); q <= min(czFirst + 1, nz - 1); ++q)
   {
-    loadSlice(q);
-    storeSlice(q);
+    loadSlice<R>(pre, in, q, plane, inOff);
+    storeSlice<R>(sIn, q, pre, tid);
   }
   int nextLoad = min(czFirst + 1, nz - 1) + 1;
   if (nextLoad <= qLast)
   {
-    loadSlice(nextLoad);
+    loadSlice<R>(pre, in, nextLoad, plane, inOff);
   }
   int lastCz = -1;
   auto step = [&](auto phase, int sv) {
+    constexpr int P = decltype(phase)::value;
     const int cz = clampi(sv, 0, nz - 1);
     if (cz != lastCz)
     {
       if (lastCz >= 0 && nextLoad <= qLast)
       {
         // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
-        storeSlice(nextLoad);
+        storeSlice<R>(sIn, nextLoad, pre, tid);
         ++nextLoad;
         if (nextLoad <= qLast)
         {
-          loadSlice(nextLoad);
+          loadSlice<R>(pre, in, nextLoad, plane, inOff);
         }
       }
       __syncthreads();
-      products(cz);
+      gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
       __syncthreads();
-      xpass();
+      xPass<R>(sXb, sProd, a, tid);
       __syncthreads();
-      ypassStore(phase);
+      yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       lastCz = cz;
     }
     else
     {
-      repeatStore(phase);
+      repeatStore<W, UNROLL, P>(win);
     }
     if (sv >= zb + R)
     {
@@ -419,14 +505,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   if (withHist)
   {
     __syncthreads();
-    for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
-    {
-      const unsigned c = sHist[i];
-      if (c)
-      {
-        atomicAdd(&a.hist[i], static_cast<unsigned long long>(c));
-      }
-    }
+    flushHistogram(a.hist, sHist, tid);
   }
 }
 
