@@ -15,7 +15,8 @@ namespace detail
 void stagingCopy(void* dst, const void* src, std::size_t bytes)
 {
   // Hand-written: a plain split of one memcpy. OpenMP's persistent threads, not a thread
-  // per call: a 64 MiB piece takes about 2 ms, thread start-up would be a visible part.
+  // per call: a piece copies in so little time that starting threads would be a visible
+  // part of it.
   constexpr std::size_t kPerThreadMin = std::size_t(4) << 20;
   const int parts = static_cast<int>(
     std::min<std::size_t>({ 16, static_cast<std::size_t>(std::max(1, omp_get_max_threads())),

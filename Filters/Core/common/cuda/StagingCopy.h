@@ -1,5 +1,5 @@
 // Host-side copy of a piece of the caller's volume into pinned staging memory, on several
-// threads: one core's memcpy (about 10 GB/s) is slower than the PCIe upload it feeds.
+// threads: one core's memcpy is slower than the PCIe upload it feeds.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// The fused reduction's passes over the whole volume on the GPU (issue 20): besides the
+// The fused reduction's passes over the whole volume on the GPU: besides the
 // placement (FusedPlacementCuda.h), the chain walks the volume's features three times -- the
 // statistics of the normalisation (FeatureBricks::prepare), the column check of the
 // normalised features and the reference sample's strata (reduceDimension). On the CPU each

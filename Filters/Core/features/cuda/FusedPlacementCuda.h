@@ -1,4 +1,4 @@
-// GPU path of the fused reduction (issue 20): the features of a slab of z slices are
+// GPU path of the fused reduction: the features of a slab of z slices are
 // computed on the device from its channels (uploaded with one ghost slice each side),
 // normalised there with the statistics pass's offsets and scales, and placed there by the
 // out-of-sample kernels (OutOfSampleCuda.h, PlacementOnDevice) against references uploaded
@@ -109,8 +109,8 @@ struct FusedPlacementStats
 };
 
 // The thickest slab: 8 M voxels keep the pinned staging buffers, allocated by every pass,
-// small (32 M: 0.52 s of the placement's setup at 1 G voxels on an H100, 8 M: 0.14 s; the
-// placement works 1 M rows at a time either way).
+// small, so that allocating them is a small part of the placement's setup (the placement
+// works 1 M rows at a time either way).
 constexpr std::size_t kMaxSlabVoxels = std::size_t(8) << 20;
 
 // The device bytes the path needs for slabs of `slices` z slices (so tests and callers can

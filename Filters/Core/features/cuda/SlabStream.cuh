@@ -1,5 +1,5 @@
-// The slabs of a volume streamed through the device for the fused reduction's passes
-// (issue 20): per slab of z slices, the host converts its channels (with one ghost slice each
+// The slabs of a volume streamed through the device for the fused reduction's passes:
+// per slab of z slices, the host converts its channels (with one ghost slice each
 // side) into pinned staging, they go up, the slab's raw features are computed there by the
 // whole-volume kernel (FeatureKernels.cuh, bit-equal to the CPU) and, when asked, normalised
 // as applyNormalizationCPU rounds; then the pass queues its own kernels and downloads on the

@@ -106,8 +106,8 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 // neighbouring voxels stay together); the candidates are still written at each row's own
 // position.
 //
-// The per-row box check costs about a distance per tile (on the brain's slab it was a third
-// of the kernel's instructions: every row checks all 313 tiles to scan 45), so with
+// The per-row box check costs about a distance per tile (a large share of the kernel's
+// instructions when a row checks every tile to scan a few), so with
 // warpFilter a warp first checks the box of its rows, [qlo, qhi] per coordinate, against
 // the next kWarpBatch tiles at once, one tile per lane: the gap max(0, lo - qhi, qlo - hi)
 // is at most every row's max(0, lo - q, q - hi) (float rounding is monotone), summed in the
@@ -133,8 +133,8 @@ __device__ __forceinline__ float feature(const float* row, int c, int gather)
 // number or infinite, and the comparison keeps the reference.
 constexpr int kPruneTile = kReferenceTile;
 constexpr int kMaxRankedTiles = 1024; // more tiles: visited in the upload's order
-// Fewer tiles: every reference is scanned (the sort and the checks do not pay: 360
-// references of a lattice, 12 tiles, took 0.4 ms pruned and 0.3 ms unpruned on an H100).
+// Fewer tiles: every reference is scanned (on so few tiles the sort and the checks cost
+// more than the references they skip).
 constexpr int kMinPruneTiles = 32;
 constexpr int kWarps = kThreads / 32;
 constexpr int kWarpBatch = 32; // tiles per warp check (one per lane)
@@ -218,8 +218,7 @@ __device__ __forceinline__ void offerCandidate(float acc, unsigned idx, float (&
 // The rows' keys for the sort: the nearest tile centroid t1 and the second nearest t2, key
 // t1 * tiles + t2 (pairKeys), else t1; rows beyond the chunk's list: the largest key, last.
 // Rows that share both tiles are alike, so the 32 rows of a warp skip the same tiles more
-// often than rows that share only the nearest (the brain's 7.1 M rows, 23D, H200: 47.0
-// instead of 51.2 tiles of 313 scanned per row, 53.9 instead of 56.8 ms). The
+// often than rows that share only the nearest (fewer tiles scanned per row). The
 // keys only group rows (the candidates do not depend on the order), so the centroids are
 // ranked by |c|^2 - 2 q.c, one FMA per coordinate.
 template <int DP>

@@ -13,13 +13,10 @@
 //    round's start, and the round's moves are summed per vertex (UMAPLayoutStep.h) and
 //    applied at its end. The CPU moves the ends of an edge before the next edge of its
 //    block reads them. More rounds keep a vertex from taking many pulls of an epoch from
-//    one stale position. Measured on an H100 (docs/benchmarks.md section 13.1, brain 24D):
-//    at N = 10000 (500 epochs) 1 to 16 rounds give the same trustworthiness (within 0.0015
-//    of the CPU's) and the layout takes 15 ms with 1 round, 27 ms with 4, 90 ms with 16
-//    (two launches per round and epoch); at N = 100000 (200 epochs) trustworthiness
-//    against the CPU's rises with the rounds: -0.025 (1), -0.008 (4), -0.003 (8), +0.001
-//    (16), for 68 to 108 ms. Why the larger sample needs them was not investigated. Hence
-//    the default (rounds = 0): 4 up to 10000 vertices, 16 beyond.
+//    one stale position. Each round costs two launches per epoch; on the brain's features
+//    (docs/benchmarks.md section 13.1) a small sample reaches the CPU's trustworthiness
+//    with few rounds, a large one only with more. Hence the default (rounds = 0): 4 up to
+//    10000 vertices, 16 beyond.
 //  - Negative samples come from a counter-based hash of (seed, epoch, edge), not from the
 //    CPU's per-block streams.
 //  - The gradient coefficients use the GPU's __powf instead of the CPU's table.

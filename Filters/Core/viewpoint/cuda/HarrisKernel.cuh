@@ -30,7 +30,7 @@ constexpr int kLevel1Bins = 2048;   // top 11 bits of a positive float
 // Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM);
 // all four are built for width 5, the default variant for the other widths.
 constexpr int kHarrisVariants = 4;
-constexpr int kHarrisDefaultVariant = 1; // fastest on an H100 (benchmark --variants)
+constexpr int kHarrisDefaultVariant = 1; // the fastest measured (mcvBenchmarkGPU --variants)
 
 struct HarrisKernelArgs
 {
