@@ -1,5 +1,7 @@
 #include "mcvGaussianTFShader.h"
 
+#include "GaussianWidgetFormula.h"
+
 namespace mcv
 {
 namespace shader
@@ -7,7 +9,7 @@ namespace shader
 
 std::string ClassifyDeclaration()
 {
-  return R"GLSL(
+  return mcv::widgetFormulaGLSL() + std::string(R"GLSL(
 // Multichannel Explorer: Gaussian widgets evaluated per sample.
 vec4 mcvClassify(vec4 texel)
 {
@@ -23,8 +25,8 @@ vec4 mcvClassify(vec4 texel)
   for (int i = 0; i < mcv_widgetCount; ++i)
   {
     vec3 d = x - mcv_widgetCentreK[i].xyz;
-    float e = mcv_widgetColourLogA[i].w - mcv_widgetCentreK[i].w * dot(d, d);
-    transparency *= 1.0 - exp(e);
+    float e = mcvWidgetLogWeight(mcv_widgetColourLogA[i].w, mcv_widgetCentreK[i].w, dot(d, d));
+    transparency = mcvWidgetTransmit(transparency, exp(e), 1.0);
     if (e > maxLogWeight)
     {
       float rescale = exp(maxLogWeight - e);
@@ -41,7 +43,7 @@ vec4 mcvClassify(vec4 texel)
   }
   return vec4(colourSum / weightSum, clamp((1.0 - transparency) * texel.w, 0.0, 1.0));
 }
-)GLSL";
+)GLSL");
 }
 
 std::string RayStart(bool jitter)
