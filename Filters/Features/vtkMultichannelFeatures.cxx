@@ -126,14 +126,7 @@ int vtkMultichannelFeatures::RequestMultichannelData(
     return 0;
   }
   const std::size_t count = grid.voxelCount();
-  // Gradients in world units along the image's own axes (an oriented image's direction
-  // matrix rotates them; the features are per axis of the grid, like vtkImageGradient).
-  double spacing[3];
-  image->GetSpacing(spacing);
-  for (int a = 0; a < 3; ++a)
-  {
-    grid.spacing[a] = std::abs(spacing[a]);
-  }
+  this->SetGridSpacing(image, grid);
 
   mcv::vtkhelpers::ChannelArrays channels;
   if (!this->SelectChannels(image, count, channels))
@@ -143,25 +136,15 @@ int vtkMultichannelFeatures::RequestMultichannelData(
 
   // ---- The core ----------------------------------------------------------------------
   mcv::FeatureOptions options;
-  options.preset = static_cast<mcv::FeaturePreset>(this->FeatureSet);
-  options.custom.intensity = this->Intensity;
-  options.custom.gradient = this->Gradient;
-  options.custom.gradientMagnitude = this->GradientMagnitude;
-  options.custom.laplacian = this->Laplacian;
-  options.custom.localMean = this->LocalMean;
-  options.custom.localVariance = this->LocalVariance;
-  options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
+  this->SetFeatureOptions(this->FeatureSet, options);
   options.device = this->GetRequestedDevice();
   options.channelNames = channels.names;
   options.communicator = this->GetCommunicator();
   options.piece = piece;
   options.progress = this->ProgressCallback();
   const int F = mcv::featureCount(channels.views.size(), options);
-  if (F <= 0)
+  if (!this->CheckFeatureCount(F))
   {
-    vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
-                  "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
-                  "LocalVariance) is off.");
     return 0;
   }
 
@@ -256,15 +239,6 @@ void vtkMultichannelFeatures::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureSet: " << this->FeatureSet << "\n";
-  os << indent << "Intensity: " << this->Intensity << "\n";
-  os << indent << "Gradient: " << this->Gradient << "\n";
-  os << indent << "GradientMagnitude: " << this->GradientMagnitude << "\n";
-  os << indent << "Laplacian: " << this->Laplacian << "\n";
-  os << indent << "LocalMean: " << this->LocalMean << "\n";
-  os << indent << "LocalVariance: " << this->LocalVariance << "\n";
-  os << indent << "Normalization: " << this->Normalization << "\n";
-  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
-  os << indent << "BackgroundThreshold: " << this->BackgroundThreshold << "\n";
   os << indent << "NumberOfFeatures: " << this->NumberOfFeatures << "\n";
   os << indent << "NumberOfBackgroundVoxels: " << this->NumberOfBackgroundVoxels << "\n";
 }

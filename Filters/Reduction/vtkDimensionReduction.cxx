@@ -938,13 +938,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   const mcv::vtkhelpers::ModelFile* model, mcv::vtkhelpers::FeatureRecipe* recipe)
 {
   const std::size_t count = grid.voxelCount();
-  // Gradients in world units along the grid's axes, as MultichannelFeatures computes them.
-  double spacing[3];
-  image->GetSpacing(spacing);
-  for (int a = 0; a < 3; ++a)
-  {
-    grid.spacing[a] = std::abs(spacing[a]);
-  }
+  this->SetGridSpacing(image, grid);
   mcv::vtkhelpers::ChannelArrays channels;
   if (model)
   {
@@ -971,15 +965,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     return nullptr;
   }
   mcv::FeatureOptions options;
-  options.preset = static_cast<mcv::FeaturePreset>(
-    this->FeatureSet <= FEATURES_CUSTOM ? this->FeatureSet : FEATURES_24D);
-  options.custom.intensity = this->Intensity;
-  options.custom.gradient = this->Gradient;
-  options.custom.gradientMagnitude = this->GradientMagnitude;
-  options.custom.laplacian = this->Laplacian;
-  options.custom.localMean = this->LocalMean;
-  options.custom.localVariance = this->LocalVariance;
-  options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
+  this->SetFeatureOptions(this->FeatureSet <= FEATURES_CUSTOM ? this->FeatureSet : FEATURES_24D, options);
   options.channelNames = channels.names;
   options.communicator = this->GetCommunicator();
   options.piece = piece;
@@ -999,11 +985,8 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     backgroundThreshold = made.backgroundThreshold;
   }
   const int F = mcv::featureCount(channels.views.size(), options);
-  if (F <= 0)
+  if (!this->CheckFeatureCount(F))
   {
-    vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
-                  "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
-                  "LocalVariance) is off.");
     return nullptr;
   }
   this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
@@ -1097,7 +1080,6 @@ void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureSet: " << this->FeatureSet << "\n";
-  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
   os << indent << "Method: " << methodName(this->Method) << "\n";
   os << indent << "OutputDimension: " << this->OutputDimension << "\n";
   os << indent << "CoordinatePrecision: " << (this->CoordinatePrecision == FLOAT16 ? "Float16" : "Float32") << "\n";
