@@ -45,6 +45,10 @@
 
 #include "mcvFiltersFeaturesModule.h" // for export macro
 #include "vtkMultichannelFeatureAlgorithm.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
+
+class vtkFloatArray;
+class vtkUnsignedCharArray;
 
 class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkMultichannelFeatureAlgorithm
 {
@@ -88,6 +92,14 @@ protected:
 
 private:
   vtkMultichannelFeatures(const vtkMultichannelFeatures&) = delete;
+#ifndef __VTK_WRAP__
+  // The steps of RequestMultichannelData: the block's Features array (nullptr after an
+  // error, reported) and its Foreground mask (false after an error).
+  vtkSmartPointer<vtkFloatArray> ComputeFeatureArray(
+    const mcv::vtkhelpers::ChannelArrays& channels, const mcv::ImageGrid& grid, const mcv::GridPiece& piece);
+  bool ComputeForegroundMask(const mcv::vtkhelpers::ChannelArrays& channels, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground);
+#endif
   void operator=(const vtkMultichannelFeatures&) = delete;
 };
 

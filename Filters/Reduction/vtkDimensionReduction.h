@@ -78,6 +78,7 @@
 class vtkDataArray;
 class vtkDoubleArray;
 class vtkPointData;
+class vtkTable;
 class vtkUnsignedCharArray;
 
 #include "vtkSmartPointer.h" // for vtkSmartPointer
@@ -360,6 +361,20 @@ private:
   vtkMTimeType PipelineKey();
   // True when this run computes the features from the channels.
   bool UsesChannels(vtkPointData* pd);
+
+  // The steps of RequestMultichannelData, in order; Run holds what one execution has found
+  // so far (vtkDimensionReductionInternals.h). Each returns false after an error (reported).
+  struct Run;
+  bool CheckArguments();
+  bool ChooseModel(vtkImageData* image, Run& run);
+  bool ReduceRows(vtkImageData* image, Run& run);
+  mcv::ReductionOptions RunOptions(vtkPointData* pd, Run& run, mcv::ReductionModel& fittedModel);
+  void NewCoordinates(Run& run, mcv::ReductionOptions& options);
+  void KeepModel(Run& run, mcv::vtkhelpers::FeatureRecipe recipe, mcv::ReductionModel fittedModel,
+    const mcv::ReductionResult& result, const mcv::ReductionOptions& options);
+  bool StoreResults(const Run& run);
+  void WriteImageOutput(vtkImageData* image, Run& run, vtkImageData* output);
+  void WriteSpectrumTable(const Run& run, vtkTable* spectrumTable);
 #endif
 
   struct vtkInternals;
