@@ -31,17 +31,26 @@ constexpr const char* WidgetColourLogA = "mcv_widgetColourLogA"; // vec4[64]: c,
 constexpr const char* CoordinateMin = "mcv_coordinateMin";   // vec3
 constexpr const char* CoordinateExtent = "mcv_coordinateExtent"; // vec3
 constexpr const char* UnitDistance = "mcv_unitDistance";     // float, world units
+constexpr const char* VolumeSize = "mcv_volumeSize";         // vec3, voxels (bricks only)
+constexpr const char* BrickGrid = "mcv_brickGrid";           // vec3, bricks (bricks only)
+// The widget table's sampler (mcvGaussianTFBricks.h), bound by vtkGaussianTFVolumeMapper.
+constexpr const char* BrickTable = "mcv_brickTable";
 
-// Appended to //VTK::Shading::Dec: mcvClassify(vec4 texel) -> (rgb, opacity).
-std::string ClassifyDeclaration();
+// Appended to //VTK::Shading::Dec: mcvClassify(vec4 texel, int start, int count) -> (rgb,
+// opacity) over `count` widgets: those of the table's list at `start`, or (start < 0) the
+// first `count`. With `bricks`, the widget table's sampler and look-ups.
+std::string ClassifyDeclaration(bool bricks);
 
 // Appended to //VTK::Shading::Init (before the first sample): with `jitter`, each ray
 // starts a pseudo-random fraction of a step further in, so that samples of neighbouring
 // pixels do not lie on the same view-aligned planes (the wood-grain banding).
-std::string RayStart(bool jitter);
+// With `bricks`, a ray draws nothing unless the widget table is bound.
+std::string RayStart(bool jitter, bool bricks);
 
-// Replaces //VTK::Shading::Impl: sample, classify, composite or keep the maximum.
-std::string SampleAndBlend(bool maximumIntensity);
+// Replaces //VTK::Shading::Impl: sample, classify, composite or keep the maximum. With
+// `bricks`, only the widgets of the sample's brick, and a brick no widget reaches is
+// skipped to its exit (mcvGaussianTFBricks.h).
+std::string SampleAndBlend(bool maximumIntensity, bool bricks);
 
 } // namespace shader
 } // namespace mcv

@@ -58,6 +58,7 @@ C.check(display.CoordinateArray == "ReducedCoordinates" and list(display.Gaussia
 C.check(display.Classification == "Per sample" and display.Jittering == 1 and
         display.MaskArray == "Foreground",
         "defaults: Classification Per sample, Jittering on, MaskArray Foreground")
+C.check(display.EmptySpaceSkipping == 1, "default: EmptySpaceSkipping on")
 display.Classification = CLASSIFICATION
 C.check(sorted(display.GetProperty("GaussianBlendMode").Available) ==
         ["Composite", "Maximum Intensity"], "blend modes: Composite, Maximum Intensity")
@@ -99,6 +100,15 @@ C.check(first["valid"] == 1 and first["computations"] >= 1 and first["data_updat
 C.check(first["device"] == "OpenGL" if PER_SAMPLE else first["device"] in ("CPU", "GPU"),
         "DeviceUsed is OpenGL per sample, CPU or GPU per voxel (%s)" % first["device"])
 check_two_colours("composite", shot("gaussian_tf_composite.png"))
+if PER_SAMPLE:
+    # The outer x-slabs of bricks (x < 0.26, x > 0.77) are reached by one widget only
+    # (each widget reaches 0.42 = 5.3 sigma, where its opacity falls to 1e-6): at most 1.5
+    # widgets per brick.
+    state = G.skipping_unchanged(C, view, display, "composite", "gaussian_tf_composite")
+    bricks, empty, listed = state["bricks"]
+    C.check(bricks == 64 and empty == 0 and 1.0 < listed <= 1.5,
+            "widget table: 64 bricks of 8^3, none empty, at most 1.5 widgets per brick (%s)"
+            % (state["bricks"],))
 
 before = G.info(display)
 display.GaussianBlendMode = "Maximum Intensity"
