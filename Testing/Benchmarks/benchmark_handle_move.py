@@ -21,7 +21,7 @@ medians over the moves:
   llvmpipe here, the same work for both classifications).
 
 With --turn, instead: the frame time of the volume while the camera turns, ParaView's
-plain "Volume" representation of one channel (ch2, the T1) against the "Gaussian TF
+plain "Volume" representation of one channel (the first, the T1) against the "Gaussian TF
 Volume" per sample (with and without EmptySpaceSkipping) and per voxel, on the same
 grid, view and sample distance:
 
@@ -110,7 +110,10 @@ def turn(mce, view, reduction, args):
         displays = {}
         plain = simple.Show(copies["plain"], view)
         plain.SetRepresentationType("Volume")
-        simple.ColorBy(plain, ("POINTS", "ch2"))
+        channel = next(n for n in grid.PointData.keys()
+                       if grid.PointData[n].GetNumberOfComponents() == 1
+                       and n not in ("Foreground", "vtkValidPointMask", "ModelDistance"))
+        simple.ColorBy(plain, ("POINTS", channel))
         plain.RescaleTransferFunctionToDataRange(True, False)
         displays["plain"] = plain
         for m in modes[1:]:
@@ -145,7 +148,7 @@ def turn(mce, view, reduction, args):
             listed = float(info.GetPropertyValue("GaussianTFWidgetsPerBrick"))
             med = {m: statistics.median(times[m]) for m in modes}
             rows.append((voxels, count, visible, med, bricks, empty, listed))
-            print("%.1f M voxels, %d widgets (%d visible): " % (voxels / 1e6, count, visible)
+            print("%.1f M voxels (%s), %d widgets (%d visible): " % (voxels / 1e6, channel, count, visible)
                   + ", ".join("%s %.0f ms" % (m, 1e3 * med[m]) for m in modes)
                   + "; bricks %d, empty %d, widgets per reached brick %.1f" % (bricks, empty, listed))
             sys.stdout.flush()

@@ -159,7 +159,8 @@ for blend, turn, stem in (("Composite", False, "gaussian_tf_brain_composite"),
         camera = view.GetActiveCamera()
         camera.Azimuth(37)
         camera.Elevation(23)
-    state = G.skipping_unchanged(C, view, display, "%s%s" % (blend, ", oblique" if turn else ""), stem)
+    state = G.skipping_unchanged(C, view, display, "%s%s" % (blend, ", oblique" if turn else ""),
+                                 stem, maximum_intensity=blend == "Maximum Intensity")
     bricks, empty, listed = state["bricks"]
     C.check(bricks > 0 and empty > bricks // 10 and 0 < listed <= 2,
             "%s: a widget table with empty bricks (%d of %d bricks empty, %.2f widgets per "
