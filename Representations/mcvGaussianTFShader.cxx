@@ -48,7 +48,6 @@ vec4 mcvClassify(vec4 texel, int start, int count)
   }
   vec3 x = mcv_coordinateMin + mcv_coordinateExtent * (texel.xyz / texel.w);
   float transparency = 1.0;
-  float maxLogWeight = -3.0e38;
   float weightSum = 0.0;
   vec3 colourSum = vec3(0.0);
   for (int j = 0; j < count; ++j)
@@ -57,19 +56,16 @@ vec4 mcvClassify(vec4 texel, int start, int count)
     vec3 d = x - mcv_widgetCentreK[i].xyz;
     float e = mcv_widgetColourLogA[i].w - mcv_widgetCentreK[i].w * dot(d, d);
     transparency *= 1.0 - exp(e);
-    if (e > maxLogWeight)
-    {
-      float rescale = exp(maxLogWeight - e);
-      weightSum = weightSum * rescale + 1.0;
-      colourSum = colourSum * rescale + mcv_widgetColourLogA[i].rgb;
-      maxLogWeight = e;
-    }
-    else
-    {
-      float w = exp(e - maxLogWeight);
-      weightSum += w;
-      colourSum += w * mcv_widgetColourLogA[i].rgb;
-    }
+    // The colour weight alpha_i is the exp(e) above (one exp per widget: a software
+    // rasteriser runs both sides of a branch, so a log-domain rescaling costs two more).
+    float w = exp(e);
+    weightSum += w;
+    colourSum += w * mcv_widgetColourLogA[i].rgb;
+  }
+  // Every weight underflowed (e < -87 for all widgets): the opacity is 0 as well.
+  if (weightSum <= 0.0)
+  {
+    return vec4(0.0);
   }
   return vec4(colourSum / weightSum, clamp((1.0 - transparency) * texel.w, 0.0, 1.0));
 }

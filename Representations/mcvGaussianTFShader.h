@@ -6,8 +6,10 @@
 // 16-bit normalised values). Per sample t = texture(x, y, z, w):
 //   x = min + extent * t.xyz / t.w   (the drawn neighbours' mean: undrawn texels hold 0)
 //   alpha_i = a_i exp(-|x - mu_i|^2 / (2 sigma_i^2)),  opacity = (1 - prod(1 - alpha_i)) t.w
-//   colour  = sum_i alpha_i c_i / sum_i alpha_i   (accumulated relative to the largest
-//             log-weight, so it does not underflow far from every widget)
+//   colour  = sum_i alpha_i c_i / sum_i alpha_i   (where every alpha_i underflows, the
+//             opacity is 0 too and the sample is transparent)
+// With a widget table (mcvGaussianTFBricks.h) only the widgets of the sample's brick are
+// evaluated, and bricks no widget reaches are skipped.
 // Composite: opacity per unit length, corrected for the sample distance as VTK corrects
 // its opacity tables (1 - (1 - a)^(d / unit)), then front-to-back compositing. Maximum
 // intensity: the colour of the most opaque sample of the ray.
