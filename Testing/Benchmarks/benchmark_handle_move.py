@@ -27,6 +27,7 @@ grid, view and sample distance:
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
+        [--reduced brain_reduced.vti]
 
 The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
 grid; --widgets widgets seeded by auto_widgets. Each of the four is a display of its own
@@ -182,6 +183,9 @@ def main():
     parser.add_argument("--widgets", default="1,8,64")
     parser.add_argument("--grids", default="100,181x217x181,318")
     parser.add_argument("--frames", type=int, default=7)
+    parser.add_argument("--reduced", default="",
+                        help="--turn: a .vti of the reduced brain, written by the first run "
+                             "and read by the next ones")
     args = parser.parse_args()
     if args.size is None:
         args.size = [800, 600] if args.turn else [400, 400]
@@ -200,8 +204,15 @@ def main():
     view.ViewSize = list(args.size)
     view.OrientationAxesVisibility = 0
     if args.turn:
-        reduction, seconds = reduced(brain)
-        print("brain reduced in %.1f s" % seconds)
+        if args.reduced and os.path.exists(args.reduced):
+            reduction = simple.XMLImageDataReader(FileName=[args.reduced])
+            reduction.UpdatePipeline()
+            print("reduced brain read from %s" % args.reduced)
+        else:
+            reduction, seconds = reduced(brain)
+            print("brain reduced in %.1f s" % seconds)
+            if args.reduced:
+                simple.SaveData(args.reduced, proxy=reduction)
         sys.stdout.flush()
         turn(mce, view, reduction, args)
         os._exit(0)
