@@ -109,6 +109,14 @@ std::vector<float> buildWidgetTable(const BrickBounds& bounds,
       ++emptyBricks;
       continue;
     }
+    if (list.size() * ListShare > widgets.size())
+    {
+      // Most widgets reach it: all of them, in order (cheaper per widget than a list).
+      listedWidgets += static_cast<long long>(widgets.size());
+      entry[0] = -1.0f;
+      entry[1] = static_cast<float>(widgets.size());
+      continue;
+    }
     listedWidgets += static_cast<long long>(list.size());
     auto found = starts.find(list);
     int start = 0;

@@ -12,34 +12,34 @@ std::string ClassifyDeclaration(bool bricks)
   std::string code;
   if (bricks)
   {
-    code = R"GLSL(
+    code = "#define MCV_TABLE_WIDTH " + std::to_string(bricks::TableWidth) + "\n#define MCV_BRICK " +
+      std::to_string(bricks::BrickSize) + ".0\n#define MCV_CHECK " +
+      std::to_string(static_cast<int>(bricks::CheckValue)) + ".0\n" + R"GLSL(
 // The widget table of mcvGaussianTFBricks.h: (x, y) entries, TableWidth to a row.
 uniform sampler2D mcv_brickTable;
 vec2 mcvTableEntry(int n)
 {
   return texelFetch(mcv_brickTable, ivec2(n % MCV_TABLE_WIDTH, n / MCV_TABLE_WIDTH), 0).xy;
 }
-// Widget j of the list at `start` (start < 0: all widgets, in order).
-int mcvWidgetIndex(int start, int j)
-{
-  return start < 0 ? j : int(mcvTableEntry(start + j).x);
-}
-)GLSL";
-    code = "#define MCV_TABLE_WIDTH " + std::to_string(bricks::TableWidth) + "\n#define MCV_BRICK " +
-      std::to_string(bricks::BrickSize) + ".0\n#define MCV_CHECK " +
-      std::to_string(static_cast<int>(bricks::CheckValue)) + ".0\n" + code;
-  }
-  else
-  {
-    code = R"GLSL(
-int mcvWidgetIndex(int start, int j)
-{
-  return j;
-}
 )GLSL";
   }
-  return code + R"GLSL(
+  code += R"GLSL(
 // Multichannel Explorer: Gaussian widgets evaluated per sample.
+// Widget i's share of the sample at reduced coordinates x.
+void mcvAddWidget(int i, vec3 x, inout float transparency, inout float weightSum,
+  inout vec3 colourSum)
+{
+  vec3 d = x - mcv_widgetCentreK[i].xyz;
+  float e = mcv_widgetColourLogA[i].w - mcv_widgetCentreK[i].w * dot(d, d);
+  transparency *= 1.0 - exp(e);
+  // The colour weight alpha_i is the exp(e) above (one exp per widget: a software
+  // rasteriser runs both sides of a branch, so a log-domain rescaling costs two more).
+  float w = exp(e);
+  weightSum += w;
+  colourSum += w * mcv_widgetColourLogA[i].rgb;
+}
+
+// start < 0: every widget; else the `count` widgets of the table's list at `start`.
 vec4 mcvClassify(vec4 texel, int start, int count)
 {
   if (texel.w <= 0.0 || mcv_widgetCount <= 0)
@@ -50,18 +50,30 @@ vec4 mcvClassify(vec4 texel, int start, int count)
   float transparency = 1.0;
   float weightSum = 0.0;
   vec3 colourSum = vec3(0.0);
-  for (int j = 0; j < count; ++j)
+  // Every widget: the index is the same in all the samples a SIMD unit runs together (the
+  // loop bound is a uniform; samples of listed bricks leave at once), so the widgets'
+  // uniforms are read once, not gathered per sample.
+  int all = start < 0 ? mcv_widgetCount : 0;
+  for (int i = 0; i < mcv_widgetCount; ++i)
   {
-    int i = mcvWidgetIndex(start, j);
-    vec3 d = x - mcv_widgetCentreK[i].xyz;
-    float e = mcv_widgetColourLogA[i].w - mcv_widgetCentreK[i].w * dot(d, d);
-    transparency *= 1.0 - exp(e);
-    // The colour weight alpha_i is the exp(e) above (one exp per widget: a software
-    // rasteriser runs both sides of a branch, so a log-domain rescaling costs two more).
-    float w = exp(e);
-    weightSum += w;
-    colourSum += w * mcv_widgetColourLogA[i].rgb;
+    if (i >= all)
+    {
+      break;
+    }
+    mcvAddWidget(i, x, transparency, weightSum, colourSum);
   }
+)GLSL";
+  if (bricks)
+  {
+    code += R"GLSL(
+  int listed = start < 0 ? 0 : count;
+  for (int j = 0; j < listed; ++j)
+  {
+    mcvAddWidget(int(mcvTableEntry(start + j).x), x, transparency, weightSum, colourSum);
+  }
+)GLSL";
+  }
+  code += R"GLSL(
   // Every weight underflowed (e < -87 for all widgets): the opacity is 0 as well.
   if (weightSum <= 0.0)
   {
@@ -70,6 +82,7 @@ vec4 mcvClassify(vec4 texel, int start, int count)
   return vec4(colourSum / weightSum, clamp((1.0 - transparency) * texel.w, 0.0, 1.0));
 }
 )GLSL";
+  return code;
 }
 
 std::string RayStart(bool jitter, bool bricks)

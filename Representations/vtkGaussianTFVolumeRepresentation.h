@@ -162,8 +162,8 @@ public:
   ///@{
   /**
    * The bricks of the last widget table (EmptySpaceSkipping): all of them, those no
-   * widget reaches, and the mean number of widgets listed per reached brick; 0 without a
-   * table.
+   * widget reaches, and the mean number of widgets a sample of a reached brick evaluates
+   * (its list, or every widget where most reach it); 0 without a table.
    */
   vtkGetMacro(NumberOfBricks, int);
   vtkGetMacro(NumberOfEmptyBricks, int);
