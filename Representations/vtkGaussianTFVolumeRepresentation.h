@@ -152,8 +152,10 @@ public:
    * that can reach the reduced coordinates of its voxels (mcvGaussianTFBricks.h); the
    * shader evaluates only those, and steps over a brick that none reaches (masked
    * background, or coordinates far from every widget) in whole sample steps. The widgets
-   * left out add less than 1e-6 opacity per unit length to a sample. Default on; off
-   * evaluates every widget at every sample. Volumes of one piece per process only.
+   * left out add less than 1e-6 opacity per unit length to a sample. Default off (every
+   * widget at every sample): on Mesa llvmpipe the brick look-up at every sample costs
+   * more than it saves below some 10-60 widgets (docs/benchmarks.md section 20).
+   * Volumes of one piece per process only.
    */
   void SetEmptySpaceSkipping(bool skipping);
   vtkGetMacro(EmptySpaceSkipping, bool);
@@ -274,7 +276,7 @@ private:
   int Classification = PER_SAMPLE;
   int RequestedRenderMode = 0;
   bool Jittering = true;
-  bool EmptySpaceSkipping = true;
+  bool EmptySpaceSkipping = false;
   int NumberOfBricks = 0;
   int NumberOfEmptyBricks = 0;
   double MeanWidgetsPerBrick = 0;

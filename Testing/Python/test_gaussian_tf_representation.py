@@ -58,7 +58,7 @@ C.check(display.CoordinateArray == "ReducedCoordinates" and list(display.Gaussia
 C.check(display.Classification == "Per sample" and display.Jittering == 1 and
         display.MaskArray == "Foreground",
         "defaults: Classification Per sample, Jittering on, MaskArray Foreground")
-C.check(display.EmptySpaceSkipping == 1, "default: EmptySpaceSkipping on")
+C.check(display.EmptySpaceSkipping == 0, "default: EmptySpaceSkipping off")
 display.Classification = CLASSIFICATION
 C.check(sorted(display.GetProperty("GaussianBlendMode").Available) ==
         ["Composite", "Maximum Intensity"], "blend modes: Composite, Maximum Intensity")
