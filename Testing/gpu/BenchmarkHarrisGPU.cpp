@@ -23,6 +23,7 @@
 // points, and prints its stages and the ratio slabs / whole (volume resident, and with the
 // whole volume's pageable upload). --large N streams an N^3 uint8 volume (tiles of the
 // structured volume) whose whole-volume buffers exceed the device, under the default budget.
+#include "cuda/DeviceProbe.h"
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
 #include "cuda/HarrisSlabStream.h"
@@ -131,8 +132,8 @@ mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
   return mcv::computeViewDirections(mcv::worldPositions(p, g)).best;
 }
 
-// The PyTorch pipeline of notes/gpu.md (torch.gradient, conv3d, topk, SVD; H200, volume
-// resident, median of 10), for orientation only: it was not measured in this run.
+// A PyTorch pipeline (torch.gradient, conv3d, topk, SVD; H200, volume resident, median of
+// 10; docs/benchmarks.md section 2), for orientation only: it was not measured in this run.
 double pytorchAnchorMs(int n)
 {
   switch (n)
@@ -538,7 +539,7 @@ int main(int argc, char** argv)
               "clock of the same call;\n+H2Dpin/+H2Dpage add the uint8 upload from pinned/pageable "
               "memory; float-dev = device total with float input;\nCPU = OpenMP "
               "computeHarrisResponseCPU + selectTopResponsesCPU, this run; overlap/angle: GPU vs CPU "
-              "top-N set and PCA best view;\ntorch-ref = notes/gpu.md PyTorch pipeline on an H200 "
+              "top-N set and PCA best view;\ntorch-ref = a PyTorch pipeline on an H200 "
               "(not measured in this run).\n");
   if (cfg.slabs)
   {

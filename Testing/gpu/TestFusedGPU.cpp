@@ -1,5 +1,5 @@
 // The GPU fused reduction (issue 20 section 2): features computed, normalised and placed on
-// the device slab by slab (cuda/FusedPlacementCuda.h) against the CPU fused path
+// the device slab by slab (features/cuda/FusedPlacementCuda.h) against the CPU fused path
 // (FeatureBricks blocks + placeOutOfSample), with a device budget forced small so that many
 // slabs (and both streams) are used. Same reference sample and fit (both come from the CPU
 // statistics pass), coordinates within 1e-5 of their range. On a random 3-channel volume of
