@@ -1,15 +1,47 @@
 #include "mcvGaussianTFShader.h"
 
+#include "GaussianWidgetFormula.h"
+#include "mcvGaussianTFBricks.h"
+
 namespace mcv
 {
 namespace shader
 {
 
-std::string ClassifyDeclaration()
+std::string ClassifyDeclaration(bool bricks)
 {
-  return R"GLSL(
+  std::string code = mcv::widgetFormulaGLSL();
+  if (bricks)
+  {
+    code += "#define MCV_TABLE_WIDTH " + std::to_string(bricks::TableWidth) + "\n#define MCV_BRICK " +
+      std::to_string(bricks::BrickSize) + ".0\n#define MCV_CHECK " +
+      std::to_string(static_cast<int>(bricks::CheckValue)) + ".0\n" + R"GLSL(
+// The widget table of mcvGaussianTFBricks.h: (x, y) entries, TableWidth to a row.
+uniform sampler2D mcv_brickTable;
+vec2 mcvTableEntry(int n)
+{
+  return texelFetch(mcv_brickTable, ivec2(n % MCV_TABLE_WIDTH, n / MCV_TABLE_WIDTH), 0).xy;
+}
+)GLSL";
+  }
+  code += R"GLSL(
 // Multichannel Explorer: Gaussian widgets evaluated per sample.
-vec4 mcvClassify(vec4 texel)
+// Widget i's share of the sample at reduced coordinates x.
+void mcvAddWidget(int i, vec3 x, inout float transparency, inout float weightSum,
+  inout vec3 colourSum)
+{
+  vec3 d = x - mcv_widgetCentreK[i].xyz;
+  float e = mcvWidgetLogWeight(mcv_widgetColourLogA[i].w, mcv_widgetCentreK[i].w, dot(d, d));
+  // The colour weight alpha_i is the opacity's exp(e) (one exp per widget: a software
+  // rasteriser runs both sides of a branch, so a log-domain rescaling costs two more).
+  float w = exp(e);
+  transparency = mcvWidgetTransmit(transparency, w, 1.0);
+  weightSum += w;
+  colourSum += w * mcv_widgetColourLogA[i].rgb;
+}
+
+// start < 0: every widget; else the `count` widgets of the table's list at `start`.
+vec4 mcvClassify(vec4 texel, int start, int count)
 {
   if (texel.w <= 0.0 || mcv_widgetCount <= 0)
   {
@@ -17,36 +49,52 @@ vec4 mcvClassify(vec4 texel)
   }
   vec3 x = mcv_coordinateMin + mcv_coordinateExtent * (texel.xyz / texel.w);
   float transparency = 1.0;
-  float maxLogWeight = -3.0e38;
   float weightSum = 0.0;
   vec3 colourSum = vec3(0.0);
+  // Every widget: the index is the same in all the samples a SIMD unit runs together (the
+  // loop bound is a uniform; samples of listed bricks leave at once), so the widgets'
+  // uniforms are read once, not gathered per sample.
+  int all = start < 0 ? mcv_widgetCount : 0;
   for (int i = 0; i < mcv_widgetCount; ++i)
   {
-    vec3 d = x - mcv_widgetCentreK[i].xyz;
-    float e = mcv_widgetColourLogA[i].w - mcv_widgetCentreK[i].w * dot(d, d);
-    transparency *= 1.0 - exp(e);
-    if (e > maxLogWeight)
+    if (i >= all)
     {
-      float rescale = exp(maxLogWeight - e);
-      weightSum = weightSum * rescale + 1.0;
-      colourSum = colourSum * rescale + mcv_widgetColourLogA[i].rgb;
-      maxLogWeight = e;
+      break;
     }
-    else
-    {
-      float w = exp(e - maxLogWeight);
-      weightSum += w;
-      colourSum += w * mcv_widgetColourLogA[i].rgb;
-    }
+    mcvAddWidget(i, x, transparency, weightSum, colourSum);
+  }
+)GLSL";
+  if (bricks)
+  {
+    code += R"GLSL(
+  int listed = start < 0 ? 0 : count;
+  for (int j = 0; j < listed; ++j)
+  {
+    mcvAddWidget(int(mcvTableEntry(start + j).x), x, transparency, weightSum, colourSum);
+  }
+)GLSL";
+  }
+  code += R"GLSL(
+  // Every weight underflowed (e < -87 for all widgets): the opacity is 0 as well.
+  if (weightSum <= 0.0)
+  {
+    return vec4(0.0);
   }
   return vec4(colourSum / weightSum, clamp((1.0 - transparency) * texel.w, 0.0, 1.0));
 }
 )GLSL";
+  return code;
 }
 
-std::string RayStart(bool jitter)
+std::string RayStart(bool jitter, bool bricks)
 {
   std::string code = "//VTK::Shading::Init\n";
+  if (bricks)
+  {
+    // A table not bound where the sampler reads (the mapper binds it and checks the
+    // sampler after the first frame of a new shader): draw nothing rather than garbage.
+    code += "  if (mcvTableEntry(0).x != MCV_CHECK) { discard; }\n";
+  }
   if (jitter)
   {
     // Interleaved gradient noise (Jimenez 2014): a fixed per-pixel offset in [0, 1) with
@@ -57,12 +105,48 @@ std::string RayStart(bool jitter)
   return code;
 }
 
-std::string SampleAndBlend(bool maximumIntensity)
+std::string SampleAndBlend(bool maximumIntensity, bool bricks)
 {
   std::string code = R"GLSL(
+    int mcvStart = -1;
+    int mcvCount = mcv_widgetCount;
+)GLSL";
+  if (bricks)
+  {
+    // The sample's brick: its widget list, or, when no widget reaches it, a jump over its
+    // remaining samples (whole steps, so the samples after it are today's).
+    code += R"GLSL(
     if (!g_skip)
     {
-      vec4 mcvSample = mcvClassify(texture3D(in_volume[0], g_dataPos));
+      vec3 mcvVoxel = g_dataPos * mcv_volumeSize - 0.5;
+      ivec3 mcvBrick = clamp(ivec3(floor(mcvVoxel / MCV_BRICK)), ivec3(0), ivec3(mcv_brickGrid) - 1);
+      vec2 mcvList = mcvTableEntry(1 + mcvBrick.x + int(mcv_brickGrid.x) *
+        (mcvBrick.y + int(mcv_brickGrid.y) * mcvBrick.z));
+      mcvStart = int(mcvList.x);
+      mcvCount = int(mcvList.y);
+      if (mcvCount == 0)
+      {
+        vec3 mcvStep = g_dirStep * mcv_volumeSize;
+        vec3 mcvFace = vec3(mcvBrick) * MCV_BRICK + MCV_BRICK * step(0.0, mcvStep);
+        vec3 mcvExit = vec3(1.0e30);
+        for (int a = 0; a < 3; ++a)
+        {
+          if (mcvStep[a] != 0.0)
+          {
+            mcvExit[a] = (mcvFace[a] - mcvVoxel[a]) / mcvStep[a];
+          }
+        }
+        float mcvSkip = max(ceil(min(min(mcvExit.x, mcvExit.y), mcvExit.z)) - 1.0, 0.0);
+        g_dataPos += g_dirStep * mcvSkip;
+        g_currentT += mcvSkip;
+      }
+    }
+)GLSL";
+  }
+  code += R"GLSL(
+    if (!g_skip && mcvCount > 0)
+    {
+      vec4 mcvSample = mcvClassify(texture3D(in_volume[0], g_dataPos), mcvStart, mcvCount);
 )GLSL";
   if (maximumIntensity)
   {

@@ -6,8 +6,10 @@
 // 16-bit normalised values). Per sample t = texture(x, y, z, w):
 //   x = min + extent * t.xyz / t.w   (the drawn neighbours' mean: undrawn texels hold 0)
 //   alpha_i = a_i exp(-|x - mu_i|^2 / (2 sigma_i^2)),  opacity = (1 - prod(1 - alpha_i)) t.w
-//   colour  = sum_i alpha_i c_i / sum_i alpha_i   (accumulated relative to the largest
-//             log-weight, so it does not underflow far from every widget)
+//   colour  = sum_i alpha_i c_i / sum_i alpha_i   (where every alpha_i underflows, the
+//             opacity is 0 too and the sample is transparent)
+// With a widget table (mcvGaussianTFBricks.h) only the widgets of the sample's brick are
+// evaluated, and bricks no widget reaches are skipped.
 // Composite: opacity per unit length, corrected for the sample distance as VTK corrects
 // its opacity tables (1 - (1 - a)^(d / unit)), then front-to-back compositing. Maximum
 // intensity: the colour of the most opaque sample of the ray.
@@ -31,17 +33,26 @@ constexpr const char* WidgetColourLogA = "mcv_widgetColourLogA"; // vec4[64]: c,
 constexpr const char* CoordinateMin = "mcv_coordinateMin";   // vec3
 constexpr const char* CoordinateExtent = "mcv_coordinateExtent"; // vec3
 constexpr const char* UnitDistance = "mcv_unitDistance";     // float, world units
+constexpr const char* VolumeSize = "mcv_volumeSize";         // vec3, voxels (bricks only)
+constexpr const char* BrickGrid = "mcv_brickGrid";           // vec3, bricks (bricks only)
+// The widget table's sampler (mcvGaussianTFBricks.h), bound by vtkGaussianTFVolumeMapper.
+constexpr const char* BrickTable = "mcv_brickTable";
 
-// Appended to //VTK::Shading::Dec: mcvClassify(vec4 texel) -> (rgb, opacity).
-std::string ClassifyDeclaration();
+// Appended to //VTK::Shading::Dec: mcvClassify(vec4 texel, int start, int count) -> (rgb,
+// opacity) over `count` widgets: those of the table's list at `start`, or (start < 0) the
+// first `count`. With `bricks`, the widget table's sampler and look-ups.
+std::string ClassifyDeclaration(bool bricks);
 
 // Appended to //VTK::Shading::Init (before the first sample): with `jitter`, each ray
 // starts a pseudo-random fraction of a step further in, so that samples of neighbouring
 // pixels do not lie on the same view-aligned planes (the wood-grain banding).
-std::string RayStart(bool jitter);
+// With `bricks`, a ray draws nothing unless the widget table is bound.
+std::string RayStart(bool jitter, bool bricks);
 
-// Replaces //VTK::Shading::Impl: sample, classify, composite or keep the maximum.
-std::string SampleAndBlend(bool maximumIntensity);
+// Replaces //VTK::Shading::Impl: sample, classify, composite or keep the maximum. With
+// `bricks`, only the widgets of the sample's brick, and a brick no widget reaches is
+// skipped to its exit (mcvGaussianTFBricks.h).
+std::string SampleAndBlend(bool maximumIntensity, bool bricks);
 
 } // namespace shader
 } // namespace mcv

@@ -5,6 +5,7 @@
 #include "GaussianTransferFunction.h"    // mcv core (Filters/Core)
 #include "../Filters/Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
+#include "mcvGaussianTFBricks.h"
 #include "mcvGaussianTFShader.h"
 #include "vtkGaussianTFVolumeMapper.h"
 
@@ -270,6 +271,8 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   InputStamp TextureInputs; // what the coordinate textures were built from
   mcv::CoordinateRange TextureRange;
   int TextureComponents = 3;
+  mcv::bricks::BrickBounds Bricks; // of the one piece's texture; empty: no table
+  bool UseBricks = false;          // the shader reads the widget table
 
   bool Valid = false;
   std::string DeviceUsed;
@@ -719,6 +722,15 @@ void vtkGaussianTFVolumeRepresentation::SetJittering(bool jittering)
   this->Jittering = jittering; // read at every render
 }
 
+void vtkGaussianTFVolumeRepresentation::SetEmptySpaceSkipping(bool skipping)
+{
+  if (skipping != this->EmptySpaceSkipping)
+  {
+    this->EmptySpaceSkipping = skipping;
+    this->Internals->SettingsTime.Modified(); // the widget table, at the next render
+  }
+}
+
 void vtkGaussianTFVolumeRepresentation::SetRequestedRenderMode(int mode)
 {
   if (mode != this->RequestedRenderMode)
@@ -954,6 +966,7 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
     }
     internals.TextureComponents = coords[0]->GetNumberOfComponents();
     internals.TextureRange = mcv::CoordinateRange();
+    internals.Bricks = mcv::bricks::BrickBounds();
     for (size_t p = 0; p < pieces.size(); ++p)
     {
       const std::uint8_t* mask = asBytes(maskOf(pieces[p], internals.MaskArray), internals.ConvertedMask);
@@ -985,6 +998,12 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
       }
       anchorRanges(texels, 65535.0); // the texture's range: no pass to find it
       pieces[p]->GetPointData()->AddArray(texels);
+      if (pieces.size() == 1)
+      {
+        int dims[3];
+        pieces[p]->GetDimensions(dims);
+        internals.Bricks = mcv::bricks::computeBrickBounds(texels->GetPointer(0), dims);
+      }
     }
     internals.Converted = std::vector<float>();
     internals.ConvertedMask = std::vector<std::uint8_t>();
@@ -1042,6 +1061,39 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
   uniforms->SetUniform4fv(mcv::shader::WidgetColourLogA, mcv::shader::MaximumWidgets, colourLogA);
   uniforms->SetUniform3f(mcv::shader::CoordinateMin, minimum);
   uniforms->SetUniform3f(mcv::shader::CoordinateExtent, extent);
+
+  // The widget table: which widgets reach each brick (a widget edit rebuilds it: a pass
+  // over the bricks, not the voxels).
+  auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
+  internals.UseBricks = this->EmptySpaceSkipping && mapper && internals.Bricks.Count() > 0;
+  this->NumberOfBricks = this->NumberOfEmptyBricks = 0;
+  this->MeanWidgetsPerBrick = 0;
+  if (internals.UseBricks)
+  {
+    int height = 0;
+    long long listed = 0;
+    const std::vector<float> table = mcv::bricks::buildWidgetTable(
+      internals.Bricks, packed, minimum, extent, height, this->NumberOfEmptyBricks, listed);
+    mapper->SetWidgetTable(table, height);
+    this->NumberOfBricks = internals.Bricks.Count();
+    const int reached = this->NumberOfBricks - this->NumberOfEmptyBricks;
+    this->MeanWidgetsPerBrick = reached > 0 ? double(listed) / reached : 0.0;
+    const float volume[3] = { float(internals.Bricks.volume[0]), float(internals.Bricks.volume[1]),
+      float(internals.Bricks.volume[2]) };
+    const float grid[3] = { float(internals.Bricks.grid[0]), float(internals.Bricks.grid[1]),
+      float(internals.Bricks.grid[2]) };
+    uniforms->SetUniform3f(mcv::shader::VolumeSize, volume);
+    uniforms->SetUniform3f(mcv::shader::BrickGrid, grid);
+  }
+  else
+  {
+    if (mapper)
+    {
+      mapper->SetWidgetTable(std::vector<float>(), 0);
+    }
+    uniforms->RemoveUniform(mcv::shader::VolumeSize);
+    uniforms->RemoveUniform(mcv::shader::BrickGrid);
+  }
   internals.DeviceUsed = "OpenGL";
   internals.Valid = true;
   ++this->NumberOfComputations;
@@ -1072,17 +1124,19 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     this->UpdatePerSample();
     internals.ShaderProperty->GetFragmentCustomUniforms()->SetUniformf(
       mcv::shader::UnitDistance, static_cast<float>(unitDistance));
-    const std::string key = std::string(mip ? "mip" : "composite") + (this->Jittering ? "+jitter" : "");
+    const bool bricks = internals.UseBricks;
+    const std::string key = std::string(mip ? "mip" : "composite") + (this->Jittering ? "+jitter" : "") +
+      (bricks ? "+bricks" : "");
     if (key != internals.ShaderKey)
     {
       vtkOpenGLShaderProperty* sp = internals.ShaderProperty;
       sp->ClearAllFragmentShaderReplacements();
       sp->AddFragmentShaderReplacement("//VTK::Shading::Dec", true,
-        "//VTK::Shading::Dec\n" + mcv::shader::ClassifyDeclaration(), false);
+        "//VTK::Shading::Dec\n" + mcv::shader::ClassifyDeclaration(bricks), false);
       sp->AddFragmentShaderReplacement(
-        "//VTK::Shading::Init", true, mcv::shader::RayStart(this->Jittering), false);
+        "//VTK::Shading::Init", true, mcv::shader::RayStart(this->Jittering, bricks), false);
       sp->AddFragmentShaderReplacement(
-        "//VTK::Shading::Impl", true, mcv::shader::SampleAndBlend(mip), false);
+        "//VTK::Shading::Impl", true, mcv::shader::SampleAndBlend(mip, bricks), false);
       internals.ShaderKey = key;
     }
     this->VolumeMapper->SelectScalarArray(GetTextureArrayName());
@@ -1146,6 +1200,7 @@ void vtkGaussianTFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Classification: " << (this->Classification == PER_SAMPLE ? "per sample" : "per voxel") << "\n";
   os << indent << "Jittering: " << this->Jittering << "\n";
+  os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
   os << indent << "CoordinateArray: " << this->Internals->CoordinateArray << "\n";
   os << indent << "MaskArray: " << this->Internals->MaskArray << "\n";
   os << indent << "GaussianWidgets: " << this->Internals->WidgetValues.Size() << " values\n";

@@ -148,6 +148,32 @@ public:
 
   ///@{
   /**
+   * Per sample: split the volume into bricks of 8^3 voxels and list, for each, the widgets
+   * that can reach the reduced coordinates of its voxels (mcvGaussianTFBricks.h); the
+   * shader evaluates only those, and steps over a brick that none reaches (masked
+   * background, or coordinates far from every widget) in whole sample steps. The widgets
+   * left out add less than 1e-6 opacity per unit length to a sample. Default off (every
+   * widget at every sample): on Mesa llvmpipe the brick look-up at every sample costs
+   * more than it saves below some 10-60 widgets (docs/benchmarks.md section 20).
+   * Volumes of one piece per process only.
+   */
+  void SetEmptySpaceSkipping(bool skipping);
+  vtkGetMacro(EmptySpaceSkipping, bool);
+  ///@}
+
+  ///@{
+  /**
+   * The bricks of the last widget table (EmptySpaceSkipping): all of them, those no
+   * widget reaches, and the mean number of widgets a sample of a reached brick evaluates
+   * (its list, or every widget where most reach it); 0 without a table.
+   */
+  vtkGetMacro(NumberOfBricks, int);
+  vtkGetMacro(NumberOfEmptyBricks, int);
+  vtkGetMacro(MeanWidgetsPerBrick, double);
+  ///@}
+
+  ///@{
+  /**
    * Point array whose zero values mark voxels that are never drawn (uint8 or any numeric
    * type; default `Foreground`, the background mask of MultichannelFeatures). A name that
    * is not an array of the input masks nothing.
@@ -250,6 +276,10 @@ private:
   int Classification = PER_SAMPLE;
   int RequestedRenderMode = 0;
   bool Jittering = true;
+  bool EmptySpaceSkipping = false;
+  int NumberOfBricks = 0;
+  int NumberOfEmptyBricks = 0;
+  double MeanWidgetsPerBrick = 0;
   int NumberOfTextureBuilds = 0;
   double LastPreparationSeconds = 0;
   int Device = vtkMultichannelAlgorithm::DEVICE_AUTO;

@@ -8,7 +8,9 @@ plugin's proxies, so that what a user can call or set is documented.
 Public names: those the package's __init__.py imports from its modules (multichannel_explorer
 is imported as text, not run: it needs ParaView). Properties: every *Property element of
 the SourceProxy / RepresentationProxy / WriterProxy elements of
-Plugin/MultichannelExplorer/*.xml outside the internal_sources group. A name counts as
+Plugin/MultichannelExplorer/*.xml outside the internal_sources group and the base proxies
+of the mcv_feature_settings group (their properties count in the proxies that inherit
+them through base_proxygroup / base_proxyname). A name counts as
 documented when it appears in backquotes (`name` or `name(...)`) in docs/reference.md."""
 import ast
 import glob
@@ -29,15 +31,36 @@ def public_names(repo):
     return names
 
 
+def flattened(proxy, every):
+    """The proxy with the properties of its base proxy (base_proxygroup / base_proxyname)
+    first, as ParaView merges them; a property marked override replaces the base's."""
+    base = every.get((proxy.get("base_proxygroup"), proxy.get("base_proxyname")))
+    if base is None:
+        return proxy
+    merged = ET.Element(proxy.tag, proxy.attrib)
+    own = {c.get("name"): c for c in proxy if c.tag.endswith("Property") and c.get("override")}
+    for child in flattened(base, every):
+        if child.tag == "Documentation":
+            continue
+        merged.append(own.pop(child.get("name"), child) if child.tag.endswith("Property") else child)
+    for child in proxy:
+        if not (child.tag.endswith("Property") and child.get("override")):
+            merged.append(child)
+    return merged
+
+
 def proxies(repo):
-    """(proxy name, xml element) of every user-visible proxy."""
+    """(proxy name, xml element with its inherited properties) of every user-visible proxy."""
+    every, shown = {}, []
     for path in sorted(glob.glob(os.path.join(repo, "Plugin/MultichannelExplorer/*.xml"))):
         for group in ET.parse(path).getroot().findall("ProxyGroup"):
-            if group.get("name") == "internal_sources":
-                continue
             for proxy in group:
                 if proxy.tag in PROXY_TAGS:
-                    yield proxy.get("name"), proxy
+                    every[(group.get("name"), proxy.get("name"))] = proxy
+                    if group.get("name") not in ("internal_sources", "mcv_feature_settings"):
+                        shown.append(proxy)
+    for proxy in shown:
+        yield proxy.get("name"), flattened(proxy, every)
 
 
 def first_sentence(element):

@@ -125,90 +125,17 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   {
     return 0;
   }
-  const std::size_t count = grid.voxelCount();
-  // Gradients in world units along the image's own axes (an oriented image's direction
-  // matrix rotates them; the features are per axis of the grid, like vtkImageGradient).
-  double spacing[3];
-  image->GetSpacing(spacing);
-  for (int a = 0; a < 3; ++a)
-  {
-    grid.spacing[a] = std::abs(spacing[a]);
-  }
-
+  this->SetGridSpacing(image, grid);
   mcv::vtkhelpers::ChannelArrays channels;
-  if (!this->SelectChannels(image, count, channels))
+  if (!this->SelectChannels(image, grid.voxelCount(), channels))
   {
     return 0;
   }
-
-  // ---- The core ----------------------------------------------------------------------
-  mcv::FeatureOptions options;
-  options.preset = static_cast<mcv::FeaturePreset>(this->FeatureSet);
-  options.custom.intensity = this->Intensity;
-  options.custom.gradient = this->Gradient;
-  options.custom.gradientMagnitude = this->GradientMagnitude;
-  options.custom.laplacian = this->Laplacian;
-  options.custom.localMean = this->LocalMean;
-  options.custom.localVariance = this->LocalVariance;
-  options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
-  options.device = this->GetRequestedDevice();
-  options.channelNames = channels.names;
-  options.communicator = this->GetCommunicator();
-  options.piece = piece;
-  options.progress = this->ProgressCallback();
-  const int F = mcv::featureCount(channels.views.size(), options);
-  if (F <= 0)
-  {
-    vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
-                  "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
-                  "LocalVariance) is off.");
-    return 0;
-  }
-
-  if (this->ReportError(mcv::checkFeatureMemory(count, F)))
+  vtkSmartPointer<vtkFloatArray> features = this->ComputeFeatureArray(channels, grid, piece);
+  if (!features)
   {
     return 0;
   }
-  this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
-
-  // The core writes straight into the array's own memory (the block's; a split run's output
-  // gets its piece cut from it below).
-  vtkSmartPointer<vtkFloatArray> features = vtkSmartPointer<vtkFloatArray>::New();
-  features->SetName(kOutputName);
-  features->SetNumberOfComponents(F);
-  if (!features->Allocate(static_cast<vtkIdType>(count) * F))
-  {
-    vtkErrorMacro("Cannot allocate the Features array (" << count << " x " << F
-                                                         << " floats).");
-    return 0;
-  }
-  features->SetNumberOfTuples(static_cast<vtkIdType>(count));
-  mcv::FeatureOutput out;
-  out.data = features->GetPointer(0);
-  out.rows = count;
-  out.cols = F;
-
-  if (!this->AllProcessesReady())
-  {
-    return 0;
-  }
-  this->UpdateProgress(0.0);
-  mcv::FeatureResult result;
-  mcv::computeFeatures(channels.views, grid, options, out, result);
-  this->ReportWarnings(result.warnings);
-  if (!result.ok())
-  {
-    vtkErrorMacro(<< result.error);
-    return 0;
-  }
-  for (int c = 0; c < F && c < static_cast<int>(result.names.size()); ++c)
-  {
-    features->SetComponentName(c, result.names[c].c_str());
-  }
-  this->NumberOfFeatures = F;
-  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(result.nonFiniteVoxels);
-  this->ComputeTime = result.totalMs;
-  this->SetDeviceUsed(result.deviceUsed);
   // The output's extent (a split run: the piece without the ghost layers). The block's
   // features are let go once cut, before anything else is made.
   int blockExtent[6], outputExtent[6];
@@ -220,21 +147,9 @@ int vtkMultichannelFeatures::RequestMultichannelData(
 
   // ---- The background mask (collective, like the features' statistics) -----------------
   vtkSmartPointer<vtkUnsignedCharArray> foreground;
-  if (this->MaskBackground)
+  if (this->MaskBackground && !this->ComputeForegroundMask(channels, grid, piece, foreground))
   {
-    mcv::BackgroundMaskOptions maskOptions;
-    maskOptions.threshold = this->BackgroundThreshold;
-    maskOptions.communicator = options.communicator;
-    maskOptions.piece = piece;
-    mcv::BackgroundMaskResult mask;
-    foreground = computeForeground(channels.views, grid, maskOptions, mask);
-    this->ReportWarnings(mask.warnings);
-    if (!foreground)
-    {
-      vtkErrorMacro("Background mask: " << mask.error);
-      return 0;
-    }
-    this->NumberOfBackgroundVoxels = static_cast<vtkIdType>(mask.backgroundVoxels);
+    return 0;
   }
 
   // ---- Output: the input plus Features (and Foreground) ----------------------------------
@@ -251,20 +166,90 @@ int vtkMultichannelFeatures::RequestMultichannelData(
   return 1;
 }
 
+// ---- The core: the block's features, written straight into the array's own memory -------
+vtkSmartPointer<vtkFloatArray> vtkMultichannelFeatures::ComputeFeatureArray(
+  const mcv::vtkhelpers::ChannelArrays& channels, const mcv::ImageGrid& grid, const mcv::GridPiece& piece)
+{
+  const std::size_t count = grid.voxelCount();
+  mcv::FeatureOptions options;
+  this->SetFeatureOptions(this->FeatureSet, options);
+  options.device = this->GetRequestedDevice();
+  options.channelNames = channels.names;
+  options.communicator = this->GetCommunicator();
+  options.piece = piece;
+  options.progress = this->ProgressCallback();
+  const int F = mcv::featureCount(channels.views.size(), options);
+  if (!this->CheckFeatureCount(F) || this->ReportError(mcv::checkFeatureMemory(count, F)))
+  {
+    return nullptr;
+  }
+  this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
+
+  // The block's array (a split run's output gets its piece cut from it).
+  vtkSmartPointer<vtkFloatArray> features = vtkSmartPointer<vtkFloatArray>::New();
+  features->SetName(kOutputName);
+  features->SetNumberOfComponents(F);
+  if (!features->Allocate(static_cast<vtkIdType>(count) * F))
+  {
+    vtkErrorMacro("Cannot allocate the Features array (" << count << " x " << F
+                                                         << " floats).");
+    return nullptr;
+  }
+  features->SetNumberOfTuples(static_cast<vtkIdType>(count));
+  mcv::FeatureOutput out;
+  out.data = features->GetPointer(0);
+  out.rows = count;
+  out.cols = F;
+
+  if (!this->AllProcessesReady())
+  {
+    return nullptr;
+  }
+  this->UpdateProgress(0.0);
+  mcv::FeatureResult result;
+  mcv::computeFeatures(channels.views, grid, options, out, result);
+  this->ReportWarnings(result.warnings);
+  if (!result.ok())
+  {
+    vtkErrorMacro(<< result.error);
+    return nullptr;
+  }
+  for (int c = 0; c < F && c < static_cast<int>(result.names.size()); ++c)
+  {
+    features->SetComponentName(c, result.names[c].c_str());
+  }
+  this->NumberOfFeatures = F;
+  this->NumberOfNonFiniteVoxels = static_cast<vtkIdType>(result.nonFiniteVoxels);
+  this->ComputeTime = result.totalMs;
+  this->SetDeviceUsed(result.deviceUsed);
+  return features;
+}
+
+// The Foreground array of the block (collective); false after an error (reported).
+bool vtkMultichannelFeatures::ComputeForegroundMask(const mcv::vtkhelpers::ChannelArrays& channels,
+  const mcv::ImageGrid& grid, const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground)
+{
+  mcv::BackgroundMaskOptions maskOptions;
+  maskOptions.threshold = this->BackgroundThreshold;
+  maskOptions.communicator = this->GetCommunicator();
+  maskOptions.piece = piece;
+  mcv::BackgroundMaskResult mask;
+  foreground = computeForeground(channels.views, grid, maskOptions, mask);
+  this->ReportWarnings(mask.warnings);
+  if (!foreground)
+  {
+    vtkErrorMacro("Background mask: " << mask.error);
+    return false;
+  }
+  this->NumberOfBackgroundVoxels = static_cast<vtkIdType>(mask.backgroundVoxels);
+  return true;
+}
+
 //------------------------------------------------------------------------------
 void vtkMultichannelFeatures::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureSet: " << this->FeatureSet << "\n";
-  os << indent << "Intensity: " << this->Intensity << "\n";
-  os << indent << "Gradient: " << this->Gradient << "\n";
-  os << indent << "GradientMagnitude: " << this->GradientMagnitude << "\n";
-  os << indent << "Laplacian: " << this->Laplacian << "\n";
-  os << indent << "LocalMean: " << this->LocalMean << "\n";
-  os << indent << "LocalVariance: " << this->LocalVariance << "\n";
-  os << indent << "Normalization: " << this->Normalization << "\n";
-  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
-  os << indent << "BackgroundThreshold: " << this->BackgroundThreshold << "\n";
   os << indent << "NumberOfFeatures: " << this->NumberOfFeatures << "\n";
   os << indent << "NumberOfBackgroundVoxels: " << this->NumberOfBackgroundVoxels << "\n";
 }

@@ -44,74 +44,23 @@
 #define vtkMultichannelFeatures_h
 
 #include "mcvFiltersFeaturesModule.h" // for export macro
-#include "vtkMultichannelAlgorithm.h"
+#include "vtkMultichannelFeatureAlgorithm.h"
+#include "vtkSmartPointer.h" // for vtkSmartPointer
 
-class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkMultichannelAlgorithm
+class vtkFloatArray;
+class vtkUnsignedCharArray;
+
+class MCVFILTERSFEATURES_EXPORT vtkMultichannelFeatures : public vtkMultichannelFeatureAlgorithm
 {
 public:
   static vtkMultichannelFeatures* New();
-  vtkTypeMacro(vtkMultichannelFeatures, vtkMultichannelAlgorithm);
+  vtkTypeMacro(vtkMultichannelFeatures, vtkMultichannelFeatureAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum FeatureSetType
-  {
-    FEATURES_6D = 0,
-    FEATURES_24D = 1,
-    FEATURES_CUSTOM = 2
-  };
-
-  enum NormalizationType
-  {
-    ZSCORE = 0,
-    MINMAX = 1,
-    NONE = 2
-  };
-
   ///@{
-  /** FEATURES_6D (default), FEATURES_24D or FEATURES_CUSTOM. */
+  /** FEATURES_6D (default), FEATURES_24D or FEATURES_CUSTOM (the toggles of the base). */
   vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_CUSTOM);
   vtkGetMacro(FeatureSet, int);
-  ///@}
-
-  ///@{
-  /** Features of FEATURES_CUSTOM (defaults: intensity and gradient magnitude). */
-  vtkSetMacro(Intensity, bool);
-  vtkGetMacro(Intensity, bool);
-  vtkSetMacro(Gradient, bool);
-  vtkGetMacro(Gradient, bool);
-  vtkSetMacro(GradientMagnitude, bool);
-  vtkGetMacro(GradientMagnitude, bool);
-  vtkSetMacro(Laplacian, bool);
-  vtkGetMacro(Laplacian, bool);
-  vtkSetMacro(LocalMean, bool);
-  vtkGetMacro(LocalMean, bool);
-  vtkSetMacro(LocalVariance, bool);
-  vtkGetMacro(LocalVariance, bool);
-  ///@}
-
-  ///@{
-  /** ZSCORE (default), MINMAX or NONE. */
-  vtkSetClampMacro(Normalization, int, ZSCORE, NONE);
-  vtkGetMacro(Normalization, int);
-  ///@}
-
-  ///@{
-  /**
-   * Mark the background (voxels empty in every channel) in the `Foreground` array
-   * (default on).
-   */
-  vtkSetMacro(MaskBackground, bool);
-  vtkGetMacro(MaskBackground, bool);
-  vtkBooleanMacro(MaskBackground, bool);
-  ///@}
-
-  ///@{
-  /**
-   * A channel is empty at a voxel when its value is <= min + BackgroundThreshold *
-   * (max - min) of the channel (default 0: exactly the minimum). In [0, 1].
-   */
-  vtkSetClampMacro(BackgroundThreshold, double, 0.0, 1.0);
-  vtkGetMacro(BackgroundThreshold, double);
   ///@}
 
   ///@{
@@ -135,15 +84,6 @@ protected:
   std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd) override;
 
   int FeatureSet = FEATURES_6D;
-  bool Intensity = true;
-  bool Gradient = false;
-  bool GradientMagnitude = true;
-  bool Laplacian = false;
-  bool LocalMean = false;
-  bool LocalVariance = false;
-  int Normalization = ZSCORE;
-  bool MaskBackground = true;
-  double BackgroundThreshold = 0.0;
 
   int NumberOfFeatures = 0;
   vtkIdType NumberOfNonFiniteVoxels = 0;
@@ -152,6 +92,14 @@ protected:
 
 private:
   vtkMultichannelFeatures(const vtkMultichannelFeatures&) = delete;
+#ifndef __VTK_WRAP__
+  // The steps of RequestMultichannelData: the block's Features array (nullptr after an
+  // error, reported) and its Foreground mask (false after an error).
+  vtkSmartPointer<vtkFloatArray> ComputeFeatureArray(
+    const mcv::vtkhelpers::ChannelArrays& channels, const mcv::ImageGrid& grid, const mcv::GridPiece& piece);
+  bool ComputeForegroundMask(const mcv::vtkhelpers::ChannelArrays& channels, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& piece, vtkSmartPointer<vtkUnsignedCharArray>& foreground);
+#endif
   void operator=(const vtkMultichannelFeatures&) = delete;
 };
 

@@ -411,84 +411,114 @@ int vtkDimensionReduction::RequestMultichannelData(
     vtkErrorMacro("Missing output (image data on port 0, table on port 1).");
     return 0;
   }
-
-  // ---- Argument checks -----------------------------------------------------------
   vtkImageData* image =
     this->GetInputImage(inputVector, "with a point array of feature vectors.");
-  if (!image)
+  Run run;
+  if (!image || !this->CheckArguments() || !this->GetImageBlock(image, run.grid, run.piece))
   {
     return 0;
   }
-  if (this->OutputDimension != 2 && this->OutputDimension != 3)
-  {
-    vtkErrorMacro("OutputDimension must be 2 or 3 (got " << this->OutputDimension << ").");
-    return 0;
-  }
-  if (this->NumberOfNeighbors <= 0)
-  {
-    vtkErrorMacro("NumberOfNeighbors must be positive (got " << this->NumberOfNeighbors << ").");
-    return 0;
-  }
-  if (this->NumberOfLandmarks <= 0)
-  {
-    vtkErrorMacro("NumberOfLandmarks must be positive (got " << this->NumberOfLandmarks << ").");
-    return 0;
-  }
-  if (this->ReferenceSampleSize <= 0)
-  {
-    vtkErrorMacro(
-      "ReferenceSampleSize must be positive (got " << this->ReferenceSampleSize << ").");
-    return 0;
-  }
-  mcv::ImageGrid grid;
-  mcv::GridPiece piece;
-  if (!this->GetImageBlock(image, grid, piece))
-  {
-    return 0;
-  }
-  const std::size_t count = grid.voxelCount();
-  const mcv::vtkhelpers::PieceLayout& layout = this->GetPieceLayout();
   // A split run's output holds its piece, not the ghost layers: the coordinates are made
   // at that extent, the other arrays cut to it (PassInputAtExtent).
-  int blockExtent[6], outputExtent[6];
-  image->GetExtent(blockExtent);
-  this->GetOutputExtent(image, outputVector, outputExtent);
-  const std::size_t outputCount = static_cast<std::size_t>(vtkStructuredData::GetNumberOfPoints(outputExtent));
-
-  vtkPointData* pd = image->GetPointData();
-  if (pd->GetNumberOfArrays() == 0)
+  image->GetExtent(run.blockExtent);
+  this->GetOutputExtent(image, outputVector, run.outputExtent);
+  run.outputCount = static_cast<std::size_t>(vtkStructuredData::GetNumberOfPoints(run.outputExtent));
+  if (image->GetPointData()->GetNumberOfArrays() == 0)
   {
     vtkErrorMacro("Input has no point arrays: no feature vectors to reduce. Compute them "
                   "first, e.g. with the MultichannelFeatures filter (array 'Features').");
     return 0;
   }
-
-  // ---- The model: a file's, the fit of one or all time steps, or none (fit here) ---------
   vtkInternals& internals = *this->Internals;
   if (internals.CollectingPass)
   {
-    return this->CollectSeriesStep(request, image, grid, piece, output);
+    return this->CollectSeriesStep(request, image, run.grid, run.piece, output);
   }
-  std::shared_ptr<const mcv::vtkhelpers::ModelFile> model;
-  const std::vector<char>* modelBytes = nullptr;
-  std::string modelSource;
   // The pass that fits one time step for the others, when another step was asked for.
-  const bool fitOnly = internals.FittingPass && internals.HasDownstreamTime &&
+  run.fitOnly = internals.FittingPass && internals.HasDownstreamTime &&
     internals.DownstreamTime != internals.OneStepTime;
+  if (!this->ChooseModel(image, run))
+  {
+    return 0;
+  }
+  // A converted feature array lives as long as the run (rows point into it).
+  struct ReleaseCopy
+  {
+    vtkInternals& internals;
+    ~ReleaseCopy() { internals.ConvertedFeatures = nullptr; }
+  } releaseCopy{ internals };
+  if (!this->ReduceRows(image, run))
+  {
+    return 0;
+  }
+  if (run.fitOnly)
+  {
+    // The step asked for comes next, placed with this fit.
+    request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
+    output->Initialize();
+    return 1;
+  }
+  request->Remove(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING());
+  if (!this->StoreResults(run))
+  {
+    return 0;
+  }
+  this->WriteImageOutput(image, run, output);
+  // Output port 1, the spectrum table: on one process of a split run only (no copies).
+  const mcv::vtkhelpers::PieceLayout& layout = this->GetPieceLayout();
+  if (!layout.IsSplit() || layout.Piece == 0)
+  {
+    this->WriteSpectrumTable(run, spectrumTable);
+  }
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+// ---- Argument checks -----------------------------------------------------------
+bool vtkDimensionReduction::CheckArguments()
+{
+  if (this->OutputDimension != 2 && this->OutputDimension != 3)
+  {
+    vtkErrorMacro("OutputDimension must be 2 or 3 (got " << this->OutputDimension << ").");
+    return false;
+  }
+  if (this->NumberOfNeighbors <= 0)
+  {
+    vtkErrorMacro("NumberOfNeighbors must be positive (got " << this->NumberOfNeighbors << ").");
+    return false;
+  }
+  if (this->NumberOfLandmarks <= 0)
+  {
+    vtkErrorMacro("NumberOfLandmarks must be positive (got " << this->NumberOfLandmarks << ").");
+    return false;
+  }
+  if (this->ReferenceSampleSize <= 0)
+  {
+    vtkErrorMacro(
+      "ReferenceSampleSize must be positive (got " << this->ReferenceSampleSize << ").");
+    return false;
+  }
+  return true;
+}
+
+// ---- The model: a file's, the fit of one or all time steps, or none (fit here) ---------
+bool vtkDimensionReduction::ChooseModel(vtkImageData* image, Run& run)
+{
+  vtkInternals& internals = *this->Internals;
   if (this->ModelFile && *this->ModelFile)
   {
     if (!this->ReadModelFile())
     {
-      return 0;
+      return false;
     }
-    model = internals.ReadModel;
-    modelBytes = &internals.ReadBytes;
-    modelSource = this->ModelFile;
+    run.model = internals.ReadModel;
+    run.modelBytes = &internals.ReadBytes;
+    run.modelSource = this->ModelFile;
   }
   else if (internals.ApplyOneStep && internals.OneStepModel)
   {
-    model = internals.OneStepModel;
-    modelBytes = &internals.OneStepBytes;
+    run.model = internals.OneStepModel;
+    run.modelBytes = &internals.OneStepBytes;
     std::ostringstream os;
     if (internals.OneStepAll)
     {
@@ -498,152 +528,165 @@ int vtkDimensionReduction::RequestMultichannelData(
     {
       os << "the fit of time " << internals.OneStepTime;
     }
-    modelSource = os.str();
+    run.modelSource = os.str();
   }
-  if (model)
+  if (!run.model)
   {
-    double spacing[3];
-    image->GetSpacing(spacing);
-    const std::array<double, 3>& fitted = model->features.spacing;
-    for (int a = 0; a < 3; ++a)
+    return true;
+  }
+  double spacing[3];
+  image->GetSpacing(spacing);
+  const std::array<double, 3>& fitted = run.model->features.spacing;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (std::abs(std::abs(spacing[a]) - fitted[a]) > 1e-6 * fitted[a])
     {
-      if (std::abs(std::abs(spacing[a]) - fitted[a]) > 1e-6 * fitted[a])
-      {
-        std::ostringstream os;
-        os << "The volume's spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-           << ") differs from that of the volume the model " << modelSource << " was fitted on (" << fitted[0]
-           << ", " << fitted[1] << ", " << fitted[2] << (model->features.lengthUnit.empty() ? "" : " ")
-           << model->features.lengthUnit
-           << "): gradients are per world unit, so the same tissue may get other features and coordinates.";
-        this->ReportWarnings({ os.str() });
-        break;
-      }
+      std::ostringstream os;
+      os << "The volume's spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
+         << ") differs from that of the volume the model " << run.modelSource << " was fitted on (" << fitted[0]
+         << ", " << fitted[1] << ", " << fitted[2] << (run.model->features.lengthUnit.empty() ? "" : " ")
+         << run.model->features.lengthUnit
+         << "): gradients are per world unit, so the same tissue may get other features and coordinates.";
+      this->ReportWarnings({ os.str() });
+      break;
     }
   }
+  return true;
+}
 
-  // ---- The rows: a feature array, or the features of the channels (fused) ---------------
-  const bool fromChannels = model || this->UsesChannels(pd);
+// ---- The rows (a feature array, or the features of the channels: fused) and the core ----
+bool vtkDimensionReduction::ReduceRows(vtkImageData* image, Run& run)
+{
+  vtkPointData* pd = image->GetPointData();
+  run.fromChannels = run.model || this->UsesChannels(pd);
   mcv::vtkhelpers::FeatureRecipe recipe;
-  const char* requested = nullptr;
   std::string what;
-  vtkSmartPointer<vtkUnsignedCharArray> foreground;
   std::unique_ptr<mcv::FeatureRows> rows;
-  if (fromChannels)
+  if (run.fromChannels)
   {
     what = std::string("the ") + featureSetName(this->FeatureSet) + " features of the channels";
     // Collective from AllProcessesReady() on, which it calls.
-    rows = this->ChannelRows(image, grid, piece, foreground, model.get(), &recipe);
+    rows = this->ChannelRows(image, run.grid, run.piece, run.foreground, run.model.get(), &recipe);
   }
   else
   {
-    rows = this->InputArrayRows(image, count, requested);
+    const char* requested = nullptr;
+    rows = this->InputArrayRows(image, run.grid.voxelCount(), requested);
     if (rows && !this->AllProcessesReady())
     {
       rows.reset();
     }
     what = std::string("'") + (requested ? requested : "") + "'";
   }
-  // A converted feature array lives as long as the run (rows point into it).
-  struct ReleaseCopy
-  {
-    vtkInternals& internals;
-    ~ReleaseCopy() { internals.ConvertedFeatures = nullptr; }
-  } releaseCopy{ *this->Internals };
   if (!rows)
   {
-    return 0;
+    return false;
   }
-
-  mcv::ReductionOptions options = this->MethodOptions();
-  options.sampleMask = fromChannels ? (foreground ? foreground->GetPointer(0) : nullptr)
-                                    : this->ForegroundMask(pd, count);
-  // The channels' features took the first tenth of the progress.
-  const std::function<void(const char*, double)> staged = this->StageProgressCallback();
-  const double first = fromChannels ? 0.1 : 0.0;
-  options.progress = [staged, first](const char* stage, double f) { staged(stage, first + (1 - first) * f); };
-
   mcv::ReductionModel fittedModel;
-  if (model)
-  {
-    options.model = &model->reduction;
-  }
-  else if (fromChannels)
-  {
-    options.fittedModel = &fittedModel;
-    options.fitOnly = fitOnly;
-  }
-  if (layout.IsSplit())
-  {
-    options.communicator = this->GetCommunicator();
-    options.piece = piece;
-    options.block.dims = grid.dims;
-    for (int a = 0; a < 3; ++a)
-    {
-      options.outputLo[a] = outputExtent[2 * a] - blockExtent[2 * a];
-      options.outputHi[a] = outputExtent[2 * a + 1] - blockExtent[2 * a];
-    }
-  }
-
-  // ---- The core ----------------------------------------------------------------------
-  // The output array, written by the core in place (no second coordinates buffer): float32,
-  // or binary16 bits in uint16 (the core rounds a chunk of rows at a time into it).
-  const bool half = this->CoordinatePrecision == FLOAT16;
-  vtkSmartPointer<vtkDataArray> reduced;
-  if (half)
-  {
-    reduced = vtkSmartPointer<vtkTypeUInt16Array>::New();
-  }
-  else
-  {
-    reduced = vtkSmartPointer<vtkFloatArray>::New();
-  }
-  reduced->SetName(kCoordinatesName);
-  reduced->SetNumberOfComponents(this->OutputDimension);
-  for (int c = 0; c < this->OutputDimension; ++c)
-  {
-    const std::string name = "dim" + std::to_string(c + 1);
-    reduced->SetComponentName(c, name.c_str());
-  }
-  reduced->SetNumberOfTuples(static_cast<vtkIdType>(outputCount));
-  if (half)
-  {
-    options.coordinatesHalfOutput = static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0);
-  }
-  else
-  {
-    options.coordinatesOutput = static_cast<vtkFloatArray*>(reduced.Get())->GetPointer(0);
-  }
-
-  vtkSmartPointer<vtkFloatArray> modelDistance;
-  if (model)
-  {
-    modelDistance = vtkSmartPointer<vtkFloatArray>::New();
-    modelDistance->SetName(kModelDistanceName);
-    modelDistance->SetNumberOfTuples(static_cast<vtkIdType>(outputCount));
-    options.modelDistanceOutput = modelDistance->GetPointer(0);
-  }
-
-  const mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
+  mcv::ReductionOptions options = this->RunOptions(pd, run, fittedModel);
+  mcv::ReductionResult result = mcv::reduceDimension(*rows, options);
   // The slab buffers and a converted feature array go before the output is assembled.
   rows.reset();
   this->Internals->ConvertedFeatures = nullptr;
   this->SetProgressText(nullptr);
   this->ReportWarnings(result.warnings);
-  const char* const method = model ? mcv::reductionMethodName(model->reduction.method) : methodName(this->Method);
+  run.method = run.model ? mcv::reductionMethodName(run.model->reduction.method) : methodName(this->Method);
   if (!result.ok())
   {
-    vtkErrorMacro(<< method << (model ? " (the model " + modelSource + ")" : std::string()) << " on " << what << ": "
-                  << result.error);
-    return 0;
+    vtkErrorMacro(<< run.method << (run.model ? " (the model " + run.modelSource + ")" : std::string()) << " on "
+                  << what << ": " << result.error);
+    return false;
   }
+  this->KeepModel(run, std::move(recipe), std::move(fittedModel), result, options);
+  run.result = std::move(result);
+  return true;
+}
 
-  // ---- The model: kept for the writer and for the other time steps ---------------------
-  if (model)
+// The core's options of this run: the method's, the sample's mask, progress, the model to
+// apply or to fit, the piece of a split run and the output arrays (made here, written by
+// the core in place).
+mcv::ReductionOptions vtkDimensionReduction::RunOptions(vtkPointData* pd, Run& run, mcv::ReductionModel& fittedModel)
+{
+  mcv::ReductionOptions options = this->MethodOptions();
+  options.sampleMask = run.fromChannels ? (run.foreground ? run.foreground->GetPointer(0) : nullptr)
+                                        : this->ForegroundMask(pd, run.grid.voxelCount());
+  // The channels' features took the first tenth of the progress.
+  const std::function<void(const char*, double)> staged = this->StageProgressCallback();
+  const double first = run.fromChannels ? 0.1 : 0.0;
+  options.progress = [staged, first](const char* stage, double f) { staged(stage, first + (1 - first) * f); };
+  if (run.model)
   {
-    internals.Model = model;
-    internals.ModelBytes = *modelBytes;
+    options.model = &run.model->reduction;
   }
-  else if (fromChannels)
+  else if (run.fromChannels)
+  {
+    options.fittedModel = &fittedModel;
+    options.fitOnly = run.fitOnly;
+  }
+  if (this->GetPieceLayout().IsSplit())
+  {
+    options.communicator = this->GetCommunicator();
+    options.piece = run.piece;
+    options.block.dims = run.grid.dims;
+    for (int a = 0; a < 3; ++a)
+    {
+      options.outputLo[a] = run.outputExtent[2 * a] - run.blockExtent[2 * a];
+      options.outputHi[a] = run.outputExtent[2 * a + 1] - run.blockExtent[2 * a];
+    }
+  }
+  this->NewCoordinates(run, options);
+  if (run.model)
+  {
+    run.modelDistance = vtkSmartPointer<vtkFloatArray>::New();
+    run.modelDistance->SetName(kModelDistanceName);
+    run.modelDistance->SetNumberOfTuples(static_cast<vtkIdType>(run.outputCount));
+    options.modelDistanceOutput = run.modelDistance->GetPointer(0);
+  }
+  return options;
+}
+
+// The output array, written by the core in place (no second coordinates buffer): float32,
+// or binary16 bits in uint16 (the core rounds a chunk of rows at a time into it).
+void vtkDimensionReduction::NewCoordinates(Run& run, mcv::ReductionOptions& options)
+{
+  run.half = this->CoordinatePrecision == FLOAT16;
+  if (run.half)
+  {
+    run.reduced = vtkSmartPointer<vtkTypeUInt16Array>::New();
+  }
+  else
+  {
+    run.reduced = vtkSmartPointer<vtkFloatArray>::New();
+  }
+  run.reduced->SetName(kCoordinatesName);
+  run.reduced->SetNumberOfComponents(this->OutputDimension);
+  for (int c = 0; c < this->OutputDimension; ++c)
+  {
+    const std::string name = "dim" + std::to_string(c + 1);
+    run.reduced->SetComponentName(c, name.c_str());
+  }
+  run.reduced->SetNumberOfTuples(static_cast<vtkIdType>(run.outputCount));
+  if (run.half)
+  {
+    options.coordinatesHalfOutput = static_cast<vtkTypeUInt16Array*>(run.reduced.Get())->GetPointer(0);
+  }
+  else
+  {
+    options.coordinatesOutput = static_cast<vtkFloatArray*>(run.reduced.Get())->GetPointer(0);
+  }
+}
+
+// ---- The model: kept for the writer and for the other time steps ---------------------
+void vtkDimensionReduction::KeepModel(Run& run, mcv::vtkhelpers::FeatureRecipe recipe,
+  mcv::ReductionModel fittedModel, const mcv::ReductionResult& result, const mcv::ReductionOptions& options)
+{
+  vtkInternals& internals = *this->Internals;
+  if (run.model)
+  {
+    internals.Model = run.model;
+    internals.ModelBytes = *run.modelBytes;
+  }
+  else if (run.fromChannels)
   {
     std::string fittedOn;
     if (internals.FittingPass)
@@ -653,7 +696,7 @@ int vtkDimensionReduction::RequestMultichannelData(
       fittedOn = os.str();
     }
     auto made = this->NewModelFile(std::move(recipe), std::move(fittedModel), result, options.randomSeed,
-      options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : grid.dims, fittedOn);
+      options.piece.wholeDims[0] > 0 ? options.piece.wholeDims : run.grid.dims, fittedOn);
     internals.Model = made;
     internals.ModelBytes = mcv::vtkhelpers::encodeModel(*made);
     if (internals.FittingPass)
@@ -669,19 +712,18 @@ int vtkDimensionReduction::RequestMultichannelData(
     internals.Model = nullptr;
     internals.ModelBytes.clear();
   }
-  if (fitOnly)
-  {
-    // The step asked for comes next, placed with this fit.
-    request->Set(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING(), 1);
-    output->Initialize();
-    return 1;
-  }
-  request->Remove(vtkStreamingDemandDrivenPipeline::CONTINUE_EXECUTING());
+}
+
+// The results of the core as the filter's information properties; false when the core
+// returned another dimension than asked.
+bool vtkDimensionReduction::StoreResults(const Run& run)
+{
+  const mcv::ReductionResult& result = run.result;
   this->NumberOfOutOfModelVoxels = static_cast<vtkIdType>(result.outOfModelVoxels);
-  if (model && result.outOfModelVoxels > 0)
+  if (run.model && result.outOfModelVoxels > 0)
   {
     std::ostringstream os;
-    os << result.outOfModelVoxels << " voxel(s) lie outside the reduction model " << modelSource
+    os << result.outOfModelVoxels << " voxel(s) lie outside the reduction model " << run.modelSource
        << " (farther than " << mcv::kOutOfModelRatio
        << " x its reference radius from every reference): they get the colour of the nearest known tissue; "
           "see the point array ModelDistance.";
@@ -691,11 +733,8 @@ int vtkDimensionReduction::RequestMultichannelData(
   {
     vtkErrorMacro("The reduction returned " << result.outputDimension << " dimensions, not "
                                             << this->OutputDimension << ".");
-    return 0;
+    return false;
   }
-
-  // ---- Output port 0: the input plus ReducedCoordinates (filled above) -----------------
-
   this->SetDeviceUsed(result.deviceUsed);
   this->VarianceRetained = result.varianceRetained;
   this->Trustworthiness = result.trustworthiness;
@@ -710,45 +749,50 @@ int vtkDimensionReduction::RequestMultichannelData(
   {
     spectrum->SetValue(static_cast<vtkIdType>(i), result.eigenvalues[i]);
   }
+  return true;
+}
 
+// ---- Output port 0: the input plus ReducedCoordinates (filled by the core) -----------------
+void vtkDimensionReduction::WriteImageOutput(vtkImageData* image, Run& run, vtkImageData* output)
+{
   // A mask from upstream would describe other channels or settings: ours, or none. Ours
   // (block-sized, the sample's) is cut to the output's extent first and let go.
-  vtkSmartPointer<vtkDataArray> mask =
-    this->CropPointArray(foreground, blockExtent, outputExtent);
-  foreground = nullptr;
-  this->PassInputAtExtent(image, outputExtent, output,
-    fromChannels ? std::vector<std::string>{ kMaskName, kCoordinatesName, kModelDistanceName }
-                 : std::vector<std::string>{ kCoordinatesName, kModelDistanceName });
+  vtkSmartPointer<vtkDataArray> mask = this->CropPointArray(run.foreground, run.blockExtent, run.outputExtent);
+  run.foreground = nullptr;
+  this->PassInputAtExtent(image, run.outputExtent, output,
+    run.fromChannels ? std::vector<std::string>{ kMaskName, kCoordinatesName, kModelDistanceName }
+                     : std::vector<std::string>{ kCoordinatesName, kModelDistanceName });
   if (mask)
   {
     output->GetPointData()->AddArray(mask);
   }
-  output->GetPointData()->AddArray(reduced);
-  if (modelDistance)
+  output->GetPointData()->AddArray(run.reduced);
+  if (run.modelDistance)
   {
-    output->GetPointData()->AddArray(modelDistance);
+    output->GetPointData()->AddArray(run.modelDistance);
   }
   vtkFieldData* fd = output->GetFieldData();
-  if (model)
+  if (run.model)
   {
-    addFieldValue(fd, "OutOfModelVoxels", static_cast<double>(result.outOfModelVoxels));
-    addFieldString(fd, "ReductionModelSource", modelSource);
+    addFieldValue(fd, "OutOfModelVoxels", static_cast<double>(run.result.outOfModelVoxels));
+    addFieldString(fd, "ReductionModelSource", run.modelSource);
   }
   addFieldValue(fd, "Trustworthiness", this->Trustworthiness);
   addFieldValue(fd, "VarianceRetained", this->VarianceRetained);
   vtkNew<vtkDoubleArray> spectrumCopy;
-  spectrumCopy->DeepCopy(spectrum);
+  spectrumCopy->DeepCopy(this->Internals->Spectrum);
   spectrumCopy->SetName("EigenvalueSpectrum");
   fd->AddArray(spectrumCopy);
-  addFieldString(fd, "ReductionMethod", method);
+  addFieldString(fd, "ReductionMethod", run.method);
   addFieldString(fd, "DeviceUsed", this->GetDeviceUsed());
-  if (half)
+  if (run.half)
   {
     // ParaView's data information would give the range of the bits: the values' range
     // (finite ones; this process's piece, which ParaView merges across processes) goes
     // with them as ReducedCoordinatesRange, a tuple of minima and one of maxima.
     mcv::CoordinateRange range;
-    range.AddHalf(static_cast<vtkTypeUInt16Array*>(reduced.Get())->GetPointer(0), outputCount, this->OutputDimension);
+    range.AddHalf(
+      static_cast<vtkTypeUInt16Array*>(run.reduced.Get())->GetPointer(0), run.outputCount, this->OutputDimension);
     vtkNew<vtkDoubleArray> bounds;
     bounds->SetName((std::string(kCoordinatesName) + "Range").c_str());
     bounds->SetNumberOfComponents(this->OutputDimension);
@@ -760,16 +804,14 @@ int vtkDimensionReduction::RequestMultichannelData(
     }
     fd->AddArray(bounds);
   }
+}
 
-  // ---- Output port 1: the spectrum table (one process of a split run: no copies) ------
-  if (layout.IsSplit() && layout.Piece != 0)
-  {
-    this->UpdateProgress(1.0);
-    return 1;
-  }
-
+// ---- Output port 1: the spectrum table and the model file's bytes ------------------------
+void vtkDimensionReduction::WriteSpectrumTable(const Run& run, vtkTable* spectrumTable)
+{
+  const std::vector<double>& eigenvalues = run.result.eigenvalues;
   double positiveSum = 0.0;
-  for (double v : result.eigenvalues)
+  for (double v : eigenvalues)
   {
     if (std::isfinite(v) && v > 0)
     {
@@ -778,10 +820,10 @@ int vtkDimensionReduction::RequestMultichannelData(
   }
   // Only a variance spectrum has shares (LLE's and UMAP's eigenvalues are a graph operator's).
   const mcv::ReductionMethodInfo* info =
-    model ? mcv::findReductionMethod(model->reduction.method) : methodInfo(this->Method);
+    run.model ? mcv::findReductionMethod(run.model->reduction.method) : methodInfo(this->Method);
   this->VarianceSpectrum = info && info->varianceSpectrum;
   const bool fractions = this->VarianceSpectrum && positiveSum > 0;
-  const vtkIdType n = static_cast<vtkIdType>(result.eigenvalues.size());
+  const vtkIdType n = static_cast<vtkIdType>(eigenvalues.size());
   vtkNew<vtkIntArray> indexColumn;
   indexColumn->SetName("index");
   indexColumn->SetNumberOfTuples(n);
@@ -793,7 +835,7 @@ int vtkDimensionReduction::RequestMultichannelData(
   fractionColumn->SetNumberOfTuples(n);
   for (vtkIdType i = 0; i < n; ++i)
   {
-    const double v = result.eigenvalues[static_cast<std::size_t>(i)];
+    const double v = eigenvalues[static_cast<std::size_t>(i)];
     indexColumn->SetValue(i, static_cast<int>(i + 1));
     valueColumn->SetValue(i, v);
     fractionColumn->SetValue(i, fractions ? std::max(0.0, v) / positiveSum : 0.0);
@@ -801,18 +843,16 @@ int vtkDimensionReduction::RequestMultichannelData(
   spectrumTable->AddColumn(indexColumn);
   spectrumTable->AddColumn(valueColumn);
   spectrumTable->AddColumn(fractionColumn);
-  if (!internals.ModelBytes.empty())
+  const std::vector<char>& modelBytes = this->Internals->ModelBytes;
+  if (!modelBytes.empty())
   {
     // The model file's bytes, for the model writer (ParaView's Save Data, mx.save_model).
     vtkNew<vtkUnsignedCharArray> bytes;
     bytes->SetName(kModelArrayName);
-    bytes->SetNumberOfTuples(static_cast<vtkIdType>(internals.ModelBytes.size()));
-    std::memcpy(bytes->GetPointer(0), internals.ModelBytes.data(), internals.ModelBytes.size());
+    bytes->SetNumberOfTuples(static_cast<vtkIdType>(modelBytes.size()));
+    std::memcpy(bytes->GetPointer(0), modelBytes.data(), modelBytes.size());
     spectrumTable->GetFieldData()->AddArray(bytes);
   }
-
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------
@@ -938,13 +978,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
   const mcv::vtkhelpers::ModelFile* model, mcv::vtkhelpers::FeatureRecipe* recipe)
 {
   const std::size_t count = grid.voxelCount();
-  // Gradients in world units along the grid's axes, as MultichannelFeatures computes them.
-  double spacing[3];
-  image->GetSpacing(spacing);
-  for (int a = 0; a < 3; ++a)
-  {
-    grid.spacing[a] = std::abs(spacing[a]);
-  }
+  this->SetGridSpacing(image, grid);
   mcv::vtkhelpers::ChannelArrays channels;
   if (model)
   {
@@ -971,15 +1005,7 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     return nullptr;
   }
   mcv::FeatureOptions options;
-  options.preset = static_cast<mcv::FeaturePreset>(
-    this->FeatureSet <= FEATURES_CUSTOM ? this->FeatureSet : FEATURES_24D);
-  options.custom.intensity = this->Intensity;
-  options.custom.gradient = this->Gradient;
-  options.custom.gradientMagnitude = this->GradientMagnitude;
-  options.custom.laplacian = this->Laplacian;
-  options.custom.localMean = this->LocalMean;
-  options.custom.localVariance = this->LocalVariance;
-  options.normalization = static_cast<mcv::FeatureNormalization>(this->Normalization);
+  this->SetFeatureOptions(this->FeatureSet <= FEATURES_CUSTOM ? this->FeatureSet : FEATURES_24D, options);
   options.channelNames = channels.names;
   options.communicator = this->GetCommunicator();
   options.piece = piece;
@@ -999,11 +1025,8 @@ std::unique_ptr<mcv::FeatureRows> vtkDimensionReduction::ChannelRows(vtkImageDat
     backgroundThreshold = made.backgroundThreshold;
   }
   const int F = mcv::featureCount(channels.views.size(), options);
-  if (F <= 0)
+  if (!this->CheckFeatureCount(F))
   {
-    vtkErrorMacro("No feature selected: FeatureSet is Custom and every feature toggle "
-                  "(Intensity, Gradient, GradientMagnitude, Laplacian, LocalMean, "
-                  "LocalVariance) is off.");
     return nullptr;
   }
   this->ReportWarnings({ mcv::vtkhelpers::oneChannelWarning(channels, F) });
@@ -1097,7 +1120,6 @@ void vtkDimensionReduction::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FeatureSet: " << this->FeatureSet << "\n";
-  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
   os << indent << "Method: " << methodName(this->Method) << "\n";
   os << indent << "OutputDimension: " << this->OutputDimension << "\n";
   os << indent << "CoordinatePrecision: " << (this->CoordinatePrecision == FLOAT16 ? "Float16" : "Float32") << "\n";

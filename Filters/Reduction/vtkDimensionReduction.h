@@ -67,7 +67,7 @@
 #define vtkDimensionReduction_h
 
 #include "mcvFiltersReductionModule.h" // for export macro
-#include "vtkMultichannelAlgorithm.h"
+#include "vtkMultichannelFeatureAlgorithm.h"
 
 #include <array>   // for std::array
 #include <cstddef> // for std::size_t
@@ -78,6 +78,7 @@
 class vtkDataArray;
 class vtkDoubleArray;
 class vtkPointData;
+class vtkTable;
 class vtkUnsignedCharArray;
 
 #include "vtkSmartPointer.h" // for vtkSmartPointer
@@ -100,71 +101,29 @@ struct ModelFile;
 }
 #endif
 
-class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkMultichannelAlgorithm
+class MCVFILTERSREDUCTION_EXPORT vtkDimensionReduction : public vtkMultichannelFeatureAlgorithm
 {
 public:
   static vtkDimensionReduction* New();
-  vtkTypeMacro(vtkDimensionReduction, vtkMultichannelAlgorithm);
+  vtkTypeMacro(vtkDimensionReduction, vtkMultichannelFeatureAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum FeatureSetType
+  /** The sources of the feature vectors beyond the base's computed sets. */
+  enum FeatureSourceType
   {
-    FEATURES_6D = 0,
-    FEATURES_24D = 1,
-    FEATURES_CUSTOM = 2,
     FEATURES_INPUT_ARRAY = 3,
     FEATURES_AUTOMATIC = 4
-  };
-
-  enum NormalizationType
-  {
-    ZSCORE = 0,
-    MINMAX = 1,
-    NONE = 2
   };
 
   ///@{
   /**
    * Where the feature vectors come from: FEATURES_AUTOMATIC (default: the `Features` array
    * when the input has one, else FEATURES_24D), FEATURES_INPUT_ARRAY (the selected array),
-   * or a set computed from the channels (FEATURES_6D, FEATURES_24D, FEATURES_CUSTOM).
+   * or a set computed from the channels (FEATURES_6D, FEATURES_24D, FEATURES_CUSTOM, with
+   * the base's toggles, Normalization and background mask, as in MultichannelFeatures).
    */
   vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_AUTOMATIC);
   vtkGetMacro(FeatureSet, int);
-  ///@}
-
-  ///@{
-  /** The features of FEATURES_CUSTOM, as in MultichannelFeatures. */
-  vtkSetMacro(Intensity, bool);
-  vtkGetMacro(Intensity, bool);
-  vtkSetMacro(Gradient, bool);
-  vtkGetMacro(Gradient, bool);
-  vtkSetMacro(GradientMagnitude, bool);
-  vtkGetMacro(GradientMagnitude, bool);
-  vtkSetMacro(Laplacian, bool);
-  vtkGetMacro(Laplacian, bool);
-  vtkSetMacro(LocalMean, bool);
-  vtkGetMacro(LocalMean, bool);
-  vtkSetMacro(LocalVariance, bool);
-  vtkGetMacro(LocalVariance, bool);
-  ///@}
-
-  ///@{
-  /** Normalisation of computed features: ZSCORE (default), MINMAX or NONE. */
-  vtkSetClampMacro(Normalization, int, ZSCORE, NONE);
-  vtkGetMacro(Normalization, int);
-  ///@}
-
-  ///@{
-  /**
-   * Computed features: mark the background in a `Foreground` array and draw the sample
-   * from the foreground (default on); BackgroundThreshold as in MultichannelFeatures.
-   */
-  vtkSetMacro(MaskBackground, bool);
-  vtkGetMacro(MaskBackground, bool);
-  vtkBooleanMacro(MaskBackground, bool);
-  vtkSetClampMacro(BackgroundThreshold, double, 0.0, 1.0);
-  vtkGetMacro(BackgroundThreshold, double);
   ///@}
 
   enum MethodType
@@ -341,15 +300,6 @@ protected:
   void ResetResults();
 
   int FeatureSet = FEATURES_AUTOMATIC;
-  bool Intensity = true;
-  bool Gradient = false;
-  bool GradientMagnitude = true;
-  bool Laplacian = false;
-  bool LocalMean = false;
-  bool LocalVariance = false;
-  int Normalization = ZSCORE;
-  bool MaskBackground = true;
-  double BackgroundThreshold = 0.0;
 
   int Method = PCA;
   int OutputDimension = 3;
@@ -411,6 +361,20 @@ private:
   vtkMTimeType PipelineKey();
   // True when this run computes the features from the channels.
   bool UsesChannels(vtkPointData* pd);
+
+  // The steps of RequestMultichannelData, in order; Run holds what one execution has found
+  // so far (vtkDimensionReductionInternals.h). Each returns false after an error (reported).
+  struct Run;
+  bool CheckArguments();
+  bool ChooseModel(vtkImageData* image, Run& run);
+  bool ReduceRows(vtkImageData* image, Run& run);
+  mcv::ReductionOptions RunOptions(vtkPointData* pd, Run& run, mcv::ReductionModel& fittedModel);
+  void NewCoordinates(Run& run, mcv::ReductionOptions& options);
+  void KeepModel(Run& run, mcv::vtkhelpers::FeatureRecipe recipe, mcv::ReductionModel fittedModel,
+    const mcv::ReductionResult& result, const mcv::ReductionOptions& options);
+  bool StoreResults(const Run& run);
+  void WriteImageOutput(vtkImageData* image, Run& run, vtkImageData* output);
+  void WriteSpectrumTable(const Run& run, vtkTable* spectrumTable);
 #endif
 
   struct vtkInternals;

@@ -8,8 +8,11 @@
 #include "vtkImageData.h"
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
 
+#include "DimensionReduction.h" // ReductionResult
 #include "FeatureVectors.h" // detail::ColumnStats
+#include "ImageGrid.h"
 #include "mcvReductionModelFile.h"
 
 #include <memory>
@@ -68,4 +71,27 @@ struct vtkDimensionReduction::vtkInternals
     this->StepImages.clear();
     this->StepStatistics.clear();
   }
+};
+
+// One execution of RequestMultichannelData: its block and output extent, the model it
+// applies (if any), where its rows come from, its output arrays and the core's result.
+struct vtkDimensionReduction::Run
+{
+  mcv::ImageGrid grid;
+  mcv::GridPiece piece;
+  int blockExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  int outputExtent[6] = { 0, -1, 0, -1, 0, -1 };
+  std::size_t outputCount = 0;
+  bool fitOnly = false; // the pass that fits one time step for the others
+  // The model applied: a file's, or the fit of one or all time steps; null: fit here.
+  std::shared_ptr<const mcv::vtkhelpers::ModelFile> model;
+  const std::vector<char>* modelBytes = nullptr;
+  std::string modelSource;
+  bool fromChannels = false; // the features are computed from the channels (fused)
+  vtkSmartPointer<vtkUnsignedCharArray> foreground;
+  bool half = false; // float16 coordinates
+  vtkSmartPointer<vtkDataArray> reduced;
+  vtkSmartPointer<vtkFloatArray> modelDistance;
+  const char* method = "";
+  mcv::ReductionResult result;
 };

@@ -121,6 +121,81 @@ vtkSmartPointer<vtkPolyData> widgetGlyphSource(const std::vector<mcv::GaussianWi
   return poly;
 }
 
+
+// The distinct rows of `packed` (rows of `dims` floats), how many rows each stands for,
+// and the distinct row of every row.
+struct DistinctRows
+{
+  std::vector<float> rows;
+  std::vector<double> multiplicity;
+  std::vector<vtkIdType> of;
+};
+
+DistinctRows distinctRows(const std::vector<float>& packed, int dims)
+{
+  // Sort row indices lexicographically, keep the first of each run.
+  const std::size_t m = packed.size() / static_cast<std::size_t>(dims);
+  DistinctRows d;
+  d.of.resize(m);
+  std::vector<std::size_t> order(m);
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    order[i] = i;
+  }
+  auto row = [&packed, dims](std::size_t i) { return packed.data() + i * dims; };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return std::lexicographical_compare(row(a), row(a) + dims, row(b), row(b) + dims);
+  });
+  for (std::size_t i = 0; i < order.size(); ++i)
+  {
+    if (i == 0 || !std::equal(row(order[i]), row(order[i]) + dims, row(order[i - 1])))
+    {
+      d.rows.insert(d.rows.end(), row(order[i]), row(order[i]) + dims);
+      d.multiplicity.push_back(0.0);
+    }
+    d.multiplicity.back() += 1.0;
+    d.of[order[i]] = static_cast<vtkIdType>(d.multiplicity.size() - 1);
+  }
+  return d;
+}
+
+// WidgetOpacity, RGBA (bytes) and DisplayColor of `m` points from their RGBA floats.
+// DisplayColor: the widget colour over light grey by the opacity, so points no widget
+// selects stay visible (the domain is where the user looks for the next structure).
+void addColourArrays(const std::vector<float>& rgbaFloat, vtkIdType m, vtkPointData* outPD)
+{
+  vtkNew<vtkUnsignedCharArray> rgba;
+  rgba->SetName("RGBA");
+  rgba->SetNumberOfComponents(4);
+  rgba->SetNumberOfTuples(m);
+  vtkNew<vtkFloatArray> opacity;
+  opacity->SetName("WidgetOpacity");
+  opacity->SetNumberOfTuples(m);
+  vtkNew<vtkUnsignedCharArray> displayColor;
+  displayColor->SetName("DisplayColor");
+  displayColor->SetNumberOfComponents(3);
+  displayColor->SetNumberOfTuples(m);
+  const float grey = 0.75f;
+  auto toByte = [](float v) { return static_cast<unsigned char>(std::lround(std::min(1.f, std::max(0.f, v)) * 255.f)); };
+  for (vtkIdType s = 0; s < m; ++s)
+  {
+    const float* c = rgbaFloat.data() + 4 * s;
+    for (int k = 0; k < 4; ++k)
+    {
+      rgba->SetTypedComponent(s, k, toByte(c[k]));
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+      displayColor->SetTypedComponent(s, k, toByte(c[3] * c[k] + (1.f - c[3]) * grey));
+    }
+    opacity->SetValue(s, c[3]);
+  }
+  outPD->AddArray(opacity);
+  outPD->AddArray(rgba);
+  outPD->AddArray(displayColor);
+  outPD->SetScalars(displayColor);
+}
+
 } // namespace
 
 //------------------------------------------------------------------------------
@@ -232,6 +307,22 @@ int vtkReducedDomain::FillOutputPortInformation(int, vtkInformation* info)
 }
 
 //------------------------------------------------------------------------------
+// What one execution samples: the coordinates, the points that may be drawn and the sample.
+struct vtkReducedDomain::Sample
+{
+  vtkDataArray* coordinates = nullptr;
+  int dims = 0;
+  vtkIdType n = 0;
+  vtkUnsignedCharArray* foreground = nullptr;
+  std::vector<bool> eligible;
+  std::size_t eligibleCount = 0;
+  std::vector<vtkIdType> ids; // the sampled points
+  vtkIdType m = 0;
+  std::vector<float> xyz;    // m x 3 (z = 0 for 2D)
+  std::vector<float> packed; // m x dims
+};
+
+//------------------------------------------------------------------------------
 int vtkReducedDomain::RequestMultichannelData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -259,27 +350,14 @@ int vtkReducedDomain::RequestMultichannelData(
   }
 
   // ---- Coordinates and widgets -------------------------------------------------------
-  vtkDataArray* coordinates = this->GetInputArrayToProcess(0, inputVector);
-  if (!coordinates)
+  Sample sample;
+  sample.coordinates = this->FindCoordinates(inputVector, input);
+  if (!sample.coordinates)
   {
-    // ParaView can leave the selection at a placeholder ("0") when the filter is made
-    // before its input has executed: fall back to the documented default.
-    coordinates = input->GetPointData()->GetArray("ReducedCoordinates");
-  }
-  if (!coordinates)
-  {
-    vtkErrorMacro("The input has no coordinates array (default ReducedCoordinates): apply "
-                  "DimensionReduction first, or choose the array in Coordinates.");
     return 0;
   }
-  const int dims = coordinates->GetNumberOfComponents();
-  const vtkIdType n = coordinates->GetNumberOfTuples();
-  if (dims != 2 && dims != 3)
-  {
-    vtkErrorMacro("The coordinates array '" << (coordinates->GetName() ? coordinates->GetName() : "")
-      << "' has " << dims << " component(s); the reduced domain needs 2 or 3.");
-    return 0;
-  }
+  sample.dims = sample.coordinates->GetNumberOfComponents();
+  sample.n = sample.coordinates->GetNumberOfTuples();
   const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
     this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
   if (!widgets.ok())
@@ -291,274 +369,272 @@ int vtkReducedDomain::RequestMultichannelData(
   {
     this->ReportWarnings(widgets.warnings);
   }
-
-  // ---- The sample: foreground points with finite coordinates --------------------------
-  bool maskMarksNothing = false;
-  vtkUnsignedCharArray* foreground = foregroundMask(input->GetPointData(), n, maskMarksNothing);
-  if (maskMarksNothing)
+  if (!this->DrawSample(input, sample))
   {
-    this->ReportWarnings({ "The Foreground array marks no voxel (every voxel is background): "
-                           "the domain shows all of them." });
-  }
-  std::vector<bool> eligible(static_cast<std::size_t>(n));
-  std::size_t eligibleCount = 0;
-  std::size_t nonFinite = 0; // foreground points left out for NaN/Inf coordinates
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    bool ok = !foreground || foreground->GetValue(i) != 0;
-    const bool considered = ok;
-    for (int c = 0; c < dims && ok; ++c)
-    {
-      ok = std::isfinite(mcv::vtkhelpers::coordinateComponent(coordinates, i, c));
-    }
-    eligible[static_cast<std::size_t>(i)] = ok;
-    eligibleCount += ok ? 1 : 0;
-    nonFinite += considered && !ok ? 1 : 0;
-  }
-  if (eligibleCount == 0)
-  {
-    vtkErrorMacro(<< (foreground ? "No foreground point" : "No point") << " has finite reduced coordinates.");
     return 0;
   }
-  if (nonFinite > 0)
+  if (!this->WriteDomain(input, sample, widgets, domain))
   {
-    // Holes in the domain are said, as BestViewpoint says them for the volume.
-    vtkWarningMacro(<< nonFinite << " point(s) have NaN/Inf in the coordinates '"
-                    << (coordinates->GetName() ? coordinates->GetName() : "")
-                    << "': they are left out of the domain (and drawn transparent in the volume).");
-  }
-  this->UpdateProgress(0.2);
-  // Settings that cannot be honoured are errors, not silent changes.
-  if (this->SampleSize < 1)
-  {
-    vtkErrorMacro("SampleSize must be at least 1 (got " << this->SampleSize << ").");
     return 0;
   }
-  if (this->SeedWidgetCount < 0 || this->SeedWidgetCount > 64)
-  {
-    vtkErrorMacro("SeedWidgetCount must be between 0 and 64 (got " << this->SeedWidgetCount
-                                                                  << ").");
-    return 0;
-  }
-  if (std::isnan(this->SeedWidgetOpacity))
-  {
-    vtkErrorMacro("SeedWidgetOpacity is NaN: give a peak opacity in [0, 1].");
-    return 0;
-  }
-  this->LastForegroundRayLength = ForegroundRayLength(input, static_cast<double>(eligibleCount));
-  const std::vector<vtkIdType> sample = selectionSample(eligible, eligibleCount,
-    static_cast<std::size_t>(this->SampleSize), static_cast<std::uint64_t>(this->RandomSeed));
-  const vtkIdType m = static_cast<vtkIdType>(sample.size());
-
-  std::vector<float> xyz(static_cast<std::size_t>(m) * 3, 0.0f); // z = 0 for 2D
-  std::vector<float> packed(static_cast<std::size_t>(m) * dims);
-  for (vtkIdType s = 0; s < m; ++s)
-  {
-    for (int c = 0; c < dims; ++c)
-    {
-      const float v = static_cast<float>(mcv::vtkhelpers::coordinateComponent(coordinates, sample[s], c));
-      xyz[3 * s + c] = v;
-      packed[dims * s + c] = v;
-    }
-  }
-
-  // ---- Colour of every sampled point through the widgets ----------------------------
-  vtkNew<vtkUnsignedCharArray> rgba;
-  rgba->SetName("RGBA");
-  rgba->SetNumberOfComponents(4);
-  rgba->SetNumberOfTuples(m);
-  std::vector<float> rgbaFloat(static_cast<std::size_t>(m) * 4);
-  const mcv::CoordinateView view{ packed.data(), static_cast<std::size_t>(m), dims };
-  const mcv::TransferFunctionRun run =
-    mcv::applyGaussianWidgets(view, widgets.widgets, rgbaFloat.data(), mcv::Device::CPU);
-  if (!run.ok())
-  {
-    vtkErrorMacro(<< run.error);
-    return 0;
-  }
-  vtkNew<vtkFloatArray> opacity;
-  opacity->SetName("WidgetOpacity");
-  opacity->SetNumberOfTuples(m);
-  // DisplayColor: the widget colour over light grey by the opacity, so points no widget
-  // selects stay visible (the domain is where the user looks for the next structure).
-  vtkNew<vtkUnsignedCharArray> displayColor;
-  displayColor->SetName("DisplayColor");
-  displayColor->SetNumberOfComponents(3);
-  displayColor->SetNumberOfTuples(m);
-  const float grey = 0.75f;
-  auto toByte = [](float v) { return static_cast<unsigned char>(std::lround(std::min(1.f, std::max(0.f, v)) * 255.f)); };
-  for (vtkIdType s = 0; s < m; ++s)
-  {
-    const float* c = rgbaFloat.data() + 4 * s;
-    for (int k = 0; k < 4; ++k)
-    {
-      rgba->SetTypedComponent(s, k, toByte(c[k]));
-    }
-    for (int k = 0; k < 3; ++k)
-    {
-      displayColor->SetTypedComponent(s, k, toByte(c[3] * c[k] + (1.f - c[3]) * grey));
-    }
-    opacity->SetValue(s, c[3]);
-  }
-  this->UpdateProgress(0.5);
-
-  // ---- Domain output -------------------------------------------------------------------------
-  vtkNew<vtkFloatArray> pointArray;
-  pointArray->SetNumberOfComponents(3);
-  pointArray->SetNumberOfTuples(m);
-  std::copy(xyz.begin(), xyz.end(), pointArray->GetPointer(0));
-  vtkNew<vtkPoints> points;
-  points->SetData(pointArray);
-  vtkNew<vtkCellArray> verts;
-  verts->AllocateExact(m, m);
-  for (vtkIdType s = 0; s < m; ++s)
-  {
-    verts->InsertNextCell(1, &s);
-  }
-  domain->SetPoints(points);
-  domain->SetVerts(verts);
-
-  vtkPointData* inPD = input->GetPointData();
-  vtkPointData* outPD = domain->GetPointData();
-  vtkNew<vtkPointData> channels; // the input's arrays without the coordinates/features
-  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* array = inPD->GetAbstractArray(a);
-    const std::string name = array && array->GetName() ? array->GetName() : "";
-    if (array && array != coordinates && name != "Features" &&
-      !mcv::vtkhelpers::isInternalArray(name.c_str()))
-    {
-      channels->AddArray(array);
-    }
-  }
-  for (int a = 0; a < channels->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* source = channels->GetAbstractArray(a);
-    vtkSmartPointer<vtkAbstractArray> copy = vtk::TakeSmartPointer(source->NewInstance());
-    copy->SetName(source->GetName());
-    copy->SetNumberOfComponents(source->GetNumberOfComponents());
-    copy->SetNumberOfTuples(m);
-    for (vtkIdType s = 0; s < m; ++s)
-    {
-      copy->SetTuple(s, sample[s], source);
-    }
-    outPD->AddArray(copy);
-  }
-  vtkNew<vtkIdTypeArray> voxelIds;
-  voxelIds->SetName("VoxelId");
-  voxelIds->SetNumberOfTuples(m);
-  std::copy(sample.begin(), sample.end(), voxelIds->GetPointer(0));
-  outPD->AddArray(voxelIds);
-  outPD->AddArray(opacity);
-  outPD->AddArray(rgba);
-  outPD->AddArray(displayColor);
-  outPD->SetScalars(displayColor);
   this->UpdateProgress(0.7);
 
-  // ---- Seeded widgets (k-means of the distinct sampled coordinates) ---------------------
   std::vector<mcv::GaussianWidget> shown = widgets.widgets;
-  if (this->SeedWidgetCount > 0)
+  if (this->SeedWidgetCount > 0 && !this->SeedWidgets(sample, widgets, domain->GetPointData(), shown))
   {
-    mcv::WidgetSeedingOptions options;
-    options.count = this->SeedWidgetCount;
-    options.seed = static_cast<std::uint64_t>(this->RandomSeed);
-    options.opacity = std::min(1.0, std::max(0.0, this->SeedWidgetOpacity));
-    if (options.opacity != this->SeedWidgetOpacity)
-    {
-      vtkWarningMacro("SeedWidgetOpacity " << this->SeedWidgetOpacity
-                                           << " is outside [0, 1]: the widgets are seeded with "
-                                           << options.opacity << ".");
-    }
-    // The largest cluster stands for the background only when nothing else removed it.
-    options.skipLargest = this->SkipLargestCluster && !foreground;
-    std::vector<float> distinct = packed;
-    std::vector<double> multiplicity; // sampled voxels at each distinct point
-    std::vector<vtkIdType> distinctOf(static_cast<std::size_t>(m)); // sample -> distinct point
-    {
-      // Distinct rows: sort row indices lexicographically, keep the first of each run.
-      std::vector<std::size_t> order(static_cast<std::size_t>(m));
-      for (std::size_t i = 0; i < order.size(); ++i)
-      {
-        order[i] = i;
-      }
-      auto row = [&packed, dims](std::size_t i) { return packed.data() + i * dims; };
-      std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return std::lexicographical_compare(row(a), row(a) + dims, row(b), row(b) + dims);
-      });
-      distinct.clear();
-      for (std::size_t i = 0; i < order.size(); ++i)
-      {
-        if (i == 0 || !std::equal(row(order[i]), row(order[i]) + dims, row(order[i - 1])))
-        {
-          distinct.insert(distinct.end(), row(order[i]), row(order[i]) + dims);
-          multiplicity.push_back(0.0);
-        }
-        multiplicity.back() += 1.0;
-        distinctOf[order[i]] = static_cast<vtkIdType>(multiplicity.size() - 1);
-      }
-    }
-    // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
-    options.weights = multiplicity.data();
-    options.rayLength = this->LastForegroundRayLength;
-    // One distinct point is one cluster, the one SkipLargestCluster leaves out: the domain
-    // is still a valid output, only the suggestion is empty.
-    const bool onlyBackground = options.skipLargest && multiplicity.size() < 2;
-    const mcv::WidgetSeeding seeding = onlyBackground ? mcv::WidgetSeeding()
-                                                      : mcv::seedGaussianWidgets(
-      { distinct.data(), distinct.size() / static_cast<std::size_t>(dims), dims }, options);
-    if (!seeding.ok())
-    {
-      vtkErrorMacro(<< seeding.error);
-      domain->Initialize(); // an error leaves no output behind
-      widgetOutput->Initialize();
-      this->Internals->SeededWidgets->Reset();
-      this->Internals->SeededWidgetDetails->Reset();
-      return 0;
-    }
-    if (onlyBackground)
-    {
-      vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, none seeded: the sample has "
-                      << "only 1 distinct reduced coordinate, the largest cluster, which "
-                      << "SkipLargestCluster leaves out as the background; turn SkipLargestCluster "
-                      << "off to seed a widget there.");
-    }
-    else if (static_cast<int>(seeding.widgets.size()) < this->SeedWidgetCount)
-    {
-      vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, " << seeding.widgets.size()
-                      << " seeded: the sample has only " << distinct.size() / dims
-                      << " distinct reduced coordinates.");
-    }
-    for (double v : mcv::flattenGaussianWidgets(seeding.widgets))
-    {
-      this->Internals->SeededWidgets->InsertNextValue(v);
-    }
-    for (std::size_t w = 0; w < seeding.widgets.size(); ++w)
-    {
-      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.shares[w]);
-      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.hidden[w] ? 1.0 : 0.0);
-      this->Internals->SeededWidgetDetails->InsertNextValue(seeding.meanWeights[w]);
-    }
-    if (!onlyBackground)
-    {
-      // The seeded widget of every sampled point (-1: none, e.g. the skipped background):
-      // what each widget selects, for names and legends.
-      vtkNew<vtkIntArray> seededWidget;
-      seededWidget->SetName("SeededWidget");
-      seededWidget->SetNumberOfTuples(m);
-      for (vtkIdType s = 0; s < m; ++s)
-      {
-        seededWidget->SetValue(s, std::max(-1, seeding.labels[static_cast<std::size_t>(distinctOf[s])]));
-      }
-      outPD->AddArray(seededWidget);
-    }
-    if (widgets.widgets.empty())
-    {
-      shown = seeding.widgets; // nothing set yet: show the suggestion
-    }
+    domain->Initialize(); // an error leaves no output behind
+    widgetOutput->Initialize();
+    this->Internals->SeededWidgets->Reset();
+    this->Internals->SeededWidgetDetails->Reset();
+    return 0;
   }
 
   // ---- Widgets output -------------------------------------------------------------------------
   widgetOutput->ShallowCopy(widgetGlyphSource(shown));
   this->UpdateProgress(1.0);
   return 1;
+}
+
+// The coordinates array (2 or 3 components); nullptr after an error (reported).
+vtkDataArray* vtkReducedDomain::FindCoordinates(vtkInformationVector** inputVector, vtkDataSet* input)
+{
+  vtkDataArray* coordinates = this->GetInputArrayToProcess(0, inputVector);
+  if (!coordinates)
+  {
+    // ParaView can leave the selection at a placeholder ("0") when the filter is made
+    // before its input has executed: fall back to the documented default.
+    coordinates = input->GetPointData()->GetArray("ReducedCoordinates");
+  }
+  if (!coordinates)
+  {
+    vtkErrorMacro("The input has no coordinates array (default ReducedCoordinates): apply "
+                  "DimensionReduction first, or choose the array in Coordinates.");
+    return nullptr;
+  }
+  const int dims = coordinates->GetNumberOfComponents();
+  if (dims != 2 && dims != 3)
+  {
+    vtkErrorMacro("The coordinates array '" << (coordinates->GetName() ? coordinates->GetName() : "")
+      << "' has " << dims << " component(s); the reduced domain needs 2 or 3.");
+    return nullptr;
+  }
+  return coordinates;
+}
+
+// ---- The sample: foreground points with finite coordinates --------------------------
+bool vtkReducedDomain::DrawSample(vtkDataSet* input, Sample& s)
+{
+  if (!this->MarkEligible(input, s))
+  {
+    return false;
+  }
+  this->UpdateProgress(0.2);
+  // Settings that cannot be honoured are errors, not silent changes.
+  if (this->SampleSize < 1)
+  {
+    vtkErrorMacro("SampleSize must be at least 1 (got " << this->SampleSize << ").");
+    return false;
+  }
+  if (this->SeedWidgetCount < 0 || this->SeedWidgetCount > 64)
+  {
+    vtkErrorMacro("SeedWidgetCount must be between 0 and 64 (got " << this->SeedWidgetCount
+                                                                  << ").");
+    return false;
+  }
+  if (std::isnan(this->SeedWidgetOpacity))
+  {
+    vtkErrorMacro("SeedWidgetOpacity is NaN: give a peak opacity in [0, 1].");
+    return false;
+  }
+  this->LastForegroundRayLength = ForegroundRayLength(input, static_cast<double>(s.eligibleCount));
+  s.ids = selectionSample(s.eligible, s.eligibleCount, static_cast<std::size_t>(this->SampleSize),
+    static_cast<std::uint64_t>(this->RandomSeed));
+  s.m = static_cast<vtkIdType>(s.ids.size());
+  s.xyz.assign(static_cast<std::size_t>(s.m) * 3, 0.0f);
+  s.packed.resize(static_cast<std::size_t>(s.m) * s.dims);
+  for (vtkIdType i = 0; i < s.m; ++i)
+  {
+    for (int c = 0; c < s.dims; ++c)
+    {
+      const float v = static_cast<float>(mcv::vtkhelpers::coordinateComponent(s.coordinates, s.ids[i], c));
+      s.xyz[3 * i + c] = v;
+      s.packed[s.dims * i + c] = v;
+    }
+  }
+  return true;
+}
+
+// The points that may be drawn: in the foreground (when the input has a Foreground mask)
+// with finite coordinates; false when there is none (an error).
+bool vtkReducedDomain::MarkEligible(vtkDataSet* input, Sample& s)
+{
+  bool maskMarksNothing = false;
+  s.foreground = foregroundMask(input->GetPointData(), s.n, maskMarksNothing);
+  if (maskMarksNothing)
+  {
+    this->ReportWarnings({ "The Foreground array marks no voxel (every voxel is background): "
+                           "the domain shows all of them." });
+  }
+  s.eligible.assign(static_cast<std::size_t>(s.n), false);
+  std::size_t nonFinite = 0; // foreground points left out for NaN/Inf coordinates
+  for (vtkIdType i = 0; i < s.n; ++i)
+  {
+    bool ok = !s.foreground || s.foreground->GetValue(i) != 0;
+    const bool considered = ok;
+    for (int c = 0; c < s.dims && ok; ++c)
+    {
+      ok = std::isfinite(mcv::vtkhelpers::coordinateComponent(s.coordinates, i, c));
+    }
+    s.eligible[static_cast<std::size_t>(i)] = ok;
+    s.eligibleCount += ok ? 1 : 0;
+    nonFinite += considered && !ok ? 1 : 0;
+  }
+  if (s.eligibleCount == 0)
+  {
+    vtkErrorMacro(<< (s.foreground ? "No foreground point" : "No point") << " has finite reduced coordinates.");
+    return false;
+  }
+  if (nonFinite > 0)
+  {
+    // Holes in the domain are said, as BestViewpoint says them for the volume.
+    vtkWarningMacro(<< nonFinite << " point(s) have NaN/Inf in the coordinates '"
+                    << (s.coordinates->GetName() ? s.coordinates->GetName() : "")
+                    << "': they are left out of the domain (and drawn transparent in the volume).");
+  }
+  return true;
+}
+
+// ---- Domain output: the sampled points, the input's arrays there, their colours -----------
+bool vtkReducedDomain::WriteDomain(
+  vtkDataSet* input, const Sample& s, const mcv::WidgetList& widgets, vtkPolyData* domain)
+{
+  // Colour of every sampled point through the widgets.
+  std::vector<float> rgbaFloat(static_cast<std::size_t>(s.m) * 4);
+  const mcv::CoordinateView view{ s.packed.data(), static_cast<std::size_t>(s.m), s.dims };
+  const mcv::TransferFunctionRun run =
+    mcv::applyGaussianWidgets(view, widgets.widgets, rgbaFloat.data(), mcv::Device::CPU);
+  if (!run.ok())
+  {
+    vtkErrorMacro(<< run.error);
+    return false;
+  }
+  this->UpdateProgress(0.5);
+
+  vtkNew<vtkFloatArray> pointArray;
+  pointArray->SetNumberOfComponents(3);
+  pointArray->SetNumberOfTuples(s.m);
+  std::copy(s.xyz.begin(), s.xyz.end(), pointArray->GetPointer(0));
+  vtkNew<vtkPoints> points;
+  points->SetData(pointArray);
+  vtkNew<vtkCellArray> verts;
+  verts->AllocateExact(s.m, s.m);
+  for (vtkIdType i = 0; i < s.m; ++i)
+  {
+    verts->InsertNextCell(1, &i);
+  }
+  domain->SetPoints(points);
+  domain->SetVerts(verts);
+
+  vtkPointData* inPD = input->GetPointData();
+  vtkPointData* outPD = domain->GetPointData();
+  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
+  {
+    // The input's arrays without the coordinates/features, at the sampled points.
+    vtkAbstractArray* source = inPD->GetAbstractArray(a);
+    const std::string name = source && source->GetName() ? source->GetName() : "";
+    if (!source || source == s.coordinates || name == "Features" || mcv::vtkhelpers::isInternalArray(name.c_str()))
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkAbstractArray> copy = vtk::TakeSmartPointer(source->NewInstance());
+    copy->SetName(source->GetName());
+    copy->SetNumberOfComponents(source->GetNumberOfComponents());
+    copy->SetNumberOfTuples(s.m);
+    for (vtkIdType i = 0; i < s.m; ++i)
+    {
+      copy->SetTuple(i, s.ids[i], source);
+    }
+    outPD->AddArray(copy);
+  }
+  vtkNew<vtkIdTypeArray> voxelIds;
+  voxelIds->SetName("VoxelId");
+  voxelIds->SetNumberOfTuples(s.m);
+  std::copy(s.ids.begin(), s.ids.end(), voxelIds->GetPointer(0));
+  outPD->AddArray(voxelIds);
+  addColourArrays(rgbaFloat, s.m, outPD);
+  return true;
+}
+
+// ---- Seeded widgets (k-means of the distinct sampled coordinates) ---------------------
+bool vtkReducedDomain::SeedWidgets(
+  const Sample& s, const mcv::WidgetList& widgets, vtkPointData* outPD, std::vector<mcv::GaussianWidget>& shown)
+{
+  mcv::WidgetSeedingOptions options;
+  options.count = this->SeedWidgetCount;
+  options.seed = static_cast<std::uint64_t>(this->RandomSeed);
+  options.opacity = std::min(1.0, std::max(0.0, this->SeedWidgetOpacity));
+  if (options.opacity != this->SeedWidgetOpacity)
+  {
+    vtkWarningMacro("SeedWidgetOpacity " << this->SeedWidgetOpacity
+                                         << " is outside [0, 1]: the widgets are seeded with "
+                                         << options.opacity << ".");
+  }
+  // The largest cluster stands for the background only when nothing else removed it.
+  options.skipLargest = this->SkipLargestCluster && !s.foreground;
+  const DistinctRows distinct = distinctRows(s.packed, s.dims);
+  // Sizes in voxels: the peak opacity of a widget goes down with the voxels it selects.
+  options.weights = distinct.multiplicity.data();
+  options.rayLength = this->LastForegroundRayLength;
+  // One distinct point is one cluster, the one SkipLargestCluster leaves out: the domain
+  // is still a valid output, only the suggestion is empty.
+  const std::size_t distinctCount = distinct.multiplicity.size();
+  const bool onlyBackground = options.skipLargest && distinctCount < 2;
+  const mcv::WidgetSeeding seeding = onlyBackground
+    ? mcv::WidgetSeeding()
+    : mcv::seedGaussianWidgets({ distinct.rows.data(), distinctCount, s.dims }, options);
+  if (!seeding.ok())
+  {
+    vtkErrorMacro(<< seeding.error);
+    return false;
+  }
+  if (onlyBackground)
+  {
+    vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, none seeded: the sample has "
+                    << "only 1 distinct reduced coordinate, the largest cluster, which "
+                    << "SkipLargestCluster leaves out as the background; turn SkipLargestCluster "
+                    << "off to seed a widget there.");
+  }
+  else if (static_cast<int>(seeding.widgets.size()) < this->SeedWidgetCount)
+  {
+    vtkWarningMacro(<< this->SeedWidgetCount << " widgets asked for, " << seeding.widgets.size()
+                    << " seeded: the sample has only " << distinctCount << " distinct reduced coordinates.");
+  }
+  for (double v : mcv::flattenGaussianWidgets(seeding.widgets))
+  {
+    this->Internals->SeededWidgets->InsertNextValue(v);
+  }
+  for (std::size_t w = 0; w < seeding.widgets.size(); ++w)
+  {
+    this->Internals->SeededWidgetDetails->InsertNextValue(seeding.shares[w]);
+    this->Internals->SeededWidgetDetails->InsertNextValue(seeding.hidden[w] ? 1.0 : 0.0);
+    this->Internals->SeededWidgetDetails->InsertNextValue(seeding.meanWeights[w]);
+  }
+  if (!onlyBackground)
+  {
+    // The seeded widget of every sampled point (-1: none, e.g. the skipped background):
+    // what each widget selects, for names and legends.
+    vtkNew<vtkIntArray> seededWidget;
+    seededWidget->SetName("SeededWidget");
+    seededWidget->SetNumberOfTuples(s.m);
+    for (vtkIdType i = 0; i < s.m; ++i)
+    {
+      seededWidget->SetValue(i, std::max(-1, seeding.labels[static_cast<std::size_t>(distinct.of[i])]));
+    }
+    outPD->AddArray(seededWidget);
+  }
+  if (widgets.widgets.empty())
+  {
+    shown = seeding.widgets; // nothing set yet: show the suggestion
+  }
+  return true;
 }

@@ -49,10 +49,22 @@
 #include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
+#include <vector> // for std::vector
 
+class vtkDataArray;
+class vtkDataSet;
 class vtkDoubleArray;
+class vtkPointData;
 
 class vtkPolyData;
+
+#ifndef __VTK_WRAP__
+namespace mcv
+{
+struct GaussianWidget;
+struct WidgetList;
+}
+#endif
 
 class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkMultichannelAlgorithm
 {
@@ -164,6 +176,18 @@ protected:
 private:
   vtkReducedDomain(const vtkReducedDomain&) = delete;
   void operator=(const vtkReducedDomain&) = delete;
+
+#ifndef __VTK_WRAP__
+  // The steps of RequestMultichannelData; each returns false (nullptr) after an error,
+  // reported. Sample holds what one execution samples (vtkReducedDomain.cxx).
+  struct Sample;
+  vtkDataArray* FindCoordinates(vtkInformationVector** inputVector, vtkDataSet* input);
+  bool DrawSample(vtkDataSet* input, Sample& sample);
+  bool MarkEligible(vtkDataSet* input, Sample& sample);
+  bool WriteDomain(vtkDataSet* input, const Sample& sample, const mcv::WidgetList& widgets, vtkPolyData* domain);
+  bool SeedWidgets(const Sample& sample, const mcv::WidgetList& widgets, vtkPointData* outPD,
+    std::vector<mcv::GaussianWidget>& shown);
+#endif
 
   struct vtkInternals;
   std::unique_ptr<vtkInternals> Internals;

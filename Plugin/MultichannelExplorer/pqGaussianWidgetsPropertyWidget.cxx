@@ -27,6 +27,8 @@
 #include "vtkSMTrace.h"
 #include "vtkType.h"
 
+#include "../../Filters/Core/transfer_function/GaussianWidgetFormula.h"
+
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -46,11 +48,6 @@ namespace
 const char* HiddenProperty = "GaussianWidgetsHidden";
 const char* NamesProperty = "GaussianWidgetNames";
 
-// Colours of new widgets, in turn (ColorBrewer Set1, as auto_widgets seeds them).
-const double Palette[][3] = { { 0.894, 0.102, 0.110 }, { 0.216, 0.494, 0.722 },
-  { 0.302, 0.686, 0.290 }, { 0.596, 0.306, 0.639 }, { 1.0, 0.498, 0.0 },
-  { 1.0, 1.0, 0.2 }, { 0.651, 0.337, 0.157 }, { 0.969, 0.506, 0.749 } };
-const int PaletteSize = sizeof(Palette) / sizeof(Palette[0]);
 }
 
 //-----------------------------------------------------------------------------
@@ -491,8 +488,12 @@ void pqGaussianWidgetsPropertyWidget::addWidget()
     span = std::max(span, this->Ranges[axis][1] - this->Ranges[axis][0]);
   }
   w[3] = span > 0 ? span / 10.0 : 1.0;
-  const double* colour = Palette[this->Widgets.size() % PaletteSize];
-  std::copy(colour, colour + 3, w.begin() + 4);
+  // The next colour of the suite's palette (ColorBrewer Set1, as auto_widgets seeds them).
+  const unsigned char* colour = mcv::kWidgetPalette[this->Widgets.size() % mcv::kWidgetPaletteSize];
+  for (int c = 0; c < 3; ++c)
+  {
+    w[4 + c] = colour[c] / 255.0;
+  }
   w[7] = 0.5;
   this->Widgets.push_back(w);
   this->Shown.push_back(true);

@@ -19,6 +19,23 @@ medians over the moves:
 - set: the property set alone (client side, as the handle does it);
 - to frame: from the set to the end of the render (includes the ray casting on Mesa
   llvmpipe here, the same work for both classifications).
+
+With --turn, instead: the frame time of the volume while the camera turns, ParaView's
+plain "Volume" representation of one channel (the first, the T1) against the "Gaussian TF
+Volume" per sample (with and without EmptySpaceSkipping) and per voxel, on the same
+grid, view and sample distance:
+
+    xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
+        [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
+        [--reduced brain_reduced.vti]
+
+The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
+grid; --widgets widgets seeded by auto_widgets. Each of the four is a display of its own
+copy of the grid (PassArrays), shown alone; a round renders each once at the same
+camera angle, the camera turns 360/--frames degrees between rounds, after one warm-up
+round (textures uploaded). A widget the seeding starts hidden (the cluster of more than
+half of the voxels: the only one with --widgets 1) is shown at opacity 0.05. Prints the
+medians and each one's ratio to the plain volume.
 """
 import argparse
 import os
@@ -72,11 +89,112 @@ def measure(mce, view, reduction, mode, moves):
     return [statistics.median(x) for x in (prepare, setting, frame)]
 
 
+def parse_size(text):
+    dims = [int(v) for v in text.split("x")]
+    return dims * 3 if len(dims) == 1 else dims
+
+
+def turn(mce, view, reduction, args):
+    """The --turn table (see the module's doc)."""
+    native = list(reduction.GetDataInformation().GetExtent())
+    native = [native[1] - native[0] + 1, native[3] - native[2] + 1, native[5] - native[4] + 1]
+    counts = [int(v) for v in args.widgets.split(",")]
+    modes = ("plain", "per sample", "per sample, no skipping", "per voxel")
+    rows = []
+    for text in args.grids.split(","):
+        dims = parse_size(text)
+        grid = reduction
+        if dims != native:
+            grid = simple.ResampleToImage(Input=reduction, SamplingDimensions=dims,
+                                          UseInputBounds=1)
+        grid.UpdatePipeline()
+        voxels = dims[0] * dims[1] * dims[2]
+        copies = {m: simple.PassArrays(Input=grid) for m in modes}
+        displays = {}
+        plain = simple.Show(copies["plain"], view)
+        plain.SetRepresentationType("Volume")
+        names = [n for n in grid.PointData.keys()
+                 if grid.PointData[n].GetNumberOfComponents() == 1
+                 and n not in ("Foreground", "vtkValidPointMask", "ModelDistance")]
+        channel = next((n for n in names if "ch2" in n.lower()), names[0])
+        simple.ColorBy(plain, ("POINTS", channel))
+        plain.RescaleTransferFunctionToDataRange(True, False)
+        displays["plain"] = plain
+        for m in modes[1:]:
+            d = mce.show_gaussian_tf(copies[m], view,
+                                     classification="Per voxel" if m == "per voxel" else "Per sample")
+            d.Device = "CPU"
+            d.ShowWidgetLegend = 0
+            d.EmptySpaceSkipping = 0 if m.endswith("no skipping") else 1
+            displays[m] = d
+        for count in counts:
+            widgets = [float(v) for v in mce.auto_widgets(displays["per sample"], count, seed=0)]
+            for i in range(len(widgets) // 8):
+                if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
+                    widgets[8 * i + 7] = 0.05
+            for m in modes[1:]:
+                displays[m].GaussianWidgets = widgets
+            visible = sum(1 for i in range(len(widgets) // 8) if widgets[8 * i + 7] > 0)
+            camera = view.GetActiveCamera()
+            times = {m: [] for m in modes}
+            for r in range(args.frames + 1):
+                for m in modes:
+                    for other in modes:
+                        displays[other].Visibility = 1 if other == m else 0
+                    if r == 0 and m == modes[0]:
+                        simple.ResetCamera(view)
+                    start = time.perf_counter()
+                    simple.Render(view)
+                    if r > 0:
+                        times[m].append(time.perf_counter() - start)
+                camera.Azimuth(360.0 / args.frames)
+            displays["per sample"].UpdatePropertyInformation()
+            info = displays["per sample"]
+            bricks = int(info.GetPropertyValue("GaussianTFBricks"))
+            empty = int(info.GetPropertyValue("GaussianTFEmptyBricks"))
+            listed = float(info.GetPropertyValue("GaussianTFWidgetsPerBrick"))
+            med = {m: statistics.median(times[m]) for m in modes}
+            rows.append((voxels, count, visible, med, bricks, empty, listed))
+            print("%.1f M voxels (%s), %d widgets (%d visible): " % (voxels / 1e6, channel, count, visible)
+                  + ", ".join("%s %.0f ms" % (m, 1e3 * med[m]) for m in modes)
+                  + "; bricks %d, empty %d, widgets per reached brick %.1f" % (bricks, empty, listed))
+            sys.stdout.flush()
+        for m in modes:
+            simple.Delete(displays[m])
+            simple.Delete(copies[m])
+        if grid is not reduction:
+            simple.Delete(grid)
+
+    print("\n| voxels | widgets | plain Volume | per sample (x plain) | per sample, no skipping "
+          "(x plain) | per voxel (x plain) | empty bricks, widgets per brick |")
+    print("|---|---|---|---|---|---|---|")
+    for voxels, count, visible, med, bricks, empty, listed in rows:
+        p = med["plain"]
+        print("| %.1f M | %d (%d visible) | %.0f ms | %.0f ms (x%.2f) | %.0f ms (x%.2f) | %.0f ms (x%.2f) "
+              "| %.0f %%, %.1f |"
+              % (voxels / 1e6, count, visible, 1e3 * p,
+                 1e3 * med["per sample"], med["per sample"] / p,
+                 1e3 * med["per sample, no skipping"], med["per sample, no skipping"] / p,
+                 1e3 * med["per voxel"], med["per voxel"] / p,
+                 100.0 * empty / max(bricks, 1), listed))
+    sys.stdout.flush()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--moves", type=int, default=9)
-    parser.add_argument("--size", type=int, nargs=2, default=[400, 400])
+    parser.add_argument("--size", type=int, nargs=2, default=None,
+                        help="view size (default 400 400; 800 600 with --turn)")
+    parser.add_argument("--turn", action="store_true", help="the frame-time table instead")
+    parser.add_argument("--widgets", default="1,8,64")
+    parser.add_argument("--grids", default="100,181x217x181,318")
+    parser.add_argument("--frames", type=int, default=7)
+    parser.add_argument("--reduced", default="",
+                        help="--turn: a .vti of the reduced brain, written by the first run "
+                             "and read by the next ones")
     args = parser.parse_args()
+    if args.size is None:
+        args.size = [800, 600] if args.turn else [400, 400]
     mce = T.load_plugin(globals())
     data = os.environ.get("MCV_DATA_DIR") or os.path.join(T.REPO, ".cache", "volumes")
     paths = [os.path.join(data, n) for n in CHANNELS]
@@ -91,6 +209,19 @@ def main():
     view = simple.CreateView("RenderView")
     view.ViewSize = list(args.size)
     view.OrientationAxesVisibility = 0
+    if args.turn:
+        if args.reduced and os.path.exists(args.reduced):
+            reduction = simple.XMLImageDataReader(FileName=[args.reduced])
+            reduction.UpdatePipeline()
+            print("reduced brain read from %s" % args.reduced)
+        else:
+            reduction, seconds = reduced(brain)
+            print("brain reduced in %.1f s" % seconds)
+            if args.reduced:
+                simple.SaveData(args.reduced, proxy=reduction)
+        sys.stdout.flush()
+        turn(mce, view, reduction, args)
+        os._exit(0)
     rows = []
     for name, volume in (("block", block), ("brain", brain)):
         reduction, seconds = reduced(volume)

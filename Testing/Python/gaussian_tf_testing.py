@@ -70,6 +70,46 @@ class Shot(object):
         return max(self.scalars.GetRange(c)[1] for c in range(3))
 
 
+def difference(a, b, brightness=False):
+    """Two Shots of one size: (largest channel difference, share of pixels whose channels
+    differ by more than 2 of 255). With `brightness`, the largest difference is that of
+    each pixel's brightest channel."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    x = vtk_to_numpy(a.scalars)[:, :3].astype(np.int32)
+    y = vtk_to_numpy(b.scalars)[:, :3].astype(np.int32)
+    d = np.abs(x - y).max(axis=1)
+    largest = np.abs(x.max(axis=1) - y.max(axis=1)).max() if brightness else d.max()
+    return int(largest), float((d > 2).mean())
+
+
+def skipping_unchanged(checker, view, display, label, path_stem, maximum_intensity=False):
+    """Renders `display` with EmptySpaceSkipping on and off and checks that the pictures
+    agree (no channel more than 8/255 apart, at most 0.1 % of the pixels more than 2/255);
+    returns the information of the render with skipping; leaves skipping off. With `maximum_intensity`, the
+    brightness of each pixel is compared instead of its channels: a ray whose two most
+    opaque samples (of different widgets) tie within 1e-6 takes either one's colour."""
+    from paraview import simple
+
+    display.EmptySpaceSkipping = 1
+    simple.Render(view)
+    on = Shot(view, output_path(path_stem + "_skipping.png"))
+    state = info(display)
+    display.EmptySpaceSkipping = 0
+    simple.Render(view)
+    off = Shot(view, output_path(path_stem + "_no_skipping.png"))
+    simple.Render(view)
+    largest, share = difference(on, off, brightness=maximum_intensity)
+    print("%s: skipping vs not: largest difference %d/255, %.4f %% of pixels > 2/255; "
+          "bricks %s" % (label, largest, 100 * share, state.get("bricks")))
+    checker.check(on.max_channel() > 30, "%s: something is drawn with skipping" % label)
+    checker.check(largest <= 8 and share <= 0.001,
+                  "%s: the same picture with and without empty space skipping (largest "
+                  "difference %d/255, %.4f %% of pixels > 2/255)" % (label, largest, 100 * share))
+    return state
+
+
 def info(display):
     """What the representation's last render computed (information-only properties)."""
     display.UpdatePropertyInformation()
@@ -80,6 +120,9 @@ def info(display):
         "device": str(display.GetPropertyValue("GaussianTFDeviceUsed")),
         "texture_builds": int(display.GetPropertyValue("GaussianTFTextureBuilds")),
         "preparation_s": float(display.GetPropertyValue("GaussianTFPreparationSeconds")),
+        "bricks": (int(display.GetPropertyValue("GaussianTFBricks")),
+                   int(display.GetPropertyValue("GaussianTFEmptyBricks")),
+                   float(display.GetPropertyValue("GaussianTFWidgetsPerBrick"))),
     }
 
 

@@ -17,8 +17,8 @@ def close(a, b, tol=1e-9):
 
 FIRST = [0, 0, 0, 4, 1, 0.4, 0.1, 0.8]
 # Add: at the domain centre (0, 0, 0), sigma a tenth of the 40-wide domain, opacity 0.5,
-# the editor's second palette colour (ColorBrewer Set1 blue).
-added = [0, 0, 0, 4, 0.216, 0.494, 0.722, 0.5]
+# the editor's second palette colour (ColorBrewer Set1 blue, #377EB8).
+added = [0, 0, 0, 4, 0x37 / 255, 0x7E / 255, 0xB8 / 255, 0.5]
 red = added[:4] + [1, 0, 0] + added[7:]
 sigma = red[:3] + [2.5] + red[4:]
 opacity = sigma[:7] + [0.7]

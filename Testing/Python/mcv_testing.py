@@ -11,6 +11,7 @@ No numpy: ParaView's Python on Debian 12 has none.
 
 import math
 import os
+import shutil
 import sys
 
 SKIP = 125
@@ -26,6 +27,59 @@ def output_dir():
         REPO, "build-pv", "Testing", "Python", "output")
     os.makedirs(out, exist_ok=True)
     return out
+
+
+def fresh_output_dir(name):
+    """The test's own folder <output_dir>/name, emptied of an earlier run's files."""
+    out = os.path.join(output_dir(), name)
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    return out
+
+
+def output_of(proxy, port=0):
+    """The proxy's output data after an update (built-in session: the object itself)."""
+    proxy.UpdatePipeline()
+    return proxy.GetClientSideObject().GetOutputDataObject(port)
+
+
+def programmable_image(dims, name, value="v", body="", components=1, array_type="vtkFloatArray",
+                       scalars=False):
+    """A ProgrammableSource of image data of `dims` with one point array `name` of
+    `components` components: for voxel (i, j, k), the Python lines `body` run (they may set
+    variables, e.g. v), then component c gets the expression `value` (of i, j, k, c and
+    those variables). No numpy: ParaView's Python on Debian 12 has none. `scalars`: the
+    array is the point data's active scalars."""
+    from paraview.simple import ProgrammableSource
+    src = ProgrammableSource()
+    src.OutputDataSetType = "vtkImageData"
+    src.ScriptRequestInformation = (
+        "from paraview import util\n"
+        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n"
+        % (dims[0] - 1, dims[1] - 1, dims[2] - 1))
+    src.Script = (
+        "import math\n"
+        "from vtkmodules.vtkCommonCore import %s\n"
+        "out = self.GetOutput()\n"
+        "out.SetExtent(0, %d, 0, %d, 0, %d)\n"
+        "a = %s()\n"
+        "a.SetName('%s')\n"
+        "a.SetNumberOfComponents(%d)\n"
+        "a.SetNumberOfTuples(%d)\n"
+        "n = 0\n"
+        "for k in range(%d):\n"
+        "    for j in range(%d):\n"
+        "        for i in range(%d):\n"
+        "%s\n"
+        "            for c in range(%d):\n"
+        "                a.SetComponent(n, c, %s)\n"
+        "            n += 1\n"
+        "out.GetPointData().%s(a)\n"
+        % (array_type, dims[0] - 1, dims[1] - 1, dims[2] - 1, array_type, name, components,
+           dims[0] * dims[1] * dims[2], dims[2], dims[1], dims[0],
+           "\n".join("            " + line for line in body.splitlines()) or "            pass",
+           components, value, "SetScalars" if scalars else "AddArray"))
+    return src
 
 
 def data_file(name):

@@ -41,34 +41,9 @@ def run(label, source, **props):
 
 
 def image_source(dims, script_body, array_type="vtkFloatArray", name="values"):
-    """A ProgrammableSource producing image data of `dims` whose values come from
-    `script_body` (Python computing `v` from i, j, k; no numpy needed)."""
-    src = ProgrammableSource()
-    src.OutputDataSetType = "vtkImageData"
-    src.ScriptRequestInformation = (
-        "from paraview import util\n"
-        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n"
-        % (dims[0] - 1, dims[1] - 1, dims[2] - 1))
-    src.Script = (
-        "import math\n"
-        "from vtkmodules.vtkCommonCore import %s\n"
-        "out = self.GetOutput()\n"
-        "out.SetExtent(0, %d, 0, %d, 0, %d)\n"
-        "a = %s()\n"
-        "a.SetName('%s')\n"
-        "a.SetNumberOfTuples(%d)\n"
-        "n = 0\n"
-        "for k in range(%d):\n"
-        "    for j in range(%d):\n"
-        "        for i in range(%d):\n"
-        "%s\n"
-        "            a.SetValue(n, v)\n"
-        "            n += 1\n"
-        "out.GetPointData().SetScalars(a)\n"
-        % (array_type, dims[0] - 1, dims[1] - 1, dims[2] - 1, array_type, name,
-           dims[0] * dims[1] * dims[2], dims[2], dims[1], dims[0],
-           "\n".join("            " + line for line in script_body.splitlines())))
-    return src
+    """Image data of `dims` whose values come from `script_body` (Python computing `v`
+    from i, j, k)."""
+    return T.programmable_image(dims, name, body=script_body, array_type=array_type, scalars=True)
 
 
 # ---- not image data ------------------------------------------------------------------

@@ -27,14 +27,7 @@ from paraview import simple  # noqa: E402
 
 T.load_plugin(globals())
 C = T.Checker("test_channel_list")
-out = os.path.join(T.output_dir(), "channel_list")
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
-
-
-def output_of(proxy):
-    proxy.UpdatePipeline()
-    return proxy.GetClientSideObject().GetOutputDataObject(0)
+out = T.fresh_output_dir("channel_list")
 
 
 def table_of(data, name):
@@ -54,7 +47,7 @@ C.check(len(expected) == 116 and expected[0] == "1\tPrecentral_L",
 
 readers = [simple.OpenDataFile(T.data_file(f))
            for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-tables = [table_of(output_of(r), n + "_labels") for r, n in zip(readers, ("ch2", "aal", "brodmann"))]
+tables = [table_of(T.output_of(r), n + "_labels") for r, n in zip(readers, ("ch2", "aal", "brodmann"))]
 C.check(tables[1] == expected, "the AAL reader's field array aal_labels is the file, line by "
         "line (%s entries)" % (len(tables[1]) if tables[1] else None))
 C.check(tables[0] is None and tables[2] is None, "ch2 and Brodmann: no label table")
@@ -65,7 +58,7 @@ os.makedirs(other)
 shutil.copyfile(T.data_file("aal.nii.gz"), os.path.join(other, "aal.nii.gz"))
 shutil.copyfile(label_file, os.path.join(other, "aal.nii.txt"))
 twice = simple.MergeChannels(Input=readers + [simple.OpenDataFile(os.path.join(other, "aal.nii.gz"))])
-image = output_of(twice)
+image = T.output_of(twice)
 names = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(names == ["ch2", "aal", "brodmann", "aal_2"] and table_of(image, "aal_labels") == expected
         and table_of(image, "aal_2_labels") == expected,
@@ -73,7 +66,7 @@ C.check(names == ["ch2", "aal", "brodmann", "aal_2"] and table_of(image, "aal_la
 simple.Delete(twice)
 
 merged = simple.MergeChannels(Input=readers)
-C.check(table_of(output_of(merged), "aal_labels") == expected, "MergeChannels keeps aal_labels")
+C.check(table_of(T.output_of(merged), "aal_labels") == expected, "MergeChannels keeps aal_labels")
 
 
 def domain_strings(proxy):
@@ -98,7 +91,7 @@ shown = domain_strings(reduction)
 C.check(shown == OFFERED and list(reduction.Channels) == IN_ORDER,
         "DimensionReduction's Channels list after MultichannelFeatures: %s (no Features, no "
         "Foreground), all used, in that order %s" % (shown, list(reduction.Channels)))
-reduced = output_of(reduction)
+reduced = T.output_of(reduction)
 C.check(table_of(reduced, "aal_labels") == expected,
         "the reduced volume still carries aal_labels (MultichannelFeatures and "
         "DimensionReduction pass it on)")
@@ -115,7 +108,7 @@ with open(os.path.join(bad, "aal.nii.txt"), "w") as f:
     f.write("1 Precentral_L 2001\nPrecentral_R 2 2002\n")
 bad_reader = simple.OpenDataFile(os.path.join(bad, "aal.nii.gz"))
 msgs = T.Messages(bad_reader)
-data = output_of(bad_reader)
+data = T.output_of(bad_reader)
 C.check(msgs.any_warning("aal.nii.txt", "line 2") and data.GetNumberOfPoints() == 181 * 217 * 181
         and table_of(data, "aal_labels") is None,
         "a bad label file: a warning naming it and the line (%s), the volume read, no table"

@@ -33,14 +33,7 @@ import numpy as np  # noqa: E402
 
 T.load_plugin(globals())
 C = T.Checker("test_channel_names")
-out = os.path.join(T.output_dir(), "channel_names")
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
-
-
-def image_of(proxy):
-    proxy.UpdatePipeline()
-    return proxy.GetClientSideObject().GetOutputDataObject(0)
+out = T.fresh_output_dir("channel_names")
 
 
 def values(image, name):
@@ -50,14 +43,14 @@ def values(image, name):
 
 files = ["ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz"]
 readers = [simple.OpenDataFile(T.data_file(f)) for f in files]
-sources = [image_of(r) for r in readers]
+sources = [T.output_of(r) for r in readers]
 names = [s.GetPointData().GetScalars().GetName() for s in sources]
 C.check(names == ["ch2", "aal", "brodmann"], "the readers name each array after its file: %s"
         % names)
 
 merged = simple.MergeChannels(Input=readers)
 msgs = T.Messages(merged)
-image = image_of(merged)
+image = T.output_of(merged)
 got = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(got == ["ch2", "aal", "brodmann"] and not msgs.errors,
         "MergeChannels on the real brain: channels %s" % got)
@@ -75,10 +68,10 @@ for name, source in zip(("ch2", "aal", "brodmann"), sources):
     writer.SetCompression(False)
     writer.Write()
     metas.append(simple.MetaFileSeriesReader(FileNames=[os.path.join(out, name + ".mhd")]))
-generic = [image_of(m).GetPointData().GetScalars().GetName() for m in metas]
+generic = [T.output_of(m).GetPointData().GetScalars().GetName() for m in metas]
 C.check(generic == ["MetaImage"] * 3, "ParaView's MetaImageReader names them %s" % generic)
 from_files = simple.MergeChannels(Input=metas)
-image = image_of(from_files)
+image = T.output_of(from_files)
 got = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(got == ["ch2", "aal", "brodmann"],
         "MergeChannels of 'MetaImage' arrays: named after their files %s" % got)
@@ -91,13 +84,13 @@ os.makedirs(other)
 shutil.copyfile(T.data_file("ch2.nii.gz"), os.path.join(other, "ch2.nii.gz"))
 twice = simple.MergeChannels(Input=[readers[0], simple.OpenDataFile(os.path.join(other, "ch2.nii.gz")),
                                     readers[1]])
-image = image_of(twice)
+image = T.output_of(twice)
 got = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(got == ["ch2", "ch2_2", "aal"], "two files named ch2: %s" % got)
 # The generic name twice (ParaView's reader on the same file twice): 'ch2', 'ch2_2'.
 same = simple.MergeChannels(Input=[metas[0], simple.MetaFileSeriesReader(
     FileNames=[os.path.join(out, "ch2.mhd")])])
-image = image_of(same)
+image = T.output_of(same)
 got = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
 C.check(got == ["ch2", "ch2_2"], "one .mhd twice through ParaView's reader: %s" % got)
 
@@ -117,7 +110,7 @@ for step, name, source in ((0, "ch2", sources[0]), (1, "aal", sources[1])):
 # A multichannel array keeps its name (its label) when merged.
 dwi_path = T.data_file("small_64D.nii")
 dwi = simple.OpenDataFile(dwi_path)
-dwi_image = image_of(dwi)
+dwi_image = T.output_of(dwi)
 C.check(dwi_image.GetPointData().GetScalars().GetName() == "small_64D" and
         dwi_image.GetPointData().GetScalars().GetNumberOfComponents() == 65,
         "small_64D.nii: one 65-component array 'small_64D'")
@@ -190,7 +183,7 @@ for preset, props, expected in (("6D", {}, 130), ("24D", {}, 520),
     f.UpdatePipeline()
     f.UpdatePropertyInformation()
     counted = int(f.GetPropertyValue("NumberOfFeatures"))
-    components = image_of(f).GetPointData().GetArray("Features").GetNumberOfComponents()
+    components = T.output_of(f).GetPointData().GetArray("Features").GetNumberOfComponents()
     C.check(counted == expected and components == expected,
             "%s on 65 channels: %d features (NumberOfFeatures %d, Features has %d components)"
             % (preset, expected, counted, components))

@@ -28,7 +28,6 @@ Known answers:
 """
 import math
 import os
-import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -41,9 +40,7 @@ T.load_plugin(globals())
 import multichannel_explorer as mce  # noqa: E402
 
 C = T.Checker("test_exploration")
-out = os.path.join(T.output_dir(), "exploration")
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
+out = T.fresh_output_dir("exploration")
 
 
 def names():

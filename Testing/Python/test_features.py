@@ -51,10 +51,7 @@ def run(label, source, **props):
     return f, msgs
 
 
-t1 = OpenDataFile(T.data_file("ch2.nii.gz"))
-aal = OpenDataFile(T.data_file("aal.nii.gz"))
-brodmann = OpenDataFile(T.data_file("brodmann.nii.gz"))
-merged = AppendAttributes(Input=[t1, aal, brodmann])
+merged = T.brain_channels()
 merged.UpdatePipeline()
 names = merged.PointData.keys()
 C.check(len(names) == 3, "three point arrays on one grid: %s" % names)

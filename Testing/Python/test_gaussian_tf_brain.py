@@ -148,4 +148,22 @@ for blend, name in (("Maximum Intensity", "gaussian_tf_brain_mip.png"),
     C.check(red >= 200 and green >= 200,
             "%s: both widget colours appear (%d red, %d green pixels)" % (blend, red, green))
 
+# Empty space skipping leaves the picture as it is without it: both blends, the front
+# view and an oblique one (rays across brick faces at every angle).
+C.check(display.EmptySpaceSkipping == 0, "EmptySpaceSkipping is off by default")
+for blend, turn, stem in (("Composite", False, "gaussian_tf_brain_composite"),
+                          ("Maximum Intensity", False, "gaussian_tf_brain_mip"),
+                          ("Composite", True, "gaussian_tf_brain_oblique")):
+    display.GaussianBlendMode = blend
+    if turn:
+        camera = view.GetActiveCamera()
+        camera.Azimuth(37)
+        camera.Elevation(23)
+    state = G.skipping_unchanged(C, view, display, "%s%s" % (blend, ", oblique" if turn else ""),
+                                 stem, maximum_intensity=blend == "Maximum Intensity")
+    bricks, empty, listed = state["bricks"]
+    C.check(bricks > 0 and empty > bricks // 10 and 0 < listed <= 2,
+            "%s: a widget table with empty bricks (%d of %d bricks empty, %.2f widgets per "
+            "reached brick)" % (blend, empty, bricks, listed))
+
 C.finish()

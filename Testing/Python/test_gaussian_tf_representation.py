@@ -58,6 +58,7 @@ C.check(display.CoordinateArray == "ReducedCoordinates" and list(display.Gaussia
 C.check(display.Classification == "Per sample" and display.Jittering == 1 and
         display.MaskArray == "Foreground",
         "defaults: Classification Per sample, Jittering on, MaskArray Foreground")
+C.check(display.EmptySpaceSkipping == 0, "default: EmptySpaceSkipping off")
 display.Classification = CLASSIFICATION
 C.check(sorted(display.GetProperty("GaussianBlendMode").Available) ==
         ["Composite", "Maximum Intensity"], "blend modes: Composite, Maximum Intensity")
@@ -99,6 +100,29 @@ C.check(first["valid"] == 1 and first["computations"] >= 1 and first["data_updat
 C.check(first["device"] == "OpenGL" if PER_SAMPLE else first["device"] in ("CPU", "GPU"),
         "DeviceUsed is OpenGL per sample, CPU or GPU per voxel (%s)" % first["device"])
 check_two_colours("composite", shot("gaussian_tf_composite.png"))
+if PER_SAMPLE:
+    # Empty space skipping (bricks of 8^3 voxels: 4 x 4 x 4 here). Two widgets each reach
+    # 0.42 = 5.3 sigma (where their opacity falls to 1e-6): no brick is empty, and a brick
+    # that one of the two reaches evaluates both (a list pays below a third of them).
+    state = G.skipping_unchanged(C, view, display, "composite", "gaussian_tf_composite")
+    C.check(state["bricks"] == (64, 0, 2.0),
+            "widget table: 64 bricks, none empty, both widgets everywhere (%s)"
+            % (state["bricks"],))
+    # 16 narrow widgets on a 4 x 4 grid in the plane z = 0.5 (sigma 0.02, reach 0.105):
+    # each reaches the two middle z-bricks of its own x, y column (and at most a
+    # neighbour's), so 32 bricks are empty and the other 32 list one or two widgets each.
+    grid = []
+    for a in range(4):
+        for b in range(4):
+            grid += [0.125 + 0.25 * a, 0.125 + 0.25 * b, 0.5, 0.02,
+                     (a + 1) / 4.0, (b + 1) / 4.0, 1 - (a + b) / 6.0, 1]
+    display.GaussianWidgets = grid
+    state = G.skipping_unchanged(C, view, display, "16 widgets", "gaussian_tf_grid16")
+    C.check(state["bricks"][:2] == (64, 32) and 1.0 <= state["bricks"][2] <= 2.0,
+            "16 widgets: 32 empty bricks, 1 to 2 listed widgets per other brick (%s)"
+            % (state["bricks"],))
+    display.GaussianWidgets = RED + GREEN
+    simple.Render(view)
 
 before = G.info(display)
 display.GaussianBlendMode = "Maximum Intensity"

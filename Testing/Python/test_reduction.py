@@ -32,10 +32,7 @@ if not C.check(hasattr(simple, "DimensionReduction"), "the plugin has DimensionR
     C.finish()
 DimensionReduction = simple.DimensionReduction
 
-t1 = OpenDataFile(T.data_file("ch2.nii.gz"))
-aal = OpenDataFile(T.data_file("aal.nii.gz"))
-brodmann = OpenDataFile(T.data_file("brodmann.nii.gz"))
-merged = AppendAttributes(Input=[t1, aal, brodmann])
+merged = T.brain_channels()
 merged.UpdatePipeline()
 names = merged.PointData.keys()
 C.check(len(names) == 3, "three point arrays on one grid: %s" % names)
@@ -276,32 +273,7 @@ T.image_ok(mce, shot, C, "spectrum bar chart", min_fraction=0.02)
 def image_source(dims, components, value_expr, name="Features", array_type="vtkFloatArray"):
     """Image data of `dims` with one `components`-component point array whose value for
     voxel (i, j, k), component c, is `value_expr` (Python)."""
-    src = ProgrammableSource()
-    src.OutputDataSetType = "vtkImageData"
-    src.ScriptRequestInformation = (
-        "from paraview import util\n"
-        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n"
-        % (dims[0] - 1, dims[1] - 1, dims[2] - 1))
-    src.Script = (
-        "import math\n"
-        "from vtkmodules.vtkCommonCore import %s\n"
-        "out = self.GetOutput()\n"
-        "out.SetExtent(0, %d, 0, %d, 0, %d)\n"
-        "a = %s()\n"
-        "a.SetName('%s')\n"
-        "a.SetNumberOfComponents(%d)\n"
-        "a.SetNumberOfTuples(%d)\n"
-        "n = 0\n"
-        "for k in range(%d):\n"
-        "    for j in range(%d):\n"
-        "        for i in range(%d):\n"
-        "            for c in range(%d):\n"
-        "                a.SetComponent(n, c, %s)\n"
-        "            n += 1\n"
-        "out.GetPointData().AddArray(a)\n"
-        % (array_type, dims[0] - 1, dims[1] - 1, dims[2] - 1, array_type, name, components,
-           dims[0] * dims[1] * dims[2], dims[2], dims[1], dims[0], components, value_expr))
-    return src
+    return T.programmable_image(dims, name, value=value_expr, components=components, array_type=array_type)
 
 
 def bad(label, source, error_words=None, warning_words=None, **props):

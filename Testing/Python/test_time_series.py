@@ -30,9 +30,7 @@ import numpy as np  # noqa: E402
 
 T.load_plugin(globals())
 C = T.Checker("test_time_series")
-out = os.path.join(T.output_dir(), "time_series")
-shutil.rmtree(out, ignore_errors=True)
-os.makedirs(out)
+out = T.fresh_output_dir("time_series")
 
 
 def path(name):

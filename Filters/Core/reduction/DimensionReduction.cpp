@@ -560,89 +560,142 @@ Fit fitOnFirst(const RowMatrixF& refX, const ReductionOptions& options, const Co
   return comm->rank() == 0 ? fit : unpack(bytes);
 }
 
-// ---- The whole ------------------------------------------------------------------------------
+// ---- The whole: one run of the stages ----------------------------------------------------
 
-// `inputError`: what the caller found wrong with its rows (shared like the other checks).
-ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
+// One call of reduce(): its inputs, what the stages have found so far, and its progress.
+// Each stage returns an error message (empty when it went well); the options are the same
+// on every process, so are the stages' answers.
+struct Run
 {
-  const auto start = Clock::now();
-  const Communicator* comm = options.communicator;
+  Run(FeatureRows& f, const ReductionOptions& o)
+    : features(f)
+    , options(o)
+    , comm(o.communicator)
+    , model(o.model)
+  {
+  }
+
+  FeatureRows& features;
+  const ReductionOptions& options;
+  const Communicator* const comm;
+  const ReductionModel* const model;
   ReductionResult result;
-  auto fail = [&](std::string message) {
+  ReductionMethod method = ReductionMethod::PCA;
+  int d = 0;
+  bool projects = false;
+  bool graphMethod = false;
+  RowLayout rows = RowLayout::plain(0);
+  std::size_t N = 0; // voxels of every process
+  int cols = 0;
+  Device device = Device::CPU;
+  // The references: the model's, or fitted on a sample of the rows.
+  std::vector<int> used;
+  RowMatrixF refX;
+  Fit fit;
+  std::size_t M = 0;
+
+  ReductionResult failed(std::string message)
+  {
     result.error = std::move(message);
     result.coordinates.clear();
-    return result;
-  };
-  auto report = [&](const char* stage, double f) {
+    return std::move(result);
+  }
+  void report(const char* stage, double f) const
+  {
     if (options.progress)
     {
       options.progress(stage, std::min(1.0, std::max(0.0, f)));
     }
-  };
+  }
   // Progress of a stage mapped into [lo, hi] of the whole.
-  auto within = [&](double lo, double hi) {
-    return [&, lo, hi](const char* stage, double f) { report(stage, lo + (hi - lo) * f); };
-  };
+  StageProgress within(double lo, double hi) const
+  {
+    return [this, lo, hi](const char* stage, double f) { report(stage, lo + (hi - lo) * f); };
+  }
 
-  // --- Checks (the options are the same on every process, so are these answers) -----------
-  const ReductionModel* const model = options.model;
+  std::string checkOptions();
+  std::string checkSampleOptions() const;
+  std::string countRows(const std::string& inputError);
+  std::string takeModel();
+  std::string chooseColumns(std::vector<double>& usedMean, bool devicePasses);
+  std::string drawSample(const std::vector<double>& usedMean, bool devicePasses);
+  std::string fitSample();
+  void exportModel() const;
+};
+
+// --- Checks of the options (before any row is read) --------------------------------------
+std::string Run::checkOptions()
+{
   if (model)
   {
     const std::string broken = model->check();
     if (!broken.empty())
     {
-      return fail("The reduction model is not usable: " + broken + ".");
+      return "The reduction model is not usable: " + broken + ".";
     }
   }
-  const ReductionMethod method = model ? model->method : options.method;
-  const int d = model ? model->outputDimension : options.outputDimension;
+  method = model ? model->method : options.method;
+  d = model ? model->outputDimension : options.outputDimension;
   if (d != 2 && d != 3)
   {
-    return fail("OutputDimension must be 2 or 3 (got " + std::to_string(d) + ").");
+    return "OutputDimension must be 2 or 3 (got " + std::to_string(d) + ").";
   }
   const ReductionMethodInfo* const methodInfo = findReductionMethod(method);
   if (!methodInfo)
   {
-    return fail("Unknown reduction method " + std::to_string(static_cast<int>(method)) + ".");
+    return "Unknown reduction method " + std::to_string(static_cast<int>(method)) + ".";
   }
-  const bool projects = methodInfo->projects;
-  const bool graphMethod = methodInfo->neighbourGraph && !model;
+  projects = methodInfo->projects;
+  graphMethod = methodInfo->neighbourGraph && !model;
+  const std::string sampling = checkSampleOptions();
+  if (!sampling.empty())
+  {
+    return sampling;
+  }
+  if (options.coordinatesOutput && options.coordinatesHalfOutput)
+  {
+    return "Give the coordinates one destination: coordinatesOutput (float32) or coordinatesHalfOutput (float16).";
+  }
+  if (options.modelDistanceOutput && !model)
+  {
+    return "A model distance (modelDistanceOutput) is measured against a model: set options.model.";
+  }
+  if (options.timeSteps < 1 || (options.timeSteps > 1 && (!options.fitOnly || options.model)))
+  {
+    return "Several time steps (timeSteps " + std::to_string(options.timeSteps) +
+      ") are fitted together only (fitOnly, no model); each step is placed on its own.";
+  }
+  return {};
+}
+
+// The neighbour graph's and the reference sample's settings (a model needs neither).
+std::string Run::checkSampleOptions() const
+{
   if (graphMethod && options.numberOfNeighbors < 1)
   {
-    return fail("NumberOfNeighbors must be at least 1 (got " + std::to_string(options.numberOfNeighbors) + ").");
+    return "NumberOfNeighbors must be at least 1 (got " + std::to_string(options.numberOfNeighbors) + ").";
   }
   if (graphMethod && options.numberOfLandmarks < 1)
   {
-    return fail("NumberOfLandmarks must be at least 1 (got " + std::to_string(options.numberOfLandmarks) + ").");
+    return "NumberOfLandmarks must be at least 1 (got " + std::to_string(options.numberOfLandmarks) + ").";
   }
   if (options.referenceSampleSize == 0 && !model)
   {
-    return fail("ReferenceSampleSize must be at least 1.");
+    return "ReferenceSampleSize must be at least 1.";
   }
   // Said before sampling: the setting, not the data, is what cannot be fitted.
   if (options.referenceSampleSize < static_cast<std::size_t>(d) + 2 && !model)
   {
-    return fail("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
-      ") is too small: a " + std::to_string(d) + "D embedding is fitted on at least " + std::to_string(d + 2) +
-      " reference points; raise ReferenceSampleSize (or lower OutputDimension).");
+    return "ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) + ") is too small: a " +
+      std::to_string(d) + "D embedding is fitted on at least " + std::to_string(d + 2) +
+      " reference points; raise ReferenceSampleSize (or lower OutputDimension).";
   }
-  if (options.coordinatesOutput && options.coordinatesHalfOutput)
-  {
-    return fail("Give the coordinates one destination: coordinatesOutput (float32) or coordinatesHalfOutput (float16).");
-  }
-  if (options.modelDistanceOutput && !model)
-  {
-    return fail("A model distance (modelDistanceOutput) is measured against a model: set options.model.");
-  }
-  if (options.timeSteps < 1 || (options.timeSteps > 1 && (!options.fitOnly || options.model)))
-  {
-    return fail("Several time steps (timeSteps " + std::to_string(options.timeSteps) +
-      ") are fitted together only (fitOnly, no model); each step is placed on its own.");
-  }
-  result.outputDimension = d;
-  report("Checking features", 0.0);
+  return {};
+}
 
-  // --- The rows of every process ----------------------------------------------------------
+// --- The rows of every process -----------------------------------------------------------
+std::string Run::countRows(const std::string& inputError)
+{
   std::string error = sharedError(comm, inputError.empty() ? checkRows(features, options) : inputError);
   if (error.empty())
   {
@@ -650,319 +703,363 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   }
   if (!error.empty())
   {
-    return fail(error);
+    return error;
   }
-  const RowLayout rows = makeLayout(features, options, comm);
+  rows = makeLayout(features, options, comm);
   std::vector<double> voxels{ static_cast<double>(rows.ownedCount()) };
   if (isDistributed(comm))
   {
     comm->sum(voxels);
   }
-  const std::size_t N = static_cast<std::size_t>(voxels[0]);
+  N = static_cast<std::size_t>(voxels[0]);
   if (N == 0)
   {
-    return fail("The feature array has no rows (no voxels): nothing to reduce.");
+    return "The feature array has no rows (no voxels): nothing to reduce.";
   }
   if (hasGrid(options) &&
     N != GridPiece::whole(ImageGrid{ options.piece.wholeDims }).ownedCount() * static_cast<std::size_t>(options.timeSteps))
   {
-    return fail("The processes own " + std::to_string(N) + " voxels of a volume of " +
-      dimsText(options.piece.wholeDims) + ": every voxel must be owned by exactly one process.");
+    return "The processes own " + std::to_string(N) + " voxels of a volume of " + dimsText(options.piece.wholeDims) +
+      ": every voxel must be owned by exactly one process.";
   }
-  const int cols = features.cols();
+  cols = features.cols();
   if (cols < 2)
   {
-    return fail("The feature array has " + std::to_string(cols) +
-      " component(s): nothing to reduce (at least 2 features are needed).");
+    return "The feature array has " + std::to_string(cols) +
+      " component(s): nothing to reduce (at least 2 features are needed).";
   }
+  return {};
+}
 
-  // --- The references: the model's, or fitted here on a sample of the rows ---------------
-  std::vector<int> used;
-  RowMatrixF refX;
-  Fit fit;
-  std::size_t M = 0;
-  std::string deviceWarning;
-  const Device device = resolveDevice(options.device, &deviceWarning);
-  if (!deviceWarning.empty())
+// --- The references of a model ---------------------------------------------------------------
+std::string Run::takeModel()
+{
+  if (cols != model->featureColumns)
   {
-    result.warnings.push_back(deviceWarning);
+    return "The reduction model was fitted on " + std::to_string(model->featureColumns) +
+      " feature columns; these rows have " + std::to_string(cols) + ".";
   }
-  if (model)
-  {
-    if (cols != model->featureColumns)
-    {
-      return fail("The reduction model was fitted on " + std::to_string(model->featureColumns) +
-        " feature columns; these rows have " + std::to_string(cols) + ".");
-    }
-    used = model->usedColumns;
-    M = model->references;
-    const Eigen::Index D = static_cast<Eigen::Index>(used.size());
-    refX = Eigen::Map<const RowMatrixF>(model->referenceFeatures.data(), static_cast<Eigen::Index>(M), D);
-    fit.coordinates = Eigen::Map<const RowMatrixF>(model->referenceCoordinates.data(), static_cast<Eigen::Index>(M), d);
-    fit.pca.mean = Eigen::Map<const Eigen::VectorXd>(model->pcaMean.data(), static_cast<Eigen::Index>(model->pcaMean.size()));
-    fit.pca.axes = Eigen::Map<const Eigen::MatrixXd>(model->pcaAxes.data(), projects ? D : 0,
-      projects ? d : 0);
-    fit.referenceRadius = model->referenceRadius;
-    result.usedColumns = used;
-    result.eigenvalues = model->eigenvalues;
-    result.varianceRetained = model->varianceRetained;
-    result.trustworthiness = model->trustworthiness;
-    result.modelApplied = true;
-  }
-  else
-  {
-    // NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
-    // would leave holes in the output. The message says where the first one is.
-    // Where the rows are computed on the GPU and this process owns them all, the passes over
-    // every row (this one, the sample's strata) run there too.
-    const bool devicePasses = device == Device::GPU && !isDistributed(comm) && rows.ownedCount() == features.rows();
-    ColumnStats stats(cols);
-    const std::function<void(double)> statsProgress = [&](double f) { report("Column statistics", 0.03 * f); };
-    if (!(devicePasses && deviceColumnStats(features, statsProgress, stats, result.warnings)))
-    {
-      error = runShared(comm, [&] { stats = localStats(features, rows, statsProgress); });
-    }
-    if (!error.empty())
-    {
-      return fail(error);
-    }
-    combineStats(stats, static_cast<double>(N), comm);
-    if (stats.nonFinite > 0)
-    {
-      const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
-      return fail("The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
-        " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / cols) +
-        ", component " + std::to_string(first % cols) + "; replace or mask them before reducing.");
-    }
-    std::vector<double> usedMean;
-    std::string dropped;
-    for (int c = 0; c < cols; ++c)
-    {
-      const double range = stats.maximum[c] - stats.minimum[c];
-      const double scale = std::max(std::abs(stats.maximum[c]), std::abs(stats.minimum[c]));
-      if (range <= 1e-7 * scale || range == 0.0)
-      {
-        dropped += (dropped.empty() ? "" : ", ") + std::to_string(c);
-        continue;
-      }
-      used.push_back(c);
-      usedMean.push_back(stats.mean[c]);
-    }
-    if (!dropped.empty())
-    {
-      result.warnings.push_back("Constant feature component(s) " + dropped +
-        " (zero variance) carry no information and were left out.");
-    }
-    if (used.size() < 2)
-    {
-      return fail("Only " + std::to_string(used.size()) + " of the " + std::to_string(cols) +
-        " feature components vary: nothing to reduce.");
-    }
-    result.usedColumns = used;
-
-    // --- Reference sample (the same voxels on every process) ---------------------------------
-    report("Drawing the reference sample", 0.03);
-    const unsigned char* mask = options.sampleMask;
-    const std::size_t eligible = sampleableVoxels(rows, mask, N, comm);
-    if (mask && eligible == 0)
-    {
-      result.warnings.push_back("The foreground mask marks no voxel (every voxel is background): the reference "
-                                "sample is drawn from all voxels.");
-      mask = nullptr;
-    }
-    const std::size_t Ns = mask ? eligible : N;
-    const char* const what = mask ? "foreground voxels" : "voxels";
-    result.sampledVoxels = Ns;
-    if (options.referenceSampleSize > Ns)
-    {
-      result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
-        ") exceeds the number of " + what + " (" + std::to_string(Ns) + "); the embedding is fitted on all of them.");
-    }
-    ReferenceSampleOptions so;
-    so.size = options.referenceSampleSize;
-    so.seed = options.randomSeed;
-    so.eligible = mask;
-    so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
-    so.onDevice = devicePasses;
-    ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
-    result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
-    if (!sample.error.empty())
-    {
-      return fail("Drawing the reference sample: " + sample.error);
-    }
-    result.referenceIndices = std::move(sample.indices);
-    M = result.referenceIndices.size();
-    const std::size_t wanted = std::min(options.referenceSampleSize, Ns);
-    if (M < wanted)
-    {
-      result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +
-        std::to_string(wanted) + " (identical voxels are fitted once).");
-    }
-    if (graphMethod && static_cast<std::size_t>(options.numberOfNeighbors) >= M)
-    {
-      return fail("NumberOfNeighbors (" + std::to_string(options.numberOfNeighbors) +
-        ") must be less than the number of distinct reference points (" + std::to_string(M) +
-        "); lower it or raise ReferenceSampleSize.");
-    }
-    if (M < static_cast<std::size_t>(d) + 2)
-    {
-      return fail("Only " + std::to_string(M) + " distinct feature vectors: at least " + std::to_string(d + 2) +
-        " are needed for a " + std::to_string(d) + "D embedding.");
-    }
-    refX = Eigen::Map<const RowMatrixF>(sample.vectors.data(), static_cast<Eigen::Index>(M),
-      static_cast<Eigen::Index>(used.size()));
-
-    // --- Fit (process 0; its answer is shared) ---------------------------------------------------
-    report("Fitting the embedding", 0.05);
-    fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
-    result.fitMs = fit.ms;
-    result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
-    if (!fit.error.empty())
-    {
-      return fail(fit.error);
-    }
-    result.eigenvalues = fit.eigenvalues;
-    result.varianceRetained = fit.varianceRetained;
-    result.trustworthiness = fit.trustworthiness;
-
-  }
+  used = model->usedColumns;
+  M = model->references;
   const Eigen::Index D = static_cast<Eigen::Index>(used.size());
-  const bool allColumns = static_cast<int>(used.size()) == cols;
-  const std::vector<int> gatherColumns = allColumns ? std::vector<int>{} : used;
-  result.deviceUsed = Device::CPU; // the placement below says where it really ran
-  if (options.fittedModel && !model)
+  refX = Eigen::Map<const RowMatrixF>(model->referenceFeatures.data(), static_cast<Eigen::Index>(M), D);
+  fit.coordinates = Eigen::Map<const RowMatrixF>(model->referenceCoordinates.data(), static_cast<Eigen::Index>(M), d);
+  fit.pca.mean = Eigen::Map<const Eigen::VectorXd>(model->pcaMean.data(), static_cast<Eigen::Index>(model->pcaMean.size()));
+  fit.pca.axes = Eigen::Map<const Eigen::MatrixXd>(model->pcaAxes.data(), projects ? D : 0, projects ? d : 0);
+  fit.referenceRadius = model->referenceRadius;
+  result.usedColumns = used;
+  result.eigenvalues = model->eigenvalues;
+  result.varianceRetained = model->varianceRetained;
+  result.trustworthiness = model->trustworthiness;
+  result.modelApplied = true;
+  return {};
+}
+
+// --- The columns that vary (statistics over every row) -------------------------------------
+// NaN/Inf are an error: they have no place in a distance, and silently dropping voxels
+// would leave holes in the output. The message says where the first one is.
+std::string Run::chooseColumns(std::vector<double>& usedMean, bool devicePasses)
+{
+  ColumnStats stats(cols);
+  std::string error;
+  const std::function<void(double)> statsProgress = [&](double f) { report("Column statistics", 0.03 * f); };
+  if (!(devicePasses && deviceColumnStats(features, statsProgress, stats, result.warnings)))
   {
-    ReductionModel& out = *options.fittedModel;
-    out = ReductionModel();
-    out.method = method;
-    out.outputDimension = d;
-    out.featureColumns = cols;
-    out.usedColumns = used;
-    out.references = M;
-    out.referenceFeatures.assign(refX.data(), refX.data() + refX.size());
-    out.referenceCoordinates.assign(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size());
-    if (projects)
-    {
-      out.pcaMean.assign(fit.pca.mean.data(), fit.pca.mean.data() + fit.pca.mean.size());
-      out.pcaAxes.assign(fit.pca.axes.data(), fit.pca.axes.data() + fit.pca.axes.size());
-    }
-    out.referenceRadius = fit.referenceRadius;
-    out.eigenvalues = fit.eigenvalues;
-    out.varianceRetained = fit.varianceRetained;
-    out.trustworthiness = fit.trustworthiness;
+    error = runShared(comm, [&] { stats = localStats(features, rows, statsProgress); });
   }
-  if (options.fitOnly && !model)
+  if (!error.empty())
   {
-    result.totalMs = msSince(start);
-    report("Done", 1.0);
-    return result;
+    return error;
+  }
+  combineStats(stats, static_cast<double>(N), comm);
+  if (stats.nonFinite > 0)
+  {
+    const std::int64_t first = static_cast<std::int64_t>(stats.firstBad);
+    return "The features contain " + std::to_string(static_cast<std::int64_t>(stats.nonFinite)) +
+      " non-finite value(s) (NaN or Inf), the first at voxel " + std::to_string(first / cols) + ", component " +
+      std::to_string(first % cols) + "; replace or mask them before reducing.";
+  }
+  std::string dropped;
+  for (int c = 0; c < cols; ++c)
+  {
+    const double range = stats.maximum[c] - stats.minimum[c];
+    const double scale = std::max(std::abs(stats.maximum[c]), std::abs(stats.minimum[c]));
+    if (range <= 1e-7 * scale || range == 0.0)
+    {
+      dropped += (dropped.empty() ? "" : ", ") + std::to_string(c);
+      continue;
+    }
+    used.push_back(c);
+    usedMean.push_back(stats.mean[c]);
+  }
+  if (!dropped.empty())
+  {
+    result.warnings.push_back(
+      "Constant feature component(s) " + dropped + " (zero variance) carry no information and were left out.");
+  }
+  if (used.size() < 2)
+  {
+    return "Only " + std::to_string(used.size()) + " of the " + std::to_string(cols) +
+      " feature components vary: nothing to reduce.";
+  }
+  result.usedColumns = used;
+  return {};
+}
+
+// --- Reference sample (the same voxels on every process) -----------------------------------
+std::string Run::drawSample(const std::vector<double>& usedMean, bool devicePasses)
+{
+  report("Drawing the reference sample", 0.03);
+  const unsigned char* mask = options.sampleMask;
+  const std::size_t eligible = sampleableVoxels(rows, mask, N, comm);
+  if (mask && eligible == 0)
+  {
+    result.warnings.push_back("The foreground mask marks no voxel (every voxel is background): the reference "
+                              "sample is drawn from all voxels.");
+    mask = nullptr;
+  }
+  const std::size_t Ns = mask ? eligible : N;
+  const char* const what = mask ? "foreground voxels" : "voxels";
+  result.sampledVoxels = Ns;
+  if (options.referenceSampleSize > Ns)
+  {
+    result.warnings.push_back("ReferenceSampleSize (" + std::to_string(options.referenceSampleSize) +
+      ") exceeds the number of " + what + " (" + std::to_string(Ns) + "); the embedding is fitted on all of them.");
+  }
+  ReferenceSampleOptions so;
+  so.size = options.referenceSampleSize;
+  so.seed = options.randomSeed;
+  so.eligible = mask;
+  so.progress = [&](double f) { report("Drawing the reference sample", 0.03 + 0.02 * f); };
+  so.onDevice = devicePasses;
+  ReferenceSample sample = drawReferenceSample(features, rows, used, usedMean, so, comm);
+  result.warnings.insert(result.warnings.end(), sample.warnings.begin(), sample.warnings.end());
+  if (!sample.error.empty())
+  {
+    return "Drawing the reference sample: " + sample.error;
+  }
+  result.referenceIndices = std::move(sample.indices);
+  M = result.referenceIndices.size();
+  const std::size_t wanted = std::min(options.referenceSampleSize, Ns);
+  if (M < wanted)
+  {
+    result.warnings.push_back("Only " + std::to_string(M) + " distinct feature vectors were found for a reference sample of " +
+      std::to_string(wanted) + " (identical voxels are fitted once).");
+  }
+  if (graphMethod && static_cast<std::size_t>(options.numberOfNeighbors) >= M)
+  {
+    return "NumberOfNeighbors (" + std::to_string(options.numberOfNeighbors) +
+      ") must be less than the number of distinct reference points (" + std::to_string(M) +
+      "); lower it or raise ReferenceSampleSize.";
+  }
+  if (M < static_cast<std::size_t>(d) + 2)
+  {
+    return "Only " + std::to_string(M) + " distinct feature vectors: at least " + std::to_string(d + 2) +
+      " are needed for a " + std::to_string(d) + "D embedding.";
+  }
+  refX = Eigen::Map<const RowMatrixF>(sample.vectors.data(), static_cast<Eigen::Index>(M),
+    static_cast<Eigen::Index>(used.size()));
+  return {};
+}
+
+// --- Fit (process 0; its answer is shared) -----------------------------------------------------
+std::string Run::fitSample()
+{
+  report("Fitting the embedding", 0.05);
+  fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
+  result.fitMs = fit.ms;
+  result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
+  if (!fit.error.empty())
+  {
+    return fit.error;
+  }
+  result.eigenvalues = fit.eigenvalues;
+  result.varianceRetained = fit.varianceRetained;
+  result.trustworthiness = fit.trustworthiness;
+  return {};
+}
+
+// --- The fitted model, for the caller to keep ----------------------------------------------------
+void Run::exportModel() const
+{
+  ReductionModel& out = *options.fittedModel;
+  out = ReductionModel();
+  out.method = method;
+  out.outputDimension = d;
+  out.featureColumns = cols;
+  out.usedColumns = used;
+  out.references = M;
+  out.referenceFeatures.assign(refX.data(), refX.data() + refX.size());
+  out.referenceCoordinates.assign(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size());
+  if (projects)
+  {
+    out.pcaMean.assign(fit.pca.mean.data(), fit.pca.mean.data() + fit.pca.mean.size());
+    out.pcaAxes.assign(fit.pca.axes.data(), fit.pca.axes.data() + fit.pca.axes.size());
+  }
+  out.referenceRadius = fit.referenceRadius;
+  out.eigenvalues = fit.eigenvalues;
+  out.varianceRetained = fit.varianceRetained;
+  out.trustworthiness = fit.trustworthiness;
+}
+
+// ---- Every row of this process (local) --------------------------------------------------------
+
+// The placement of this process's rows after the fit: where each row's coordinates go
+// (float32, float16, the kept box of a split run's piece), and, applying a model, each
+// row's distance to it.
+class Placement
+{
+public:
+  explicit Placement(Run& run)
+    : run_(run)
+    , o_(run.options)
+    , n_(run.features.rows())
+    , du_(static_cast<std::size_t>(run.d))
+    , kept_(keptRows(run.options, n_))
+    , halves_(run.options.coordinatesHalfOutput)
+    , coordinates_(run.options.coordinatesOutput)
+    , gatherColumns_(static_cast<int>(run.used.size()) == run.cols ? std::vector<int>{} : run.used)
+  {
+    if (!coordinates_ && !halves_)
+    {
+      run.result.coordinates.resize(kept_.rows() * du_);
+      coordinates_ = run.result.coordinates.data();
+    }
   }
 
-  // --- Every row of this process (local) -----------------------------------------------------
-  const auto placeStart = Clock::now();
-  const std::size_t n = features.rows();
-  const std::size_t du = static_cast<std::size_t>(d);
-  // float16 output: each piece of rows is placed into `scratch` (one chunk) and rounded
-  // into the caller's binary16 array; `coordinates` stays null.
+  // Every row placed; an error when a collective check fails.
+  std::string placeAll();
+
+private:
+  float* floatsFor(std::size_t begin, std::size_t count);
+  void written(std::size_t begin, std::size_t count, const float* values);
+  void measure(std::size_t begin, std::size_t count, const float* rowsOfChunk, const std::uint32_t* nearest,
+    std::size_t stride);
+  void keepDistance(std::size_t from, std::size_t to, std::size_t rowsKept, const float* distances);
+  std::size_t placeOnDevice(Device& blockDevice);
+  void placeBlocks(std::size_t placedRows, Device blockDevice);
+  void placeChunk(const float* rowsOfChunk, std::size_t begin, std::size_t count, double lo, double hi,
+    Device blockDevice);
+  std::string finalChecks() const;
+
+  Run& run_;
+  const ReductionOptions& o_;
+  const std::size_t n_;
+  const std::size_t du_;
+  // float16 output: each piece of rows is placed into `scratch_` (one chunk) and rounded
+  // into the caller's binary16 array; `coordinates_` stays null.
   // A box of the block as output (a split run's piece): each chunk is placed into
-  // `scratch` and its kept rows copied out, as for float16.
-  const KeptRows kept = keptRows(options, n);
-  std::uint16_t* const halves = options.coordinatesHalfOutput;
-  std::vector<float> scratch;
-  std::size_t overflow = 0;
-  float* coordinates = options.coordinatesOutput;
-  if (!coordinates && !halves)
-  {
-    result.coordinates.resize(kept.rows() * du);
-    coordinates = result.coordinates.data();
-  }
-  // Where rows [begin, begin + count) are to be written as float (count <= the chunk for
-  // float16 or a box), and their hand-over once written.
-  auto floatsFor = [&](std::size_t begin, std::size_t count) -> float* {
-    if (!halves && kept.all())
-    {
-      return coordinates + begin * du;
-    }
-    scratch.resize(count * du);
-    return scratch.data();
-  };
-  auto written = [&](std::size_t begin, std::size_t count, const float* values) {
-    if (!halves && kept.all())
-    {
-      return;
-    }
-    kept.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
-      const float* source = values + (from - begin) * du;
-      if (halves)
-      {
-        overflow += floatsToHalves(source, rowsKept * du, halves + to * du);
-      }
-      else
-      {
-        std::copy(source, source + rowsKept * du, coordinates + to * du);
-      }
-    });
-  };
-  const std::size_t chunkRows =
-    halves || !kept.all() ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
+  // `scratch_` and its kept rows copied out, as for float16.
+  const KeptRows kept_;
+  std::uint16_t* const halves_;
+  float* coordinates_;
+  const std::vector<int> gatherColumns_;
+  std::vector<float> scratch_;
+  std::size_t overflow_ = 0;
   // Applying a model: each output row's distance to it (ModelDistance.h) and the rows that
   // are not finite (no statistics pass caught them).
-  std::unique_ptr<ExactKnn> nearestIndex;
-  std::vector<float> distanceScratch;
-  std::size_t outOfModel = 0, nonFiniteRows = 0;
-  auto measure = [&](std::size_t begin, std::size_t count, const float* rowsOfChunk, const std::uint32_t* nearest,
-                   std::size_t stride) {
-    if (!model)
-    {
-      return;
-    }
-    for (std::size_t r = 0; r < count; ++r)
-    {
-      const float* row = rowsOfChunk + r * static_cast<std::size_t>(cols);
-      for (int c : used)
-      {
-        if (!std::isfinite(row[c]))
-        {
-          ++nonFiniteRows;
-          break;
-        }
-      }
-    }
-    if (!options.modelDistanceOutput)
-    {
-      return;
-    }
-    if (!nearest && !nearestIndex)
-    {
-      nearestIndex.reset(new ExactKnn(refX.data(), M, static_cast<int>(D)));
-    }
-    distanceScratch.resize(count);
-    modelDistances(refX, nearestIndex.get(), fit.referenceRadius, rowsOfChunk, count, cols, gatherColumns, nearest,
-      stride, distanceScratch.data());
-    kept.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
-      for (std::size_t r = 0; r < rowsKept; ++r)
-      {
-        const float v = distanceScratch[from - begin + r];
-        options.modelDistanceOutput[to + r] = v;
-        outOfModel += v > kOutOfModelRatio ? 1 : 0;
-      }
-    });
-  };
-  if (projects && options.device == Device::GPU)
+  std::unique_ptr<ExactKnn> nearestIndex_;
+  std::vector<float> distanceScratch_;
+  std::size_t outOfModel_ = 0, nonFiniteRows_ = 0;
+};
+
+// Where rows [begin, begin + count) are to be written as float (count <= the chunk for
+// float16 or a box).
+float* Placement::floatsFor(std::size_t begin, std::size_t count)
+{
+  if (!halves_ && kept_.all())
   {
-    result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
+    return coordinates_ + begin * du_;
   }
-  if (!model && !projects && !isDistributed(comm) && !hasGrid(options) && M == n)
+  scratch_.resize(count * du_);
+  return scratch_.data();
+}
+
+// The hand-over of rows [begin, begin + count) once written at `values`.
+void Placement::written(std::size_t begin, std::size_t count, const float* values)
+{
+  if (!halves_ && kept_.all())
   {
-    // Every row is a reference point (M distinct indices of [0, rows) in order): its
-    // embedding is the fit's, which the placement would return after a kNN search per row.
-    if (halves)
+    return;
+  }
+  kept_.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+    const float* source = values + (from - begin) * du_;
+    if (halves_)
     {
-      written(0, n, fit.coordinates.data());
+      overflow_ += floatsToHalves(source, rowsKept * du_, halves_ + to * du_);
     }
     else
     {
-      std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates);
+      std::copy(source, source + rowsKept * du_, coordinates_ + to * du_);
+    }
+  });
+}
+
+// One kept run's distances to the model (distances[0] is row `from`).
+void Placement::keepDistance(std::size_t from, std::size_t to, std::size_t rowsKept, const float* distances)
+{
+  for (std::size_t r = 0; r < rowsKept; ++r)
+  {
+    const float v = distances[r];
+    o_.modelDistanceOutput[to + r] = v;
+    outOfModel_ += v > kOutOfModelRatio ? 1 : 0;
+  }
+}
+
+void Placement::measure(std::size_t begin, std::size_t count, const float* rowsOfChunk, const std::uint32_t* nearest,
+  std::size_t stride)
+{
+  if (!run_.model)
+  {
+    return;
+  }
+  const std::size_t cols = static_cast<std::size_t>(run_.cols);
+  for (std::size_t r = 0; r < count; ++r)
+  {
+    const float* row = rowsOfChunk + r * cols;
+    for (int c : run_.used)
+    {
+      if (!std::isfinite(row[c]))
+      {
+        ++nonFiniteRows_;
+        break;
+      }
+    }
+  }
+  if (!o_.modelDistanceOutput)
+  {
+    return;
+  }
+  if (!nearest && !nearestIndex_)
+  {
+    nearestIndex_.reset(new ExactKnn(run_.refX.data(), run_.M, static_cast<int>(run_.used.size())));
+  }
+  distanceScratch_.resize(count);
+  modelDistances(run_.refX, nearestIndex_.get(), run_.fit.referenceRadius, rowsOfChunk, count, run_.cols,
+    gatherColumns_, nearest, stride, distanceScratch_.data());
+  kept_.runs(begin, count, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+    keepDistance(from, to, rowsKept, distanceScratch_.data() + (from - begin));
+  });
+}
+
+std::string Placement::placeAll()
+{
+  const Fit& fit = run_.fit;
+  if (run_.projects && o_.device == Device::GPU)
+  {
+    run_.result.warnings.push_back("The PCA projection (a small matrix product per voxel) runs on the CPU.");
+  }
+  if (!run_.model && !run_.projects && !isDistributed(run_.comm) && !hasGrid(o_) && run_.M == n_)
+  {
+    // Every row is a reference point (M distinct indices of [0, rows) in order): its
+    // embedding is the fit's, which the placement would return after a kNN search per row.
+    if (halves_)
+    {
+      written(0, n_, fit.coordinates.data());
+    }
+    else
+    {
+      std::copy(fit.coordinates.data(), fit.coordinates.data() + fit.coordinates.size(), coordinates_);
     }
   }
   else
@@ -970,173 +1067,253 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     // Rows made on the GPU (the fused path: features per slab on the device) are placed
     // there too; after a GPU failure the CPU places the rows from the first one not done,
     // with one warning.
-    std::size_t placedRows = 0;
-    Device blockDevice = device;
-    if (!projects && device == Device::GPU)
+    Device blockDevice = run_.device;
+    const std::size_t placedRows = !run_.projects && run_.device == Device::GPU ? placeOnDevice(blockDevice) : 0;
+    placeBlocks(placedRows, blockDevice);
+  }
+  return finalChecks();
+}
+
+// The GPU's placement of the rows it made; returns how many rows it placed, and sets
+// `blockDevice` to the CPU where the rest must be placed there.
+std::size_t Placement::placeOnDevice(Device& blockDevice)
+{
+  ReductionResult& result = run_.result;
+  DevicePlacement request;
+  request.refX = run_.refX.data();
+  request.refY = run_.fit.coordinates.data();
+  request.M = run_.M;
+  request.D = static_cast<int>(run_.used.size());
+  request.d = run_.d;
+  request.columns = gatherColumns_.empty() ? nullptr : gatherColumns_.data();
+  request.distanceMargin = floatDistanceMargin(request.D);
+  // The device writes every row of the block: a box as output takes them through a
+  // block-sized staging array (the GPU path keeps the block's memory, the CPU's not).
+  std::vector<float> stagedFloats;
+  std::vector<std::uint16_t> stagedHalves;
+  if (!kept_.all())
+  {
+    (halves_ ? stagedHalves.resize(n_ * du_) : stagedFloats.resize(n_ * du_));
+  }
+  request.out = kept_.all() ? coordinates_ : (halves_ ? nullptr : stagedFloats.data());
+  request.outHalf = kept_.all() ? halves_ : (halves_ ? stagedHalves.data() : nullptr);
+  request.progress = [&](double f) { run_.report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
+  // Applying a model: the distances to it come from the device with the coordinates.
+  std::vector<float> deviceDistances(run_.model && o_.modelDistanceOutput ? n_ : 0);
+  request.distance = deviceDistances.empty() ? nullptr : deviceDistances.data();
+  request.modelRadius = run_.fit.referenceRadius;
+  run_.report("Out-of-sample placement (GPU)", 0.6);
+  const DevicePlacementReport placed = run_.features.placeOnDevice(request);
+  overflow_ += placed.halfOverflow;
+  if (!placed.attempted)
+  {
+    return 0;
+  }
+  const std::size_t done = placed.error.empty() ? n_ : std::min(n_, placed.rowsDone);
+  if (!kept_.all())
+  {
+    kept_.runs(0, done, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+      if (halves_)
+      {
+        std::copy(stagedHalves.data() + from * du_, stagedHalves.data() + (from + rowsKept) * du_, halves_ + to * du_);
+      }
+      else
+      {
+        std::copy(stagedFloats.data() + from * du_, stagedFloats.data() + (from + rowsKept) * du_, coordinates_ + to * du_);
+      }
+    });
+  }
+  if (request.distance)
+  {
+    kept_.runs(0, done, [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
+      keepDistance(from, to, rowsKept, deviceDistances.data() + from);
+    });
+  }
+  if (placed.error.empty())
+  {
+    result.deviceUsed = Device::GPU;
+    return n_;
+  }
+  if (placed.rowsDone >= n_)
+  {
+    // Every coordinate had come down when the GPU failed.
+    result.deviceUsed = Device::GPU;
+    result.warnings.push_back("The GPU fused placement failed after " + std::to_string(n_) + " of " +
+      std::to_string(n_) + " voxels (" + placed.error + "); nothing was left for the CPU.");
+    return n_;
+  }
+  blockDevice = Device::CPU;
+  result.warnings.push_back("The GPU fused placement failed after " + std::to_string(placed.rowsDone) + " of " +
+    std::to_string(n_) + " voxels (" + placed.error + "); the rest ran on the CPU.");
+  return placed.rowsDone;
+}
+
+// Block by block (one block for a matrix in memory; the fused path computes each block's
+// features here): progress after each, so an abort stops between blocks.
+void Placement::placeBlocks(std::size_t placedRows, Device blockDevice)
+{
+  FeatureRows& features = run_.features;
+  const std::size_t blocks = placedRows == n_ ? 0 : features.blockCount();
+  const std::size_t chunkRows =
+    halves_ || !kept_.all() ? kHalfPlacementRows : std::numeric_limits<std::size_t>::max();
+  const double rowsAll = static_cast<double>(std::max<std::size_t>(1, n_));
+  for (std::size_t b = 0; b < blocks; ++b)
+  {
+    const std::size_t blockBegin = features.blockBegin(b), blockEnd = features.blockBegin(b + 1);
+    if (blockEnd <= placedRows)
     {
-      DevicePlacement request;
-      request.refX = refX.data();
-      request.refY = fit.coordinates.data();
-      request.M = M;
-      request.D = static_cast<int>(D);
-      request.d = d;
-      request.columns = gatherColumns.empty() ? nullptr : gatherColumns.data();
-      request.distanceMargin = floatDistanceMargin(static_cast<int>(D));
-      // The device writes every row of the block: a box as output takes them through a
-      // block-sized staging array (the GPU path keeps the block's memory, the CPU's not).
-      std::vector<float> stagedFloats;
-      std::vector<std::uint16_t> stagedHalves;
-      if (!kept.all())
-      {
-        (halves ? stagedHalves.resize(n * du) : stagedFloats.resize(n * du));
-      }
-      request.out = kept.all() ? coordinates : (halves ? nullptr : stagedFloats.data());
-      request.outHalf = kept.all() ? halves : (halves ? stagedHalves.data() : nullptr);
-      request.progress = [&](double f) { report("Out-of-sample placement (GPU)", 0.6 + 0.35 * f); };
-      // Applying a model: the distances to it come from the device with the coordinates.
-      std::vector<float> deviceDistances(model && options.modelDistanceOutput ? n : 0);
-      request.distance = deviceDistances.empty() ? nullptr : deviceDistances.data();
-      request.modelRadius = fit.referenceRadius;
-      report("Out-of-sample placement (GPU)", 0.6);
-      const DevicePlacementReport placed = features.placeOnDevice(request);
-      if (!kept.all() && placed.attempted)
-      {
-        kept.runs(0, placed.error.empty() ? n : std::min(n, placed.rowsDone), [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
-          if (halves)
-          {
-            std::copy(stagedHalves.data() + from * du, stagedHalves.data() + (from + rowsKept) * du, halves + to * du);
-          }
-          else
-          {
-            std::copy(stagedFloats.data() + from * du, stagedFloats.data() + (from + rowsKept) * du, coordinates + to * du);
-          }
-        });
-      }
-      overflow += placed.halfOverflow;
-      if (placed.attempted && request.distance)
-      {
-        kept.runs(0, placed.error.empty() ? n : std::min(n, placed.rowsDone),
-          [&](std::size_t from, std::size_t to, std::size_t rowsKept) {
-            for (std::size_t r = 0; r < rowsKept; ++r)
-            {
-              const float v = deviceDistances[from + r];
-              options.modelDistanceOutput[to + r] = v;
-              outOfModel += v > kOutOfModelRatio ? 1 : 0;
-            }
-          });
-      }
-      if (placed.attempted)
-      {
-        if (placed.error.empty())
-        {
-          placedRows = n;
-          result.deviceUsed = Device::GPU;
-        }
-        else if (placed.rowsDone >= n)
-        {
-          // Every coordinate had come down when the GPU failed.
-          placedRows = n;
-          result.deviceUsed = Device::GPU;
-          result.warnings.push_back("The GPU fused placement failed after " + std::to_string(n) + " of " +
-            std::to_string(n) + " voxels (" + placed.error + "); nothing was left for the CPU.");
-        }
-        else
-        {
-          placedRows = placed.rowsDone;
-          blockDevice = Device::CPU;
-          result.warnings.push_back("The GPU fused placement failed after " + std::to_string(placedRows) + " of " +
-            std::to_string(n) + " voxels (" + placed.error + "); the rest ran on the CPU.");
-        }
-      }
+      continue;
     }
-    // Block by block (one block for a matrix in memory; the fused path computes each
-    // block's features here): progress after each, so an abort stops between blocks.
-    const std::size_t blocks = placedRows == n ? 0 : features.blockCount();
-    const char* const stage = projects ? "PCA projection" : "Out-of-sample placement";
-    for (std::size_t b = 0; b < blocks; ++b)
+    // A block the GPU placed in part: its remaining rows.
+    const std::size_t blockFirst = std::max(blockBegin, placedRows);
+    if (blockEnd <= blockFirst)
     {
-      const std::size_t blockBegin = features.blockBegin(b), blockEnd = features.blockBegin(b + 1);
-      if (blockEnd <= placedRows)
-      {
-        continue;
-      }
-      // A block the GPU placed in part: its remaining rows.
-      const std::size_t blockFirst = std::max(blockBegin, placedRows);
-      if (blockEnd <= blockFirst)
-      {
-        continue;
-      }
-      const float* const blockRows = features.block(b);
-      // In chunks for float16 output (the scratch), else the block at once.
-      for (std::size_t begin = blockFirst; begin < blockEnd; begin += std::min(chunkRows, blockEnd - begin))
-      {
-        const std::size_t count = std::min(chunkRows, blockEnd - begin);
-        const double lo = 0.6 + 0.35 * static_cast<double>(begin) / static_cast<double>(std::max<std::size_t>(1, n));
-        const double hi =
-          0.6 + 0.35 * static_cast<double>(begin + count) / static_cast<double>(std::max<std::size_t>(1, n));
-        report(stage, lo);
-        const float* rowsOfBlock = blockRows + (begin - blockBegin) * static_cast<std::size_t>(cols);
-        float* out = floatsFor(begin, count);
-        if (projects)
-        {
-          projectPCA(fit.pca, rowsOfBlock, count, cols, gatherColumns, out);
-          written(begin, count, out);
-          measure(begin, count, rowsOfBlock, nullptr, 0);
-          continue;
-        }
-        OutOfSampleOptions oo;
-        oo.device = blockDevice;
-        oo.progress = within(lo, hi);
-        const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(oo.neighbors), M);
-        std::vector<std::uint32_t> neighbors(options.modelDistanceOutput ? count * k : 0);
-        const OutOfSampleReport placed = placeOutOfSample(refX, fit.coordinates, rowsOfBlock, count, cols,
-          gatherColumns, out, oo, neighbors.empty() ? nullptr : neighbors.data());
-        written(begin, count, out);
-        measure(begin, count, rowsOfBlock, neighbors.empty() ? nullptr : neighbors.data(), k);
-        result.deviceUsed = placed.deviceUsed;
-        for (const std::string& w : placed.warnings)
-        {
-          if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end())
-          {
-            result.warnings.push_back(w); // once, not once per block
-          }
-        }
-      }
+      continue;
+    }
+    const float* const blockRows = features.block(b);
+    // In chunks for float16 output (the scratch), else the block at once.
+    for (std::size_t begin = blockFirst; begin < blockEnd; begin += std::min(chunkRows, blockEnd - begin))
+    {
+      const std::size_t count = std::min(chunkRows, blockEnd - begin);
+      const double lo = 0.6 + 0.35 * static_cast<double>(begin) / rowsAll;
+      const double hi = 0.6 + 0.35 * static_cast<double>(begin + count) / rowsAll;
+      const float* rowsOfChunk = blockRows + (begin - blockBegin) * static_cast<std::size_t>(run_.cols);
+      placeChunk(rowsOfChunk, begin, count, lo, hi, blockDevice);
     }
   }
-  if (halves)
+}
+
+// Rows [begin, begin + count), projected (PCA) or placed by their nearest references.
+void Placement::placeChunk(const float* rowsOfChunk, std::size_t begin, std::size_t count, double lo, double hi,
+  Device blockDevice)
+{
+  ReductionResult& result = run_.result;
+  run_.report(run_.projects ? "PCA projection" : "Out-of-sample placement", lo);
+  float* out = floatsFor(begin, count);
+  if (run_.projects)
   {
-    // Collective, like the other errors: every process fails together.
-    std::vector<double> over{ static_cast<double>(overflow) };
+    projectPCA(run_.fit.pca, rowsOfChunk, count, run_.cols, gatherColumns_, out);
+    written(begin, count, out);
+    measure(begin, count, rowsOfChunk, nullptr, 0);
+    return;
+  }
+  OutOfSampleOptions oo;
+  oo.device = blockDevice;
+  oo.progress = run_.within(lo, hi);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(oo.neighbors), run_.M);
+  std::vector<std::uint32_t> neighbors(o_.modelDistanceOutput ? count * k : 0);
+  const OutOfSampleReport placed = placeOutOfSample(run_.refX, run_.fit.coordinates, rowsOfChunk, count, run_.cols,
+    gatherColumns_, out, oo, neighbors.empty() ? nullptr : neighbors.data());
+  written(begin, count, out);
+  measure(begin, count, rowsOfChunk, neighbors.empty() ? nullptr : neighbors.data(), k);
+  result.deviceUsed = placed.deviceUsed;
+  for (const std::string& w : placed.warnings)
+  {
+    if (std::find(result.warnings.begin(), result.warnings.end(), w) == result.warnings.end())
+    {
+      result.warnings.push_back(w); // once, not once per block
+    }
+  }
+}
+
+// Collective, like the other errors: every process fails together, and all hear the whole
+// count.
+std::string Placement::finalChecks() const
+{
+  const Communicator* comm = run_.comm;
+  if (halves_)
+  {
+    std::vector<double> over{ static_cast<double>(overflow_) };
     if (isDistributed(comm))
     {
       comm->sum(over);
     }
     if (over[0] > 0)
     {
-      return fail(std::to_string(static_cast<std::int64_t>(over[0])) +
-        " reduced coordinate value(s) exceed float16's range (|x| > 65504); use CoordinatePrecision Float32.");
+      return std::to_string(static_cast<std::int64_t>(over[0])) +
+        " reduced coordinate value(s) exceed float16's range (|x| > 65504); use CoordinatePrecision Float32.";
     }
   }
-  if (model)
+  if (run_.model)
   {
-    // Collective: every process fails together, and all hear the whole count.
-    std::vector<double> counts{ static_cast<double>(nonFiniteRows), static_cast<double>(outOfModel) };
+    std::vector<double> counts{ static_cast<double>(nonFiniteRows_), static_cast<double>(outOfModel_) };
     if (isDistributed(comm))
     {
       comm->sum(counts);
     }
     if (counts[0] > 0)
     {
-      return fail("The features contain non-finite values (NaN or Inf) in " +
-        std::to_string(static_cast<std::int64_t>(counts[0])) + " voxel(s); replace or mask them before reducing.");
+      return "The features contain non-finite values (NaN or Inf) in " +
+        std::to_string(static_cast<std::int64_t>(counts[0])) + " voxel(s); replace or mask them before reducing.";
     }
-    result.outOfModelVoxels = static_cast<std::size_t>(counts[1]);
+    run_.result.outOfModelVoxels = static_cast<std::size_t>(counts[1]);
   }
-  result.placeMs = msSince(placeStart);
-  result.totalMs = msSince(start);
-  report("Done", 1.0);
-  return result;
+  return {};
+}
+
+// `inputError`: what the caller found wrong with its rows (shared like the other checks).
+ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
+{
+  const auto start = Clock::now();
+  Run run(features, options);
+  std::string error = run.checkOptions();
+  if (!error.empty())
+  {
+    return run.failed(error);
+  }
+  run.result.outputDimension = run.d;
+  run.report("Checking features", 0.0);
+  error = run.countRows(inputError);
+  if (!error.empty())
+  {
+    return run.failed(error);
+  }
+  std::string deviceWarning;
+  run.device = resolveDevice(options.device, &deviceWarning);
+  if (!deviceWarning.empty())
+  {
+    run.result.warnings.push_back(deviceWarning);
+  }
+  if (run.model)
+  {
+    error = run.takeModel();
+  }
+  else
+  {
+    // Where the rows are computed on the GPU and this process owns them all, the passes over
+    // every row (the column statistics, the sample's strata) run there too.
+    const bool devicePasses = run.device == Device::GPU && !isDistributed(run.comm) &&
+      run.rows.ownedCount() == features.rows();
+    std::vector<double> usedMean;
+    error = run.chooseColumns(usedMean, devicePasses);
+    error = error.empty() ? run.drawSample(usedMean, devicePasses) : error;
+    error = error.empty() ? run.fitSample() : error;
+  }
+  if (!error.empty())
+  {
+    return run.failed(error);
+  }
+  run.result.deviceUsed = Device::CPU; // the placement says where it really ran
+  if (options.fittedModel && !run.model)
+  {
+    run.exportModel();
+  }
+  if (options.fitOnly && !run.model)
+  {
+    run.result.totalMs = msSince(start);
+    run.report("Done", 1.0);
+    return std::move(run.result);
+  }
+  const auto placeStart = Clock::now();
+  error = Placement(run).placeAll();
+  if (!error.empty())
+  {
+    return run.failed(error);
+  }
+  run.result.placeMs = msSince(placeStart);
+  run.result.totalMs = msSince(start);
+  run.report("Done", 1.0);
+  return std::move(run.result);
 }
 
 // reduce() with its failures (memory, exceptions) as errors.

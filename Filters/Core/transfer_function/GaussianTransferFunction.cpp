@@ -216,7 +216,7 @@ MCV_LOOP_INLINE void shadeBlock(const CoordinateView& c, std::size_t first, int 
       const float dx = x[v] - w.cx, dy = y[v] - w.cy, dz = z[v] - w.cz;
       float d2 = dx * dx + dy * dy;
       d2 = d2 + dz * dz;
-      ei[v] = w.logA - d2 * w.k;
+      ei[v] = widgetLogWeight(w.logA, w.k, d2);
       m[v] = ei[v] > m[v] ? ei[v] : m[v];
     }
   }
@@ -235,7 +235,7 @@ MCV_LOOP_INLINE void shadeBlock(const CoordinateView& c, std::size_t first, int 
     for (int v = 0; v < Block; ++v)
     {
       const float weight = expNonPositiveInline(ei[v] - m[v]);
-      transmit[v] *= 1.f - weight * scale[v];
+      transmit[v] = widgetTransmit(transmit[v], weight, scale[v]);
       if (Colour)
       {
         sum[v] += weight;

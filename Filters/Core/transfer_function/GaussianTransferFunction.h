@@ -21,6 +21,7 @@
 #pragma once
 
 #include "Device.h"
+#include "GaussianWidgetFormula.h"
 
 #include <cstddef>
 #include <cstdint>

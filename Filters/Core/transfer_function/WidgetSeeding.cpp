@@ -14,27 +14,18 @@
 namespace mcv
 {
 
-namespace
-{
-// ColorBrewer Set1 (Cynthia Brewer, colorbrewer2.org) without its grey, in its own order.
-constexpr int kPaletteSize = 8;
-constexpr unsigned char kSet1[kPaletteSize][3] = { { 0xE4, 0x1A, 0x1C }, { 0x37, 0x7E, 0xB8 },
-  { 0x4D, 0xAF, 0x4A }, { 0x98, 0x4E, 0xA3 }, { 0xFF, 0x7F, 0x00 }, { 0xFF, 0xFF, 0x33 },
-  { 0xA6, 0x56, 0x28 }, { 0xF7, 0x81, 0xBF } };
-} // namespace
-
 int widgetPaletteSize()
 {
-  return kPaletteSize;
+  return kWidgetPaletteSize;
 }
 
 void widgetColor(int index, double rgb[3])
 {
-  const int i = ((index % (2 * kPaletteSize)) + 2 * kPaletteSize) % (2 * kPaletteSize);
-  const double shade = i < kPaletteSize ? 1.0 : 0.6;
+  const int i = ((index % (2 * kWidgetPaletteSize)) + 2 * kWidgetPaletteSize) % (2 * kWidgetPaletteSize);
+  const double shade = i < kWidgetPaletteSize ? 1.0 : 0.6;
   for (int c = 0; c < 3; ++c)
   {
-    rgb[c] = shade * kSet1[i % kPaletteSize][c] / 255.0;
+    rgb[c] = shade * kWidgetPalette[i % kWidgetPaletteSize][c] / 255.0;
   }
 }
 

@@ -73,7 +73,8 @@ def _clip_to_box(origin, direction, bounds):
 
 def _widget_alpha(widgets, c):
     """1 - prod(1 - a_i exp(-|c - mu_i|^2 / (2 sigma_i^2))): the representation's
-    opacity of reduced coordinates c."""
+    opacity of reduced coordinates c. The client's copy of the core's formula
+    (GaussianWidgetFormula.h); pvbatch.test_widget_formula checks that they agree."""
     keep = 1.0
     for w in range(0, len(widgets) - 7, 8):
         cx, cy, cz, s, _, _, _, a = widgets[w:w + 8]

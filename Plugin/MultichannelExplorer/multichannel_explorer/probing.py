@@ -24,9 +24,10 @@ __all__ = [
 PROBE_MARKER = "ProbeMarker"           # sphere at the probed coordinates, domain view
 PROBE_VOXEL_MARKER = "ProbeVoxelMarker"  # sphere at the probed voxel, volume view
 
-# ColorBrewer Set1 without its grey, in the order of the core's palette
-# (Filters/Core/transfer_function/WidgetSeeding.cpp, kSet1 and widgetColor: indices 8-15
-# are the same colours at 0.6 shade), so widgets added here match the seeded ones.
+# ColorBrewer Set1 without its grey: the client's copy of the core's palette
+# (Filters/Core/transfer_function/GaussianWidgetFormula.h, kWidgetPalette; widgetColor's
+# indices 8-15 are the same colours at 0.6 shade), so widgets added here match the seeded
+# ones; pvbatch.test_widget_formula checks that the two agree.
 _SET1 = ((0xE4, 0x1A, 0x1C), (0x37, 0x7E, 0xB8), (0x4D, 0xAF, 0x4A), (0x98, 0x4E, 0xA3),
          (0xFF, 0x7F, 0x00), (0xFF, 0xFF, 0x33), (0xA6, 0x56, 0x28), (0xF7, 0x81, 0xBF))
 

@@ -27,7 +27,7 @@ __device__ __forceinline__ float logWeight(const PackedGaussianWidget& w, float 
   const float dx = __fsub_rn(x, w.cx), dy = __fsub_rn(y, w.cy), dz = __fsub_rn(z, w.cz);
   float d2 = __fadd_rn(__fmul_rn(dx, dx), __fmul_rn(dy, dy));
   d2 = __fadd_rn(d2, __fmul_rn(dz, dz));
-  return __fsub_rn(w.logA, __fmul_rn(d2, w.k));
+  return widgetLogWeight(w.logA, w.k, d2);
 }
 
 __device__ __forceinline__ float expClamped(float x)
@@ -61,7 +61,7 @@ __global__ void shadeKernel(const float* __restrict__ coords, std::size_t n, int
     {
       const PackedGaussianWidget& w = cWidgets[i];
       const float weight = expClamped(logWeight(w, x, y, z) - m);
-      transmit *= 1.f - weight * scale;
+      transmit = widgetTransmit(transmit, weight, scale);
       if (Kind != GaussianTFOutput::Opacity)
       {
         sum += weight;
