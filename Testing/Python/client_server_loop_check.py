@@ -347,7 +347,7 @@ def run(mce, out, reference, previous=None):
     dual.stop()
 
     # A transfer-function file: saved (the fitted model written beside it by the server's
-    # processes), the widgets changed, loaded back (the reduction now applies the model).
+    # processes), the widgets changed, loaded back (the reduction then applies the model).
     stage("transfer function file")
     tf = os.path.join(out, "loop%s.mcvtf" % ("" if reference else "_compare"))
     for old in (tf, tf[:-len(".mcvtf")] + ".mcvmodel"):

@@ -41,8 +41,7 @@ gtf="${MCV_OUTPUT_DIR:-/tmp}/mpi_gaussian_tf"
 rm -rf "$gtf" && mkdir -p "$gtf"
 sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_gaussian_tf_check.py" --reference "$gtf" || exit 1
 echo "== 2 processes, Gaussian TF Volume"
-# This step has hung now and then (2026-11-27: one fresh-clone CI run of three; 2026-11-25
-# under load): process 0 waits in ParaView's own render (vtkPVRenderView::Render ->
+# This step can hang: process 0 waits in ParaView's own render (vtkPVRenderView::Render ->
 # RedistributeDataForOrderedCompositing -> AllGather) while process 1 waits for the next
 # RMI (vtkMultiProcessController::ProcessRMIs), both spinning in MPI. Not found where it
 # comes from; a run that finishes takes well under a minute. A hang is stopped after 240 s (timeout

@@ -131,7 +131,7 @@ mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
   return mcv::computeViewDirections(mcv::worldPositions(p, g)).best;
 }
 
-// The PyTorch pipeline of notes/gpu.md (torch.gradient, conv3d, topk, SVD; H200, volume
+// A PyTorch pipeline (torch.gradient, conv3d, topk, SVD; H200, volume
 // resident, median of 10), for orientation only: it was not measured in this run.
 double pytorchAnchorMs(int n)
 {
@@ -538,7 +538,7 @@ int main(int argc, char** argv)
               "clock of the same call;\n+H2Dpin/+H2Dpage add the uint8 upload from pinned/pageable "
               "memory; float-dev = device total with float input;\nCPU = OpenMP "
               "computeHarrisResponseCPU + selectTopResponsesCPU, this run; overlap/angle: GPU vs CPU "
-              "top-N set and PCA best view;\ntorch-ref = notes/gpu.md PyTorch pipeline on an H200 "
+              "top-N set and PCA best view;\ntorch-ref = a PyTorch pipeline on an H200 "
               "(not measured in this run).\n");
   if (cfg.slabs)
   {
