@@ -6,19 +6,26 @@
 // the output). Latest results: docs/benchmarks.md.
 //
 //   mcvBenchmarkReduction [--presets 24,6] [--devices cpu,gpu] [--reference 10000]
-//                         [--baseline-rows 100000] [--sweep] [--sweep-rows 20000]
+//                         [--baseline-rows 100000] [--sweep] [--sweep-rows 20000] [--no-fused]
 //
+// Each device runs the chain twice: with the Features array stored (features, then the
+// reduction over it) and on the fused path DimensionReduction takes (FeatureBricks: a
+// statistics pass, then the features of a slab at a time, never stored), with the fused
+// coordinates compared with the stored ones.
 // --sweep: kd-tree vs brute-force placement time against the dimension (the first D of
 // the 24 brain features), the measurement behind chooseKnnMethod's crossover.
 #include "BrainFeatures.h"
 #include "DimensionReduction.h"
 #include "ExactKnn.h"
+#include "FeatureBricks.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -100,6 +107,68 @@ ChainResult runChain(const mt::BrainFeatureMatrix& f, mcv::Device device, std::s
   return c;
 }
 
+// The fused path: FeatureBricks' statistics pass (prepare) is the "features" stage, the
+// features of each slab are computed again where the reduction reads them.
+ChainResult runFusedChain(const std::vector<mt::Volume>& ch, mcv::FeaturePreset preset, mcv::Device device,
+  std::size_t reference, std::string& passes)
+{
+  ChainResult c;
+  mcv::FeatureOptions fo;
+  fo.preset = preset;
+  fo.device = device;
+  mcv::ReductionOptions o;
+  o.method = mcv::ReductionMethod::Isomap;
+  o.outputDimension = 3;
+  o.referenceSampleSize = reference;
+  o.device = device;
+  const std::vector<mcv::ChannelView> views = mt::floatViews(ch);
+  const auto t0 = Clock::now();
+  mcv::FeatureBricks bricks(views, ch[0].grid, fo);
+  mcv::FeatureResult prepared;
+  if (!bricks.prepare(prepared))
+  {
+    c.r.error = prepared.error;
+    return c;
+  }
+  c.featuresMs = msSince(t0);
+  const auto t1 = Clock::now();
+  o.progress = [&](const char* stage, double) {
+    if (c.stages.empty() || c.stages.back().first != stage)
+      c.stages.emplace_back(stage, msSince(t1));
+  };
+  c.r = mcv::reduceDimension(bricks, o);
+  const double total = msSince(t1);
+  for (std::size_t i = 0; i < c.stages.size(); ++i)
+    c.stages[i].second = (i + 1 < c.stages.size() ? c.stages[i + 1].second : total) - c.stages[i].second;
+  for (const auto& pass : bricks.devicePasses())
+    passes += " [" + pass.name + (pass.ok ? " " : " FAILED ") + std::to_string(static_cast<int>(pass.stats.totalMs)) +
+      " ms]";
+  c.ok = c.r.ok();
+  return c;
+}
+
+// Coordinates of two runs of the same features and references: rows within 1e-4 of the range.
+std::size_t rowsWithin(const mcv::ReductionResult& a, const mcv::ReductionResult& b, float& worst)
+{
+  float scale = 0;
+  for (float v : a.coordinates)
+    scale = std::max(scale, std::abs(v));
+  std::size_t equal = 0;
+  worst = 0;
+  for (std::size_t i = 0; i + 2 < a.coordinates.size() && a.coordinates.size() == b.coordinates.size(); i += 3)
+  {
+    bool eq = true;
+    for (int k = 0; k < 3; ++k)
+    {
+      const float d = std::abs(a.coordinates[i + k] - b.coordinates[i + k]);
+      worst = std::max(worst, d);
+      eq = eq && d <= 1e-4f * scale;
+    }
+    equal += eq;
+  }
+  return equal;
+}
+
 void printChain(const char* label, const ChainResult& c)
 {
   std::printf("%s: features %.0f ms | fit %.0f ms | placement %.0f ms | reduction total %.0f ms | "
@@ -120,12 +189,14 @@ int main(int argc, char** argv)
 {
   std::setvbuf(stdout, nullptr, _IOLBF, 0); // progress visible in a log file
   std::map<std::string, std::string> a;
-  bool sweep = false;
+  bool sweep = false, fused = true;
   for (int i = 1; i < argc; ++i)
   {
     const std::string k = argv[i];
     if (k == "--sweep")
       sweep = true;
+    else if (k == "--no-fused")
+      fused = false;
     else if (k.rfind("--", 0) == 0 && i + 1 < argc)
       a[k.substr(2)] = argv[++i];
     else
@@ -178,6 +249,25 @@ int main(int argc, char** argv)
       }
       const std::string label = p + "D " + dev + " (features on " + mcv::deviceName(f.result.deviceUsed) + ")";
       printChain(label.c_str(), c);
+      if (fused)
+      {
+        std::string passes;
+        const ChainResult fc = runFusedChain(ch, preset, device, reference, passes);
+        if (!fc.ok)
+          std::printf("%sD %s fused: reduction failed: %s\n", p.c_str(), dev.c_str(), fc.r.error.c_str());
+        else
+        {
+          const std::string fusedLabel = p + "D " + dev + " FUSED (statistics pass as 'features')";
+          printChain(fusedLabel.c_str(), fc);
+          float worst = 0;
+          const std::size_t within = rowsWithin(c.r, fc.r, worst);
+          std::printf("    fused vs stored: %s reference rows; %zu of %zu rows within 1e-4 of the range (worst %.3g); "
+                      "GPU passes:%s; fused / stored whole chain %.2f\n",
+            c.r.referenceIndices == fc.r.referenceIndices ? "same" : "DIFFERENT", within, c.r.coordinates.size() / 3,
+            worst, passes.empty() ? " none" : passes.c_str(),
+            (fc.featuresMs + fc.r.totalMs) / (c.featuresMs + c.r.totalMs));
+        }
+      }
       if (device == mcv::Device::CPU)
       {
         cpuChain = std::move(c);
