@@ -7,13 +7,13 @@
 // The chain is the main job's: 24D features, Isomap (K = 10, L = 500) fitted on a reference
 // sample of 10000 voxels, every voxel placed by its 3 nearest references. Stages:
 //   statistics  FeatureBricks::prepare: features of every slab, column statistics (GPU run:
-//               on the device, cuda/FusedPassesCuda.h; CPU run: on the CPU)
+//               on the device, features/cuda/FusedPassesCuda.h; CPU run: on the CPU)
 //   columns+sample  reduceDimension's column check and reference sample (two more passes
 //               over the slabs' features, on the device in the GPU run), i.e. its total less
 //               fit and placement
 //   fit         Isomap on the sample (CPU)
 //   placement   GPU: per slab channels up, features + normalisation + placement on the
-//               device, coordinates down (cuda/FusedPlacementCuda.h); CPU: per slab
+//               device, coordinates down (features/cuda/FusedPlacementCuda.h); CPU: per slab
 //               features + kd-tree/brute placement
 // and the bytes moved between host and device and the device memory the GPU path held.
 //
@@ -22,7 +22,7 @@
 //                        [--stage-only] [--merge-baseline]
 //
 // At the large size the whole chain runs on the GPU (statistics, column check and strata
-// passes, cuda/FusedPassesCuda.h, and the placement; the fit on the CPU). --stage-only
+// passes, features/cuda/FusedPassesCuda.h, and the placement; the fit on the CPU). --stage-only
 // measures instead the GPU stage alone (channels up, features, normalisation, placement,
 // coordinates down) with the statistics and fit of the compare size (the same brain, tiled);
 // --merge-baseline adds that stage with every voxel searched (the in-run baseline of runs of
@@ -40,7 +40,7 @@
 #include "FeatureBricks.h"
 #include "ExactKnn.h"
 #include "cuda/FusedPlacementCuda.h"
-#include "cuda/HarrisCuda.h"
+#include "cuda/DeviceProbe.h"
 #include "cuda/OutOfSampleCuda.h"
 
 #include <cuda_runtime.h>

@@ -23,6 +23,7 @@
 // points, and prints its stages and the ratio slabs / whole (volume resident, and with the
 // whole volume's pageable upload). --large N streams an N^3 uint8 volume (tiles of the
 // structured volume) whose whole-volume buffers exceed the device, under the default budget.
+#include "cuda/DeviceProbe.h"
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
 #include "cuda/HarrisSlabStream.h"
@@ -131,8 +132,8 @@ mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
   return mcv::computeViewDirections(mcv::worldPositions(p, g)).best;
 }
 
-// A PyTorch pipeline (torch.gradient, conv3d, topk, SVD; H200, volume
-// resident, median of 10), for orientation only: it was not measured in this run.
+// A PyTorch pipeline (torch.gradient, conv3d, topk, SVD; H200, volume resident, median of
+// 10; docs/benchmarks.md section 2), for orientation only: it was not measured in this run.
 double pytorchAnchorMs(int n)
 {
   switch (n)

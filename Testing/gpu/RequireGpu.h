@@ -1,7 +1,7 @@
 // GPU tests skip (not fail) where no CUDA device is usable, e.g. on CI machines.
 #pragma once
 
-#include "cuda/HarrisCuda.h"
+#include "cuda/DeviceProbe.h"
 
 #include <gtest/gtest.h>
 

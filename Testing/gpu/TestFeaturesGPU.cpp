@@ -1,4 +1,4 @@
-// The CUDA path of the feature vectors (cuda/FeaturesCuda.h through mcv::computeFeatures)
+// The CUDA path of the feature vectors (features/cuda/FeaturesCuda.h through mcv::computeFeatures)
 // against the CPU path: every column within 1e-5 relative (the per-voxel arithmetic is
 // the same float operations without contraction, so they agree to a few ulps), on random
 // multichannel volumes (6D, 24D, Custom; ZScore, MinMax, None; with NaN/Inf voxels) and

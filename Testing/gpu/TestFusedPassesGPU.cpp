@@ -1,4 +1,4 @@
-// The fused reduction's passes over the whole volume on the GPU (cuda/FusedPassesCuda.h)
+// The fused reduction's passes over the whole volume on the GPU (features/cuda/FusedPassesCuda.h)
 // against the CPU: the statistics of the normalisation agree to rounding (the sums are added
 // in another order); the column check's exact sums and extremes and the sample's strata are
 // the CPU's, bit for bit; the whole chain with every pass on the GPU gives the CPU's reference

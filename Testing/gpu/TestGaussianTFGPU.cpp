@@ -1,4 +1,4 @@
-// The CUDA path of the Gaussian-widget transfer function (cuda/GaussianTFCuda.h through
+// The CUDA path of the Gaussian-widget transfer function (transfer_function/cuda/GaussianTFCuda.h through
 // mcv::applyGaussianWidgets) against the CPU path: RGBA within 1e-5 (same float log-weights,
 // different exp: a few ulp), bytes within 1, opacity-only within 1e-5, on random
 // coordinates and widgets (2D, 3D, 1..16 widgets, NaN/Inf coordinates, voxels far from

@@ -1,7 +1,7 @@
 // A GPU that fails or runs out of memory mid-run: the CPU takes over with a warning and the
 // result is the same. For each GPU path (best viewpoint, features, Gaussian transfer
 // function, out-of-sample placement, the fused reduction's slabs) a clean run counts its
-// checked CUDA calls, then an out-of-memory is injected (cuda/FaultInjection.h) at the
+// checked CUDA calls, then an out-of-memory is injected (common/cuda/FaultInjection.h) at the
 // first and last allocation, the first and last copy, the first launch, the last
 // synchronisation and the very last checked call. Each time: exactly one warning naming the GPU failure, deviceUsed CPU, the
 // CPU path's result (bit-identical where the CPU path is deterministic) over an output

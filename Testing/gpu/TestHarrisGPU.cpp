@@ -2,6 +2,7 @@
 // per voxel (relative tolerance), top-N (exactly, for the selection alone; >= 99% overlap
 // end to end, where float rounding may swap near-equal scores), and PCA view directions
 // (within 0.5 degrees). Every test skips when no GPU is usable.
+#include "cuda/DeviceProbe.h"
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
 

@@ -1,5 +1,5 @@
 // A reduction model applied on the GPU (the fused placement with the model's references and
-// normalisation, cuda/FusedPlacementCuda.h) against the CPU: the same model, coordinates
+// normalisation, features/cuda/FusedPlacementCuda.h) against the CPU: the same model, coordinates
 // within 1e-6 of their range, the same distances to the model (measured on the CPU from the
 // same features) and the same out-of-model count. On a random 3-channel volume of mixed
 // scalar types with NaN voxels, and on the real Colin27 brain (a 40-slice piece). Skips

@@ -1,4 +1,4 @@
-// The GPU placement's reference tiles, built on the host (cuda/ReferenceTiles.h; no GPU
+// The GPU placement's reference tiles, built on the host (reduction/cuda/ReferenceTiles.h; no GPU
 // needed): the order is a permutation; every tile's box is exactly the minimum and maximum
 // of its references, its centroid their mean, its radius the smallest float at or above
 // their largest norm; the norms are the double sums rounded; two far clusters of one tile

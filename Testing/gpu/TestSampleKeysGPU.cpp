@@ -1,4 +1,4 @@
-// The reference sample's key scan on the GPU (cuda/SampleKeysCuda.h) against sampleKey on
+// The reference sample's key scan on the GPU (reduction/cuda/SampleKeysCuda.h) against sampleKey on
 // the CPU: the same rows at every limit (none, a few, a fraction, all) and first index; and a
 // GPU failure in it leaves the fused reduction's sample as it was, with one warning. Skips
 // without a GPU.

@@ -1,4 +1,4 @@
-// The CUDA layout of UMAP (cuda/UMAPLayoutCuda.h) against the CPU layout (UMAPLayout.h),
+// The CUDA layout of UMAP (reduction/cuda/UMAPLayoutCuda.h) against the CPU layout (UMAPLayout.h),
 // both inside fitUMAP on the same graph and the same start. Not bit equality (the GPU's
 // rounds, random streams and powf differ: UMAPLayoutCuda.h), so agreement is measured:
 //  - trustworthiness (k = 10) of the GPU layout within 0.01 of the CPU's;

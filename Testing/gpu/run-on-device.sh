@@ -43,7 +43,7 @@ if ! { cmake -S . -B "$build" -DMCV_BUILD_PARAVIEW=OFF -DCMAKE_CUDA_ARCHITECTURE
 fi
 note "built in $(( $(date +%s) - start )) s"
 # Registers / spills of the Harris kernels (sm_90).
-cuobjdump -res-usage "$build/cuda/libmcvCuda.a" 2>/dev/null | grep -A1 "harrisKernel" |
+cuobjdump -res-usage "$build/Filters/Core/viewpoint/libmcvViewpoint.a" 2>/dev/null | grep -A1 "harrisKernel" |
   grep -o "Function [^ ]*\|REG:[0-9]*\|STACK:[0-9]*\|SHARED:[0-9]*\|LOCAL:[0-9]*" |
   paste -sd' ' | sed 's/Function /\n/g' | sed 's/_ZN3mcv4cuda6detail[^ ]*harrisKernelI/harrisKernel</' |
   tee -a "$logs/build.log" | head -10

@@ -1,7 +1,7 @@
 #include "Device.h"
 
 #ifdef MCV_HAS_CUDA
-#include "cuda/HarrisCuda.h"
+#include "cuda/DeviceProbe.h"
 #endif
 
 #include <mutex>

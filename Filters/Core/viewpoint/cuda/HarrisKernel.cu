@@ -1,0 +1,632 @@
+#include "HarrisKernel.cuh"
+
+#include <cfloat>
+#include <cstdint>
+#include <type_traits>
+
+namespace mcv
+{
+namespace cuda
+{
+namespace detail
+{
+namespace
+{
+
+__device__ __forceinline__ int clampi(int v, int lo, int hi)
+{
+  return min(max(v, lo), hi);
+}
+
+// Input value as float. uint8: exact via the float bit pattern of 2^23 + v (an OR and a
+// full-rate add instead of the quarter-rate integer-to-float conversion).
+__device__ __forceinline__ float toFloat(float v)
+{
+  return v;
+}
+__device__ __forceinline__ float toFloat(std::uint8_t v)
+{
+  return __uint_as_float(0x4B000000u | static_cast<unsigned>(v)) - 8388608.0f;
+}
+
+// Shared-memory layout of one block for radius R (all sizes in floats).
+template <int R>
+struct TileShape
+{
+  static constexpr int W = 2 * R + 1;                   // taps
+  static constexpr int IW = kHarrisTileX + 2 * R + 2;   // input tile (gradient + blur halo)
+  static constexpr int IH = kHarrisTileY + 2 * R + 2;
+  static constexpr int IS = IW * IH;
+  static constexpr int PWa = kHarrisTileX + 2 * R;      // product tile (blur halo)
+  static constexpr int PW = (PWa + 3) & ~3;             // row stride, float4-aligned
+  static constexpr int PH = kHarrisTileY + 2 * R;
+  static constexpr int LOADS = (IS + kHarrisThreads - 1) / kHarrisThreads;
+  static constexpr int ProdFloats = 6 * PH * PW;         // [6][PH][PW]
+  static constexpr int XbFloats = 6 * PH * kHarrisTileX; // [6][PH][TX] x-smoothed
+  static constexpr int InFloats = 3 * IS;                // ring of 3 input slices
+  static std::size_t smemBytes(bool hist)
+  {
+    return static_cast<std::size_t>(ProdFloats + XbFloats + InFloats) * sizeof(float) +
+      (hist ? kLevel1Bins * sizeof(unsigned) : 0);
+  }
+};
+
+// Phases 0..W-1 of the unrolled z loop, each with its compile-time window slot.
+template <int P, int W, typename F>
+__device__ __forceinline__ void forPhases(F& f, int sv, int svEnd)
+{
+  if constexpr (P < W)
+  {
+    if (sv + P < svEnd)
+    {
+      f(std::integral_constant<int, P>{}, sv + P);
+      forPhases<P + 1, W>(f, sv, svEnd);
+    }
+  }
+}
+
+// The block's level-1 histogram (kLevel1Bins counts in shared memory), cleared.
+__device__ __forceinline__ void clearHistogram(unsigned* sHist, int tid)
+{
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+  {
+    sHist[i] = 0;
+  }
+}
+
+// In-plane source offsets of this thread's input-tile elements (clamped: replicated border);
+// -1 for an element past the tile.
+template <int R>
+__device__ __forceinline__ void inputOffsets(
+  int (&inOff)[TileShape<R>::LOADS], int tid, int x0, int y0, int nx, int ny)
+{
+  using S = TileShape<R>;
+#pragma unroll
+  for (int i = 0; i < S::LOADS; ++i)
+  {
+    const int e = tid + i * kHarrisThreads;
+    if (e < S::IS)
+    {
+      const int ly = e / S::IW, lx = e - ly * S::IW;
+      inOff[i] = clampi(y0 - R - 1 + ly, 0, ny - 1) * nx + clampi(x0 - R - 1 + lx, 0, nx - 1);
+    }
+    else
+    {
+      inOff[i] = -1;
+    }
+  }
+}
+
+// This thread's elements of input slice q into registers (the next slice, loaded ahead of
+// its use).
+template <int R, typename T>
+__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], const T* in, int q,
+  std::size_t plane, const int (&inOff)[TileShape<R>::LOADS])
+{
+  const T* src = in + static_cast<std::size_t>(q) * plane;
+#pragma unroll
+  for (int i = 0; i < TileShape<R>::LOADS; ++i)
+  {
+    pre[i] = inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
+  }
+}
+
+// The loaded slice q into its slot of the ring of three input slices.
+template <int R>
+__device__ __forceinline__ void storeSlice(
+  float* sIn, int q, const float (&pre)[TileShape<R>::LOADS], int tid)
+{
+  using S = TileShape<R>;
+  float* dst = sIn + (q % 3) * S::IS;
+#pragma unroll
+  for (int i = 0; i < S::LOADS; ++i)
+  {
+    const int e = tid + i * kHarrisThreads;
+    if (e < S::IS)
+    {
+      dst[e] = pre[i];
+    }
+  }
+}
+
+// Six gradient products of slice cz on the product tile. A product position outside the
+// grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
+// Interior blocks (the whole product tile inside the grid) skip the clamping.
+template <int R>
+__device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn, int cz,
+  bool interior, int x0, int y0, const HarrisKernelArgs& a, int tid)
+{
+  using S = TileShape<R>;
+  constexpr int IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
+  constexpr int CS = PH * PW; // channel stride of the product tile
+  const int nx = a.nx, ny = a.ny, nz = a.nz;
+  const float* sc = sIn + (cz % 3) * IS;
+  const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
+  const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+  auto at = [&](int c, int py, int px) {
+    const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
+    const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
+    const float gz = (sp[c] - sm[c]) * a.scaleZ;
+    float* d = sProd + py * PW + px;
+    d[0] = gx * gx;
+    d[CS] = gx * gy;
+    d[2 * CS] = gx * gz;
+    d[3 * CS] = gy * gy;
+    d[4 * CS] = gy * gz;
+    d[5 * CS] = gz * gz;
+  };
+  if (interior)
+  {
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+    {
+      const int py = p / PWa, px = p - py * PWa;
+      at((py + 1) * IW + px + 1, py, px);
+    }
+  }
+  else
+  {
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
+    {
+      const int py = p / PWa, px = p - py * PWa;
+      const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
+      const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
+      at(cy * IW + cx, py, px);
+    }
+  }
+}
+
+// x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
+template <int R>
+__device__ __forceinline__ void xPass(float* sXb, const float* sProd, const HarrisKernelArgs& a, int tid)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, PW = S::PW, PH = S::PH, TX = kHarrisTileX;
+  constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
+  for (int t = tid; t < TASKS; t += kHarrisThreads)
+  {
+    const int row = t / XG; // channel * PH + row
+    const int g = t - row * XG;
+    const float4* src = reinterpret_cast<const float4*>(sProd + row * PW) + g;
+    float v[4 * NV];
+#pragma unroll
+    for (int j = 0; j < NV; ++j)
+    {
+      const float4 q = src[j];
+      v[4 * j] = q.x;
+      v[4 * j + 1] = q.y;
+      v[4 * j + 2] = q.z;
+      v[4 * j + 3] = q.w;
+    }
+    float o[4];
+#pragma unroll
+    for (int u = 0; u < 4; ++u)
+    {
+      float s = 0.f;
+#pragma unroll
+      for (int tt = 0; tt < W; ++tt)
+      {
+        s = fmaf(a.taps[tt], v[u + tt], s);
+      }
+      o[u] = s;
+    }
+    reinterpret_cast<float4*>(sXb + row * TX)[g] = make_float4(o[0], o[1], o[2], o[3]);
+  }
+}
+
+// The z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of a
+// thread: win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of slots).
+template <int W>
+using ZWindow = float[2][W][6];
+
+template <int W>
+__device__ __forceinline__ void clearWindow(ZWindow<W>& win)
+{
+#pragma unroll
+  for (int r = 0; r < 2; ++r)
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+#pragma unroll
+      for (int c = 0; c < 6; ++c)
+        win[r][t][c] = 0.f;
+}
+
+// y pass for the two voxels of this thread -> the newest z-window slot (slot P of the ring
+// when unrolled, else the window shifts by one).
+template <int R, bool UNROLL, int P>
+__device__ __forceinline__ void yPassStore(
+  ZWindow<2 * R + 1>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, PH = S::PH, TX = kHarrisTileX;
+  const int r0 = 2 * warp;
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    float col[W + 1];
+#pragma unroll
+    for (int j = 0; j < W + 1; ++j)
+    {
+      col[j] = sXb[(c * PH + r0 + j) * TX + lane];
+    }
+    float s0 = 0.f, s1 = 0.f;
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+    {
+      s0 = fmaf(a.taps[t], col[t], s0);
+      s1 = fmaf(a.taps[t], col[t + 1], s1);
+    }
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = s0;
+      win[1][P][c] = s1;
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+      win[0][W - 1][c] = s0;
+      win[1][W - 1][c] = s1;
+    }
+  }
+}
+
+// The clamped slice repeats (z border): the newest slice enters the window again.
+template <int W, bool UNROLL, int P>
+__device__ __forceinline__ void repeatStore(ZWindow<W>& win)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = win[0][(P + W - 1) % W][c];
+      win[1][P][c] = win[1][(P + W - 1) % W][c];
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+    }
+  }
+}
+
+// z pass of voxel rr of this thread after phase P: the smoothed structure tensor
+// m = (xx, xy, xz, yy, yz, zz).
+template <int W, bool UNROLL, int P>
+__device__ __forceinline__ void zSmooth(
+  float (&m)[6], const ZWindow<W>& win, int rr, const HarrisKernelArgs& a)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    float s = 0.f;
+#pragma unroll
+    for (int t = 0; t < W; ++t)
+    {
+      // slot of the t-th oldest slice: a ring after phase P, else the shifted window
+      s = fmaf(a.taps[t], win[rr][UNROLL ? (P + 1 + t) % W : t][c], s);
+    }
+    m[c] = s;
+  }
+}
+
+// The Harris response of a smoothed tensor: det - k tr^3, or det2 - k tr2^2 on the x,y
+// block (planar).
+__device__ __forceinline__ float harrisResponse(const float (&m)[6], const HarrisKernelArgs& a)
+{
+  const float xx = m[0], xy = m[1], xz = m[2], yy = m[3], yz = m[4], zz = m[5];
+  float response;
+  if (a.planar)
+  {
+    const float tr = xx + yy;
+    response = (xx * yy - xy * xy) - a.k * tr * tr;
+  }
+  else
+  {
+    const float det =
+      xx * (yy * zz - yz * yz) - xy * (xy * zz - yz * xz) + xz * (xy * yz - yy * xz);
+    const float tr = xx + yy + zz;
+    response = det - a.k * tr * tr * tr;
+  }
+  return response;
+}
+
+// Candidates (R > 0, finite) counted by their top 11 bits in the block's histogram.
+__device__ __forceinline__ void countCandidate(
+  unsigned* sHist, float response, bool inside, int histMode, int lane)
+{
+  const bool cand = inside && response > 0.f && response <= FLT_MAX;
+  const unsigned bin = __float_as_uint(response) >> 21;
+  if (histMode == 0)
+  {
+    // one atomic per group of lanes that share a bin
+    const unsigned active = __ballot_sync(0xffffffffu, cand);
+    if (cand)
+    {
+      const unsigned peers = __match_any_sync(active, bin);
+      if (lane == __ffs(peers) - 1)
+      {
+        atomicAdd(&sHist[bin], static_cast<unsigned>(__popc(peers)));
+      }
+    }
+  }
+  else if (cand)
+  {
+    atomicAdd(&sHist[bin], 1u);
+  }
+}
+
+// The block's histogram added to the global one.
+__device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
+{
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
+  {
+    const unsigned c = sHist[i];
+    if (c)
+    {
+      atomicAdd(&hist[i], static_cast<unsigned long long>(c));
+    }
+  }
+}
+
+// V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
+// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2.
+template <typename T, int R, int V>
+__global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
+  harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
+{
+  constexpr bool UNROLL = (V & 1) != 0;
+  using S = TileShape<R>;
+  constexpr int W = S::W;
+  constexpr int TX = kHarrisTileX;
+
+  extern __shared__ float4 smem4[];
+  float* sProd = reinterpret_cast<float*>(smem4);
+  float* sXb = sProd + S::ProdFloats;
+  float* sIn = sXb + S::XbFloats;
+  unsigned* sHist = reinterpret_cast<unsigned*>(sIn + S::InFloats);
+
+  const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
+  const int nx = a.nx, ny = a.ny, nz = a.nz;
+  const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
+  const int zb = a.zOutBegin + blockIdx.z * a.zChunk;
+  const int ze = min(zb + a.zChunk, a.zOutEnd);
+  const std::size_t plane = static_cast<std::size_t>(nx) * ny;
+  const bool withHist = a.hist != nullptr;
+  if (withHist)
+  {
+    clearHistogram(sHist, tid);
+  }
+
+  int inOff[S::LOADS];
+  inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
+  float pre[S::LOADS]; // the next input slice, loaded ahead of its use
+  const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
+    y0 + kHarrisTileY + R <= ny;
+  float win[2][W][6];
+  clearWindow<W>(win);
+
+  // The z pass, the response and its output for the two voxels of this thread at slice z.
+  auto emit = [&](auto phase, int z) {
+    constexpr int P = decltype(phase)::value;
+#pragma unroll
+    for (int rr = 0; rr < 2; ++rr)
+    {
+      float m[6];
+      zSmooth<W, UNROLL, P>(m, win, rr, a);
+      const float response = harrisResponse(m, a);
+      const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
+      const bool inside = gx < nx && gy < ny;
+      if (inside)
+      {
+        a.response[static_cast<std::size_t>(z - a.zOutBegin) * plane +
+          static_cast<std::size_t>(gy) * nx + gx] =
+          response;
+      }
+      if (withHist)
+      {
+        countCandidate(sHist, response, inside, a.histMode, lane);
+      }
+    }
+  };
+
+  // Virtual slices sv = zb-R .. ze+R-1 feed the z window; sv outside the grid repeats the
+  // border slice. Each distinct clamped slice is computed once.
+  const int svBegin = zb - R, svEnd = ze + R;
+  const int czFirst = clampi(svBegin, 0, nz - 1);
+  const int czLast = clampi(svEnd - 1, 0, nz - 1);
+  const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
+  for (int q = max(czFirst - 1, 0); q <= min(czFirst + 1, nz - 1); ++q)
+  {
+    loadSlice<R>(pre, in, q, plane, inOff);
+    storeSlice<R>(sIn, q, pre, tid);
+  }
+  int nextLoad = min(czFirst + 1, nz - 1) + 1;
+  if (nextLoad <= qLast)
+  {
+    loadSlice<R>(pre, in, nextLoad, plane, inOff);
+  }
+  int lastCz = -1;
+  auto step = [&](auto phase, int sv) {
+    constexpr int P = decltype(phase)::value;
+    const int cz = clampi(sv, 0, nz - 1);
+    if (cz != lastCz)
+    {
+      if (lastCz >= 0 && nextLoad <= qLast)
+      {
+        // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
+        storeSlice<R>(sIn, nextLoad, pre, tid);
+        ++nextLoad;
+        if (nextLoad <= qLast)
+        {
+          loadSlice<R>(pre, in, nextLoad, plane, inOff);
+        }
+      }
+      __syncthreads();
+      gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
+      __syncthreads();
+      xPass<R>(sXb, sProd, a, tid);
+      __syncthreads();
+      yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
+      lastCz = cz;
+    }
+    else
+    {
+      repeatStore<W, UNROLL, P>(win);
+    }
+    if (sv >= zb + R)
+    {
+      emit(phase, sv - R);
+    }
+  };
+  if constexpr (UNROLL)
+  {
+    for (int sv = svBegin; sv < svEnd; sv += W)
+    {
+      forPhases<0, W>(step, sv, svEnd);
+    }
+  }
+  else
+  {
+    for (int sv = svBegin; sv < svEnd; ++sv)
+    {
+      step(std::integral_constant<int, W - 1>{}, sv);
+    }
+  }
+
+  if (withHist)
+  {
+    __syncthreads();
+    flushHistogram(a.hist, sHist, tid);
+  }
+}
+
+int chooseZChunk(int tiles, int nz, int resident, int radius)
+{
+  // Model: time ~ waves * (slices per block + 2 radius halo slices); the largest chunk
+  // wins ties (less halo work).
+  if (resident < 1)
+  {
+    resident = 1;
+  }
+  double best = 1e300;
+  int bestChunk = nz;
+  for (int chunks = 1; chunks <= nz; ++chunks)
+  {
+    const int zc = (nz + chunks - 1) / chunks;
+    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
+    const long long waves = (blocks + resident - 1) / resident;
+    const double cost = static_cast<double>(waves) * (zc + 2 * radius);
+    if (cost < best)
+    {
+      best = cost;
+      bestChunk = zc;
+    }
+  }
+  return bestChunk;
+}
+
+template <typename T, int R, int V>
+cudaError_t launchRadius(
+  const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
+{
+  using S = TileShape<R>;
+  const std::size_t smem = S::smemBytes(args.hist != nullptr);
+  auto kernel = harrisKernel<T, R, V>;
+  cudaError_t err =
+    cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(smem));
+  if (err != cudaSuccess)
+  {
+    return err;
+  }
+  const int tilesX = (args.nx + kHarrisTileX - 1) / kHarrisTileX;
+  const int tilesY = (args.ny + kHarrisTileY - 1) / kHarrisTileY;
+  HarrisKernelArgs a = args;
+  if (a.zOutEnd <= 0)
+  {
+    a.zOutBegin = 0;
+    a.zOutEnd = a.nz;
+  }
+  if (a.zOutBegin < 0 || a.zOutEnd > a.nz || a.zOutBegin >= a.zOutEnd)
+  {
+    return cudaErrorInvalidValue;
+  }
+  const int outSlices = a.zOutEnd - a.zOutBegin;
+  if (zChunk <= 0)
+  {
+    int device = 0, sms = 1, perSM = 1;
+    if ((err = cudaGetDevice(&device)) != cudaSuccess ||
+      (err = cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device)) != cudaSuccess ||
+      (err = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perSM, kernel, kHarrisThreads, smem)) !=
+        cudaSuccess)
+    {
+      return err;
+    }
+    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R);
+  }
+  zChunk = min(max(zChunk, 1), outSlices);
+  a.zChunk = zChunk;
+  if (used)
+  {
+    *used = zChunk;
+  }
+  const dim3 grid(tilesX, tilesY, (outSlices + zChunk - 1) / zChunk);
+  if (grid.y > 65535u || grid.z > 65535u)
+  {
+    return cudaErrorInvalidConfiguration;
+  }
+  kernel<<<grid, kHarrisThreads, smem, stream>>>(input, a);
+  return cudaGetLastError();
+}
+
+} // namespace
+
+template <typename T>
+cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int zChunk,
+  cudaStream_t stream, int* usedZChunk, int variant)
+{
+  constexpr int D = kHarrisDefaultVariant;
+  switch (radius)
+  {
+    case 0:
+      return launchRadius<T, 0, D>(input, args, zChunk, stream, usedZChunk);
+    case 1:
+      return launchRadius<T, 1, D>(input, args, zChunk, stream, usedZChunk);
+    case 2:
+      // The default width: every variant is built (the benchmark compares them).
+      switch (variant < 0 ? D : variant)
+      {
+        case 0:
+          return launchRadius<T, 2, 0>(input, args, zChunk, stream, usedZChunk);
+        case 1:
+          return launchRadius<T, 2, 1>(input, args, zChunk, stream, usedZChunk);
+        case 2:
+          return launchRadius<T, 2, 2>(input, args, zChunk, stream, usedZChunk);
+        case 3:
+          return launchRadius<T, 2, 3>(input, args, zChunk, stream, usedZChunk);
+        default:
+          return cudaErrorInvalidValue;
+      }
+    case 3:
+      return launchRadius<T, 3, D>(input, args, zChunk, stream, usedZChunk);
+    default:
+      return cudaErrorInvalidValue;
+  }
+}
+
+template cudaError_t launchHarris<float>(
+  const float*, HarrisKernelArgs, int, int, cudaStream_t, int*, int);
+template cudaError_t launchHarris<std::uint8_t>(
+  const std::uint8_t*, HarrisKernelArgs, int, int, cudaStream_t, int*, int);
+
+} // namespace detail
+} // namespace cuda
+} // namespace mcv

@@ -1,0 +1,432 @@
+#include "HarrisPipeline.h"
+
+#include "cuda/CudaCheck.h"
+#include "cuda/DeviceBuffer.cuh"
+#include "HarrisArgs.cuh"
+#include "HarrisKernel.cuh"
+#include "TopNSelect.cuh"
+
+#include <climits>
+
+namespace mcv
+{
+namespace cuda
+{
+
+using detail::fail;
+
+namespace
+{
+
+// The grid as the kernel sees it: a single slice (one axis of size 1) becomes an x,y image
+// with nz = 1 (the linear index is unchanged: the two extended axes keep their order).
+struct KernelGrid
+{
+  int nx = 0, ny = 0, nz = 0;
+  double sx = 1, sy = 1, sz = 1;
+  bool planar = false;
+};
+
+KernelGrid kernelGrid(const ImageGrid& g)
+{
+  KernelGrid k;
+  if (g.extendedAxes() == 2)
+  {
+    const int s = g.dims[0] == 1 ? 0 : (g.dims[1] == 1 ? 1 : 2);
+    const int a0 = s == 0 ? 1 : 0, a1 = s == 2 ? 1 : 2;
+    k.nx = g.dims[a0];
+    k.ny = g.dims[a1];
+    k.nz = 1;
+    k.sx = g.spacing[a0];
+    k.sy = g.spacing[a1];
+    k.sz = g.spacing[s];
+    k.planar = true;
+    return k;
+  }
+  k.nx = g.dims[0];
+  k.ny = g.dims[1];
+  k.nz = g.dims[2];
+  k.sx = g.spacing[0];
+  k.sy = g.spacing[1];
+  k.sz = g.spacing[2];
+  return k;
+}
+
+} // namespace
+
+detail::HarrisKernelArgs detail::harrisKernelArgs(const ImageGrid& grid, const HarrisParameters& params)
+{
+  const KernelGrid k = kernelGrid(grid);
+  HarrisKernelArgs a;
+  a.nx = k.nx;
+  a.ny = k.ny;
+  a.nz = k.nz;
+  a.scaleX = static_cast<float>(0.5 / k.sx); // as the CPU path: 0.5 / spacing, in float
+  a.scaleY = static_cast<float>(0.5 / k.sy);
+  a.scaleZ = static_cast<float>(0.5 / k.sz);
+  a.k = static_cast<float>(params.k);
+  a.planar = k.planar ? 1 : 0;
+  gaussianTaps(params, a.taps); // kernelWidth <= 7 taps (gpuUnsupportedReason)
+  return a;
+}
+
+const char* gpuUnsupportedReason(const ImageGrid& grid, const HarrisParameters& params)
+{
+  const char* bad = checkHarrisParameters(params);
+  if (bad && *bad)
+  {
+    return bad;
+  }
+  if (params.kernelWidth > 2 * detail::kHarrisMaxRadius + 1)
+  {
+    return "KernelWidth above 7 is not supported on the GPU";
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    if (grid.dims[a] < 1)
+    {
+      return "the grid has an axis without voxels";
+    }
+  }
+  if (grid.extendedAxes() < 2)
+  {
+    return "the Harris response needs at least two axes with more than one voxel";
+  }
+  const KernelGrid k = kernelGrid(grid);
+  if (static_cast<long long>(k.nx) * k.ny > INT_MAX)
+  {
+    return "a slice of more than 2^31 voxels is not supported on the GPU";
+  }
+  return "";
+}
+
+struct HarrisPipeline::Impl
+{
+  cudaStream_t stream = nullptr;
+  cudaEvent_t ev[6] = {};
+  bool ready = false;
+  void* input = nullptr;
+  std::size_t inputCap = 0;
+  bool inputIsUint8 = false;
+  bool haveVolume = false;
+  ImageGrid grid;
+  float* scores = nullptr;
+  std::size_t scoresCap = 0;
+  detail::TopNSelector selector;
+  int zChunk = 0, lastZChunk = 0;
+  int variant = -1, histMode = 1;
+  double uploadMs = 0;
+
+  ~Impl()
+  {
+    freeBuffers();
+    for (cudaEvent_t& e : ev)
+    {
+      if (e)
+      {
+        cudaEventDestroy(e);
+      }
+    }
+    if (stream)
+    {
+      cudaStreamDestroy(stream);
+    }
+  }
+
+  void freeBuffers()
+  {
+    if (stream)
+    {
+      (void)cudaStreamSynchronize(stream); // nothing may still use the buffers (errors: moot)
+      (void)cudaGetLastError();
+    }
+    selector.release();
+    if (input)
+    {
+      cudaFree(input);
+    }
+    if (scores)
+    {
+      cudaFree(scores);
+    }
+    input = nullptr;
+    scores = nullptr;
+    inputCap = scoresCap = 0;
+    haveVolume = false;
+  }
+
+  bool init(std::string* error)
+  {
+    if (ready)
+    {
+      return true;
+    }
+    // Only what is missing: a failure half-way must not leak what was created.
+    if (!stream)
+    {
+      MCV_CUDA_TRY(cudaStreamCreateWithFlags(&stream, cudaStreamNonBlocking));
+    }
+    for (cudaEvent_t& e : ev)
+    {
+      if (!e)
+      {
+        MCV_CUDA_TRY(cudaEventCreate(&e));
+      }
+    }
+    ready = true;
+    return true;
+  }
+
+  bool ensure(void*& buffer, std::size_t& capacity, std::size_t bytes, std::string* error)
+  {
+    return growDeviceBuffer(buffer, capacity, bytes, error);
+  }
+
+  bool ensureScores(std::size_t n, std::string* error)
+  {
+    void* p = scores;
+    const bool ok = ensure(p, scoresCap, n * sizeof(float), error);
+    scores = static_cast<float*>(p);
+    return ok;
+  }
+
+  float elapsed(int a, int b)
+  {
+    float ms = 0.f;
+    return cudaEventElapsedTime(&ms, ev[a], ev[b]) == cudaSuccess ? ms : -1.f;
+  }
+
+  template <typename T>
+  bool upload(const T* host, const ImageGrid& g, std::string* error)
+  {
+    haveVolume = false;
+    if (!init(error))
+    {
+      return false;
+    }
+    if (!host)
+    {
+      return fail(error, "no volume given");
+    }
+    for (int a = 0; a < 3; ++a)
+    {
+      if (g.dims[a] < 1)
+      {
+        return fail(error, "the grid has an axis without voxels");
+      }
+    }
+    const std::size_t bytes = g.voxelCount() * sizeof(T);
+    if (!ensure(input, inputCap, bytes, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(cudaEventRecord(ev[0], stream));
+    MCV_CUDA_TRY(cudaMemcpyAsync(input, host, bytes, cudaMemcpyHostToDevice, stream));
+    MCV_CUDA_TRY(cudaEventRecord(ev[1], stream));
+    MCV_CUDA_TRY(cudaEventSynchronize(ev[1]));
+    uploadMs = elapsed(0, 1);
+    grid = g;
+    inputIsUint8 = sizeof(T) == 1;
+    haveVolume = true;
+    return true;
+  }
+
+  bool harris(const HarrisParameters& params, bool withHistogram, std::string* error)
+  {
+    if (!haveVolume)
+    {
+      return fail(error, "no volume on the GPU (uploadVolume first)");
+    }
+    const char* why = gpuUnsupportedReason(grid, params);
+    if (*why)
+    {
+      return fail(error, why);
+    }
+    if (!ensureScores(grid.voxelCount(), error))
+    {
+      return false;
+    }
+    detail::HarrisKernelArgs a = detail::harrisKernelArgs(grid, params);
+    a.response = scores;
+    a.hist = withHistogram ? selector.level1Histogram() : nullptr;
+    a.histMode = histMode;
+    const int radius = params.kernelWidth / 2;
+    const cudaError_t launchError = inputIsUint8
+      ? detail::launchHarris(
+          static_cast<const std::uint8_t*>(input), a, radius, zChunk, stream, &lastZChunk, variant)
+      : detail::launchHarris(
+          static_cast<const float*>(input), a, radius, zChunk, stream, &lastZChunk, variant);
+    MCV_CUDA_TRY(launchError); // the name makes it a "launch" injection point
+    return true;
+  }
+};
+
+HarrisPipeline::HarrisPipeline()
+  : impl_(new Impl)
+{
+}
+
+HarrisPipeline::~HarrisPipeline() = default;
+
+bool HarrisPipeline::uploadVolume(const float* host, const ImageGrid& grid, std::string* error)
+{
+  FaultStage stage("harris");
+  return impl_->upload(host, grid, error);
+}
+
+bool HarrisPipeline::uploadVolume(const std::uint8_t* host, const ImageGrid& grid, std::string* error)
+{
+  FaultStage stage("harris");
+  return impl_->upload(host, grid, error);
+}
+
+bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints& out,
+  std::string* error, GpuStageTimings* timings)
+{
+  FaultStage stage("harris");
+  Impl& p = *impl_;
+  out.indices.clear();
+  out.scores.clear();
+  if (!p.init(error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[2], p.stream));
+  if (!p.selector.reset(N, p.stream, error) || !p.harris(params, true, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
+  if (!p.selector.select(p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5]))
+  {
+    return false;
+  }
+  if (timings)
+  {
+    timings->uploadMs = p.uploadMs;
+    timings->harrisMs = p.elapsed(2, 3);
+    timings->selectMs = p.elapsed(3, 4);
+    timings->downloadMs = p.elapsed(4, 5);
+  }
+  return true;
+}
+
+bool HarrisPipeline::response(const HarrisParameters& params, float* hostResponse, std::string* error)
+{
+  FaultStage stage("harris");
+  Impl& p = *impl_;
+  if (!hostResponse)
+  {
+    return fail(error, "no output buffer given");
+  }
+  if (!p.harris(params, false, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaMemcpyAsync(hostResponse, p.scores, p.grid.voxelCount() * sizeof(float),
+    cudaMemcpyDeviceToHost, p.stream));
+  MCV_CUDA_TRY(cudaStreamSynchronize(p.stream));
+  return true;
+}
+
+bool HarrisPipeline::selectFromScores(
+  const float* hostScores, std::size_t count, int N, InterestPoints& out, std::string* error)
+{
+  FaultStage stage("harris");
+  Impl& p = *impl_;
+  out.indices.clear();
+  out.scores.clear();
+  if (!p.init(error))
+  {
+    return false;
+  }
+  if (count == 0)
+  {
+    return true;
+  }
+  if (!hostScores)
+  {
+    return fail(error, "no scores given");
+  }
+  if (!p.ensureScores(count, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaMemcpyAsync(
+    p.scores, hostScores, count * sizeof(float), cudaMemcpyHostToDevice, p.stream));
+  return p.selector.reset(N, p.stream, error) &&
+    p.selector.histogramLevel1(p.scores, count, p.stream, error) &&
+    p.selector.select(p.scores, count, N, p.stream, out, error);
+}
+
+void HarrisPipeline::setZChunk(int zChunk)
+{
+  impl_->zChunk = zChunk;
+}
+
+void HarrisPipeline::setKernelVariant(int variant, int histogramMode)
+{
+  impl_->variant = variant;
+  impl_->histMode = histogramMode;
+}
+
+int HarrisPipeline::lastZChunk() const
+{
+  return impl_->lastZChunk;
+}
+
+double HarrisPipeline::lastUploadMs() const
+{
+  return impl_->uploadMs;
+}
+
+long long HarrisPipeline::lastListSize() const
+{
+  return impl_->selector.lastListSize();
+}
+
+bool HarrisPipeline::lastSelectUsedSlowPath() const
+{
+  return impl_->selector.lastUsedSlowPath();
+}
+
+void HarrisPipeline::setForceSlowSelect(bool force)
+{
+  impl_->selector.setForceSlowPath(force);
+}
+
+bool HarrisPipeline::timeHarrisKernel(
+  const HarrisParameters& params, bool withHistogram, double* ms, std::string* error)
+{
+  FaultStage stage("harris");
+  Impl& p = *impl_;
+  if (!p.init(error) || !p.selector.reset(1, p.stream, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[2], p.stream));
+  if (!p.harris(params, withHistogram, error))
+  {
+    return false;
+  }
+  MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
+  MCV_CUDA_TRY(cudaEventSynchronize(p.ev[3]));
+  if (ms)
+  {
+    *ms = p.elapsed(2, 3);
+  }
+  return true;
+}
+
+std::size_t HarrisPipeline::deviceBytesHeld() const
+{
+  return impl_->inputCap + impl_->scoresCap;
+}
+
+void HarrisPipeline::release()
+{
+  impl_->freeBuffers();
+}
+
+} // namespace cuda
+} // namespace mcv
