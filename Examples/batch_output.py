@@ -570,8 +570,8 @@ def available_memory():
 
 # Rendering's and the figures' share of the address space, beyond the voxels: the GL
 # context (Mesa's llvmpipe: its threads' stacks and LLVM), the render windows' buffers,
-# matplotlib. Measured under Xvfb on the 2-core dev VM: pvbatch's VmSize grows from 0.92 to
-# 1.81 GB when it opens a 240 x 180 render view and renders; with less address space left,
+# matplotlib: pvbatch's VmSize roughly doubles (by about 0.9 GB under Xvfb) when it opens
+# a 240 x 180 render view and renders; with less address space left,
 # VTK aborts the process ("Cannot create GLX context. Aborting.", exit 134), so the job must
 # refuse before that. See docs/reliability.md.
 RENDER_SHARE_BYTES = 1 << 30

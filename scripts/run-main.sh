@@ -7,7 +7,7 @@
 # side by side (methods.png) and report.json
 # into ./output/transfer_function. Arguments go to Examples/transfer_function.py
 # (--help lists them, e.g. --features 6D --output DIR; --upsample 2 resamples the channels
-# to 57 M voxels first; --chain features keeps the Features array as before the fused path).
+# to 57 M voxels first; --chain features runs MultichannelFeatures -> DimensionReduction, keeping the Features array).
 # report.json records the time and the peak resident memory of each stage.
 # Exit code 0 when the run is complete; 1 with one "error: ..." line (a filter's error, too
 # little memory, a disk full or read-only); 130 / 143 on SIGINT / SIGTERM. Only a complete

@@ -1,4 +1,4 @@
-// Reading a reduced-coordinates array of either precision (issue 20 §1): float32, or
+// Reading a reduced-coordinates array of either precision: float32, or
 // float16 stored as IEEE binary16 bits in an unsigned-short array (DimensionReduction's
 // CoordinatePrecision Float16; VTK 9.2 has no half-float array). The suite reads any
 // unsigned-short coordinate array as float16; other numeric types by their value.

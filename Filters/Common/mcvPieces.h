@@ -6,7 +6,7 @@
 //
 // A run is split when ParaView asks this process for piece p of P > 1 and P processes run
 // the pipeline (vtkMultiProcessController::GetGlobalController()). Any other request (a
-// serial session, streaming pieces in one process) takes the whole volume, as before.
+// serial session, streaming pieces in one process) takes the whole volume.
 // Ownership follows vtkExtentTranslator's block split of the whole extent: each piece
 // without its upper boundary layer (which the next piece shares), unless that layer is the
 // volume's last, so every voxel is owned exactly once.

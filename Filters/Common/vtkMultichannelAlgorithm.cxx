@@ -394,7 +394,7 @@ void vtkMultichannelAlgorithm::GetOutputExtent(
   // produce sub-extents) and keeps what was asked in ALL_PIECES_EXTENT. A consumer that
   // asked for an extent of its own (ExtractVoxels: the voxels its process owns) gets that
   // extent, not a piece of it cut along another axis; a request of the whole volume
-  // (representations, UpdatePipeline) gets this process's piece as before.
+  // (representations, UpdatePipeline) gets this process's piece.
   if (outInfo->Has(vtkDataObject::ALL_PIECES_EXTENT()))
   {
     int asked[6];

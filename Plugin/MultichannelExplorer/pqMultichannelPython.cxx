@@ -65,3 +65,18 @@ bool pqMultichannelPython::flag(const char* module, const char* name)
   PyErr_Clear();
   return result;
 }
+
+//-----------------------------------------------------------------------------
+bool pqMultichannelPython::importModule(const char* module)
+{
+  vtkPythonInterpreter::Initialize();
+  vtkPythonScopeGilEnsurer gil;
+  PyObject* mod = PyImport_ImportModule(module);
+  if (!mod)
+  {
+    PyErr_Print();
+    return false;
+  }
+  Py_DECREF(mod);
+  return true;
+}

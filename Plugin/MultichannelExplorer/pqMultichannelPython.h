@@ -19,6 +19,10 @@ QString text(const char* module, const char* attribute);
 
 /** bool(module.attribute); false when missing. */
 bool flag(const char* module, const char* attribute);
+
+/** Imports `module` in ParaView's Python; false, with Python's error printed (the Output
+ * Messages window in the GUI), when the import fails. */
+bool importModule(const char* module);
 }
 
 #endif

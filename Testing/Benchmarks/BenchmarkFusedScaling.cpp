@@ -1,4 +1,4 @@
-// mcvBenchmarkFusedScaling (issue 20 section 4): does the fused reduction's time grow
+// mcvBenchmarkFusedScaling: does the fused reduction's time grow
 // linearly with the voxel count, and what does its memory peak at? The main job's chain on
 // the CPU (all cores): 24D features computed a slab at a time (FeatureBricks), Isomap
 // (K = 10, L = 500) fitted on a reference sample of 10000, every voxel placed by its 3

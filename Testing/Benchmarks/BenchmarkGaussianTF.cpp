@@ -377,6 +377,6 @@ int main(int argc, char** argv)
       std::fflush(stdout);
     }
   }
-  std::printf("\nTargets (issue 4): CPU <= 300 ms, GPU <= 20 ms per recolouring at 16 M voxels.\n");
+  std::printf("\nTargets: CPU <= 300 ms, GPU <= 20 ms per recolouring at 16 M voxels.\n");
   return 0;
 }

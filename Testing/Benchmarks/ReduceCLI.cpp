@@ -14,7 +14,7 @@
 // less than --repeat-below seconds in all, and reports the fastest (same seed, same answer):
 // the rule compare_sklearn.py applies to scikit-learn's fits in its one Python process, whose
 // heap and threads are warm after the first; a fresh process pays page faults for every
-// large buffer (about 0.6 ms per MB on the 2-core development VM).
+// large buffer.
 #include "DimensionReduction.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-"""The fused reduction (issue 20) against MultichannelFeatures -> DimensionReduction: time
+"""The fused reduction against MultichannelFeatures -> DimensionReduction: time
 and peak resident memory at 1, 7.1 and 57 M voxels of the real brain.
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_fused.py [--upsample 0.53,1,2]

@@ -1,5 +1,5 @@
 """One process of the main job's fused reduction under `mpiexec -np R pvbatch --mpi
---symmetric` (issue 20 §4): every process runs this script, reads the real 3-channel brain
+--symmetric`: every process runs this script, reads the real 3-channel brain
 (Colin27 ch2 + AAL + Brodmann), resamples it by F along each axis with ParaView's
 ResampleToImage (as Examples/transfer_function.py --upsample F), and runs
 DimensionReduction on the channels with the main job's settings (24D, Isomap, reference

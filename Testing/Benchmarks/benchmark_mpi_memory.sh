@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 20 §4, MPI: the main job's fused reduction (the real brain resampled by F, 24D,
+# MPI: the main job's fused reduction (the real brain resampled by F, 24D,
 # Isomap) under `mpiexec -np R pvbatch --mpi --symmetric` for R = 1, 2, 4
 # (benchmark_mpi_memory.py). Prints, per run and process, the resident size before
 # anything is read (ParaView + plugin: the baseline), the peak, the data share (peak -

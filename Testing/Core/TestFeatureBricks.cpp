@@ -1,4 +1,4 @@
-// The fused path (issue 20): features a slab at a time (FeatureBricks.h) against the whole
+// The fused path: features a slab at a time (FeatureBricks.h) against the whole
 // Features array of computeFeatures, and the reduction of those slabs against the
 // reduction of the whole array, on a small synthetic 3-channel volume with a zero
 // background, mixed scalar types and a NaN voxel.
@@ -291,7 +291,7 @@ TEST(FeatureBricks, SlabBudgetFollowsTheOwnedShare)
   const Volume v = makeVolume(false);
   const std::size_t slice = sliceBytes(v, 24); // 23 x 19 voxels x 24 floats = 41952 bytes
   const std::size_t whole = mcv::FeatureBricks::kDefaultSlabBytes;
-  // One process, the whole volume: 256 MiB, as before; the constructor's 17 slices (all).
+  // One process, the whole volume: 256 MiB; the constructor's 17 slices (all).
   mcv::GridPiece piece = mcv::GridPiece::whole(v.grid);
   EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, piece, 24), whole);
   EXPECT_EQ(mcv::FeatureBricks::slabBytesFor(v.grid, mcv::GridPiece(), 24), whole);

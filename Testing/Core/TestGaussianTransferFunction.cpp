@@ -1,7 +1,7 @@
 // Gaussian-widget transfer function (Filters/Core/transfer_function/GaussianTransferFunction.h), CPU path:
 // hand-computed voxels for 1, 2 and 5 widgets in 2D and 3D, a double-precision reference
 // of the header's formula written here independently, bytes = round(255 v), the bad
-// inputs of issue 4, non-finite coordinates, the opacity-only path and the exp kernel.
+// inputs, non-finite coordinates, the opacity-only path and the exp kernel.
 #include "GaussianTransferFunction.h"
 
 #include <gtest/gtest.h>
@@ -275,7 +275,7 @@ TEST(GaussianTF, NonFiniteOrOverflowingCoordinatesAreTransparentBlack)
 }
 
 // -------------------------------------------------------------------------------------
-// Bad input (issue 4): each a clear error or a warning.
+// Bad input: each a clear error or a warning.
 
 TEST(GaussianTF, ParseErrors)
 {

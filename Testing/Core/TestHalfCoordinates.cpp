@@ -1,4 +1,4 @@
-// float16 coordinates (HalfCoordinates.h, issue 20 §1): the conversions against IEEE
+// float16 coordinates (HalfCoordinates.h): the conversions against IEEE
 // binary16's known answers, and every reader of float16 coordinates (the reduction's
 // output, the coordinate texture, the per-voxel transfer function) against the same
 // values read as float32.

@@ -232,6 +232,11 @@ def run(mce, out, reference, previous=None):
     display.ShowWidgetLegend = 0
     simple.Render(view)
     simple.SaveScreenshot(picture, view, ImageResolution=VIEW_SIZE)
+    # Whether the render server could render (ParaView asks every server process for
+    # OpenGL through its display when the view is made): without it the client draws the
+    # view itself, and a volume, which stays on the server, is missing from the picture.
+    answers["remote_rendering_available"] = bool(
+        view.GetClientSideObject().GetRemoteRenderingAvailable())
 
     stage("probes")
     # Probes by index at every piece and boundary, a few by point id and world position.
@@ -347,7 +352,7 @@ def run(mce, out, reference, previous=None):
     dual.stop()
 
     # A transfer-function file: saved (the fitted model written beside it by the server's
-    # processes), the widgets changed, loaded back (the reduction now applies the model).
+    # processes), the widgets changed, loaded back (the reduction then applies the model).
     stage("transfer function file")
     tf = os.path.join(out, "loop%s.mcvtf" % ("" if reference else "_compare"))
     for old in (tf, tf[:-len(".mcvtf")] + ".mcvmodel"):
@@ -451,6 +456,20 @@ def picture_difference(reference, picture):
     return worst, differing / float(len(a) // ca)
 
 
+def blank_picture(path):
+    """True when every pixel of the PNG file has the first pixel's colour (the background
+    only: nothing was drawn)."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    scalars = reader.GetOutput().GetPointData().GetScalars()
+    n = scalars.GetNumberOfComponents()
+    data = bytes(memoryview(scalars))
+    return data == data[:n] * (len(data) // n)
+
+
 def compare(C, reference, answers, ref_picture, picture, processes):
     """Each answer equal to the built-in one: a table row per check, [(name, ok, detail)]."""
     rows = []
@@ -467,9 +486,16 @@ def compare(C, reference, answers, ref_picture, picture, processes):
     row("best view", close(answers["best_view"], reference["best_view"], 1e-3),
         str(["%.4f" % v for v in answers["best_view"]]))
     diff = picture_difference(ref_picture, picture)
+    why = ""
+    if answers.get("remote_rendering_available") is False:
+        why = ("; the render server could not render (no OpenGL through its display: "
+               "remote rendering not available), so the client drew the view without the "
+               "volume")
+    elif blank_picture(picture):
+        why = "; the picture is blank (background only)"
     row("picture", diff is not None and diff[1] <= DIFFERING_FRACTION,
-        "max channel difference %s, %.3f%% of pixels above %d"
-        % (diff and diff[0], 100 * diff[1] if diff else 100, PIXEL_TOLERANCE))
+        "max channel difference %s, %.3f%% of pixels above %d%s"
+        % (diff and diff[0], 100 * diff[1] if diff else 100, PIXEL_TOLERANCE, why))
     for key in ("probes", "probes_by_id", "probes_by_position"):
         bad = [r["index"] for r, a in zip(reference[key], answers[key])
                if not close(a, r, COORD_TOLERANCE)]
@@ -545,6 +571,8 @@ def main():
         C.check(bool(message), "%s: %s" % (name, message))
     if args.reference:
         ground_truth_checks(C, answers, red)
+        C.check(not blank_picture(picture), "built-in: the picture shows the volume (%s)"
+                % picture)
         listed = sorted([answers["brush_ids"][-1], 5, answers["brush_ids"][-1]] +
                         answers["brush_ids"][:3])
         C.check(answers["extract_outside_points"] == 0 and answers["extract_ijk_match"] and

@@ -1,8 +1,11 @@
 # pvserver_control.sh: sourced by the client-server tests (test_client_server.sh,
-# test_gui_server.sh). Starts an MPI pvserver under its own virtual X server on a free
-# port and stops it again by process id, also after a failure or an interrupt.
-#   start_server N [LOG_DIR]   0 when the server of N processes accepts connections;
+# test_gui_server.sh). Starts a pvserver under its own virtual X server on a free port and
+# stops it again by process id, also after a failure or an interrupt. N > 1 processes run
+# under mpiexec; N = 1 is a plain `pvserver`, as a user starts one without MPI.
+#   start_server N             0 when the server of N processes accepts connections;
 #                              sets $port, $server_pid, $xvfb_pid
+#   server_process             the id of one pvserver process (the last of mpiexec's
+#                              children; the server itself when it runs without mpiexec)
 #   start_server_retrying N    start_server, 3 attempts (a port taken meanwhile)
 #   stop_server                TERM, then KILL, to mpiexec and its pvservers; the X server
 #   lost_display N             0 when the server of N processes stopped because it lost
@@ -65,36 +68,44 @@ stop_server() {
 trap 'stop_server' EXIT
 trap 'stop_server; exit 130' INT TERM
 
-# A free display number (no lock file) and a free TCP port (bound by the OS, released).
-free_display() {
-  while :; do
-    d=$(( 200 + $(od -An -N2 -tu2 /dev/urandom) % 700 ))
-    [ -e "/tmp/.X$d-lock" ] || { echo "$d"; return; }
-  done
-}
+# A free TCP port (bound by the OS, released).
 free_port() {
   /usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("localhost", 0)); print(s.getsockname()[1])'
 }
 
 start_server() {  # start_server PROCESSES: 0 when the server accepts connections
   n="$1"
-  display=$(free_display)
-  Xvfb ":$display" -screen 0 1280x1024x24 -nolisten tcp >"$out/xvfb_$n.log" 2>&1 &
+  # The X server picks its display number itself (-displayfd: the first number whose lock
+  # it obtains, written to the descriptor once it accepts connections). A number chosen
+  # here and then started could be taken by another test's X server in between: this
+  # server's own would then exit ("Server is already active") while the other answered
+  # xdpyinfo, and the pvserver would draw on a display shared with another test and die
+  # when that test stopped its X server.
+  rm -f "$out/xvfb_$n.display"
+  Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$out/xvfb_$n.display" \
+    >"$out/xvfb_$n.log" 2>&1 &
   xvfb_pid=$!
-  # The X server answers before the server starts (xdpyinfo), else another display.
-  for _ in $(seq 1 20); do
-    DISPLAY=":$display" xdpyinfo >/dev/null 2>&1 && break
+  display=""
+  for _ in $(seq 1 40); do
+    display=$(tr -dc 0-9 <"$out/xvfb_$n.display" 2>/dev/null)
+    [ -n "$display" ] && break
+    kill -0 "$xvfb_pid" 2>/dev/null || break
     sleep 0.5
   done
-  if ! DISPLAY=":$display" xdpyinfo >/dev/null 2>&1; then
-    echo "pvserver_control.sh: the X server :$display did not start:" >&2
+  if [ -z "$display" ] || ! kill -0 "$xvfb_pid" 2>/dev/null ||
+     ! DISPLAY=":$display" xdpyinfo >/dev/null 2>&1; then
+    echo "pvserver_control.sh: the X server did not start (display '$display'):" >&2
     cat "$out/xvfb_$n.log" >&2
     stop_server
     return 1
   fi
   port=$(free_port)
-  DISPLAY=":$display" "$mpiexec" -n "$n" "$pvserver" --server-port="$port" \
-    >"$out/pvserver_$n.log" 2>&1 &
+  if [ "$n" -eq 1 ]; then
+    DISPLAY=":$display" "$pvserver" --server-port="$port" >"$out/pvserver_$n.log" 2>&1 &
+  else
+    DISPLAY=":$display" "$mpiexec" -n "$n" "$pvserver" --server-port="$port" \
+      >"$out/pvserver_$n.log" 2>&1 &
+  fi
   server_pid=$!
   for _ in $(seq 1 120); do
     if grep -q "Accepting connection" "$out/pvserver_$n.log" 2>/dev/null; then
@@ -124,4 +135,9 @@ start_server_retrying() {  # start_server_retrying PROCESSES: 3 attempts
 
 lost_display() {  # lost_display PROCESSES: 0 when that server's log says its X server went
   grep -q "bad X server connection" "$out/pvserver_$1.log" 2>/dev/null
+}
+
+server_process() {  # one pvserver process of the running server
+  _child=$(pgrep -P "$server_pid" | tail -n 1)
+  echo "${_child:-$server_pid}"
 }

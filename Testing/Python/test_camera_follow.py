@@ -1,4 +1,4 @@
-"""(k) The camera follows smoothly (issue 17, section 3).
+"""(k) The camera follows smoothly.
 
 * Known answers of the pure math in multichannel_explorer.viewpoint: slerp endpoints and
   midpoint, the swing about the view-up for opposite directions, the sign choice of v / -v,

@@ -1,8 +1,8 @@
 #!/bin/sh
 # test_client_server.sh PVPYTHON PVSERVER MPIEXEC [PROCESSES...]: the exploration loop
 # client-server (client_server_loop_check.py). A built-in pvpython run writes the reference
-# answers; then, for each count in PROCESSES (default 2), an MPI pvserver of that many
-# processes is started under its own virtual X server on a free port, pvpython connects to
+# answers; then, for each count in PROCESSES (default 2), a pvserver of that many
+# processes (1: plain pvserver, more: under mpiexec) is started under its own virtual X server on a free port, pvpython connects to
 # it, runs the same loop and compares every answer with the reference. The server is
 # stopped after each run, also when the client fails or the test is interrupted.
 # Exit 125 (skipped) when the data is missing.
@@ -76,7 +76,7 @@ for _ in $(seq 1 240); do
   sleep 0.5
 done
 sleep 3
-victim=$(pgrep -P "$server_pid" | tail -n 1)
+victim=$(server_process)
 if [ -e "$marker" ] && [ -n "$victim" ]; then
   echo "killing pvserver process $victim during the update"
   kill -9 "$victim"

@@ -1,4 +1,4 @@
-"""float16 reduced coordinates (issue 20 §1, DimensionReduction's CoordinatePrecision) on the
+"""float16 reduced coordinates (DimensionReduction's CoordinatePrecision) on the
 real 3-channel brain (Colin27 T1 + AAL + Brodmann, 7.1 M voxels).
 
 * the fused path (6D Isomap) and the Features-array path (6D PCA), each run with Float32

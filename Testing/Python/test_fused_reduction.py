@@ -1,4 +1,4 @@
-"""The fused path (issue 20 §1): DimensionReduction on the channels of the real 3-channel
+"""The fused path: DimensionReduction on the channels of the real 3-channel
 brain (Colin27 T1 + AAL + Brodmann, 7.1 M voxels) against MultichannelFeatures ->
 DimensionReduction with the same settings.
 

@@ -1,4 +1,4 @@
-"""Issue 19 section 3: a sweep of bad and edge inputs through every filter, the readers and
+"""A sweep of bad and edge inputs through every filter, the readers and
 the "Gaussian TF Volume" representation. Each row is a clear error (which filter, which
 input, what to do) with an empty output, or a documented result (with a warning where the
 input is odd); never a crash, a hang (CTest's timeout), NaN in an output array or a
@@ -223,15 +223,6 @@ rdr.den-spacing    | brainsmall.den at spacing 1e-9,  | BV  | ok: the direction 
 rdr.den-spacing-0  | brainsmall.den, DataSpacing (0,  | RDR | error naming the file, "spacing 0
                    | 1, 1)                            |     | along axis 1", DataSpacing; empty
 
-Fixed with this sweep (before -> now): bv.spacing-neg (an error -> the view of the world
-positions); bv.spacing-0, mf.spacing-0 ("must be positive" -> names the axis and DataSpacing);
-bv.sigma-*, kernel-even, harrisk-neg (now give the default); bv.N-1 (the same warning twice
--> once); mf.constant (advised lowering a threshold of 0); dr.ref-1, dr.ref-2 ("Only 1
-distinct feature vectors" -> about ReferenceSampleSize); dr.L-1-lle (raised to 15 silently);
-rd.nan-coords (dropped silently); rd.constant-seed (an error beside a full output);
-tf.spacing-0, tf.spacing-neg (a blank picture without a word); tf.spacing-1e-9 (per sample
-almost blank), tf.spacing-1e-9-v (saturated), tf.spacing-1e9-v (blank).
-
 Already covered elsewhere (not repeated here): test_bad_inputs (no point array, missing
 array name, empty extent, one-node opacity function, broken .den files, memory limits),
 test_reduction (one component, K >= M on the brain, constant feature column, int16),
@@ -244,9 +235,9 @@ Also elsewhere: two MPI ranks on a volume with fewer slices than ranks (test_mpi
 volume on 2 and 4 processes equals one process); an address-space limit (test_features).
 
 PENDING (expected outcomes another change delivers; listed in PENDING below, not asserted):
-pending.overflow   | ramp at spacing 1e-30: gradMag   | MF  | the features of spacing 1 (now the
+pending.overflow   | ramp at spacing 1e-30: gradMag   | MF  | the features of spacing 1 (today the
                    | squares overflow float32         |     | overflow warning, gradMag 0)
-pending.underflow  | spacing 1e30: gradMag squares    | MF  | the features of spacing 1 (now
+pending.underflow  | spacing 1e30: gradMag squares    | MF  | the features of spacing 1 (today
                    | underflow                        |     | gradMag = 0, "constant")
 """
 import math
@@ -1225,7 +1216,7 @@ ROWS = [
         check=lambda o: (not o.offered, "not among a Sphere's representations %s" % o.available)),
 ] + nifti_rows() + den_rows()
 
-# Expected outcomes another change delivers (issue 19, items owned elsewhere): not asserted.
+# Expected outcomes that another change of the suite delivers: listed, not asserted.
 PENDING = [
     ("pending.overflow", "MF", "ramp at spacing 1e-30 (squared gradients overflow float32)",
      "the features of spacing 1 (today the overflow warning, gradMag 0)"),

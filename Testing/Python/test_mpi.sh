@@ -41,11 +41,11 @@ gtf="${MCV_OUTPUT_DIR:-/tmp}/mpi_gaussian_tf"
 rm -rf "$gtf" && mkdir -p "$gtf"
 sh "$here/run_pvbatch.sh" "$pvbatch" "$here/mpi_gaussian_tf_check.py" --reference "$gtf" || exit 1
 echo "== 2 processes, Gaussian TF Volume"
-# This step has hung now and then (2026-11-27: one fresh-clone CI run of three; 2026-11-25
-# under load): process 0 waits in ParaView's own render (vtkPVRenderView::Render ->
+# This step can hang: process 0 waits in ParaView's own render (vtkPVRenderView::Render ->
 # RedistributeDataForOrderedCompositing -> AllGather) while process 1 waits for the next
-# RMI (vtkMultiProcessController::ProcessRMIs), both spinning in MPI. Not found where it
-# comes from; a run that finishes takes well under a minute. A hang is stopped after 240 s (timeout
+# RMI (vtkMultiProcessController::ProcessRMIs), both spinning in MPI: ParaView's condition
+# when a process cannot render with OpenGL (test_mpi_no_opengl.sh, docs/client-server.md).
+# A run that finishes takes well under a minute. A hang is stopped after 240 s (timeout
 # signals its whole process group) and the step runs once more; a wrong picture still fails.
 for attempt in 1 2; do
   OMP_NUM_THREADS=1 timeout -k 10 240 sh "$here/run_pvbatch.sh" "$mpiexec" -np 2 "$pvbatch" --mpi \

@@ -19,10 +19,11 @@ rc=$?
 # Open MPI refuses root and more processes than cores unless told (ignored by other MPIs).
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
-# pvbatch --mpi was seen to hang in its first render now and then (2 of ~15 runs under a
-# load of 5: rank 0 in RedistributeDataForOrderedCompositing, rank 1 waiting for RMIs;
-# docs/client-server.md): each run is given 360 s, and a run that hangs (timeout, 124) is
-# tried once more and said so. Any other failure fails the test at once.
+# pvbatch --mpi hangs in its first volume render when a process cannot render with OpenGL
+# (rank 0 in RedistributeDataForOrderedCompositing alone; test_mpi_no_opengl.sh,
+# docs/client-server.md); show_gaussian_tf then stops with an error. Each run is given
+# 360 s, and a run that hangs (timeout, 124) is tried once more and said so. Any other
+# failure fails the test at once.
 for n in $counts; do
   for attempt in 1 2; do
     echo "== mpiexec -np $n pvbatch --mpi (attempt $attempt)"

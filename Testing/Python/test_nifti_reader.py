@@ -1,5 +1,5 @@
-"""The NIfTI reader reads a file whole or refuses it (issue 19, "readers that never
-guess"), on truncated and edited copies of the real Colin27 T1 (ch2.nii.gz) and on small
+"""The NIfTI reader reads a file whole or refuses it (readers never
+guess), on truncated and edited copies of the real Colin27 T1 (ch2.nii.gz) and on small
 hand-written headers:
 
 | input                                          | expected                           |

@@ -1,4 +1,4 @@
-"""Probing and brushing (issue 18, section 3): linking the volume and its reduced domain.
+"""Probing and brushing: linking the volume and its reduced domain.
 
 (1) Synthetic volume with known ReducedCoordinates (a resampled Wavelet: spacing
     (1, 0.5, 1.5), origin (-3, 0, 1), so indices, ids and positions differ): probe() of a

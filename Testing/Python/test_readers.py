@@ -1,5 +1,5 @@
-"""The MetaImage and TIFF readers read a file whole or refuse it (issue 19, "readers that
-never guess"), on copies of the real volumes (Colin27 T1 ch2.nii.gz, brainsmall.den)
+"""The MetaImage and TIFF readers read a file whole or refuse it (readers
+never guess), on copies of the real volumes (Colin27 T1 ch2.nii.gz, brainsmall.den)
 written here with VTK's writers, cut, edited or replaced by random bytes; the NIfTI rows
 of the memory check are here too (the other NIfTI rows: test_nifti_reader.py).
 

@@ -3,8 +3,7 @@
 The folder holds the fetched volumes as they are (Colin27 ch2.nii.gz, brainsmall.den, the
 4D diffusion volume small_64D.nii), conversions of real volumes written here with
 ParaView/VTK writers (ch2 at half resolution as .vti, the AAL atlas as .mhd/.raw,
-brainsmall as a stack of 2D TIFF slices), broken files of every format (issue 19
-section 5): a gzip-of-text .nii.gz, ch2.nii.gz cut inside its gzip stream, brainsmall.den
+brainsmall as a stack of 2D TIFF slices), broken files of every format: a gzip-of-text .nii.gz, ch2.nii.gz cut inside its gzip stream, brainsmall.den
 cut to half, ch2 as .mhd/.raw with the .raw cut, ch2 as a multi-page TIFF cut to half,
 and random bytes named .nii, .den, .mhd and .tif; and one file that is no volume. Checks:
 the index (HTML + JSON), a non-blank thumbnail and a unit best direction for every good

@@ -159,7 +159,7 @@ check_volume("ImageJ TZCYX uint8, labels, zlib", proxy, msgs, tcz, list(NAMES),
              (2.0, 2.0, 2.0), "µm", times=[0.0, 1.0], time_unit="frame")
 simple.Delete(proxy)
 
-# A multi-page TIFF that is not ImageJ: one array, each page a slice, as before.
+# A multi-page TIFF that is not ImageJ: one array, each page a slice.
 tifffile.imwrite(path("plain.tif"), zcyx[0], photometric="minisblack")
 proxy, msgs = open_checked(path("plain.tif"))
 got = volume_arrays(output(proxy))

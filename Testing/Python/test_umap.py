@@ -1,5 +1,5 @@
 """DimensionReduction Method=UMAP on the real 3-channel brain (Colin27 ch2 T1 + AAL +
-Brodmann), 24D MultichannelFeatures (issue 21).
+Brodmann), 24D MultichannelFeatures.
 
 * UMAP and landmark Isomap (its defaults: K = 50, L = 500) on the same reference sample
   (same ReferenceSampleSize and RandomSeed): UMAP's reported trustworthiness is at least

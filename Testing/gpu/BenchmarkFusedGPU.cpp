@@ -1,4 +1,4 @@
-// mcvBenchmarkFusedGPU (issue 20 section 4): the fused reduction chain on a 3-channel volume of
+// mcvBenchmarkFusedGPU: the fused reduction chain on a 3-channel volume of
 // about 1 G voxels on the GPU, and a 64 M-voxel case where the CPU (all cores) and the GPU
 // coordinates are compared, the CPU run being the in-run baseline of the time ratio.
 //
@@ -361,7 +361,7 @@ int main(int argc, char** argv)
     if (!mcv::testing::hasFlag(argc, argv, "--stage-only") || gpuSmall.refX.empty())
     {
       const ChainRun gpu = runChain(t, mcv::Device::GPU, reference, deviceBytes);
-      std::printf("target of issue 20: whole chain <= 10 s at 1 G voxels on one H100; measured %.2f s (GPU stage %.2f s)\n",
+      std::printf("target: whole chain <= 10 s at 1 G voxels on one H100; measured %.2f s (GPU stage %.2f s)\n",
         gpu.wholeS, gpu.result.placeMs / 1e3);
     }
     if (!gpuSmall.refX.empty() &&

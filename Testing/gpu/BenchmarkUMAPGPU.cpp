@@ -1,6 +1,5 @@
 // mcvBenchmarkUMAPGPU: UMAP's CUDA layout (reduction/cuda/UMAPLayoutCuda.h) against the CPU layout in
-// the same run, on reference samples of the real brain's 24D features (issue 21's GPU
-// targets), and the whole 7.1 M-voxel brain with UMAP beside Isomap.
+// the same run, on reference samples of the real brain's 24D features, and the whole 7.1 M-voxel brain with UMAP beside Isomap.
 //  1. For each N (--sizes, default 10000,100000): the reference sample of N distinct
 //     vectors that reduceDimension would draw; fitUMAP (kNN graph, fuzzy set, spectral
 //     start, layout, principal axes) on the CPU and with the layout on the GPU, timed whole

@@ -1,4 +1,4 @@
-// The GPU fused reduction (issue 20 section 2): features computed, normalised and placed on
+// The GPU fused reduction: features computed, normalised and placed on
 // the device slab by slab (features/cuda/FusedPlacementCuda.h) against the CPU fused path
 // (FeatureBricks blocks + placeOutOfSample), with a device budget forced small so that many
 // slabs (and both streams) are used. Same reference sample and fit (both come from the CPU
@@ -80,7 +80,7 @@ TEST(FusedGPU, TooSmallABudgetFallsBackToTheCpuWithAWarning)
 
 TEST(FusedGPU, Float16OutputIsTheFloatOutputRounded)
 {
-  // float16 coordinates (issue 20 §1): each slab's pinned staging buffer is rounded into the
+  // float16 coordinates: each slab's pinned staging buffer is rounded into the
   // output, so the result is the float32 GPU output rounded, bit for bit; the same from the
   // GPU placement of a Features matrix (placed a chunk of rows at a time).
   MCV_REQUIRE_GPU();

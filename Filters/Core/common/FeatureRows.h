@@ -1,7 +1,7 @@
 // Feature vectors as the dimension reduction reads them: rows (voxels) x cols (features),
 // float32, block by block. Either a matrix in memory (MatrixRows: the `Features` array of
 // MultichannelFeatures), or vectors computed from the channels a block at a time and never
-// stored whole (features/FeatureBricks.h: the fused path of issue 20). In common/ because
+// stored whole (features/FeatureBricks.h: the fused path). In common/ because
 // the features and the reduction meet here without including each other.
 #pragma once
 

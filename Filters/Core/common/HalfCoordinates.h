@@ -1,4 +1,4 @@
-// Reduced coordinates stored as float16 (issue 20 §1): VTK 9.2 has no half-float array, so
+// Reduced coordinates stored as float16: VTK 9.2 has no half-float array, so
 // the suite's convention is a uint16 array holding IEEE binary16 bits (an unsigned-short
 // ReducedCoordinates array is read as float16). These are the only conversions the suite
 // uses, through Eigen::half (round to nearest even; F16C where the compiler targets it).

@@ -2,8 +2,8 @@
 // allows it (Linux madvise(MADV_HUGEPAGE); THP in "always" or "madvise" mode).
 //
 // Why: the landmark pencil's 500 x 500 matrix is fresh memory on every fit, and its 512
-// page faults of 4 KB cost ~0.7 ms against ~0.1 ms for one 2 MB page (2-core dev VM), 5 %
-// of an LLE fit of 2000 points. Buffers under 1 MB are plain allocations (a huge page would
+// page faults of 4 KB cost several times what one 2 MB page costs, a noticeable share of
+// an LLE fit of 2000 points. Buffers under 1 MB are plain allocations (a huge page would
 // mostly be waste).
 #pragma once
 

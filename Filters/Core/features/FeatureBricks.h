@@ -1,5 +1,5 @@
 // The features of a volume a slab of z slices at a time, never stored whole: the fused
-// path of DimensionReduction (issue 20), where the 24 floats per voxel of the whole
+// path of DimensionReduction, where the 24 floats per voxel of the whole
 // Features array (5.5 GB at 57 M voxels) would not fit.
 //
 // A slab is computed from the channels with one ghost slice on each side (the reach of the
@@ -117,7 +117,7 @@ public:
   // (docs/benchmarks.md §7.2). At least 4 slices of the block, unless that exceeds
   // kDefaultSlabBytes: a slab computes one ghost slice on each side, so thinner slabs would
   // spend more than half their time on ghosts (4 slices is what one process pays at
-  // 57 M voxels). One process (whole piece): kDefaultSlabBytes, as before. The slab size
+  // 57 M voxels). One process (whole piece): kDefaultSlabBytes. The slab size
   // never changes the features, only how many slabs compute them.
   static std::size_t slabBytesFor(const ImageGrid& grid, const GridPiece& piece, int features);
 

@@ -133,6 +133,33 @@ def _remote_hint():
             % connection.GetURI())
 
 
+def _check_parallel_rendering(view):
+    """Raises RuntimeError under `mpiexec pvbatch --mpi` when a process of the run cannot
+    render. ParaView asks every process for OpenGL (3.2) through its display when a view is
+    made; if one has none, only process 0 renders, yet the first render of a volume still
+    redistributes the data for ordered compositing, a step all processes must join: ParaView
+    5.11 then waits forever (process 0 in an MPI all-gather, the others waiting for the next
+    request). Nothing to check in a built-in or client-server session (no such step)."""
+    from paraview import servermanager
+
+    pm = servermanager.vtkProcessModule.GetProcessModule()
+    if (pm.GetProcessType() != servermanager.vtkProcessModule.PROCESS_BATCH or
+            pm.GetNumberOfLocalPartitions() < 2):
+        return
+    try:
+        available = view.GetClientSideObject().GetRemoteRenderingAvailable()
+    except AttributeError:  # not a render view
+        return
+    if not available:
+        raise RuntimeError(
+            "A process of this pvbatch --mpi run (%d processes) cannot render: ParaView found "
+            "no OpenGL 3.2 through its display when the view was made (\"remote rendering "
+            "not available\"). Its first volume render would wait forever, so nothing is "
+            "shown. Give every process a display that renders (e.g. run mpiexec under one "
+            "xvfb-run -a, and check that each process gets DISPLAY and XAUTHORITY), or run "
+            "pvbatch without --mpi." % pm.GetNumberOfLocalPartitions())
+
+
 def _check_server_plugin():
     """In a client-server session, a RuntimeError that names what is missing when the
     plugin is loaded on the client but not on the server (its filters would be created on

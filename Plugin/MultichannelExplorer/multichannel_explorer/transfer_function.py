@@ -5,7 +5,7 @@ display of a source in a view (its widgets, its coordinate array).
 
 import math
 
-from ._common import _TracedProperties, _is_representation, _simple
+from ._common import _TracedProperties, _check_parallel_rendering, _is_representation, _simple
 
 __all__ = [
     "GAUSSIAN_TF_REPRESENTATION",
@@ -161,6 +161,7 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     simple = _simple()
     if view is None:
         view = simple.GetActiveViewOrCreate("RenderView")
+    _check_parallel_rendering(view)
     # The first thing shown in a view: frame it, as the GUI does (else the camera may sit
     # inside the volume, and a turn to the best view keeps that distance).
     empty = not any(getattr(r, "Visibility", 0) for r in view.Representations)
