@@ -75,22 +75,33 @@ free_port() {
 
 start_server() {  # start_server PROCESSES: 0 when the server accepts connections
   n="$1"
-  # The X server picks its display number itself (-displayfd: the first number whose lock
-  # it obtains, written to the descriptor once it accepts connections). A number chosen
-  # here and then started could be taken by another test's X server in between: this
-  # server's own would then exit ("Server is already active") while the other answered
-  # xdpyinfo, and the pvserver would draw on a display shared with another test and die
-  # when that test stopped its X server.
-  rm -f "$out/xvfb_$n.display"
-  Xvfb -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp 3>"$out/xvfb_$n.display" \
-    >"$out/xvfb_$n.log" 2>&1 &
-  xvfb_pid=$!
+  # The X server is started on a display number of its own and says when it accepts
+  # connections (-displayfd: the number, written to the descriptor once it does). A number
+  # whose lock another test's X server holds makes this one exit ("Server is already
+  # active"): the next number is tried. Checking a chosen number with xdpyinfo and starting
+  # it after would not do: another test could take it in between, and the pvserver would
+  # draw on a display that test stops. Numbers from 500 up, never :0: with the X server on
+  # :0, a server of 4 MPI processes reported no remote rendering (every process had
+  # OpenGL; 1 and 2 processes rendered), so the client drew the view without the volume.
   display=""
-  for _ in $(seq 1 40); do
-    display=$(tr -dc 0-9 <"$out/xvfb_$n.display" 2>/dev/null)
-    [ -n "$display" ] && break
-    kill -0 "$xvfb_pid" 2>/dev/null || break
-    sleep 0.5
+  first=$(( ($$ % 400) + 500 ))
+  for candidate in $(seq "$first" $((first + 9))); do
+    rm -f "$out/xvfb_$n.display"
+    Xvfb ":$candidate" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp \
+      3>"$out/xvfb_$n.display" >"$out/xvfb_$n.log" 2>&1 &
+    xvfb_pid=$!
+    display=""
+    for _ in $(seq 1 40); do
+      display=$(tr -dc 0-9 <"$out/xvfb_$n.display" 2>/dev/null)
+      [ -n "$display" ] && break
+      kill -0 "$xvfb_pid" 2>/dev/null || break
+      sleep 0.5
+    done
+    [ -n "$display" ] && kill -0 "$xvfb_pid" 2>/dev/null && break
+    kill "$xvfb_pid" 2>/dev/null
+    wait "$xvfb_pid" 2>/dev/null
+    xvfb_pid=""
+    display=""
   done
   if [ -z "$display" ] || ! kill -0 "$xvfb_pid" 2>/dev/null ||
      ! DISPLAY=":$display" xdpyinfo >/dev/null 2>&1; then
