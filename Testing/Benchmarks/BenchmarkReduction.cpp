@@ -26,6 +26,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -147,26 +148,36 @@ ChainResult runFusedChain(const std::vector<mt::Volume>& ch, mcv::FeaturePreset 
   return c;
 }
 
-// Coordinates of two runs of the same features and references: rows within 1e-4 of the range.
-std::size_t rowsWithin(const mcv::ReductionResult& a, const mcv::ReductionResult& b, float& worst)
+// Rows of two runs' coordinates within 1e-4 of the range of `a`'s, among the rows
+// `compared` accepts (all when empty); counts and the worst difference.
+struct Agreement
 {
-  float scale = 0;
+  std::size_t compared = 0, within = 0;
+  float worst = 0, scale = 0;
+};
+Agreement rowsWithin(const mcv::ReductionResult& a, const mcv::ReductionResult& b,
+  const std::function<bool(std::size_t)>& compared = {})
+{
+  Agreement g;
   for (float v : a.coordinates)
-    scale = std::max(scale, std::abs(v));
-  std::size_t equal = 0;
-  worst = 0;
-  for (std::size_t i = 0; i + 2 < a.coordinates.size() && a.coordinates.size() == b.coordinates.size(); i += 3)
+    g.scale = std::max(g.scale, std::abs(v));
+  if (a.coordinates.size() != b.coordinates.size())
+    return g;
+  for (std::size_t row = 0; row < a.coordinates.size() / 3; ++row)
   {
+    if (compared && !compared(row))
+      continue;
+    ++g.compared;
     bool eq = true;
-    for (int k = 0; k < 3; ++k)
+    for (std::size_t k = row * 3; k < row * 3 + 3; ++k)
     {
-      const float d = std::abs(a.coordinates[i + k] - b.coordinates[i + k]);
-      worst = std::max(worst, d);
-      eq = eq && d <= 1e-4f * scale;
+      const float d = std::abs(a.coordinates[k] - b.coordinates[k]);
+      g.worst = std::max(g.worst, d);
+      eq = eq && d <= 1e-4f * g.scale;
     }
-    equal += eq;
+    g.within += eq;
   }
-  return equal;
+  return g;
 }
 
 void printChain(const char* label, const ChainResult& c)
@@ -259,12 +270,11 @@ int main(int argc, char** argv)
         {
           const std::string fusedLabel = p + "D " + dev + " FUSED (statistics pass as 'features')";
           printChain(fusedLabel.c_str(), fc);
-          float worst = 0;
-          const std::size_t within = rowsWithin(c.r, fc.r, worst);
+          const Agreement g = rowsWithin(c.r, fc.r);
           std::printf("    fused vs stored: %s reference rows; %zu of %zu rows within 1e-4 of the range (worst %.3g); "
                       "GPU passes:%s; fused / stored whole chain %.2f\n",
-            c.r.referenceIndices == fc.r.referenceIndices ? "same" : "DIFFERENT", within, c.r.coordinates.size() / 3,
-            worst, passes.empty() ? " none" : passes.c_str(),
+            c.r.referenceIndices == fc.r.referenceIndices ? "same" : "DIFFERENT", g.within, g.compared,
+            g.worst, passes.empty() ? " none" : passes.c_str(),
             (fc.featuresMs + fc.r.totalMs) / (c.featuresMs + c.r.totalMs));
         }
       }
@@ -277,29 +287,15 @@ int main(int argc, char** argv)
       {
         // Same features? (GPU and CPU features agree to float rounding, so compare placements
         // only where the features are bit-identical and the references are the same rows.)
-        std::size_t sameRows = 0, equalCoords = 0;
-        float scale = 0, worst = 0;
-        for (float v : cpuChain.r.coordinates)
-          scale = std::max(scale, std::abs(v));
         const bool sameRefs = cpuChain.r.referenceIndices == c.r.referenceIndices;
-        for (std::size_t i = 0; i < f.rows && sameRefs; ++i)
-        {
-          if (!std::equal(f.values.begin() + i * f.cols, f.values.begin() + (i + 1) * f.cols,
-                cpuFeatures.values.begin() + i * f.cols))
-            continue;
-          ++sameRows;
-          bool eq = true;
-          for (int k = 0; k < 3; ++k)
-          {
-            const float dlt = std::abs(c.r.coordinates[i * 3 + k] - cpuChain.r.coordinates[i * 3 + k]);
-            worst = std::max(worst, dlt);
-            eq = eq && dlt <= 1e-4f * scale;
-          }
-          equalCoords += eq;
-        }
+        const Agreement g = sameRefs ? rowsWithin(cpuChain.r, c.r, [&](std::size_t i) {
+          return std::equal(f.values.begin() + i * f.cols, f.values.begin() + (i + 1) * f.cols,
+            cpuFeatures.values.begin() + i * f.cols);
+        })
+                                     : Agreement();
         std::printf("    GPU vs CPU: %s reference rows; on %zu rows with bit-identical features, %zu within 1e-4 of "
                     "the coordinate range (worst %.3g of %.3g)\n",
-          sameRefs ? "same" : "DIFFERENT", sameRows, equalCoords, worst, scale);
+          sameRefs ? "same" : "DIFFERENT", g.compared, g.within, g.worst, g.scale);
       }
     }
     if (!cpuChain.ok)
