@@ -9,6 +9,7 @@
 #pragma once
 
 #include "FeatureVectors.h"
+#include "NonCopyable.h"
 
 #include <cstddef>
 #include <memory>
@@ -20,13 +21,11 @@ namespace mcv
 namespace cuda
 {
 
-class FeatureMatrixGpu
+class FeatureMatrixGpu : NonCopyable
 {
 public:
   FeatureMatrixGpu();
   ~FeatureMatrixGpu();
-  FeatureMatrixGpu(const FeatureMatrixGpu&) = delete;
-  FeatureMatrixGpu& operator=(const FeatureMatrixGpu&) = delete;
 
   // Device buffers for a rows x cols matrix and one channel of `rows` floats.
   bool allocate(std::size_t rows, int cols, std::string* error);

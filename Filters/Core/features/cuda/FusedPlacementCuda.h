@@ -19,6 +19,7 @@
 #include "cuda/OutOfSampleCuda.h"
 
 #include "FeatureVectors.h"
+#include "NonCopyable.h"
 
 #include <cstddef>
 #include <functional>
@@ -37,13 +38,11 @@ namespace cuda
 // placement). nonFinite: per channel, whether the volume holds a non-finite value (known
 // once filled; the slabs then use the guarded feature kernel, which equals the other on
 // finite data).
-class ResidentChannels
+class ResidentChannels : NonCopyable
 {
 public:
   ResidentChannels() = default;
   ~ResidentChannels();
-  ResidentChannels(const ResidentChannels&) = delete;
-  ResidentChannels& operator=(const ResidentChannels&) = delete;
 
   // Reserves channels x voxels floats when they fit (see above; deviceBytes 0: the free
   // memory less a margin); false, holding nothing, when they do not or the allocation fails.

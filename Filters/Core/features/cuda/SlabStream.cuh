@@ -12,6 +12,7 @@
 #pragma once
 
 #include "FusedPlacementCuda.h"
+#include "NonCopyable.h"
 
 #include <cuda_runtime.h>
 
@@ -93,13 +94,11 @@ struct SlabStreamStats
   double setupMs = 0, fillMs = 0, waitMs = 0, totalMs = 0; // fill: host conversion; wait: for the device
 };
 
-class SlabStream
+class SlabStream : NonCopyable
 {
 public:
   SlabStream() = default;
   ~SlabStream();
-  SlabStream(const SlabStream&) = delete;
-  SlabStream& operator=(const SlabStream&) = delete;
 
   // The device bytes of the stream and the pass for slabs of `slices` slices.
   static std::size_t bytesFor(const SlabStreamSetup& setup, int slices);

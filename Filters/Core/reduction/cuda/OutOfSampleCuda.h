@@ -15,6 +15,8 @@
 // the same candidates, fewer references scanned.
 #pragma once
 
+#include "NonCopyable.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -75,13 +77,11 @@ bool placeOutOfSample(const PlacementInput& input, float* out, std::uint32_t* ne
 // there: the fused path (FusedPlacementCuda.h) computes a slab's features on the device and
 // places them without a round trip. Same kernels, same answers as placeOutOfSample. The
 // column list lives in this file's constant memory: one PlacementOnDevice at a time.
-class PlacementOnDevice
+class PlacementOnDevice : NonCopyable
 {
 public:
   PlacementOnDevice();
   ~PlacementOnDevice();
-  PlacementOnDevice(const PlacementOnDevice&) = delete;
-  PlacementOnDevice& operator=(const PlacementOnDevice&) = delete;
 
   // The references and settings of `input` (its rows and n are not used; dim and columns
   // describe the rows place() will get). `slots`: sets of scratch buffers, one per stream

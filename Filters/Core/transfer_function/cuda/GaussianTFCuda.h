@@ -10,6 +10,7 @@
 #pragma once
 
 #include "GaussianTransferFunction.h"
+#include "NonCopyable.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -46,13 +47,11 @@ struct GaussianTFCoordinates
 // Device-resident state: coordinates and one output buffer. The core uses one shared
 // instance (shadeGaussianWidgetsCached); tests and benchmarks may hold their own to time
 // the steps apart.
-class GaussianTFGpu
+class GaussianTFGpu : NonCopyable
 {
 public:
   GaussianTFGpu();
   ~GaussianTFGpu();
-  GaussianTFGpu(const GaussianTFGpu&) = delete;
-  GaussianTFGpu& operator=(const GaussianTFGpu&) = delete;
 
   // Uploads the coordinates unless the same (data, count, components, non-zero version)
   // are already resident. `uploaded` (if given) says whether it copied.

@@ -8,6 +8,7 @@
 #pragma once
 
 #include "HarrisCuda.h"
+#include "NonCopyable.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -19,13 +20,11 @@ namespace mcv
 namespace cuda
 {
 
-class HarrisPipeline
+class HarrisPipeline : NonCopyable
 {
 public:
   HarrisPipeline();
   ~HarrisPipeline();
-  HarrisPipeline(const HarrisPipeline&) = delete;
-  HarrisPipeline& operator=(const HarrisPipeline&) = delete;
 
   // Copies a volume (x fastest, grid.voxelCount() values) to the device; the copy time is
   // kept as lastUploadMs(). uint8 volumes (0..255) rank exactly like value/255 in float,

@@ -16,6 +16,7 @@
 #pragma once
 
 #include "HarrisCuda.h"
+#include "NonCopyable.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -67,13 +68,11 @@ struct SlabTimings
   std::size_t deviceBytes = 0, pinnedBytes = 0;
 };
 
-class HarrisSlabStream
+class HarrisSlabStream : NonCopyable
 {
 public:
   HarrisSlabStream();
   ~HarrisSlabStream();
-  HarrisSlabStream(const HarrisSlabStream&) = delete;
-  HarrisSlabStream& operator=(const HarrisSlabStream&) = delete;
 
   // Top-N of a host volume (x fastest, grid.voxelCount() values; a 3D grid), slab by slab
   // under the budget (0: deviceBudgetBytes(0)). The points carry whole-volume indices.

@@ -23,6 +23,7 @@
 #pragma once
 
 #include "TopResponses.h"
+#include "NonCopyable.h"
 
 #include <cuda_runtime.h>
 
@@ -60,13 +61,11 @@ struct ListEntry // one candidate of the compacted list
 
 constexpr long long kFastListCapacity = 1 << 16;
 
-class TopNSelector
+class TopNSelector : NonCopyable
 {
 public:
   TopNSelector() = default;
   ~TopNSelector();
-  TopNSelector(const TopNSelector&) = delete;
-  TopNSelector& operator=(const TopNSelector&) = delete;
 
   // The level-1 histogram (kLevel1Bins counters) that the Harris kernel fills.
   unsigned long long* level1Histogram() const { return Hist; }
