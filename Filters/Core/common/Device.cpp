@@ -1,4 +1,5 @@
 #include "Device.h"
+#include "EnumNames.h"
 
 #ifdef MCV_HAS_CUDA
 #include "cuda/DeviceProbe.h"
@@ -11,16 +12,9 @@ namespace mcv
 
 const char* deviceName(Device device)
 {
-  switch (device)
-  {
-    case Device::Auto:
-      return "Auto";
-    case Device::CPU:
-      return "CPU";
-    case Device::GPU:
-      return "GPU";
-  }
-  return "unknown";
+  static const EnumName<Device> names[] = { { Device::Auto, "Auto" }, { Device::CPU, "CPU" },
+    { Device::GPU, "GPU" } };
+  return nameOf(names, device, "unknown");
 }
 
 bool gpuUsable(std::string* reason)

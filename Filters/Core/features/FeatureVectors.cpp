@@ -1,4 +1,5 @@
 #include "FeatureVectors.h"
+#include "EnumNames.h"
 #include "TypedChannel.h"
 
 #ifdef MCV_HAS_CUDA
@@ -72,32 +73,34 @@ std::vector<std::string> featureNames(
   return names;
 }
 
+namespace
+{
+const EnumName<FeatureNormalization> kNormalizationNames[] = {
+  { FeatureNormalization::ZScore, "ZScore" }, { FeatureNormalization::MinMax, "MinMax" },
+  { FeatureNormalization::None, "None" }
+};
+const EnumName<FeaturePreset> kPresetNames[] = { { FeaturePreset::SixD, "6D" },
+  { FeaturePreset::TwentyFourD, "24D" }, { FeaturePreset::Custom, "Custom" } };
+}
+
 const char* normalizationName(FeatureNormalization n)
 {
-  switch (n)
-  {
-    case FeatureNormalization::ZScore:
-      return "ZScore";
-    case FeatureNormalization::MinMax:
-      return "MinMax";
-    case FeatureNormalization::None:
-      return "None";
-  }
-  return "unknown";
+  return nameOf(kNormalizationNames, n, "unknown");
 }
 
 const char* presetName(FeaturePreset p)
 {
-  switch (p)
-  {
-    case FeaturePreset::SixD:
-      return "6D";
-    case FeaturePreset::TwentyFourD:
-      return "24D";
-    case FeaturePreset::Custom:
-      return "Custom";
-  }
-  return "unknown";
+  return nameOf(kPresetNames, p, "unknown");
+}
+
+bool normalizationNamed(const std::string& name, FeatureNormalization& normalization)
+{
+  return valueOf(kNormalizationNames, name, normalization);
+}
+
+bool presetNamed(const std::string& name, FeaturePreset& preset)
+{
+  return valueOf(kPresetNames, name, preset);
 }
 
 namespace

@@ -136,6 +136,9 @@ int featureCount(std::size_t channels, const FeatureOptions& options);
 // The names a file or a message uses: "ZScore", "MinMax", "None"; "6D", "24D", "Custom".
 const char* normalizationName(FeatureNormalization normalization);
 const char* presetName(FeaturePreset preset);
+// And back: the value of a name; false (the value untouched) for an unknown name.
+bool normalizationNamed(const std::string& name, FeatureNormalization& normalization);
+bool presetNamed(const std::string& name, FeaturePreset& preset);
 
 // Column names, in output order, for the given channel names.
 std::vector<std::string> featureNames(

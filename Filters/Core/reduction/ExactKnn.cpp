@@ -2,6 +2,8 @@
 // round every product and sum on its own, as the CUDA kernel does with __dmul_rn/__dadd_rn.
 #include "ExactKnn.h"
 
+#include "EnumNames.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -32,16 +34,9 @@ struct Pair
 
 const char* knnMethodName(KnnMethod method)
 {
-  switch (method)
-  {
-    case KnnMethod::Auto:
-      return "auto";
-    case KnnMethod::KdTree:
-      return "kd-tree";
-    case KnnMethod::BruteForce:
-      return "brute force";
-  }
-  return "unknown";
+  static const EnumName<KnnMethod> names[] = { { KnnMethod::Auto, "auto" },
+    { KnnMethod::KdTree, "kd-tree" }, { KnnMethod::BruteForce, "brute force" } };
+  return nameOf(names, method, "unknown");
 }
 
 KnnMethod chooseKnnMethod(int dimension, int k, std::size_t references)

@@ -1,5 +1,7 @@
 #include "FaultInjection.h"
 
+#include "EnumNames.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -71,18 +73,13 @@ bool knownStage(const std::string& stage)
   return false;
 }
 
+const EnumName<CudaCall> kCallNames[] = { { CudaCall::Any, "any" }, { CudaCall::Alloc, "alloc" },
+  { CudaCall::Copy, "copy" }, { CudaCall::Launch, "launch" }, { CudaCall::Sync, "sync" },
+  { CudaCall::Other, "other" } };
+
 bool parseKind(const std::string& text, CudaCall& kind)
 {
-  for (CudaCall k : { CudaCall::Any, CudaCall::Alloc, CudaCall::Copy, CudaCall::Launch,
-         CudaCall::Sync, CudaCall::Other })
-  {
-    if (text == cudaCallName(k))
-    {
-      kind = k;
-      return true;
-    }
-  }
-  return false;
+  return valueOf(kCallNames, text, kind);
 }
 
 // Parses "<stage>:<n>" or "<stage>:<kind>:<n>".
@@ -163,22 +160,7 @@ void readEnvironmentOnce()
 
 const char* cudaCallName(CudaCall kind)
 {
-  switch (kind)
-  {
-    case CudaCall::Any:
-      return "any";
-    case CudaCall::Alloc:
-      return "alloc";
-    case CudaCall::Copy:
-      return "copy";
-    case CudaCall::Launch:
-      return "launch";
-    case CudaCall::Sync:
-      return "sync";
-    case CudaCall::Other:
-      return "other";
-  }
-  return "?";
+  return nameOf(kCallNames, kind, "?");
 }
 
 void injectFailure(const std::string& stage, CudaCall kind, long n)
