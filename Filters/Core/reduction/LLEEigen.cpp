@@ -163,6 +163,22 @@ bool rayleighRitz(const LLESparse& A, Eigen::MatrixXd V, int d, LLEBottomEigen& 
   return true;
 }
 
+// The eigenvectors of a Spectra solver run to convergence (`rule`, up to `iterations`
+// restarts, tolerance 1e-8), or an empty matrix and `failure` as why.
+template <class Solver>
+Eigen::MatrixXd converged(Solver& eigs, Spectra::SortRule rule, int iterations,
+  const char* failure, std::string& why)
+{
+  eigs.init();
+  eigs.compute(rule, iterations, 1e-8);
+  if (eigs.info() != Spectra::CompInfo::Successful)
+  {
+    why = failure;
+    return {};
+  }
+  return eigs.eigenvectors();
+}
+
 // The nev candidate vectors of one solver, or an empty matrix and why.
 Eigen::MatrixXd candidates(const LLESparse& A, LLESolver solver, int nev, std::string& why)
 {
@@ -177,14 +193,8 @@ Eigen::MatrixXd candidates(const LLESparse& A, LLESolver solver, int nev, std::s
       return {};
     }
     Spectra::SymEigsSolver<LUNormalInverse> eigs(op, nev, ncv);
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-8);
-    if (eigs.info() != Spectra::CompInfo::Successful)
-    {
-      why = "shift-invert (LU of A) did not converge";
-      return {};
-    }
-    return eigs.eigenvectors();
+    return converged(
+      eigs, Spectra::SortRule::LargestMagn, 300, "shift-invert (LU of A) did not converge", why);
   }
   if (solver == LLESolver::ShiftInvert)
   {
@@ -197,28 +207,15 @@ Eigen::MatrixXd candidates(const LLESparse& A, LLESolver solver, int nev, std::s
       why = "the sparse LDLT of M failed";
       return {};
     }
-    eigs.init();
-    eigs.compute(Spectra::SortRule::LargestMagn, 300, 1e-8);
-    if (eigs.info() != Spectra::CompInfo::Successful)
-    {
-      why = "shift-invert (LDLT of M) did not converge";
-      return {};
-    }
-    return eigs.eigenvectors();
+    return converged(
+      eigs, Spectra::SortRule::LargestMagn, 300, "shift-invert (LDLT of M) did not converge", why);
   }
   // c >= lambda_max(M) = ||A||_2^2 <= ||A||_1 ||A||_inf.
   const double norm1 = Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(n) * A.cwiseAbs()).maxCoeff();
   const double normInf = Eigen::VectorXd(A.cwiseAbs() * Eigen::VectorXd::Ones(n)).maxCoeff();
   ShiftedProduct op(A, norm1 * normInf);
   Spectra::SymEigsSolver<ShiftedProduct> eigs(op, nev, std::min(n, std::max(4 * nev, 40)));
-  eigs.init();
-  eigs.compute(Spectra::SortRule::LargestAlge, 3000, 1e-8);
-  if (eigs.info() != Spectra::CompInfo::Successful)
-  {
-    why = "Lanczos did not converge";
-    return {};
-  }
-  return eigs.eigenvectors();
+  return converged(eigs, Spectra::SortRule::LargestAlge, 3000, "Lanczos did not converge", why);
 }
 
 // ||M v - lambda v|| of every pair, against max(diag M) ~ ||M||.

@@ -15,38 +15,39 @@ Embedding fitPCAMethod(const RowMatrixF& x, const ReductionOptions& o, const Sta
   return fitPCA(x.data(), static_cast<std::size_t>(x.rows()), static_cast<int>(x.cols()), {}, {}, o.outputDimension, pca);
 }
 
+// The settings every neighbour-graph method (Isomap, LLE, UMAP) takes from the reduction's
+// options; each method adds its own.
+template <class MethodOptions>
+MethodOptions graphMethodOptions(const ReductionOptions& o, const StageProgress& progress)
+{
+  MethodOptions m;
+  m.outputDimension = o.outputDimension;
+  m.numberOfNeighbors = o.numberOfNeighbors;
+  m.seed = o.randomSeed;
+  m.progress = progress;
+  return m;
+}
+
 Embedding fitIsomapMethod(const RowMatrixF& x, const ReductionOptions& o, const StageProgress& progress, PCAModel*)
 {
-  IsomapOptions io;
-  io.outputDimension = o.outputDimension;
-  io.numberOfNeighbors = o.numberOfNeighbors;
+  IsomapOptions io = graphMethodOptions<IsomapOptions>(o, progress);
   io.numberOfLandmarks = o.numberOfLandmarks;
-  io.seed = o.randomSeed;
-  io.progress = progress;
   return fitIsomap(x, io);
 }
 
 Embedding fitLLEMethod(const RowMatrixF& x, const ReductionOptions& o, const StageProgress& progress, PCAModel*)
 {
-  LLEOptions lo;
-  lo.outputDimension = o.outputDimension;
-  lo.numberOfNeighbors = o.numberOfNeighbors;
+  LLEOptions lo = graphMethodOptions<LLEOptions>(o, progress);
   lo.numberOfLandmarks = o.numberOfLandmarks;
-  lo.seed = o.randomSeed;
-  lo.progress = progress;
   return fitLLE(x, lo);
 }
 
 Embedding fitUMAPMethod(const RowMatrixF& x, const ReductionOptions& o, const StageProgress& progress, PCAModel*)
 {
-  UMAPOptions uo;
-  uo.outputDimension = o.outputDimension;
-  uo.numberOfNeighbors = o.numberOfNeighbors;
+  UMAPOptions uo = graphMethodOptions<UMAPOptions>(o, progress);
   uo.minimumDistance = o.minimumDistance;
   uo.numberOfEpochs = o.numberOfEpochs;
-  uo.seed = o.randomSeed;
   uo.device = resolveDevice(o.device); // reduceDimension warns once if the GPU is missing
-  uo.progress = progress;
   return fitUMAP(x, uo);
 }
 
