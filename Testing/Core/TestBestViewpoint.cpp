@@ -252,18 +252,24 @@ TEST(BestViewpoint, BadInputGivesErrors)
   EXPECT_NE(noSpacing.error.find("DataSpacing"), std::string::npos) << noSpacing.error;
 }
 
+// The best view of three blobs in a 24^3 volume, asked of `device`.
+mcv::BestViewpointResult threeBlobsOn(mcv::Device device)
+{
+  mcv::ImageGrid g;
+  g.dims = { 24, 24, 24 };
+  const std::vector<float> I = blobVolume(g, { { 8, 8, 8 }, { 16, 12, 10 }, { 10, 18, 16 } }, 1.5);
+  mcv::BestViewpointOptions o;
+  o.device = device;
+  return mcv::computeBestViewpoint(I.data(), g, o);
+}
+
 TEST(BestViewpoint, GpuRequestWithoutGpuFallsBackWithWarning)
 {
   if (mcv::gpuUsable())
   {
     GTEST_SKIP() << "a GPU is usable here; the fallback is not exercised";
   }
-  mcv::ImageGrid g;
-  g.dims = { 24, 24, 24 };
-  const std::vector<float> I = blobVolume(g, { { 8, 8, 8 }, { 16, 12, 10 }, { 10, 18, 16 } }, 1.5);
-  mcv::BestViewpointOptions o;
-  o.device = mcv::Device::GPU;
-  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, o);
+  const mcv::BestViewpointResult r = threeBlobsOn(mcv::Device::GPU);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.deviceUsed, mcv::Device::CPU);
   ASSERT_FALSE(r.warnings.empty());
@@ -277,12 +283,7 @@ TEST(BestViewpoint, AutoWithoutGpuRunsOnTheCpuWithoutAWarning)
   {
     GTEST_SKIP() << "a GPU is usable here; Auto takes it";
   }
-  mcv::ImageGrid g;
-  g.dims = { 24, 24, 24 };
-  const std::vector<float> I = blobVolume(g, { { 8, 8, 8 }, { 16, 12, 10 }, { 10, 18, 16 } }, 1.5);
-  mcv::BestViewpointOptions o;
-  o.device = mcv::Device::Auto;
-  const mcv::BestViewpointResult r = mcv::computeBestViewpoint(I.data(), g, o);
+  const mcv::BestViewpointResult r = threeBlobsOn(mcv::Device::Auto);
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.deviceUsed, mcv::Device::CPU);
   for (const std::string& w : r.warnings)

@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -26,8 +27,10 @@ struct Manifold
   mcv::FeatureMatrix matrix() const { return { x.data(), n, 3 }; }
 };
 
-// scikit-learn's make_swiss_roll: t = 1.5 pi (1 + 2u), (t cos t, 21 v, t sin t).
-Manifold swissRoll(std::size_t n, unsigned seed)
+// n points of a 2D manifold in 3D: for uniform u, v in [0, 1), drawn in that order,
+// t = tOf(u) is the manifold parameter and the point is point(t, v).
+template <class ParameterOf, class PointOf>
+Manifold sampleManifold(std::size_t n, unsigned seed, ParameterOf tOf, PointOf point)
 {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -35,30 +38,29 @@ Manifold swissRoll(std::size_t n, unsigned seed)
   m.n = n;
   for (std::size_t i = 0; i < n; ++i)
   {
-    const double t = 1.5 * M_PI * (1.0 + 2.0 * u(rng));
-    const double h = 21.0 * u(rng);
+    const double t = tOf(u(rng));
+    const std::array<double, 3> p = point(t, u(rng));
     m.t.push_back(t);
-    m.x.insert(m.x.end(), { static_cast<float>(t * std::cos(t)), static_cast<float>(h), static_cast<float>(t * std::sin(t)) });
+    m.x.insert(m.x.end(), { static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]) });
   }
   return m;
+}
+
+// scikit-learn's make_swiss_roll: t = 1.5 pi (1 + 2u), (t cos t, 21 v, t sin t).
+Manifold swissRoll(std::size_t n, unsigned seed)
+{
+  return sampleManifold(
+    n, seed, [](double u) { return 1.5 * M_PI * (1.0 + 2.0 * u); },
+    [](double t, double v) { return std::array<double, 3>{ t * std::cos(t), 21.0 * v, t * std::sin(t) }; });
 }
 
 // scikit-learn's make_s_curve: t = 3 pi (u - 1/2), (sin t, 2 v, sign(t)(cos t - 1)).
 Manifold sCurve(std::size_t n, unsigned seed)
 {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Manifold m;
-  m.n = n;
-  for (std::size_t i = 0; i < n; ++i)
-  {
-    const double t = 3.0 * M_PI * (u(rng) - 0.5);
-    const double h = 2.0 * u(rng);
-    m.t.push_back(t);
-    m.x.insert(m.x.end(), { static_cast<float>(std::sin(t)), static_cast<float>(h),
-                            static_cast<float>((t < 0 ? -1.0 : 1.0) * (std::cos(t) - 1.0)) });
-  }
-  return m;
+  return sampleManifold(n, seed, [](double u) { return 3.0 * M_PI * (u - 0.5); },
+    [](double t, double v) {
+      return std::array<double, 3>{ std::sin(t), 2.0 * v, (t < 0 ? -1.0 : 1.0) * (std::cos(t) - 1.0) };
+    });
 }
 
 double correlation(const std::vector<float>& coords, int d, int column, const std::vector<double>& t)

@@ -55,6 +55,7 @@ struct Block
   mcv::ImageGrid grid;
   mcv::GridPiece piece;
   Extent extent; // of the block, in whole-volume indices
+  Extent pieceInBlock; // the piece, in block indices
 };
 
 // The piece padded by `ghost` layers (clipped to the volume) and what it owns: the piece
@@ -74,6 +75,8 @@ Block makeBlock(const Extent& whole, const Extent& piece, int ghost, const mcv::
     const int ownedHi = piece[2 * a + 1] == whole[2 * a + 1] ? piece[2 * a + 1] : piece[2 * a + 1] - 1;
     b.piece.ownedLo[a] = piece[2 * a] - b.extent[2 * a];
     b.piece.ownedHi[a] = ownedHi - b.extent[2 * a];
+    b.pieceInBlock[2 * a] = piece[2 * a] - b.extent[2 * a];
+    b.pieceInBlock[2 * a + 1] = piece[2 * a + 1] - b.extent[2 * a];
   }
   return b;
 }
@@ -251,12 +254,7 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
         mcv::computeFeatures(views(local), b.grid, o, { out.data(), b.grid.voxelCount(), F },
           results[static_cast<std::size_t>(rank)]);
       }
-      Extent inBlock;
-      for (int a = 0; a < 6; ++a)
-      {
-        inBlock[a] = piece[a] - b.extent[2 * (a / 2)];
-      }
-      pieceFeatures[static_cast<std::size_t>(rank)] = cropValues(out, F, b.grid, inBlock);
+      pieceFeatures[static_cast<std::size_t>(rank)] = cropValues(out, F, b.grid, b.pieceInBlock);
     });
     for (int r = 0; r < R; ++r)
     {
@@ -329,12 +327,7 @@ TEST_P(Distributed, BackgroundMaskEqualsOneProcess)
     o.piece = b.piece;
     std::vector<unsigned char> out(b.grid.voxelCount());
     mcv::computeBackgroundMask(views(local), b.grid, o, out.data(), results[static_cast<std::size_t>(rank)]);
-    Extent inBlock;
-    for (int a = 0; a < 6; ++a)
-    {
-      inBlock[a] = piece[a] - b.extent[2 * (a / 2)];
-    }
-    pieceMasks[static_cast<std::size_t>(rank)] = cropValues(out, 1, b.grid, inBlock);
+    pieceMasks[static_cast<std::size_t>(rank)] = cropValues(out, 1, b.grid, b.pieceInBlock);
   });
   for (int r = 0; r < R; ++r)
   {

@@ -3,6 +3,7 @@
 // of the header's formula written here independently, bytes = round(255 v), the bad
 // inputs, non-finite coordinates, the opacity-only path and the exp kernel.
 #include "GaussianTransferFunction.h"
+#include "GaussianWidgetsReference.h"
 
 #include <gtest/gtest.h>
 
@@ -42,23 +43,8 @@ std::vector<double> reference(const std::vector<float>& coords, int components, 
     bool finite = true;
     for (int d = 0; d < components; ++d)
       finite = finite && std::isfinite(coords[v * components + d]);
-    if (!finite)
-      continue;
-    double transmit = 1, sum = 0, rgb[3] = { 0, 0, 0 };
-    for (const GaussianWidget& w : widgets)
-    {
-      double d2 = 0;
-      for (int d = 0; d < components; ++d)
-        d2 += std::pow(coords[v * components + d] - w.center[d], 2);
-      const double alpha = w.opacity * std::exp(-d2 / (2 * w.sigma * w.sigma));
-      transmit *= 1 - alpha;
-      sum += alpha;
-      for (int k = 0; k < 3; ++k)
-        rgb[k] += alpha * w.color[k];
-    }
-    for (int k = 0; k < 3; ++k)
-      rgba[4 * v + k] = sum > 0 ? rgb[k] / sum : 0;
-    rgba[4 * v + 3] = 1 - transmit;
+    if (finite)
+      mcv::testing::referenceRGBA(coords.data() + v * components, components, widgets, &rgba[4 * v]);
   }
   return rgba;
 }

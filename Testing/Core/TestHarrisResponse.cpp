@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace
@@ -186,36 +187,39 @@ const Shape kShapes[] = { { { 37, 53, 29 }, { 0.8, 1.3, 2.1 }, {} }, { { 400, 9,
   { { 5, 6, 3 }, { 1, 1, 1 }, {} }, { { 45, 38, 1 }, { 0.7, 1.1, 1.6 }, {} }, { { 1, 45, 38 }, { 0.7, 1.1, 1.6 }, {} },
   { { 45, 1, 38 }, { 0.7, 1.1, 1.6 }, {} } };
 
-TEST(HarrisResponse, RoundsLikeTheGpuKernelBitForBit)
+// check(grid, volume, params) on a random volume of each shape of kShapes, the volumes
+// seeded seed + 1, seed + 2, ...
+template <class Check>
+void onEveryShape(unsigned seed, Check check)
 {
-  unsigned seed = 7;
   for (const Shape& shape : kShapes)
   {
     mcv::ImageGrid g;
     g.dims = shape.dims;
     g.spacing = shape.spacing;
-    const std::vector<float> I = randomVolume(g, ++seed);
-    std::vector<float> R(I.size());
-    mcv::computeHarrisResponseCPU(I.data(), g, shape.params, R.data());
-    EXPECT_EQ(differingBits(R, gpuArithmetic(I, g, shape.params)), 0u)
-      << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2] << " width " << shape.params.kernelWidth;
+    SCOPED_TRACE(std::to_string(g.dims[0]) + "x" + std::to_string(g.dims[1]) + "x" +
+      std::to_string(g.dims[2]) + " width " + std::to_string(shape.params.kernelWidth));
+    check(g, randomVolume(g, ++seed), shape.params);
   }
+}
+
+TEST(HarrisResponse, RoundsLikeTheGpuKernelBitForBit)
+{
+  onEveryShape(7, [](const mcv::ImageGrid& g, const std::vector<float>& I, const mcv::HarrisParameters& params) {
+    std::vector<float> R(I.size());
+    mcv::computeHarrisResponseCPU(I.data(), g, params, R.data());
+    EXPECT_EQ(differingBits(R, gpuArithmetic(I, g, params)), 0u);
+  });
 }
 
 TEST(HarrisResponse, PortableAndVectorisedPathsGiveTheSameBits)
 {
-  unsigned seed = 70;
-  for (const Shape& shape : kShapes)
-  {
-    mcv::ImageGrid g;
-    g.dims = shape.dims;
-    g.spacing = shape.spacing;
-    const std::vector<float> I = randomVolume(g, ++seed);
+  onEveryShape(70, [](const mcv::ImageGrid& g, const std::vector<float>& I, const mcv::HarrisParameters& params) {
     std::vector<float> wide(I.size()), portable(I.size());
-    mcv::computeHarrisResponseCPU(I.data(), g, shape.params, wide.data());
-    mcv::computeHarrisResponseCPU(I.data(), g, shape.params, portable.data(), mcv::HarrisCpuKernel::Portable);
-    EXPECT_EQ(differingBits(wide, portable), 0u) << g.dims[0] << "x" << g.dims[1] << "x" << g.dims[2];
-  }
+    mcv::computeHarrisResponseCPU(I.data(), g, params, wide.data());
+    mcv::computeHarrisResponseCPU(I.data(), g, params, portable.data(), mcv::HarrisCpuKernel::Portable);
+    EXPECT_EQ(differingBits(wide, portable), 0u);
+  });
 }
 
 // The top-N selected while the response is computed: the selection from the whole

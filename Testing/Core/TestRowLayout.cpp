@@ -38,26 +38,45 @@ void expectSameRuns(const mcv::RowLayout& rows, std::size_t begin, std::size_t e
     EXPECT_EQ(got, want) << "rows [" << begin << ", " << end << ")";
   }
 }
+
+// expectSameRuns on 300 random ranges of rows (seeded).
+void expectSameRunsInRandomRanges(const mcv::RowLayout& rows, unsigned seed)
+{
+  std::mt19937 random(seed);
+  for (int trial = 0; trial < 300; ++trial)
+  {
+    std::size_t a = random() % (rows.size() + 1), b = random() % (rows.size() + 1);
+    expectSameRuns(rows, std::min(a, b), std::max(a, b));
+  }
+}
+
+// A 9 x 7 x 11 block of a 20 x 20 x 30 volume whose owned box leaves ghost layers on
+// every side.
+struct SplitBlock
+{
+  mcv::ImageGrid block;
+  mcv::GridPiece piece;
+};
+
+SplitBlock splitBlock()
+{
+  SplitBlock s;
+  s.block.dims = { 9, 7, 11 };
+  s.piece.wholeDims = { 20, 20, 30 };
+  s.piece.offset = { 3, 4, 5 };
+  s.piece.ownedLo = { 1, 1, 2 };
+  s.piece.ownedHi = { 7, 5, 9 };
+  return s;
+}
 } // namespace
 
 TEST(RowLayout, RunsWithinABlockOfASplitVolume)
 {
-  // A 9 x 7 x 11 block whose owned box leaves ghost layers on every side.
-  mcv::ImageGrid block;
-  block.dims = { 9, 7, 11 };
-  mcv::GridPiece piece;
-  piece.wholeDims = { 20, 20, 30 };
-  piece.offset = { 3, 4, 5 };
-  piece.ownedLo = { 1, 1, 2 };
-  piece.ownedHi = { 7, 5, 9 };
-  const mcv::RowLayout rows = mcv::RowLayout::grid(piece, block);
-  const std::size_t n = block.voxelCount(), slice = 9 * 7;
-  std::mt19937 random(3);
-  for (int trial = 0; trial < 300; ++trial)
-  {
-    std::size_t a = random() % (n + 1), b = random() % (n + 1);
-    expectSameRuns(rows, std::min(a, b), std::max(a, b));
-  }
+  const SplitBlock s = splitBlock();
+  const mcv::RowLayout rows = mcv::RowLayout::grid(s.piece, s.block);
+  ASSERT_EQ(rows.size(), s.block.voxelCount());
+  const std::size_t slice = 9 * 7;
+  expectSameRunsInRandomRanges(rows, 3);
   for (std::size_t z = 0; z + 2 <= 11; ++z) // slabs of two slices, as FeatureBricks cuts them
   {
     expectSameRuns(rows, z * slice, (z + 2) * slice);
@@ -67,12 +86,8 @@ TEST(RowLayout, RunsWithinABlockOfASplitVolume)
 TEST(RowLayout, RunsWithinPlainRows)
 {
   const mcv::RowLayout rows = mcv::RowLayout::plain(100003, 17);
-  std::mt19937 random(5);
-  for (int trial = 0; trial < 300; ++trial)
-  {
-    std::size_t a = random() % 100004, b = random() % 100004;
-    expectSameRuns(rows, std::min(a, b), std::max(a, b));
-  }
+  ASSERT_EQ(rows.size(), 100003u);
+  expectSameRunsInRandomRanges(rows, 5);
   expectSameRuns(rows, 0, 100003);
 }
 
@@ -81,32 +96,21 @@ TEST(RowLayout, TimeStepsRepeatTheBlock)
   // Three time steps of one 9 x 7 x 11 block: step s's runs are step 0's, shifted by s
   // blocks in rows and by s whole volumes in global indices; runsWithin still agrees with a
   // scan of every run.
-  mcv::ImageGrid block;
-  block.dims = { 9, 7, 11 };
-  mcv::GridPiece piece;
-  piece.wholeDims = { 20, 20, 30 };
-  piece.offset = { 3, 4, 5 };
-  piece.ownedLo = { 1, 1, 2 };
-  piece.ownedHi = { 7, 5, 9 };
+  const SplitBlock s = splitBlock();
   const int steps = 3;
-  const mcv::RowLayout one = mcv::RowLayout::grid(piece, block);
-  const mcv::RowLayout three = mcv::RowLayout::grid(piece, block, steps);
-  const std::size_t blockVoxels = block.voxelCount(), wholeVoxels = 20 * 20 * 30;
+  const mcv::RowLayout one = mcv::RowLayout::grid(s.piece, s.block);
+  const mcv::RowLayout three = mcv::RowLayout::grid(s.piece, s.block, steps);
+  const std::size_t blockVoxels = s.block.voxelCount(), wholeVoxels = 20 * 20 * 30;
   ASSERT_EQ(three.size(), steps * blockVoxels);
   ASSERT_EQ(three.ownedCount(), steps * one.ownedCount());
   ASSERT_EQ(three.runCount(), steps * one.runCount());
   for (std::size_t r = 0; r < three.runCount(); ++r)
   {
-    const std::size_t s = r / one.runCount();
+    const std::size_t step = r / one.runCount();
     const mcv::RowLayout::Run base = one.run(r % one.runCount()), got = three.run(r);
-    EXPECT_EQ(got.row, base.row + s * blockVoxels);
-    EXPECT_EQ(got.global, base.global + static_cast<std::int64_t>(s * wholeVoxels));
+    EXPECT_EQ(got.row, base.row + step * blockVoxels);
+    EXPECT_EQ(got.global, base.global + static_cast<std::int64_t>(step * wholeVoxels));
     EXPECT_EQ(got.count, base.count);
   }
-  std::mt19937 random(5);
-  for (int trial = 0; trial < 300; ++trial)
-  {
-    std::size_t a = random() % (three.size() + 1), b = random() % (three.size() + 1);
-    expectSameRuns(three, std::min(a, b), std::max(a, b));
-  }
+  expectSameRunsInRandomRanges(three, 5);
 }

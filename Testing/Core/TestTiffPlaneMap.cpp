@@ -64,6 +64,20 @@ void addLabels(mcv::ImageJTags& tags, const std::vector<std::string>& labels, bo
   }
 }
 
+// Every plane of a 2-channel, 3-slice, 2-frame map in file 0, at page pageOf(c, z, t).
+template <class PageOf>
+void expectPagesOfOneFile(const TiffPlaneMap& map, PageOf pageOf)
+{
+  for (int t = 0; t < 2; ++t)
+    for (int z = 0; z < 3; ++z)
+      for (int c = 0; c < 2; ++c)
+      {
+        SCOPED_TRACE("c " + std::to_string(c) + " z " + std::to_string(z) + " t " + std::to_string(t));
+        EXPECT_EQ(map.At(c, z, t).File, 0);
+        EXPECT_EQ(map.At(c, z, t).Page, static_cast<std::uint64_t>(pageOf(c, z, t)));
+      }
+}
+
 TEST(ImageJHyperstack, TZCYXPagesChannelFastestThenSliceThenFrame)
 {
   TiffPlaneMap map;
@@ -71,13 +85,8 @@ TEST(ImageJHyperstack, TZCYXPagesChannelFastestThenSliceThenFrame)
   EXPECT_EQ(map.SizeC, 2);
   EXPECT_EQ(map.SizeZ, 3);
   EXPECT_EQ(map.SizeT, 2);
-  for (int t = 0; t < 2; ++t)
-    for (int z = 0; z < 3; ++z)
-      for (int c = 0; c < 2; ++c)
-      {
-        EXPECT_EQ(map.At(c, z, t).File, 0);
-        EXPECT_EQ(map.At(c, z, t).Page, static_cast<std::uint64_t>((t * 3 + z) * 2 + c));
-      }
+  // ImageJ's page order: channel fastest, then slice, then frame.
+  expectPagesOfOneFile(map, [](int c, int z, int t) { return (t * 3 + z) * 2 + c; });
   EXPECT_DOUBLE_EQ(map.Spacing[0], 0.5);  // 1 / XResolution
   EXPECT_DOUBLE_EQ(map.Spacing[1], 0.25); // 1 / YResolution
   EXPECT_DOUBLE_EQ(map.Spacing[2], 2.0);  // spacing=
@@ -193,13 +202,7 @@ TEST(OMETiffMetadata, TifffileFileXYZCT)
   EXPECT_EQ(map.SizeT, 2);
   EXPECT_EQ(map.BitsPerSample, 16);
   EXPECT_EQ(map.SampleFormat, 1);
-  for (int t = 0; t < 2; ++t)
-    for (int c = 0; c < 2; ++c)
-      for (int z = 0; z < 3; ++z)
-      {
-        EXPECT_EQ(map.At(c, z, t).File, 0);
-        EXPECT_EQ(map.At(c, z, t).Page, static_cast<std::uint64_t>(z + 3 * (c + 2 * t)));
-      }
+  expectPagesOfOneFile(map, [](int c, int z, int t) { return z + 3 * (c + 2 * t); });
   EXPECT_DOUBLE_EQ(map.Spacing[0], 0.5);  // 500 nm in µm
   EXPECT_DOUBLE_EQ(map.Spacing[1], 0.25); // 250 nm
   EXPECT_DOUBLE_EQ(map.Spacing[2], 2.0);  // µm, the default unit

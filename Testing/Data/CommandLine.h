@@ -3,6 +3,9 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace mcv
 {
@@ -40,6 +43,22 @@ inline bool hasFlag(int argc, char** argv, const char* name)
     }
   }
   return false;
+}
+
+// The integers of a comma-separated list ("64,128,256"); empty items are skipped.
+inline std::vector<int> integerList(const char* text)
+{
+  std::vector<int> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    if (!item.empty())
+    {
+      out.push_back(std::atoi(item.c_str()));
+    }
+  }
+  return out;
 }
 
 } // namespace testing

@@ -314,6 +314,15 @@ inline NiftiInfo readNiftiHeader(ByteReader& f, const std::string& path)
   return info;
 }
 
+// The value of type T stored in the first sizeof(T) bytes of b (host order).
+template <class T>
+double storedValue(const unsigned char* b)
+{
+  T x;
+  std::memcpy(&x, b, sizeof(T));
+  return static_cast<double>(x);
+}
+
 inline float convertVoxel(const unsigned char* p, const NiftiInfo& info)
 {
   unsigned char b[8];
@@ -330,47 +339,23 @@ inline float convertVoxel(const unsigned char* p, const NiftiInfo& info)
       v = static_cast<std::int8_t>(b[0]);
       break;
     case 4:
-    {
-      std::int16_t x;
-      std::memcpy(&x, b, 2);
-      v = x;
+      v = storedValue<std::int16_t>(b);
       break;
-    }
     case 512:
-    {
-      std::uint16_t x;
-      std::memcpy(&x, b, 2);
-      v = x;
+      v = storedValue<std::uint16_t>(b);
       break;
-    }
     case 8:
-    {
-      std::int32_t x;
-      std::memcpy(&x, b, 4);
-      v = x;
+      v = storedValue<std::int32_t>(b);
       break;
-    }
     case 768:
-    {
-      std::uint32_t x;
-      std::memcpy(&x, b, 4);
-      v = x;
+      v = storedValue<std::uint32_t>(b);
       break;
-    }
     case 16:
-    {
-      float x;
-      std::memcpy(&x, b, 4);
-      v = x;
+      v = storedValue<float>(b);
       break;
-    }
     case 64:
-    {
-      double x;
-      std::memcpy(&x, b, 8);
-      v = x;
+      v = storedValue<double>(b);
       break;
-    }
   }
   return static_cast<float>(v * info.slope + info.inter);
 }
@@ -579,34 +564,38 @@ inline Volume gaussianBlobs(
   return v;
 }
 
-// `inside` for voxels whose world position lies in [lo, hi] (inclusive), `outside` elsewhere.
-inline Volume boxVolume(const ImageGrid& grid, std::array<double, 3> lo, std::array<double, 3> hi,
-  float inside = 1.0f, float outside = 0.0f)
+// The volume "box": `inside` for voxels where inBox(i, j, k, x, y, z) holds (voxel indices
+// and world position), `outside` elsewhere.
+template <class InBox>
+Volume boxVolumeWhere(const ImageGrid& grid, float inside, float outside, InBox inBox)
 {
   Volume v;
   v.grid = grid;
   v.values.assign(grid.voxelCount(), outside);
   v.name = "box";
-  forEachVoxel(grid, [&](int, int, int, double x, double y, double z, std::size_t idx) {
-    if (x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1] && z >= lo[2] && z <= hi[2])
+  forEachVoxel(grid, [&](int i, int j, int k, double x, double y, double z, std::size_t idx) {
+    if (inBox(i, j, k, x, y, z))
       v.values[idx] = inside;
   });
   return v;
+}
+
+// `inside` for voxels whose world position lies in [lo, hi] (inclusive), `outside` elsewhere.
+inline Volume boxVolume(const ImageGrid& grid, std::array<double, 3> lo, std::array<double, 3> hi,
+  float inside = 1.0f, float outside = 0.0f)
+{
+  return boxVolumeWhere(grid, inside, outside, [&](int, int, int, double x, double y, double z) {
+    return x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1] && z >= lo[2] && z <= hi[2];
+  });
 }
 
 // Same, by voxel index ranges [i0, i1] x [j0, j1] x [k0, k1] (inclusive).
 inline Volume boxVolumeIndex(const ImageGrid& grid, std::array<int, 3> lo, std::array<int, 3> hi,
   float inside = 1.0f, float outside = 0.0f)
 {
-  Volume v;
-  v.grid = grid;
-  v.values.assign(grid.voxelCount(), outside);
-  v.name = "box";
-  forEachVoxel(grid, [&](int i, int j, int k, double, double, double, std::size_t idx) {
-    if (i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2])
-      v.values[idx] = inside;
+  return boxVolumeWhere(grid, inside, outside, [&](int i, int j, int k, double, double, double) {
+    return i >= lo[0] && i <= hi[0] && j >= lo[1] && j <= hi[1] && k >= lo[2] && k <= hi[2];
   });
-  return v;
 }
 
 // Deterministic 64-bit generator (splitmix64): the same numbers on every platform.
