@@ -1,7 +1,8 @@
 // The flat Gaussian-widget list (8 values per widget: cx, cy, cz, sigma, r, g, b,
 // opacity) behind the `GaussianWidgets` property of the representation, BestViewpoint and
 // ReducedDomain. ParaView sets a variable-length double property element by element
-// (set_number_command + use_index), so each class forwards its Set/Get methods here.
+// (set_number_command + use_index): the representation and vtkGaussianWidgetsAlgorithm (the
+// two filters' base) forward their Set/Get methods here.
 // Header-only, like mcvChannelArrays.h.
 #pragma once
 

@@ -24,7 +24,7 @@
 
 #include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Common/mcvInternalArrays.h"   // vtkGhostType, vtkValidPointMask
-#include "../Common/mcvWidgetValues.h"
+#include "../Common/mcvVoxelCloud.h"       // vertices, copied tuples, VoxelId
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +35,6 @@ vtkStandardNewMacro(vtkReducedDomain);
 
 struct vtkReducedDomain::vtkInternals
 {
-  mcv::vtkhelpers::WidgetValues GaussianWidgets;
   vtkNew<vtkDoubleArray> SeededWidgets;
   vtkNew<vtkDoubleArray> SeededWidgetDetails;
 };
@@ -224,40 +223,9 @@ void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SampleSize: " << this->SampleSize << "\n";
   os << indent << "RandomSeed: " << this->RandomSeed << "\n";
-  os << indent << "GaussianWidgets: " << this->Internals->GaussianWidgets.Size() / 8 << "\n";
   os << indent << "SeedWidgetCount: " << this->SeedWidgetCount << "\n";
   os << indent << "SeedWidgetOpacity: " << this->SeedWidgetOpacity << "\n";
   os << indent << "SkipLargestCluster: " << this->SkipLargestCluster << "\n";
-}
-
-//------------------------------------------------------------------------------
-void vtkReducedDomain::SetNumberOfGaussianWidgetValues(int count)
-{
-  if (this->Internals->GaussianWidgets.SetNumber(count))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkReducedDomain::SetGaussianWidgetValue(int index, double value)
-{
-  if (this->Internals->GaussianWidgets.Set(index, value))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-int vtkReducedDomain::GetNumberOfGaussianWidgetValues()
-{
-  return this->Internals->GaussianWidgets.GetNumber();
-}
-
-//------------------------------------------------------------------------------
-double vtkReducedDomain::GetGaussianWidgetValue(int index)
-{
-  return this->Internals->GaussianWidgets.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -358,8 +326,7 @@ int vtkReducedDomain::RequestMultichannelData(
   }
   sample.dims = sample.coordinates->GetNumberOfComponents();
   sample.n = sample.coordinates->GetNumberOfTuples();
-  const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
+  const mcv::WidgetList widgets = this->ParseGaussianWidgets();
   if (!widgets.ok())
   {
     vtkErrorMacro(<< widgets.error);
@@ -526,41 +493,16 @@ bool vtkReducedDomain::WriteDomain(
   std::copy(s.xyz.begin(), s.xyz.end(), pointArray->GetPointer(0));
   vtkNew<vtkPoints> points;
   points->SetData(pointArray);
-  vtkNew<vtkCellArray> verts;
-  verts->AllocateExact(s.m, s.m);
-  for (vtkIdType i = 0; i < s.m; ++i)
-  {
-    verts->InsertNextCell(1, &i);
-  }
   domain->SetPoints(points);
-  domain->SetVerts(verts);
+  mcv::vtkhelpers::addVertexPerPoint(domain, s.m);
 
-  vtkPointData* inPD = input->GetPointData();
+  // The input's arrays without the coordinates/features, at the sampled points.
   vtkPointData* outPD = domain->GetPointData();
-  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
-  {
-    // The input's arrays without the coordinates/features, at the sampled points.
-    vtkAbstractArray* source = inPD->GetAbstractArray(a);
-    const std::string name = source && source->GetName() ? source->GetName() : "";
-    if (!source || source == s.coordinates || name == "Features" || mcv::vtkhelpers::isInternalArray(name.c_str()))
-    {
-      continue;
-    }
-    vtkSmartPointer<vtkAbstractArray> copy = vtk::TakeSmartPointer(source->NewInstance());
-    copy->SetName(source->GetName());
-    copy->SetNumberOfComponents(source->GetNumberOfComponents());
-    copy->SetNumberOfTuples(s.m);
-    for (vtkIdType i = 0; i < s.m; ++i)
-    {
-      copy->SetTuple(i, s.ids[i], source);
-    }
-    outPD->AddArray(copy);
-  }
-  vtkNew<vtkIdTypeArray> voxelIds;
-  voxelIds->SetName("VoxelId");
-  voxelIds->SetNumberOfTuples(s.m);
-  std::copy(s.ids.begin(), s.ids.end(), voxelIds->GetPointer(0));
-  outPD->AddArray(voxelIds);
+  mcv::vtkhelpers::copyPointTuples(input->GetPointData(), s.ids, outPD,
+    [&s](vtkAbstractArray* source) {
+      return source == s.coordinates || std::string(source->GetName()) == "Features";
+    });
+  mcv::vtkhelpers::addVoxelIds(outPD, s.ids);
   addColourArrays(rgbaFloat, s.m, outPD);
   return true;
 }

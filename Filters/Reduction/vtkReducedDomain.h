@@ -46,7 +46,7 @@
 #define vtkReducedDomain_h
 
 #include "mcvFiltersReductionModule.h" // for export macro
-#include "vtkMultichannelAlgorithm.h"
+#include "vtkGaussianWidgetsAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
 #include <vector> // for std::vector
@@ -66,11 +66,11 @@ struct WidgetList;
 }
 #endif
 
-class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkMultichannelAlgorithm
+class MCVFILTERSREDUCTION_EXPORT vtkReducedDomain : public vtkGaussianWidgetsAlgorithm
 {
 public:
   static vtkReducedDomain* New();
-  vtkTypeMacro(vtkReducedDomain, vtkMultichannelAlgorithm);
+  vtkTypeMacro(vtkReducedDomain, vtkGaussianWidgetsAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -92,14 +92,6 @@ public:
   /** Seed of the sample and of the k-means (same seed, same output). */
   vtkSetMacro(RandomSeed, int);
   vtkGetMacro(RandomSeed, int);
-  ///@}
-
-  ///@{
-  /** Gaussian widgets: 8 values per widget (cx, cy, cz, sigma, r, g, b, opacity). */
-  void SetNumberOfGaussianWidgetValues(int count);
-  void SetGaussianWidgetValue(int index, double value);
-  int GetNumberOfGaussianWidgetValues();
-  double GetGaussianWidgetValue(int index);
   ///@}
 
   ///@{

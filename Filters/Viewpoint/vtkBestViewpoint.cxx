@@ -31,7 +31,6 @@
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
 #include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
-#include "../Common/mcvWidgetValues.h"
 
 #include <algorithm>
 #include <cmath>
@@ -43,14 +42,46 @@
 vtkStandardNewMacro(vtkBestViewpoint);
 vtkCxxSetObjectMacro(vtkBestViewpoint, OpacityFunction, vtkPiecewiseFunction);
 
-struct vtkBestViewpoint::vtkInternals
+// The image's index frame -> world coordinates. An oriented image (direction matrix not
+// identity) is computed in its index frame: its points are rotated and moved to its origin,
+// its directions rotated and normalised. A plain image's grid already is in world
+// coordinates.
+struct vtkBestViewpoint::WorldFrame
 {
-  mcv::vtkhelpers::WidgetValues GaussianWidgets;
+  bool Oriented = false;
+  double Origin[3] = { 0, 0, 0 };
+  vtkNew<vtkMatrix3x3> Direction;
+
+  mcv::Vec3 Point(const mcv::Vec3& p) const
+  {
+    if (!this->Oriented)
+    {
+      return p;
+    }
+    double in[3] = { p[0], p[1], p[2] }, out[3];
+    this->Direction->MultiplyPoint(in, out);
+    return { this->Origin[0] + out[0], this->Origin[1] + out[1], this->Origin[2] + out[2] };
+  }
+
+  void Vector(const mcv::Vec3& v, double out[3]) const
+  {
+    double in[3] = { v[0], v[1], v[2] };
+    if (!this->Oriented)
+    {
+      std::copy(in, in + 3, out);
+      return;
+    }
+    this->Direction->MultiplyPoint(in, out);
+    const double n = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
+    for (int a = 0; a < 3; ++a)
+    {
+      out[a] = n > 0 ? out[a] / n : 0.0;
+    }
+  }
 };
 
 namespace
 {
-
 
 // vtkPiecewiseFunction (data values -> opacity) as the core's piecewise-linear function.
 // Nodes are used as they are when every segment is linear (midpoint 0.5, sharpness 0, the
@@ -140,7 +171,6 @@ void addFieldVector(vtkFieldData* fd, const char* name, const double v[3])
 
 //------------------------------------------------------------------------------
 vtkBestViewpoint::vtkBestViewpoint()
-  : Internals(new vtkInternals)
 {
   this->SetWidgetCoordinates("ReducedCoordinates");
 }
@@ -150,36 +180,6 @@ vtkBestViewpoint::~vtkBestViewpoint()
 {
   this->SetOpacityFunction(nullptr);
   this->SetWidgetCoordinates(nullptr);
-}
-
-//------------------------------------------------------------------------------
-void vtkBestViewpoint::SetNumberOfGaussianWidgetValues(int count)
-{
-  if (this->Internals->GaussianWidgets.SetNumber(count))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-void vtkBestViewpoint::SetGaussianWidgetValue(int index, double value)
-{
-  if (this->Internals->GaussianWidgets.Set(index, value))
-  {
-    this->Modified();
-  }
-}
-
-//------------------------------------------------------------------------------
-int vtkBestViewpoint::GetNumberOfGaussianWidgetValues()
-{
-  return this->Internals->GaussianWidgets.GetNumber();
-}
-
-//------------------------------------------------------------------------------
-double vtkBestViewpoint::GetGaussianWidgetValue(int index)
-{
-  return this->Internals->GaussianWidgets.Get(index);
 }
 
 //------------------------------------------------------------------------------
@@ -371,8 +371,7 @@ bool vtkBestViewpoint::ComputeWidgetOpacity(vtkImageData* image, const mcv::Imag
   const mcv::GridPiece& block, std::vector<float>& opacity)
 {
   const std::size_t count = grid.voxelCount();
-  const mcv::WidgetList widgets = mcv::parseGaussianWidgets(
-    this->Internals->GaussianWidgets.Data(), this->Internals->GaussianWidgets.Size());
+  const mcv::WidgetList widgets = this->ParseGaussianWidgets();
   if (!widgets.ok())
   {
     vtkErrorMacro(<< widgets.error);
@@ -491,33 +490,14 @@ int vtkBestViewpoint::RequestMultichannelData(
     vtkErrorMacro("No output polydata.");
     return 0;
   }
-
-  // ---- Argument checks -----------------------------------------------------------
-  vtkImageData* image =
-    this->GetInputImage(inputVector, "(resample other data to an image first).");
+  mcv::ImageGrid grid;
+  mcv::GridPiece block;
+  vtkImageData* image = this->CheckArguments(inputVector, grid, block);
   if (!image)
   {
     return 0;
   }
-  if (this->NumberOfInterestPoints <= 0)
-  {
-    vtkErrorMacro("NumberOfInterestPoints must be positive (got "
-      << this->NumberOfInterestPoints << ").");
-    return 0;
-  }
-  mcv::ImageGrid grid;
-  mcv::GridPiece block;
-  if (!this->GetImageBlock(image, grid, block))
-  {
-    return 0;
-  }
-  const std::size_t count = grid.voxelCount();
-  if (this->ReportError(mcv::checkViewpointMemory(count)))
-  {
-    return 0;
-  }
 
-  // ---- Opacity volume ------------------------------------------------------------
   this->UpdateProgress(0.0);
   std::vector<float> opacity;
   const bool opacityOk = this->OpacitySource == OPACITY_GAUSSIAN_WIDGETS
@@ -528,21 +508,62 @@ int vtkBestViewpoint::RequestMultichannelData(
     return 0;
   }
 
-  // ---- Geometry --------------------------------------------------------------------
+  WorldFrame frame;
+  this->PlaceGrid(image, grid, block, frame);
+  mcv::BestViewpointResult result;
+  if (!this->ComputeView(opacity, grid, block, frame, result))
+  {
+    return 0;
+  }
+  this->WriteOutput(outputVector, result, frame, output);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+vtkImageData* vtkBestViewpoint::CheckArguments(
+  vtkInformationVector** inputVector, mcv::ImageGrid& grid, mcv::GridPiece& block)
+{
+  vtkImageData* image =
+    this->GetInputImage(inputVector, "(resample other data to an image first).");
+  if (!image)
+  {
+    return nullptr;
+  }
+  if (this->NumberOfInterestPoints <= 0)
+  {
+    vtkErrorMacro("NumberOfInterestPoints must be positive (got "
+      << this->NumberOfInterestPoints << ").");
+    return nullptr;
+  }
+  if (!this->GetImageBlock(image, grid, block))
+  {
+    return nullptr;
+  }
+  if (this->ReportError(mcv::checkViewpointMemory(grid.voxelCount())))
+  {
+    return nullptr;
+  }
+  return image;
+}
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::PlaceGrid(
+  vtkImageData* image, mcv::ImageGrid& grid, const mcv::GridPiece& block, WorldFrame& frame)
+{
   // Voxel (0,0,0) of the arrays is at extent-minimum; an oriented image (direction
   // matrix not identity) is computed in its index frame and rotated back afterwards.
   int extent[6];
   image->GetExtent(extent);
-  double spacing[3], origin[3];
+  double spacing[3];
   image->GetSpacing(spacing);
-  image->GetOrigin(origin);
+  image->GetOrigin(frame.Origin);
   // A negative spacing runs its axis backwards (VTK allows it): the same voxels as a
   // positive spacing with that axis of the direction matrix negated, which the oriented
-  // path below handles (the Harris response does not depend on an axis' sign).
-  vtkNew<vtkMatrix3x3> direction;
+  // path handles (the Harris response does not depend on an axis' sign).
   if (image->GetDirectionMatrix())
   {
-    direction->DeepCopy(image->GetDirectionMatrix());
+    frame.Direction->DeepCopy(image->GetDirectionMatrix());
   }
   for (int a = 0; a < 3; ++a)
   {
@@ -551,57 +572,32 @@ int vtkBestViewpoint::RequestMultichannelData(
       spacing[a] = -spacing[a];
       for (int r = 0; r < 3; ++r)
       {
-        direction->SetElement(r, a, -direction->GetElement(r, a));
+        frame.Direction->SetElement(r, a, -frame.Direction->GetElement(r, a));
       }
     }
   }
-  const bool oriented = !direction->IsIdentity();
+  frame.Oriented = !frame.Direction->IsIdentity();
   for (int a = 0; a < 3; ++a)
   {
     grid.spacing[a] = spacing[a];
-    grid.origin[a] = (oriented ? 0.0 : origin[a]) + extent[2 * a] * spacing[a];
+    grid.origin[a] = (frame.Oriented ? 0.0 : frame.Origin[a]) + extent[2 * a] * spacing[a];
   }
-  auto toWorldPoint = [&](const mcv::Vec3& p) {
-    mcv::Vec3 w = p;
-    if (oriented)
-    {
-      double in[3] = { p[0], p[1], p[2] }, out[3];
-      direction->MultiplyPoint(in, out);
-      w = { origin[0] + out[0], origin[1] + out[1], origin[2] + out[2] };
-    }
-    return w;
-  };
-  auto toWorldVector = [&](const mcv::Vec3& v, double out[3]) {
-    double in[3] = { v[0], v[1], v[2] };
-    if (oriented)
-    {
-      direction->MultiplyPoint(in, out);
-      const double n = std::sqrt(out[0] * out[0] + out[1] * out[1] + out[2] * out[2]);
-      for (int a = 0; a < 3; ++a)
-      {
-        out[a] = n > 0 ? out[a] / n : 0.0;
-      }
-    }
-    else
-    {
-      std::copy(in, in + 3, out);
-    }
-  };
   // The centre of the whole volume (a split run holds only a block of it).
+  mcv::Vec3 center;
   for (int a = 0; a < 3; ++a)
   {
     const double first = grid.origin[a] - block.offset[a] * spacing[a];
-    const double center = first + 0.5 * (block.wholeDims[a] - 1) * spacing[a];
-    this->DataCenter[a] = center;
+    center[a] = first + 0.5 * (block.wholeDims[a] - 1) * spacing[a];
   }
-  if (oriented)
-  {
-    const mcv::Vec3 c =
-      toWorldPoint({ this->DataCenter[0], this->DataCenter[1], this->DataCenter[2] });
-    std::copy(c.begin(), c.end(), this->DataCenter);
-  }
+  center = frame.Point(center);
+  std::copy(center.begin(), center.end(), this->DataCenter);
+}
 
-  // ---- The core ----------------------------------------------------------------------
+//------------------------------------------------------------------------------
+bool vtkBestViewpoint::ComputeView(const std::vector<float>& opacity,
+  const mcv::ImageGrid& grid, const mcv::GridPiece& block, const WorldFrame& frame,
+  mcv::BestViewpointResult& result)
+{
   mcv::BestViewpointOptions options;
   options.method = static_cast<mcv::ViewMethod>(this->Method);
   options.harris.sigma = this->GaussianSigma;
@@ -615,13 +611,12 @@ int vtkBestViewpoint::RequestMultichannelData(
   options.piece = block;
   options.progress = this->ProgressCallback(0.05, 1.0);
 
-  const mcv::BestViewpointResult result =
-    mcv::computeBestViewpoint(opacity.data(), grid, options);
+  result = mcv::computeBestViewpoint(opacity.data(), grid, options);
   this->ReportWarnings(result.warnings);
   if (!result.ok())
   {
     vtkErrorMacro(<< result.error);
-    return 0;
+    return false;
   }
   this->SetDeviceUsed(result.deviceUsed);
   this->StageTimings[0] = result.timings.harrisMs;
@@ -633,10 +628,10 @@ int vtkBestViewpoint::RequestMultichannelData(
   this->ViewValid = view.valid ? 1 : 0;
   if (view.valid)
   {
-    toWorldVector(view.best, this->BestViewDirection);
-    toWorldVector(view.worst, this->WorstViewDirection);
-    toWorldVector(view.viewUp, this->ViewUp);
-    const mcv::Vec3 center = toWorldPoint(view.center);
+    frame.Vector(view.best, this->BestViewDirection);
+    frame.Vector(view.worst, this->WorstViewDirection);
+    frame.Vector(view.viewUp, this->ViewUp);
+    const mcv::Vec3 center = frame.Point(view.center);
     for (int a = 0; a < 3; ++a)
     {
       this->EigenvalueSpectrum[a] = view.eigenvalues[a];
@@ -650,8 +645,14 @@ int vtkBestViewpoint::RequestMultichannelData(
     vtkWarningMacro(<< (view.message.empty() ? std::string("no view direction could be found")
                                              : view.message));
   }
+  return true;
+}
 
-  // ---- Output: interest points (piece 0 only) and field data ----------------------------
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::WriteOutput(vtkInformationVector* outputVector,
+  const mcv::BestViewpointResult& result, const WorldFrame& frame, vtkPolyData* output)
+{
+  // Interest points: piece 0 only.
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   const int piece = outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
     ? outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
@@ -674,7 +675,7 @@ int vtkBestViewpoint::RequestMultichannelData(
   offsets->SetNumberOfTuples(n + 1);
   for (vtkIdType i = 0; i < n; ++i)
   {
-    const mcv::Vec3 p = toWorldPoint(result.pointPositions[i]);
+    const mcv::Vec3 p = frame.Point(result.pointPositions[i]);
     points->SetPoint(i, p[0], p[1], p[2]);
     scores->SetValue(i, result.points.scores[i]);
     voxels->SetValue(i, static_cast<vtkIdType>(result.points.indices[i]));
@@ -690,6 +691,7 @@ int vtkBestViewpoint::RequestMultichannelData(
   output->GetPointData()->SetActiveScalars("HarrisScore");
   output->GetPointData()->AddArray(voxels);
 
+  // The view as field data.
   vtkFieldData* fd = output->GetFieldData();
   addFieldVector(fd, "BestViewDirection", this->BestViewDirection);
   addFieldVector(fd, "WorstViewDirection", this->WorstViewDirection);
@@ -705,9 +707,6 @@ int vtkBestViewpoint::RequestMultichannelData(
   device->SetName("DeviceUsed");
   device->InsertNextValue(this->GetDeviceUsed());
   fd->AddArray(device);
-
-  this->UpdateProgress(1.0);
-  return 1;
 }
 
 //------------------------------------------------------------------------------

@@ -39,9 +39,8 @@
 #define vtkBestViewpoint_h
 
 #include "mcvFiltersViewpointModule.h" // for export macro
-#include "vtkMultichannelAlgorithm.h"
+#include "vtkGaussianWidgetsAlgorithm.h"
 
-#include <memory> // for std::unique_ptr
 #include <string> // for std::string
 #include <vector> // for std::vector
 
@@ -50,17 +49,18 @@ class vtkImageData;
 class vtkPiecewiseFunction;
 namespace mcv
 {
+struct BestViewpointResult;
 struct GridPiece;
 struct ImageGrid;
 }
 
 class vtkPolyData;
 
-class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkMultichannelAlgorithm
+class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkGaussianWidgetsAlgorithm
 {
 public:
   static vtkBestViewpoint* New();
-  vtkTypeMacro(vtkBestViewpoint, vtkMultichannelAlgorithm);
+  vtkTypeMacro(vtkBestViewpoint, vtkGaussianWidgetsAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -102,17 +102,6 @@ public:
    */
   vtkSetClampMacro(OpacitySource, int, OPACITY_CHANNELS, OPACITY_GAUSSIAN_WIDGETS);
   vtkGetMacro(OpacitySource, int);
-  ///@}
-
-  ///@{
-  /**
-   * The Gaussian widgets for OPACITY_GAUSSIAN_WIDGETS: a flat list of 8 values per widget
-   * (cx, cy, cz, sigma, r, g, b, opacity), the representation's GaussianWidgets property.
-   */
-  void SetNumberOfGaussianWidgetValues(int count);
-  void SetGaussianWidgetValue(int index, double value);
-  int GetNumberOfGaussianWidgetValues();
-  double GetGaussianWidgetValue(int index);
   ///@}
 
   ///@{
@@ -203,6 +192,26 @@ protected:
   std::vector<vtkDataArray*> GetDefaultChannels(vtkPointData* pd) override;
 
   void ResetResults();
+
+#ifndef __VTK_WRAP__
+  // The steps of RequestMultichannelData. WorldFrame: the image's index frame -> world.
+  struct WorldFrame;
+  // The input image, its grid and the block of it this process holds, once the arguments
+  // and the memory needed are checked; nullptr after an error was reported.
+  vtkImageData* CheckArguments(
+    vtkInformationVector** inputVector, mcv::ImageGrid& grid, mcv::GridPiece& block);
+  // The grid's spacing and origin in the image's index frame (a negative spacing flips
+  // that axis of the frame), the frame itself and DataCenter, the whole volume's centre.
+  void PlaceGrid(
+    vtkImageData* image, mcv::ImageGrid& grid, const mcv::GridPiece& block, WorldFrame& frame);
+  // The core on the opacity volume; the view directions, centre and timings kept in world
+  // coordinates. False after an error was reported.
+  bool ComputeView(const std::vector<float>& opacity, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& block, const WorldFrame& frame, mcv::BestViewpointResult& result);
+  // Output: the interest points (piece 0 only) and the view as field data.
+  void WriteOutput(vtkInformationVector* outputVector, const mcv::BestViewpointResult& result,
+    const WorldFrame& frame, vtkPolyData* output);
+#endif
   // The opacity volume (count floats) from the channels or from the widgets; false after
   // an error was reported.
   bool ComputeChannelOpacity(vtkImageData* image, const mcv::ImageGrid& grid,
@@ -241,9 +250,6 @@ protected:
 private:
   vtkBestViewpoint(const vtkBestViewpoint&) = delete;
   void operator=(const vtkBestViewpoint&) = delete;
-
-  struct vtkInternals;
-  std::unique_ptr<vtkInternals> Internals;
 };
 
 #endif
