@@ -26,6 +26,8 @@
 #include "OpacityFunction.h"
 #include "ReferenceHarrisCPU.h"
 
+#include "CommandLine.h"
+#include "RunStatistics.h"
 #include "TestVolumes.h"
 
 #include <omp.h>
@@ -44,6 +46,8 @@
 namespace
 {
 namespace mt = mcv::testing;
+using mt::loadAverage;
+using mt::median;
 using Clock = std::chrono::steady_clock;
 
 struct Config
@@ -79,44 +83,11 @@ struct Row
   std::string note;
 };
 
-double median(std::vector<double> v)
-{
-  if (v.empty())
-    return NAN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 std::string fmtVec(const mcv::Vec3& v)
 {
   char buf[96];
   std::snprintf(buf, sizeof(buf), "(%+.3f, %+.3f, %+.3f)", v[0], v[1], v[2]);
   return buf;
-}
-
-std::vector<int> parseList(const char* s)
-{
-  std::vector<int> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(std::atoi(item.c_str()));
-  return out;
-}
-
-// The 1-minute load average (Linux), to tell a quiet machine from a busy one; -1 if unknown.
-double loadAverage()
-{
-  double l = -1;
-  if (FILE* f = std::fopen("/proc/loadavg", "r"))
-  {
-    if (std::fscanf(f, "%lf", &l) != 1)
-      l = -1;
-    std::fclose(f);
-  }
-  return l;
 }
 
 // Floating-point operations per voxel of the Harris response (an FMA counts 2): gradient
@@ -197,7 +168,7 @@ bool parseArgs(int argc, char** argv, Config& c)
     else if (a == "--entropy-runs")
       c.entropyRuns = std::max(1, std::atoi(next("--entropy-runs")));
     else if (a == "--sizes")
-      c.sizes = parseList(next("--sizes"));
+      c.sizes = mt::integerList(next("--sizes"));
     else if (a == "--entropy-samples")
       c.entropySamples = std::max(1, std::atoi(next("--entropy-samples")));
     else if (a == "--large-entropy-samples")

@@ -23,6 +23,10 @@
 #include "GaussianTransferFunction.h"
 #include "SeededRandom.h"
 
+#include "CommandLine.h"
+#include "GaussianWidgetsReference.h"
+#include "RunStatistics.h"
+
 #ifdef MCV_HAS_CUDA
 #include "cuda/GaussianTFCuda.h"
 #endif
@@ -44,6 +48,8 @@
 namespace
 {
 using Clock = std::chrono::steady_clock;
+using mcv::testing::loadAverage;
+using mcv::testing::median;
 
 struct Config
 {
@@ -58,13 +64,6 @@ struct Config
   int threads = 0;
 };
 
-double median(std::vector<double> v)
-{
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n == 0 ? NAN : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
-}
-
 double timeMs(const std::function<void()>& f, int runs)
 {
   std::vector<double> t;
@@ -75,18 +74,6 @@ double timeMs(const std::function<void()>& f, int runs)
     t.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
   return median(t);
-}
-
-double loadAverage()
-{
-  double l = -1;
-  if (FILE* f = std::fopen("/proc/loadavg", "r"))
-  {
-    if (std::fscanf(f, "%lf", &l) != 1)
-      l = -1;
-    std::fclose(f);
-  }
-  return l;
 }
 
 // A float in [0,1) from a 64-bit hash (splitmix64): deterministic, no global state.
@@ -149,22 +136,10 @@ void baselineLoop(const float* coords, std::size_t count, int components,
 {
   for (std::size_t v = 0; v < count; ++v)
   {
-    const float* x = coords + v * components;
-    double transmit = 1, sum = 0, rgb[3] = { 0, 0, 0 };
-    for (const mcv::GaussianWidget& w : widgets)
-    {
-      double d2 = 0;
-      for (int d = 0; d < components; ++d)
-        d2 += (x[d] - w.center[d]) * (x[d] - w.center[d]);
-      const double alpha = w.opacity * std::exp(-d2 / (2 * w.sigma * w.sigma));
-      transmit *= 1 - alpha;
-      sum += alpha;
-      for (int k = 0; k < 3; ++k)
-        rgb[k] += alpha * w.color[k];
-    }
-    for (int k = 0; k < 3; ++k)
-      rgba[4 * v + k] = byteOf(sum > 0 ? rgb[k] / sum : 0);
-    rgba[4 * v + 3] = byteOf(1 - transmit);
+    double voxel[4];
+    mcv::testing::referenceRGBA(coords + v * components, components, widgets, voxel);
+    for (int k = 0; k < 4; ++k)
+      rgba[4 * v + k] = byteOf(voxel[k]);
   }
 }
 
@@ -212,17 +187,6 @@ int maxByteDiff(const std::vector<unsigned char>& a, const std::vector<unsigned 
   return d;
 }
 
-std::vector<int> parseList(const char* s)
-{
-  std::vector<int> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty())
-      out.push_back(std::atoi(item.c_str()));
-  return out;
-}
-
 bool parseArgs(int argc, char** argv, Config& c)
 {
   for (int i = 1; i < argc; ++i)
@@ -232,7 +196,7 @@ bool parseArgs(int argc, char** argv, Config& c)
     if (a == "--size" && next)
       c.size = std::atoi(argv[++i]);
     else if (a == "--widgets" && next)
-      c.widgets = parseList(argv[++i]);
+      c.widgets = mcv::testing::integerList(argv[++i]);
     else if (a == "--components" && next)
       c.components = std::atoi(argv[++i]);
     else if (a == "--runs" && next)

@@ -32,6 +32,7 @@
 #include "TopResponses.h"
 #include "ViewFromPoints.h"
 
+#include "CommandLine.h"
 #include "PointComparison.h"
 #include "TestVolumes.h"
 
@@ -113,18 +114,6 @@ double msSince(Clock::time_point t)
 {
   std::fprintf(stderr, "mcvBenchmarkGPU: %s\n", what.c_str());
   std::exit(1);
-}
-
-std::vector<int> parseList(const char* s)
-{
-  std::vector<int> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, ','))
-  {
-    out.push_back(std::atoi(item.c_str()));
-  }
-  return out;
 }
 
 mcv::Vec3 bestView(const mcv::InterestPoints& p, const mcv::ImageGrid& g)
@@ -216,7 +205,7 @@ int main(int argc, char** argv)
       return argv[++i];
     };
     if (a == "--sizes")
-      cfg.sizes = parseList(next());
+      cfg.sizes = mt::integerList(next());
     else if (a == "--runs")
       cfg.runs = std::max(1, std::atoi(next()));
     else if (a == "--cpu-runs")
