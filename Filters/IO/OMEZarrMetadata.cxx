@@ -2,6 +2,8 @@
 
 #include "vtk_jsoncpp.h"
 
+#include "../Common/mcvJsonObject.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -93,13 +95,11 @@ int ImageMeta::AxisIndex(const std::string& name) const
 std::string parseImageMeta(const std::string& text, ImageMeta& meta)
 {
   meta = ImageMeta();
-  Json::CharReaderBuilder builder;
   Json::Value root;
-  std::string errors;
-  std::istringstream in(text);
-  if (!Json::parseFromStream(builder, in, &root, &errors) || !root.isObject())
+  std::string why;
+  if (!mcv::vtkhelpers::parseJsonObject(text, root, why))
   {
-    return "has a .zattrs that is not valid JSON (" + errors.substr(0, errors.find('\n')) + ")";
+    return "has a .zattrs that is not valid JSON (" + why + ")";
   }
   const Json::Value& multiscales = root["multiscales"];
   if (!multiscales.isArray() || multiscales.empty() || !multiscales[0].isObject())

@@ -4,6 +4,8 @@
 #include "vtk_zlib.h"
 #include "vtksys/FStream.hxx"
 
+#include "../Common/mcvJsonObject.h"
+
 #include <blosc.h>
 
 #include <algorithm>
@@ -250,13 +252,11 @@ std::int64_t ArrayMeta::ChunksAlong(int axis) const
 //------------------------------------------------------------------------------
 std::string parseArrayMeta(const std::string& text, ArrayMeta& meta)
 {
-  Json::CharReaderBuilder builder;
   Json::Value root;
-  std::string errors;
-  std::istringstream in(text);
-  if (!Json::parseFromStream(builder, in, &root, &errors) || !root.isObject())
+  std::string why;
+  if (!mcv::vtkhelpers::parseJsonObject(text, root, why))
   {
-    return "is not valid JSON (" + errors.substr(0, errors.find('\n')) + ")";
+    return "is not valid JSON (" + why + ")";
   }
   if (!root["zarr_format"].isIntegral() || root["zarr_format"].asInt() != 2)
   {

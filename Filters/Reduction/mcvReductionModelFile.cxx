@@ -3,6 +3,8 @@
 #include "vtk_jsoncpp.h"
 #include "vtk_zlib.h"
 
+#include "../Common/mcvJsonObject.h"
+
 #include <vtksys/SystemTools.hxx>
 
 #include <algorithm>
@@ -105,40 +107,36 @@ std::vector<Block> blocksOf(const ModelFile& m)
   };
 }
 
-bool readStrings(const Json::Value& v, std::vector<std::string>& out)
+// The elements of the JSON array `v` into `out`, each converted by `as` (Value::asString,
+// ...); false when `v` is no array or an element fails `is` (Value::isString, ...).
+template <class T, class Converted>
+bool readArray(const Json::Value& v, bool (Json::Value::*is)() const,
+  Converted (Json::Value::*as)() const, std::vector<T>& out)
 {
   if (!v.isArray())
   {
     return false;
   }
   out.clear();
-  for (const Json::Value& s : v)
+  for (const Json::Value& element : v)
   {
-    if (!s.isString())
+    if (!(element.*is)())
     {
       return false;
     }
-    out.push_back(s.asString());
+    out.push_back((element.*as)());
   }
   return true;
 }
 
+bool readStrings(const Json::Value& v, std::vector<std::string>& out)
+{
+  return readArray(v, &Json::Value::isString, &Json::Value::asString, out);
+}
+
 bool readDoubles(const Json::Value& v, std::vector<double>& out)
 {
-  if (!v.isArray())
-  {
-    return false;
-  }
-  out.clear();
-  for (const Json::Value& s : v)
-  {
-    if (!s.isNumeric())
-    {
-      return false;
-    }
-    out.push_back(s.asDouble());
-  }
-  return true;
+  return readArray(v, &Json::Value::isNumeric, &Json::Value::asDouble, out);
 }
 
 } // namespace
@@ -256,13 +254,11 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   {
     return name + " is truncated: its header claims " + std::to_string(headerSize) + " bytes.";
   }
-  Json::CharReaderBuilder builder;
   Json::Value root;
-  std::string errors;
-  std::istringstream in(std::string(bytes.data() + 16, headerSize));
-  if (!Json::parseFromStream(builder, in, &root, &errors) || !root.isObject())
+  std::string why;
+  if (!parseJsonObject(std::string(bytes.data() + 16, headerSize), root, why))
   {
-    return name + " has a header that is not valid JSON (" + errors.substr(0, errors.find('\n')) + ").";
+    return name + " has a header that is not valid JSON (" + why + ").";
   }
   const Json::Value& features = root["features"];
   const Json::Value& reduction = root["reduction"];
@@ -273,16 +269,7 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   ModelFile m;
   FeatureRecipe& f = m.features;
   const std::string preset = features["featureSet"].asString();
-  bool knownPreset = false;
-  for (FeaturePreset p : { FeaturePreset::SixD, FeaturePreset::TwentyFourD, FeaturePreset::Custom })
-  {
-    if (preset == presetName(p))
-    {
-      f.preset = p;
-      knownPreset = true;
-    }
-  }
-  if (!knownPreset)
+  if (!presetNamed(preset, f.preset))
   {
     return name + " names an unknown feature set '" + preset + "'.";
   }
@@ -294,16 +281,7 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   f.selection.localMean = s["localMean"].asBool();
   f.selection.localVariance = s["localVariance"].asBool();
   const std::string normalization = features["normalization"].asString();
-  bool knownNormalization = false;
-  for (FeatureNormalization n : { FeatureNormalization::ZScore, FeatureNormalization::MinMax, FeatureNormalization::None })
-  {
-    if (normalization == normalizationName(n))
-    {
-      f.normalization = n;
-      knownNormalization = true;
-    }
-  }
-  if (!knownNormalization)
+  if (!normalizationNamed(normalization, f.normalization))
   {
     return name + " names an unknown normalisation '" + normalization + "'.";
   }

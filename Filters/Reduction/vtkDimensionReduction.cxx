@@ -57,17 +57,13 @@ const char* const kCoordinatesName = "ReducedCoordinates";
 const char* const kModelDistanceName = "ModelDistance";
 const char* const kModelArrayName = "ReductionModel";
 
-const char* featureSetName(int set)
+// The feature set computed from the channels: FeatureSet's, the 24D set for the automatic
+// choice (the filter's 6D, 24D and Custom are the core's FeaturePreset values).
+const char* computedFeatureSetName(int featureSet)
 {
-  switch (set)
-  {
-    case vtkDimensionReduction::FEATURES_6D:
-      return "6D";
-    case vtkDimensionReduction::FEATURES_CUSTOM:
-      return "Custom";
-    default:
-      return "24D";
-  }
+  return mcv::presetName(static_cast<mcv::FeaturePreset>(
+    featureSet <= vtkDimensionReduction::FEATURES_CUSTOM ? featureSet
+                                                         : vtkDimensionReduction::FEATURES_24D));
 }
 
 // The filter's Method values are the core's ReductionMethod values (checked below).
@@ -564,7 +560,7 @@ bool vtkDimensionReduction::ReduceRows(vtkImageData* image, Run& run)
   std::unique_ptr<mcv::FeatureRows> rows;
   if (run.fromChannels)
   {
-    what = std::string("the ") + featureSetName(this->FeatureSet) + " features of the channels";
+    what = std::string("the ") + computedFeatureSetName(this->FeatureSet) + " features of the channels";
     // Collective from AllProcessesReady() on, which it calls.
     rows = this->ChannelRows(image, run.grid, run.piece, run.foreground, run.model.get(), &recipe);
   }

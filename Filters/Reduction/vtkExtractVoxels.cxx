@@ -19,6 +19,7 @@
 
 #include "../Common/mcvInternalArrays.h" // vtkGhostType, vtkValidPointMask
 #include "../Common/mcvPieces.h"         // PieceLayout: the voxels this process owns
+#include "../Common/mcvVoxelCloud.h"     // vertices, copied tuples, VoxelId
 
 #include <algorithm>
 #include <sstream>
@@ -191,8 +192,6 @@ int vtkExtractVoxels::RequestMultichannelData(
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(m);
-  vtkNew<vtkCellArray> verts;
-  verts->AllocateExact(m, m);
   for (vtkIdType s = 0; s < m; ++s)
   {
     const int* index = ijk.data() + 3 * s;
@@ -200,36 +199,15 @@ int vtkExtractVoxels::RequestMultichannelData(
     image->TransformIndexToPhysicalPoint(
       index[0] + whole[0], index[1] + whole[2], index[2] + whole[4], xyz);
     points->SetPoint(s, xyz);
-    verts->InsertNextCell(1, &s);
   }
   output->SetPoints(points);
-  output->SetVerts(verts);
+  mcv::vtkhelpers::addVertexPerPoint(output, m);
 
   // The voxels' values, exact (tuples copied, not interpolated).
-  vtkPointData* inPD = image->GetPointData();
   vtkPointData* outPD = output->GetPointData();
-  for (int a = 0; a < inPD->GetNumberOfArrays(); ++a)
-  {
-    vtkAbstractArray* source = inPD->GetAbstractArray(a);
-    if (!source || !source->GetName() || mcv::vtkhelpers::isInternalArray(source->GetName()))
-    {
-      continue;
-    }
-    vtkSmartPointer<vtkAbstractArray> copy = vtk::TakeSmartPointer(source->NewInstance());
-    copy->SetName(source->GetName());
-    copy->SetNumberOfComponents(source->GetNumberOfComponents());
-    copy->SetNumberOfTuples(m);
-    for (vtkIdType s = 0; s < m; ++s)
-    {
-      copy->SetTuple(s, inputIds[s], source);
-    }
-    outPD->AddArray(copy);
-  }
-  vtkNew<vtkIdTypeArray> voxelIds;
-  voxelIds->SetName("VoxelId");
-  voxelIds->SetNumberOfTuples(m);
-  std::copy(globalIds.begin(), globalIds.end(), voxelIds->GetPointer(0));
-  outPD->AddArray(voxelIds);
+  mcv::vtkhelpers::copyPointTuples(
+    image->GetPointData(), inputIds, outPD, [](vtkAbstractArray*) { return false; });
+  mcv::vtkhelpers::addVoxelIds(outPD, globalIds);
   vtkNew<vtkIntArray> voxelIJK;
   voxelIJK->SetName("VoxelIJK");
   voxelIJK->SetNumberOfComponents(3);
