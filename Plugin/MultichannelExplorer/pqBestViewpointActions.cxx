@@ -1,18 +1,15 @@
 #include "pqBestViewpointActions.h"
 
 #include "pqActiveObjects.h"
-#include "pqCoreUtilities.h"
 #include "pqExploreMultichannelActions.h"
 #include "pqMultichannelProbe.h"
-#include "pqPVApplicationCore.h"
+#include "pqMultichannelPython.h"
+#include "pqMultichannelToolbarAction.h"
 #include "pqPipelineSource.h"
-#include "pqPythonManager.h"
 #include "pqRenderView.h"
 #include "pqUndoStack.h"
 
 #include <QAction>
-#include <QIcon>
-#include <QMessageBox>
 
 //-----------------------------------------------------------------------------
 pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
@@ -20,50 +17,23 @@ pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
 {
   // Explore Multichannel, Show Reduced Domain, Show Spectrum: the toolbar's first buttons.
   new pqExploreMultichannelActions(this);
-  this->BestViewpointAction =
-    new QAction(QIcon(":/MultichannelExplorer/Icons/BestViewpoint.svg"), "Best Viewpoint", this);
-  this->BestViewpointAction->setObjectName("actionMultichannelBestViewpoint");
-  this->BestViewpointAction->setIconText("Best View");
-  this->BestViewpointAction->setToolTip(
+  this->BestViewpointAction = pqMultichannelToolbarAction::add(this, "BestViewpoint",
+    "Best Viewpoint", "Best View", "actionMultichannelBestViewpoint",
     "Best Viewpoint: turn the camera of the active view to the best view of the active "
     "volume (3D Harris interest points + PCA of its opacity, following the volume "
     "display's opacity function)");
-  this->BestViewpointAction->setStatusTip(this->BestViewpointAction->toolTip());
-  this->addAction(this->BestViewpointAction);
 
-  this->FollowAction = new QAction(
-    QIcon(":/MultichannelExplorer/Icons/FollowBestViewpoint.svg"), "Follow Best Viewpoint", this);
-  this->FollowAction->setObjectName("actionMultichannelFollowBestViewpoint");
-  this->FollowAction->setIconText("Follow");
-  this->FollowAction->setCheckable(true);
-  this->FollowAction->setToolTip(
+  this->FollowAction = pqMultichannelToolbarAction::add(this, "FollowBestViewpoint",
+    "Follow Best Viewpoint", "Follow", "actionMultichannelFollowBestViewpoint",
     "Follow Best Viewpoint: while on, the camera turns to the best view of the active "
     "\"Gaussian TF Volume\" display after every change of its Gaussian widgets");
-  this->FollowAction->setStatusTip(this->FollowAction->toolTip());
-  this->addAction(this->FollowAction);
+  this->FollowAction->setCheckable(true);
 
-  this->SeedWidgetsAction = new QAction(
-    QIcon(":/MultichannelExplorer/Icons/SeedWidgets.svg"), "Seed Gaussian Widgets", this);
-  this->SeedWidgetsAction->setObjectName("actionMultichannelSeedWidgets");
-  this->SeedWidgetsAction->setIconText("Seed");
-  this->SeedWidgetsAction->setToolTip(
+  this->SeedWidgetsAction = pqMultichannelToolbarAction::add(this, "SeedWidgets",
+    "Seed Gaussian Widgets", "Seed", "actionMultichannelSeedWidgets",
     "Seed Gaussian Widgets: put 4 widgets at the k-means clusters of the reduced domain "
     "of the active \"Gaussian TF Volume\" display (a starting point to edit)");
-  this->SeedWidgetsAction->setStatusTip(this->SeedWidgetsAction->toolTip());
-  this->addAction(this->SeedWidgetsAction);
   new pqMultichannelProbe(this); // Probe, Add Widget Here, Brush Selection, in this toolbar
-  // Short texts beside their icons (the full ones stay in menus and tooltips).
-  for (QAction* action : this->actions())
-  {
-    if (action->objectName() == "actionMultichannelAddWidget")
-    {
-      action->setIconText("Add Here");
-    }
-    else if (action->objectName() == "actionMultichannelBrush")
-    {
-      action->setIconText("Brush");
-    }
-  }
   this->setExclusive(false);
 
   QObject::connect(
@@ -94,33 +64,18 @@ void pqBestViewpointActions::updateEnableState()
 }
 
 //-----------------------------------------------------------------------------
-bool pqBestViewpointActions::runPython(const char* title, const char* code)
-{
-  pqPVApplicationCore* core = pqPVApplicationCore::instance();
-  pqPythonManager* python = core ? core->pythonManager() : nullptr;
-  if (!python)
-  {
-    QMessageBox::warning(pqCoreUtilities::mainWidget(), title,
-      QString("%1 needs ParaView's Python support, which is not available.").arg(title));
-    return false;
-  }
-  python->executeCode(code);
-  return true;
-}
-
-//-----------------------------------------------------------------------------
 void pqBestViewpointActions::onFollowToggled(bool follow)
 {
   // Without a Gaussian TF display the helper raises; the message goes to the Output
   // Messages window and the toggle is switched back off by the next check.
   if (!follow)
   {
-    this->runPython("Follow Best Viewpoint",
+    pqMultichannelPython::run("Follow Best Viewpoint",
       "import multichannel_explorer\n"
       "multichannel_explorer.stop_following()\n");
     return;
   }
-  this->runPython("Follow Best Viewpoint",
+  pqMultichannelPython::run("Follow Best Viewpoint",
     "from paraview.simple import *\n"
     "import multichannel_explorer\n"
     "multichannel_explorer.follow_best_viewpoint(GetActiveSource(), GetActiveView())\n");
@@ -131,7 +86,7 @@ void pqBestViewpointActions::onSeedWidgets()
 {
   // One undo step named after what it does (not "Changed 'vtkSMSourceProxy'").
   SCOPED_UNDO_SET("Seed 4 Gaussian widgets");
-  this->runPython("Seed Gaussian Widgets",
+  pqMultichannelPython::run("Seed Gaussian Widgets",
     "from paraview.simple import *\n"
     "import multichannel_explorer\n"
     "multichannel_explorer.auto_widgets(GetActiveSource(), 4, GetActiveView())\n"
@@ -145,7 +100,7 @@ void pqBestViewpointActions::onTriggered()
   // the Output Messages window; the camera stays as it was. The camera is not in the undo
   // stack; the BestViewpoint filter the helper makes is, as one step.
   SCOPED_UNDO_SET("Best Viewpoint");
-  this->runPython("Best Viewpoint",
+  pqMultichannelPython::run("Best Viewpoint",
     "from paraview.simple import *\n"
     "import multichannel_explorer\n"
     "multichannel_explorer.apply_best_viewpoint(GetActiveSource(), "

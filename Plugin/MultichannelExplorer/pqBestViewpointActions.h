@@ -38,8 +38,6 @@ private Q_SLOTS:
 
 private:
   Q_DISABLE_COPY(pqBestViewpointActions)
-  // Runs `code` in ParaView's Python; false (with a message box) when Python is missing.
-  bool runPython(const char* title, const char* code);
 
   QAction* BestViewpointAction;
   QAction* FollowAction;

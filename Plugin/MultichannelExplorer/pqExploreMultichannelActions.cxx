@@ -1,5 +1,7 @@
 #include "pqExploreMultichannelActions.h"
 
+#include "pqMultichannelToolbarAction.h"
+
 #include "pqActiveObjects.h"
 #include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
@@ -16,7 +18,6 @@
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
-#include <QIcon>
 #include <QMainWindow>
 #include <QMenu>
 #include <QMenuBar>
@@ -47,36 +48,21 @@ QString withoutAmpersands(QString text)
 pqExploreMultichannelActions::pqExploreMultichannelActions(QActionGroup* group)
   : Superclass(group)
 {
-  this->ExploreAction = new QAction(
-    QIcon(":/MultichannelExplorer/Icons/ExploreMultichannel.svg"), "Explore Multichannel", group);
-  this->ExploreAction->setObjectName("actionMultichannelExplore");
-  this->ExploreAction->setIconText("Explore");
-  this->ExploreAction->setToolTip(
+  this->ExploreAction = pqMultichannelToolbarAction::add(group, "ExploreMultichannel",
+    "Explore Multichannel", "Explore", "actionMultichannelExplore",
     "Explore Multichannel: the selected channel readers (merged) or multichannel volume "
     "reduced to a 3D domain, shown as a Gaussian TF Volume with seeded widgets, its reduced "
     "domain beside it, the camera at the best view (one undo step)");
-  this->ExploreAction->setStatusTip(this->ExploreAction->toolTip());
-  group->addAction(this->ExploreAction);
 
-  this->ShowDomainAction = new QAction(
-    QIcon(":/MultichannelExplorer/Icons/ReducedDomain.svg"), "Show Reduced Domain", group);
-  this->ShowDomainAction->setObjectName("actionMultichannelShowDomain");
-  this->ShowDomainAction->setIconText("Domain");
-  this->ShowDomainAction->setToolTip(
+  this->ShowDomainAction = pqMultichannelToolbarAction::add(group, "ReducedDomain",
+    "Show Reduced Domain", "Domain", "actionMultichannelShowDomain",
     "Show Reduced Domain: the reduced domain of the active \"Gaussian TF Volume\" beside it, "
     "its widgets as spheres to drag");
-  this->ShowDomainAction->setStatusTip(this->ShowDomainAction->toolTip());
-  group->addAction(this->ShowDomainAction);
 
-  this->SpectrumAction =
-    new QAction(QIcon(":/MultichannelExplorer/Icons/Spectrum.svg"), "Show Spectrum", group);
-  this->SpectrumAction->setObjectName("actionMultichannelSpectrum");
-  this->SpectrumAction->setIconText("Spectrum");
-  this->SpectrumAction->setToolTip(
+  this->SpectrumAction = pqMultichannelToolbarAction::add(group, "Spectrum",
+    "Show Spectrum", "Spectrum", "actionMultichannelSpectrum",
     "Show Spectrum: the eigenvalue spectrum of the active source's DimensionReduction as a "
     "bar chart (component vs eigenvalue) below the active view");
-  this->SpectrumAction->setStatusTip(this->SpectrumAction->toolTip());
-  group->addAction(this->SpectrumAction);
 
   QObject::connect(
     this->ExploreAction, &QAction::triggered, this, &pqExploreMultichannelActions::onExplore);

@@ -1,10 +1,8 @@
-// Python.h must come before the standard headers (it sets feature macros).
-#include "vtkPython.h"
-
 #include "pqGaussianWidgetsPropertyWidget.h"
 
 #include "pqGaussianWidgetRow.h"
 #include "pqGaussianWidgetSelection.h"
+#include "pqMultichannelPython.h"
 
 #include "pqApplicationCore.h"
 #include "pqCoreUtilities.h"
@@ -19,7 +17,6 @@
 #include "vtkPVArrayInformation.h"
 #include "vtkPVDataInformation.h"
 #include "vtkPVDataSetAttributesInformation.h"
-#include "vtkPythonInterpreter.h"
 #include "vtkSMProperty.h"
 #include "vtkSMPropertyHelper.h"
 #include "vtkSMProxy.h"
@@ -592,19 +589,7 @@ QString pqGaussianWidgetsPropertyWidget::runOnDisplay(const QString& title, cons
                                "_g.on_display('%1', lambda _display: %2)\n")
                          .arg(QString(name).replace('\\', "\\\\").replace('\'', "\\'"), call);
   python->executeCode(code.toUtf8());
-  vtkPythonInterpreter::Initialize();
-  vtkPythonScopeGilEnsurer gil;
-  QString result;
-  PyObject* module = PyImport_ImportModule("multichannel_explorer._gui");
-  PyObject* text = module ? PyObject_GetAttrString(module, "text") : nullptr;
-  if (text && PyUnicode_Check(text))
-  {
-    result = QString::fromUtf8(PyUnicode_AsUTF8(text));
-  }
-  Py_XDECREF(text);
-  Py_XDECREF(module);
-  PyErr_Clear();
-  return result;
+  return pqMultichannelPython::text("multichannel_explorer._gui", "text");
 }
 
 namespace
@@ -616,21 +601,33 @@ QString pythonString(const QString& text)
   escaped.replace('\\', "\\\\").replace('\'', "\\'");
   return "'" + escaped + "'";
 }
+
+// A transfer function file (.mcvtf) of the client's file system (the Python helper reads
+// and writes it where it runs), chosen in a dialog; empty when cancelled.
+QString chooseTransferFunctionFile(
+  const char* title, const char* objectName, pqFileDialog::FileMode mode)
+{
+  pqFileDialog dialog(
+    nullptr, pqCoreUtilities::mainWidget(), title, QString(), "Transfer functions (*.mcvtf)");
+  dialog.setObjectName(objectName);
+  dialog.setFileMode(mode);
+  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  {
+    return QString();
+  }
+  return dialog.getSelectedFiles().first();
+}
 }
 
 //-----------------------------------------------------------------------------
 void pqGaussianWidgetsPropertyWidget::saveTransferFunction()
 {
-  // The client's file system: the Python helper writes the file where it runs.
-  pqFileDialog dialog(nullptr, pqCoreUtilities::mainWidget(), "Save Transfer Function",
-    QString(), "Transfer functions (*.mcvtf)");
-  dialog.setObjectName("SaveTransferFunctionDialog");
-  dialog.setFileMode(pqFileDialog::AnyFile);
-  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  QString path = chooseTransferFunctionFile(
+    "Save Transfer Function", "SaveTransferFunctionDialog", pqFileDialog::AnyFile);
+  if (path.isEmpty())
   {
     return;
   }
-  QString path = dialog.getSelectedFiles().first();
   if (!path.endsWith(".mcvtf"))
   {
     path += ".mcvtf";
@@ -646,15 +643,12 @@ void pqGaussianWidgetsPropertyWidget::saveTransferFunction()
 //-----------------------------------------------------------------------------
 void pqGaussianWidgetsPropertyWidget::loadTransferFunction()
 {
-  pqFileDialog dialog(nullptr, pqCoreUtilities::mainWidget(), "Load Transfer Function",
-    QString(), "Transfer functions (*.mcvtf)");
-  dialog.setObjectName("LoadTransferFunctionDialog");
-  dialog.setFileMode(pqFileDialog::ExistingFile);
-  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  const QString path = chooseTransferFunctionFile(
+    "Load Transfer Function", "LoadTransferFunctionDialog", pqFileDialog::ExistingFile);
+  if (path.isEmpty())
   {
     return;
   }
-  const QString path = dialog.getSelectedFiles().first();
   // The reduction's ModelFile and the widgets change together: one undo step. On an error
   // the helper changes nothing, and an empty undo set is not pushed.
   QPointer<pqDataRepresentation> repr = this->representation();

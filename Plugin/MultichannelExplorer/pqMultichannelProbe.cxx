@@ -1,26 +1,20 @@
-// Python.h must come before the standard headers (it sets feature macros).
-#include "vtkPython.h"
-
 #include "pqMultichannelProbe.h"
+
+#include "pqMultichannelPython.h"
+#include "pqMultichannelToolbarAction.h"
 
 #include "pqActiveObjects.h"
 #include "pqApplicationCore.h"
-#include "pqCoreUtilities.h"
-#include "pqPVApplicationCore.h"
-#include "pqPythonManager.h"
 #include "pqRenderView.h"
 #include "pqServerManagerModel.h"
 #include "pqUndoStack.h"
-#include "vtkPythonInterpreter.h"
 
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
 #include <QCursor>
 #include <QEvent>
-#include <QIcon>
 #include <QLabel>
-#include <QMessageBox>
 #include <QMouseEvent>
 #include <QWidget>
 
@@ -28,33 +22,21 @@
 pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
   : Superclass(group)
 {
-  this->ProbeAction =
-    new QAction(QIcon(":/MultichannelExplorer/Icons/Probe.svg"), "Probe", group);
-  this->ProbeAction->setObjectName("actionMultichannelProbe");
-  this->ProbeAction->setCheckable(true);
-  this->ProbeAction->setToolTip(
+  this->ProbeAction = pqMultichannelToolbarAction::add(group, "Probe",
+    "Probe", "Probe", "actionMultichannelProbe",
     "Probe: while on, click a voxel in the \"Gaussian TF Volume\" view to read its reduced "
     "coordinates, channels and features, and mark it in the reduced domain");
-  this->ProbeAction->setStatusTip(this->ProbeAction->toolTip());
-  group->addAction(this->ProbeAction);
+  this->ProbeAction->setCheckable(true);
 
-  this->AddWidgetAction =
-    new QAction(QIcon(":/MultichannelExplorer/Icons/AddWidget.svg"), "Add Widget Here", group);
-  this->AddWidgetAction->setObjectName("actionMultichannelAddWidget");
-  this->AddWidgetAction->setToolTip(
+  this->AddWidgetAction = pqMultichannelToolbarAction::add(group, "AddWidget",
+    "Add Widget Here", "Add Here", "actionMultichannelAddWidget",
     "Add Widget Here: a new Gaussian widget at the reduced coordinates of the last probed "
     "voxel (a palette colour no widget has, sigma 5% of the coordinates' range)");
-  this->AddWidgetAction->setStatusTip(this->AddWidgetAction->toolTip());
-  group->addAction(this->AddWidgetAction);
 
-  this->BrushAction =
-    new QAction(QIcon(":/MultichannelExplorer/Icons/Brush.svg"), "Brush Selection", group);
-  this->BrushAction->setObjectName("actionMultichannelBrush");
-  this->BrushAction->setToolTip(
+  this->BrushAction = pqMultichannelToolbarAction::add(group, "Brush",
+    "Brush Selection", "Brush", "actionMultichannelBrush",
     "Brush Selection: highlight in the volume view the voxels of the points selected in the "
     "reduced domain (select them first, e.g. with Select Points Through in the domain view)");
-  this->BrushAction->setStatusTip(this->BrushAction->toolTip());
-  group->addAction(this->BrushAction);
 
   QObject::connect(
     this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
@@ -185,33 +167,12 @@ void pqMultichannelProbe::onAddWidget()
 //-----------------------------------------------------------------------------
 QString pqMultichannelProbe::runPython(const QString& code)
 {
-  pqPVApplicationCore* core = pqPVApplicationCore::instance();
-  pqPythonManager* python = core ? core->pythonManager() : nullptr;
-  if (!python)
-  {
-    QMessageBox::warning(pqCoreUtilities::mainWidget(), "Probe",
-      "Probing needs ParaView's Python support, which is not available.");
-    return QString();
-  }
   // The hourglass while the helper works (a probe reads one voxel back from the server;
   // Add Widget Here and Brush Selection read a sample).
   QApplication::setOverrideCursor(QCursor(Qt::WaitCursor));
-  // executeCode reports errors in the Output Messages window, as the other buttons do.
-  python->executeCode(code.toUtf8());
+  const bool ran = pqMultichannelPython::run("Probe", code);
   QApplication::restoreOverrideCursor();
-  vtkPythonInterpreter::Initialize();
-  vtkPythonScopeGilEnsurer gil;
-  QString result;
-  PyObject* module = PyImport_ImportModule("multichannel_explorer._gui");
-  PyObject* text = module ? PyObject_GetAttrString(module, "text") : nullptr;
-  if (text && PyUnicode_Check(text))
-  {
-    result = QString::fromUtf8(PyUnicode_AsUTF8(text));
-  }
-  Py_XDECREF(text);
-  Py_XDECREF(module);
-  PyErr_Clear();
-  return result;
+  return ran ? pqMultichannelPython::text("multichannel_explorer._gui", "text") : QString();
 }
 
 //-----------------------------------------------------------------------------
