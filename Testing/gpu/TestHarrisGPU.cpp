@@ -322,6 +322,73 @@ TEST(HarrisGPU, SingleSlices)
   }
 }
 
+// The kernel's response is the CPU path's bit for bit (both round the same operations in
+// the same order), for every kernel width the GPU runs, partial tiles and a single slice.
+TEST(HarrisGPU, ResponseBitsEqualTheCpu)
+{
+  MCV_REQUIRE_GPU();
+  struct Case
+  {
+    std::array<int, 3> dims;
+    int width;
+  };
+  for (const Case& c : { Case{ { 77, 45, 41 }, 5 }, Case{ { 37, 53, 29 }, 3 }, Case{ { 41, 35, 27 }, 7 },
+         Case{ { 19, 13, 11 }, 1 }, Case{ { 45, 38, 1 }, 5 } })
+  {
+    const std::string what = std::to_string(c.dims[0]) + "x" + std::to_string(c.dims[1]) + "x" +
+      std::to_string(c.dims[2]) + " width " + std::to_string(c.width);
+    const mt::Volume v =
+      smoothRandomVolume(mt::makeGrid(c.dims[0], c.dims[1], c.dims[2], { 0.8, 1.3, 1.1 }), 71 + c.width);
+    HarrisParameters p;
+    p.kernelWidth = c.width;
+    const std::vector<float> rg = gpuResponse(v, p), rc = cpuResponse(v, p);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < rg.size(); ++i)
+    {
+      differ += std::memcmp(&rg[i], &rc[i], sizeof(float)) != 0;
+    }
+    EXPECT_EQ(differ, 0u) << what;
+  }
+}
+
+// The fast compaction that reads only the slots whose maximum reaches the level-1 bin gives
+// the same N points and the same candidate list as the one over the whole score volume
+// (partial tiles in x and y, z chunks, an x,y image and a y,z image).
+TEST(HarrisGPU, SlotMaximaSelectLikeTheWholeVolume)
+{
+  MCV_REQUIRE_GPU();
+  const HarrisParameters p;
+  for (const std::array<int, 3> dims : { std::array<int, 3>{ 77, 45, 41 },
+         std::array<int, 3>{ 100, 33, 70 }, std::array<int, 3>{ 45, 38, 1 },
+         std::array<int, 3>{ 1, 45, 38 } })
+  {
+    const std::string what = std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+      std::to_string(dims[2]);
+    SCOPED_TRACE(what);
+    const ImageGrid grid = mt::makeGrid(dims[0], dims[1], dims[2], { 1.0, 0.9, 1.1 });
+    const mt::Volume v = smoothRandomVolume(grid, 61 + dims[1]);
+    mcv::cuda::HarrisPipeline pipeline;
+    std::string error;
+    ASSERT_TRUE(pipeline.uploadVolume(v.values.data(), v.grid, &error)) << error;
+    std::vector<float> response(v.values.size());
+    ASSERT_TRUE(pipeline.response(p, response.data(), &error)) << error;
+    for (int n : { 1, 300, kN })
+    {
+      InterestPoints fromSlots, fromScores;
+      ASSERT_TRUE(pipeline.topN(p, n, fromSlots, &error)) << error;
+      ASSERT_FALSE(pipeline.lastSelectUsedSlowPath());
+      const long long listFromSlots = pipeline.lastListSize();
+      ASSERT_TRUE(pipeline.selectFromScores(response.data(), response.size(), n, fromScores, &error))
+        << error;
+      EXPECT_EQ(pipeline.lastListSize(), listFromSlots) << "N " << n;
+      EXPECT_EQ(fromSlots.indices, fromScores.indices) << "N " << n;
+      EXPECT_EQ(fromSlots.scores, fromScores.scores) << "N " << n;
+      const InterestPoints cpu = mcv::selectTopResponsesCPU(response.data(), response.size(), n);
+      EXPECT_EQ(fromSlots.indices, cpu.indices) << "N " << n;
+    }
+  }
+}
+
 TEST(HarrisGPU, ZChunksGiveIdenticalResults)
 {
   MCV_REQUIRE_GPU();
@@ -358,7 +425,7 @@ TEST(HarrisGPU, KernelVariantsGiveIdenticalResults)
   ASSERT_TRUE(pipeline.response(p, reference.data(), &error)) << error;
   InterestPoints top0;
   ASSERT_TRUE(pipeline.topN(p, kN, top0, &error)) << error;
-  for (int variant = 0; variant < 4; ++variant)
+  for (int variant = 0; variant < mcv::cuda::HarrisPipeline::kernelVariantCount(); ++variant)
     for (int histMode = 0; histMode < 2; ++histMode)
       for (int chunk : { 0, 3 })
       {

@@ -112,6 +112,9 @@ struct HarrisPipeline::Impl
   ImageGrid grid;
   float* scores = nullptr;
   std::size_t scoresCap = 0;
+  unsigned* slotMax = nullptr; // the kernel's per-slot maxima for the selection
+  std::size_t slotMaxCap = 0;
+  detail::SlotMaxima slots;
   detail::TopNSelector selector;
   int zChunk = 0, lastZChunk = 0;
   int variant = -1, histMode = 1;
@@ -149,9 +152,14 @@ struct HarrisPipeline::Impl
     {
       cudaFree(scores);
     }
+    if (slotMax)
+    {
+      cudaFree(slotMax);
+    }
     input = nullptr;
     scores = nullptr;
-    inputCap = scoresCap = 0;
+    slotMax = nullptr;
+    inputCap = scoresCap = slotMaxCap = 0;
     haveVolume = false;
   }
 
@@ -249,6 +257,20 @@ struct HarrisPipeline::Impl
     detail::HarrisKernelArgs a = detail::harrisKernelArgs(grid, params);
     a.response = scores;
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
+    slots = detail::SlotMaxima{};
+    if (withHistogram)
+    {
+      void* p = slotMax;
+      const bool ok = ensure(p, slotMaxCap,
+        static_cast<std::size_t>(detail::harrisSlotCount(a.nx, a.ny, a.nz)) * sizeof(unsigned), error);
+      slotMax = static_cast<unsigned*>(p);
+      if (!ok)
+      {
+        return false;
+      }
+      a.slotMax = slotMax;
+      slots = detail::SlotMaxima{ slotMax, a.nx, a.ny, a.nz };
+    }
     a.histMode = histMode;
     const int radius = params.kernelWidth / 2;
     const cudaError_t launchError = inputIsUint8
@@ -297,7 +319,8 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
-  if (!p.selector.select(p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5]))
+  if (!p.selector.select(
+        p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.slots))
   {
     return false;
   }
@@ -370,6 +393,11 @@ void HarrisPipeline::setKernelVariant(int variant, int histogramMode)
   impl_->histMode = histogramMode;
 }
 
+int HarrisPipeline::kernelVariantCount()
+{
+  return detail::kHarrisVariants;
+}
+
 int HarrisPipeline::lastZChunk() const
 {
   return impl_->lastZChunk;
@@ -420,7 +448,7 @@ bool HarrisPipeline::timeHarrisKernel(
 
 std::size_t HarrisPipeline::deviceBytesHeld() const
 {
-  return impl_->inputCap + impl_->scoresCap;
+  return impl_->inputCap + impl_->scoresCap + impl_->slotMaxCap;
 }
 
 void HarrisPipeline::release()

@@ -250,15 +250,83 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __
   }
 }
 
+// The warp's selected entries appended to the list (one atomic per warp that holds any).
+// Called by all 32 lanes.
+__device__ __forceinline__ void appendWarp(bool sel, unsigned bits, long long index, int lane,
+  ListEntry* __restrict__ list, long long cap, unsigned long long* __restrict__ count)
+{
+  const unsigned mask = __ballot_sync(0xffffffffu, sel);
+  if (mask == 0u)
+  {
+    return;
+  }
+  unsigned long long base = 0;
+  if (lane == 0)
+  {
+    base = atomicAdd(count, static_cast<unsigned long long>(__popc(mask)));
+  }
+  base = __shfl_sync(0xffffffffu, base, 0);
+  if (sel)
+  {
+    const unsigned long long pos = base + __popc(mask & ((1u << lane) - 1u));
+    if (pos < static_cast<unsigned long long>(cap))
+    {
+      list[pos] = ListEntry{ bits, 0u, index };
+    }
+  }
+}
+
+// compactKernel over the slots whose maximum reaches state->low only: each warp tests 32
+// slots at once (one coalesced read), then reads the 32-voxel tile row of each hit.
+__global__ void __launch_bounds__(kCompactThreads) compactSlotsKernel(const float* __restrict__ scores,
+  const unsigned* __restrict__ slotMax, int nx, int ny, long long slots,
+  const SelectState* __restrict__ state, ListEntry* __restrict__ list, long long cap,
+  unsigned long long* __restrict__ count)
+{
+  const unsigned low = state->low;
+  if (low == 0xFFFFFFFFu)
+  {
+    return; // the list would not fit: the host runs the slow path
+  }
+  const int lane = threadIdx.x & 31;
+  const int tilesX = (nx + kHarrisTileX - 1) / kHarrisTileX;
+  const int tilesY = (ny + kHarrisTileY - 1) / kHarrisTileY;
+  const long long plane = static_cast<long long>(nx) * ny;
+  const long long warp = (static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x) >> 5;
+  const long long warps = (static_cast<long long>(gridDim.x) * blockDim.x) >> 5;
+  for (long long first = warp * 32; first < slots; first += warps * 32)
+  {
+    const long long mine = first + lane;
+    unsigned hits = __ballot_sync(0xffffffffu, mine < slots && __ldg(slotMax + mine) >= low);
+    while (hits)
+    {
+      const long long slot = first + (__ffs(hits) - 1);
+      hits &= hits - 1u;
+      const int row = static_cast<int>(slot % kHarrisSlotsPerTile);
+      long long rest = slot / kHarrisSlotsPerTile;
+      const int bx = static_cast<int>(rest % tilesX);
+      rest /= tilesX;
+      const int by = static_cast<int>(rest % tilesY);
+      const long long z = rest / tilesY;
+      const int gx = bx * kHarrisTileX + lane;
+      const int gy = by * kHarrisTileY + row;
+      const long long index = z * plane + static_cast<long long>(gy) * nx + gx;
+      const bool inside = gx < nx && gy < ny;
+      const unsigned bits = inside ? __float_as_uint(__ldg(scores + index)) : 0u;
+      appendWarp(inside && bits >= low && bits <= kMaxFiniteBits, bits, index, lane, list, cap, count);
+    }
+  }
+}
+
 // "a ranks before b": higher score first, then lower index.
 __device__ __forceinline__ bool ranksBefore(unsigned ka, long long ia, unsigned kb, long long ib)
 {
   return ka > kb || (ka == kb && ia < ib);
 }
 
-// In-place bitonic sort of P (a power of two <= 2 * kScanThreads) pairs by ranksBefore, or
-// of the indices alone ascending when `keys` is null. Called by the whole block.
-__device__ void bitonicSort(unsigned* keys, long long* idx, int P)
+// In-place bitonic sort of P (a power of two <= 2 * kScanThreads) indices, ascending (the
+// ties at the threshold, when more exist than places). Called by the whole block.
+__device__ void bitonicSortIndices(long long* idx, int P)
 {
   for (int k = 2; k <= P; k <<= 1)
   {
@@ -267,17 +335,10 @@ __device__ void bitonicSort(unsigned* keys, long long* idx, int P)
       for (int i = threadIdx.x; i < P / 2; i += blockDim.x)
       {
         const int lo = 2 * j * (i / j) + (i % j), hi = lo + j;
-        const bool up = (lo & k) == 0; // this run ends up best-first
-        const unsigned klo = keys ? keys[lo] : 0u, khi = keys ? keys[hi] : 0u;
+        const bool up = (lo & k) == 0; // this run ends up ascending
         const long long ilo = idx[lo], ihi = idx[hi];
-        const bool hiFirst = ranksBefore(khi, ihi, klo, ilo);
-        if (up ? hiFirst : !hiFirst)
+        if (up ? ihi < ilo : ilo < ihi)
         {
-          if (keys)
-          {
-            keys[lo] = khi;
-            keys[hi] = klo;
-          }
           idx[lo] = ihi;
           idx[hi] = ilo;
         }
@@ -287,12 +348,12 @@ __device__ void bitonicSort(unsigned* keys, long long* idx, int P)
   }
 }
 
-constexpr int kFastMaxN = 2 * kScanThreads; // survivors sorted in one block
+constexpr int kFastMaxN = 2 * kScanThreads; // survivors gathered in one block
 constexpr int kFastMaxTies = 2048;           // ties at the threshold sortable in one block
 
 __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,
-  const long long* __restrict__ listCount, SelectState* state, int N, unsigned* __restrict__ keysOut,
-  long long* __restrict__ valsOut)
+  const long long* __restrict__ listCount, SelectState* state, int N,
+  unsigned* __restrict__ survivorKeys, long long* __restrict__ survivorVals)
 {
   // Phase 1 uses the histograms and the scan, phase 2 the sort buffers (same storage).
   __shared__ union
@@ -415,7 +476,7 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     for (int i = static_cast<int>(nTies) + t; i < P; i += kScanThreads)
       sm.sort.ties[i] = LLONG_MAX;
     __syncthreads();
-    bitonicSort(nullptr, sm.sort.ties, P);
+    bitonicSortIndices(sm.sort.ties, P);
   }
   const int count = static_cast<int>(above + need);
   for (int s = static_cast<int>(above) + t; s < count; s += kScanThreads)
@@ -423,26 +484,77 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     sm.sort.keys[s] = threshold;
     sm.sort.vals[s] = sm.sort.ties[s - static_cast<int>(above)];
   }
-  int P = 2;
-  while (P < N)
-    P <<= 1;
-  for (int s = count + t; s < P; s += kScanThreads)
-  {
-    sm.sort.keys[s] = 0u; // padding sorts last (real keys are >= 1)
-    sm.sort.vals[s] = LLONG_MAX;
-  }
   __syncthreads();
-  bitonicSort(sm.sort.keys, sm.sort.vals, P);
-  for (int s = t; s < N; s += kScanThreads)
+  for (int s = t; s < count; s += kScanThreads) // unsorted: rankSortKernel orders them
   {
-    keysOut[s] = sm.sort.keys[s];
-    valsOut[s] = sm.sort.vals[s];
+    survivorKeys[s] = sm.sort.keys[s];
+    survivorVals[s] = sm.sort.vals[s];
   }
   if (t == 0)
   {
     state->threshold = threshold;
     state->above = above;
     state->need = need;
+  }
+}
+
+// The survivors of finishKernel (above + need <= N <= kFastMaxN of them, unsorted) in rank
+// order: each survivor's place is the number of survivors that rank before it, counted by
+// kRankLanes threads over strided parts of the list held in shared memory; the places are
+// distinct (indices are). Spread over N / 16 blocks instead of a one-block bitonic sort,
+// whose 66 barrier-separated steps ran on a single SM. Slots [count, N) get the padding
+// (key 0, index LLONG_MAX).
+constexpr int kRankLanes = 16;
+constexpr int kRankThreads = 256;
+
+__global__ void __launch_bounds__(kRankThreads) rankSortKernel(const unsigned* __restrict__ keysIn,
+  const long long* __restrict__ valsIn, const SelectState* __restrict__ state, int N,
+  unsigned* __restrict__ keysOut, long long* __restrict__ valsOut)
+{
+  __shared__ unsigned sk[kFastMaxN];
+  __shared__ long long sv[kFastMaxN];
+  if (state->overflow)
+  {
+    return; // the host runs the slow path
+  }
+  const int count = static_cast<int>(state->above + state->need);
+  for (int i = threadIdx.x; i < count; i += kRankThreads)
+  {
+    sk[i] = keysIn[i];
+    sv[i] = valsIn[i];
+  }
+  __syncthreads();
+  const int e = static_cast<int>((blockIdx.x * kRankThreads + threadIdx.x) / kRankLanes);
+  const int part = static_cast<int>(threadIdx.x % kRankLanes);
+  unsigned ke = 0u;
+  long long ie = LLONG_MAX;
+  unsigned rank = 0;
+  if (e < count)
+  {
+    ke = sk[e];
+    ie = sv[e];
+    for (int j = part; j < count; j += kRankLanes)
+    {
+      rank += ranksBefore(sk[j], sv[j], ke, ie) ? 1u : 0u;
+    }
+  }
+#pragma unroll
+  for (int o = kRankLanes / 2; o > 0; o >>= 1)
+  {
+    rank += __shfl_xor_sync(0xffffffffu, rank, o);
+  }
+  if (part == 0)
+  {
+    if (e < count)
+    {
+      keysOut[rank] = ke;
+      valsOut[rank] = ie;
+    }
+    else if (e < N)
+    {
+      keysOut[e] = 0u;
+      valsOut[e] = LLONG_MAX;
+    }
   }
 }
 
@@ -704,7 +816,8 @@ bool TopNSelector::histogramLevel1(
 }
 
 bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_t stream,
-  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload)
+  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload,
+  const SlotMaxima* slots)
 {
   out.indices.clear();
   out.scores.clear();
@@ -745,12 +858,27 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(Hist, 1, N, kFastListCapacity, State);
   MCV_CUDA_TRY(cudaGetLastError());
   const long long items = static_cast<long long>(n);
-  const int compactBlocks = static_cast<int>(std::max(1ll,
-    std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
-  compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
-    kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  const auto blocksFor = [&](long long threads) {
+    return static_cast<int>(std::max(1ll,
+      std::min<long long>((threads + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
+  };
+  if (slots && slots->max && static_cast<long long>(slots->nx) * slots->ny * slots->slices == items)
+  {
+    const long long slotCount = harrisSlotCount(slots->nx, slots->ny, slots->slices);
+    compactSlotsKernel<<<blocksFor(slotCount), kCompactThreads, 0, stream>>>(scores, slots->max,
+      slots->nx, slots->ny, slotCount, State, FastList, kFastListCapacity,
+      reinterpret_cast<unsigned long long*>(Counts));
+  }
+  else
+  {
+    compactKernel<<<blocksFor(items / 4), kCompactThreads, 0, stream>>>(scores, items, State,
+      FastList, kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  }
   MCV_CUDA_TRY(cudaGetLastError());
-  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysOut, ValsOut);
+  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
+  MCV_CUDA_TRY(cudaGetLastError());
+  rankSortKernel<<<(N * kRankLanes + kRankThreads - 1) / kRankThreads, kRankThreads, 0, stream>>>(
+    KeysIn, ValsIn, State, N, KeysOut, ValsOut);
   MCV_CUDA_TRY(cudaGetLastError());
   MCV_CUDA_TRY(record(beforeDownload));
   MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));
