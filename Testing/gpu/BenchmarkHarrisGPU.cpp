@@ -15,7 +15,7 @@
 // --cpu-runs runs, up to --cpu-max voxels per side. Agreement: top-N overlap between the
 // GPU (uint8) and CPU (float) points, and the angle between their PCA best views.
 // --sweep times the Harris kernel for several z chunks, --variants the kernel variants
-// (z-loop unrolling, 3 blocks/SM, threads per tile row, histogram atomics) from 256^3 up;
+// (z-loop unrolling, 3 blocks/SM, histogram atomics) from 256^3 up;
 // --variant V runs every measurement with Harris kernel variant V instead of the default.
 // The float path (the plugin's input) is timed too unless --no-float.
 // --slabs also runs the z-slab path (HarrisSlabStream: volume on the host, streamed in
@@ -382,8 +382,7 @@ int main(int argc, char** argv)
           }
           std::printf("  v%d%s %.3f", v, hm ? "a" : "m", median(hs));
         }
-      std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM, bit2 512 threads of one row; m: match_any, "
-                  "a: plain atomics)\n");
+      std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM; m: match_any, a: plain atomics)\n");
       pipeline.setKernelVariant(cfg.variant, 1);
     }
     std::printf("  H2D uint8: pinned %.3f ms, pageable %.3f ms\n", row.h2dPinned, row.h2dPageable);

@@ -351,44 +351,6 @@ TEST(HarrisGPU, ResponseBitsEqualTheCpu)
   }
 }
 
-// The fast compaction that reads only the slots whose maximum reaches the level-1 bin gives
-// the same N points and the same candidate list as the one over the whole score volume
-// (partial tiles in x and y, z chunks, an x,y image and a y,z image).
-TEST(HarrisGPU, SlotMaximaSelectLikeTheWholeVolume)
-{
-  MCV_REQUIRE_GPU();
-  const HarrisParameters p;
-  for (const std::array<int, 3> dims : { std::array<int, 3>{ 77, 45, 41 },
-         std::array<int, 3>{ 100, 33, 70 }, std::array<int, 3>{ 45, 38, 1 },
-         std::array<int, 3>{ 1, 45, 38 } })
-  {
-    const std::string what = std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
-      std::to_string(dims[2]);
-    SCOPED_TRACE(what);
-    const ImageGrid grid = mt::makeGrid(dims[0], dims[1], dims[2], { 1.0, 0.9, 1.1 });
-    const mt::Volume v = smoothRandomVolume(grid, 61 + dims[1]);
-    mcv::cuda::HarrisPipeline pipeline;
-    std::string error;
-    ASSERT_TRUE(pipeline.uploadVolume(v.values.data(), v.grid, &error)) << error;
-    std::vector<float> response(v.values.size());
-    ASSERT_TRUE(pipeline.response(p, response.data(), &error)) << error;
-    for (int n : { 1, 300, kN })
-    {
-      InterestPoints fromSlots, fromScores;
-      ASSERT_TRUE(pipeline.topN(p, n, fromSlots, &error)) << error;
-      ASSERT_FALSE(pipeline.lastSelectUsedSlowPath());
-      const long long listFromSlots = pipeline.lastListSize();
-      ASSERT_TRUE(pipeline.selectFromScores(response.data(), response.size(), n, fromScores, &error))
-        << error;
-      EXPECT_EQ(pipeline.lastListSize(), listFromSlots) << "N " << n;
-      EXPECT_EQ(fromSlots.indices, fromScores.indices) << "N " << n;
-      EXPECT_EQ(fromSlots.scores, fromScores.scores) << "N " << n;
-      const InterestPoints cpu = mcv::selectTopResponsesCPU(response.data(), response.size(), n);
-      EXPECT_EQ(fromSlots.indices, cpu.indices) << "N " << n;
-    }
-  }
-}
-
 TEST(HarrisGPU, ZChunksGiveIdenticalResults)
 {
   MCV_REQUIRE_GPU();

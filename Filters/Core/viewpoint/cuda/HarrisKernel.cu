@@ -29,23 +29,8 @@ __device__ __forceinline__ float toFloat(std::uint8_t v)
   return __uint_as_float(0x4B000000u | static_cast<unsigned>(v)) - 8388608.0f;
 }
 
-// The largest of the warp's 32 values (all lanes active), in every lane.
-__device__ __forceinline__ unsigned warpMax(unsigned v)
-{
-#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 800
-  return __reduce_max_sync(0xffffffffu, v);
-#else
-#pragma unroll
-  for (int o = 16; o > 0; o >>= 1)
-  {
-    v = max(v, __shfl_xor_sync(0xffffffffu, v, o));
-  }
-  return v;
-#endif
-}
-
-// Shared-memory layout of one block of NT threads for radius R (all sizes in floats).
-template <int R, int NT>
+// Shared-memory layout of one block for radius R (all sizes in floats).
+template <int R>
 struct TileShape
 {
   static constexpr int W = 2 * R + 1;                   // taps
@@ -55,7 +40,7 @@ struct TileShape
   static constexpr int PWa = kHarrisTileX + 2 * R;      // product tile (blur halo)
   static constexpr int PW = (PWa + 3) & ~3;             // row stride, float4-aligned
   static constexpr int PH = kHarrisTileY + 2 * R;
-  static constexpr int LOADS = (IS + NT - 1) / NT;
+  static constexpr int LOADS = (IS + kHarrisThreads - 1) / kHarrisThreads;
   static constexpr int ProdFloats = 6 * PH * PW;         // [6][PH][PW]
   static constexpr int XbFloats = 6 * PH * kHarrisTileX; // [6][PH][TX] x-smoothed
   static constexpr int InFloats = 3 * IS;                // ring of 3 input slices
@@ -81,10 +66,9 @@ __device__ __forceinline__ void forPhases(F& f, int sv, int svEnd)
 }
 
 // The block's level-1 histogram (kLevel1Bins counts in shared memory), cleared.
-template <int NT>
 __device__ __forceinline__ void clearHistogram(unsigned* sHist, int tid)
 {
-  for (int i = tid; i < kLevel1Bins; i += NT)
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
   {
     sHist[i] = 0;
   }
@@ -92,15 +76,15 @@ __device__ __forceinline__ void clearHistogram(unsigned* sHist, int tid)
 
 // In-plane source offsets of this thread's input-tile elements (clamped: replicated border);
 // -1 for an element past the tile.
-template <int R, int NT>
+template <int R>
 __device__ __forceinline__ void inputOffsets(
-  int (&inOff)[TileShape<R, NT>::LOADS], int tid, int x0, int y0, int nx, int ny)
+  int (&inOff)[TileShape<R>::LOADS], int tid, int x0, int y0, int nx, int ny)
 {
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
 #pragma unroll
   for (int i = 0; i < S::LOADS; ++i)
   {
-    const int e = tid + i * NT;
+    const int e = tid + i * kHarrisThreads;
     if (e < S::IS)
     {
       const int ly = e / S::IW, lx = e - ly * S::IW;
@@ -115,29 +99,29 @@ __device__ __forceinline__ void inputOffsets(
 
 // This thread's elements of input slice q into registers (the next slice, loaded ahead of
 // its use).
-template <int R, int NT, typename T>
-__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R, NT>::LOADS], const T* in, int q,
-  std::size_t plane, const int (&inOff)[TileShape<R, NT>::LOADS])
+template <int R, typename T>
+__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], const T* in, int q,
+  std::size_t plane, const int (&inOff)[TileShape<R>::LOADS])
 {
   const T* src = in + static_cast<std::size_t>(q) * plane;
 #pragma unroll
-  for (int i = 0; i < TileShape<R, NT>::LOADS; ++i)
+  for (int i = 0; i < TileShape<R>::LOADS; ++i)
   {
     pre[i] = inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
   }
 }
 
 // The loaded slice q into its slot of the ring of three input slices.
-template <int R, int NT>
+template <int R>
 __device__ __forceinline__ void storeSlice(
-  float* sIn, int q, const float (&pre)[TileShape<R, NT>::LOADS], int tid)
+  float* sIn, int q, const float (&pre)[TileShape<R>::LOADS], int tid)
 {
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
   float* dst = sIn + (q % 3) * S::IS;
 #pragma unroll
   for (int i = 0; i < S::LOADS; ++i)
   {
-    const int e = tid + i * NT;
+    const int e = tid + i * kHarrisThreads;
     if (e < S::IS)
     {
       dst[e] = pre[i];
@@ -148,11 +132,11 @@ __device__ __forceinline__ void storeSlice(
 // Six gradient products of slice cz on the product tile. A product position outside the
 // grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
 // Interior blocks (the whole product tile inside the grid) skip the clamping.
-template <int R, int NT>
+template <int R>
 __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn, int cz,
   bool interior, int x0, int y0, const HarrisKernelArgs& a, int tid)
 {
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
   constexpr int IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
   constexpr int CS = PH * PW; // channel stride of the product tile
   const int nx = a.nx, ny = a.ny, nz = a.nz;
@@ -173,7 +157,7 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
   };
   if (interior)
   {
-    for (int p = tid; p < PH * PWa; p += NT)
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
     {
       const int py = p / PWa, px = p - py * PWa;
       at((py + 1) * IW + px + 1, py, px);
@@ -181,7 +165,7 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
   }
   else
   {
-    for (int p = tid; p < PH * PWa; p += NT)
+    for (int p = tid; p < PH * PWa; p += kHarrisThreads)
     {
       const int py = p / PWa, px = p - py * PWa;
       const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
@@ -192,13 +176,13 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
 }
 
 // x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
-template <int R, int NT>
+template <int R>
 __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const HarrisKernelArgs& a, int tid)
 {
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
   constexpr int W = S::W, PW = S::PW, PH = S::PH, TX = kHarrisTileX;
   constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
-  for (int t = tid; t < TASKS; t += NT)
+  for (int t = tid; t < TASKS; t += kHarrisThreads)
   {
     const int row = t / XG; // channel * PH + row
     const int g = t - row * XG;
@@ -229,16 +213,16 @@ __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const Harr
   }
 }
 
-// The z window of xy-smoothed tensors for the RPT voxels (rows RPT*warp ..) of a thread:
-// win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of slots).
-template <int RPT, int W>
-using ZWindow = float[RPT][W][6];
+// The z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of a
+// thread: win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of slots).
+template <int W>
+using ZWindow = float[2][W][6];
 
-template <int RPT, int W>
-__device__ __forceinline__ void clearWindow(ZWindow<RPT, W>& win)
+template <int W>
+__device__ __forceinline__ void clearWindow(ZWindow<W>& win)
 {
 #pragma unroll
-  for (int r = 0; r < RPT; ++r)
+  for (int r = 0; r < 2; ++r)
 #pragma unroll
     for (int t = 0; t < W; ++t)
 #pragma unroll
@@ -246,79 +230,69 @@ __device__ __forceinline__ void clearWindow(ZWindow<RPT, W>& win)
         win[r][t][c] = 0.f;
 }
 
-// y pass for the RPT voxels of this thread -> the newest z-window slot (slot P of the ring
+// y pass for the two voxels of this thread -> the newest z-window slot (slot P of the ring
 // when unrolled, else the window shifts by one).
-template <int R, int RPT, bool UNROLL, int P>
+template <int R, bool UNROLL, int P>
 __device__ __forceinline__ void yPassStore(
-  ZWindow<RPT, 2 * R + 1>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
+  ZWindow<2 * R + 1>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
 {
-  constexpr int W = 2 * R + 1, PH = kHarrisTileY + 2 * R, TX = kHarrisTileX;
-  const int r0 = RPT * warp;
+  using S = TileShape<R>;
+  constexpr int W = S::W, PH = S::PH, TX = kHarrisTileX;
+  const int r0 = 2 * warp;
 #pragma unroll
   for (int c = 0; c < 6; ++c)
   {
-    float col[W + RPT - 1];
+    float col[W + 1];
 #pragma unroll
-    for (int j = 0; j < W + RPT - 1; ++j)
+    for (int j = 0; j < W + 1; ++j)
     {
       col[j] = sXb[(c * PH + r0 + j) * TX + lane];
     }
-    float s[RPT];
-#pragma unroll
-    for (int r = 0; r < RPT; ++r)
-    {
-      s[r] = 0.f;
-    }
+    float s0 = 0.f, s1 = 0.f;
 #pragma unroll
     for (int t = 0; t < W; ++t)
     {
-#pragma unroll
-      for (int r = 0; r < RPT; ++r)
-      {
-        s[r] = fmaf(a.taps[t], col[t + r], s[r]);
-      }
+      s0 = fmaf(a.taps[t], col[t], s0);
+      s1 = fmaf(a.taps[t], col[t + 1], s1);
     }
-#pragma unroll
-    for (int r = 0; r < RPT; ++r)
+    if constexpr (UNROLL)
     {
-      if constexpr (UNROLL)
-      {
-        win[r][P][c] = s[r];
-      }
-      else
-      {
+      win[0][P][c] = s0;
+      win[1][P][c] = s1;
+    }
+    else
+    {
 #pragma unroll
-        for (int t = 0; t + 1 < W; ++t)
-        {
-          win[r][t][c] = win[r][t + 1][c];
-        }
-        win[r][W - 1][c] = s[r];
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
       }
+      win[0][W - 1][c] = s0;
+      win[1][W - 1][c] = s1;
     }
   }
 }
 
 // The clamped slice repeats (z border): the newest slice enters the window again.
-template <int RPT, int W, bool UNROLL, int P>
-__device__ __forceinline__ void repeatStore(ZWindow<RPT, W>& win)
+template <int W, bool UNROLL, int P>
+__device__ __forceinline__ void repeatStore(ZWindow<W>& win)
 {
 #pragma unroll
   for (int c = 0; c < 6; ++c)
   {
-#pragma unroll
-    for (int r = 0; r < RPT; ++r)
+    if constexpr (UNROLL)
     {
-      if constexpr (UNROLL)
-      {
-        win[r][P][c] = win[r][(P + W - 1) % W][c];
-      }
-      else
-      {
+      win[0][P][c] = win[0][(P + W - 1) % W][c];
+      win[1][P][c] = win[1][(P + W - 1) % W][c];
+    }
+    else
+    {
 #pragma unroll
-        for (int t = 0; t + 1 < W; ++t)
-        {
-          win[r][t][c] = win[r][t + 1][c];
-        }
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
       }
     }
   }
@@ -326,9 +300,9 @@ __device__ __forceinline__ void repeatStore(ZWindow<RPT, W>& win)
 
 // z pass of voxel rr of this thread after phase P: the smoothed structure tensor
 // m = (xx, xy, xz, yy, yz, zz).
-template <int RPT, int W, bool UNROLL, int P>
+template <int W, bool UNROLL, int P>
 __device__ __forceinline__ void zSmooth(
-  float (&m)[6], const ZWindow<RPT, W>& win, int rr, const HarrisKernelArgs& a)
+  float (&m)[6], const ZWindow<W>& win, int rr, const HarrisKernelArgs& a)
 {
 #pragma unroll
   for (int c = 0; c < 6; ++c)
@@ -391,10 +365,9 @@ __device__ __forceinline__ void countCandidate(
 }
 
 // The block's histogram added to the global one.
-template <int NT>
 __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
 {
-  for (int i = tid; i < kLevel1Bins; i += NT)
+  for (int i = tid; i < kLevel1Bins; i += kHarrisThreads)
   {
     const unsigned c = sHist[i];
     if (c)
@@ -404,26 +377,14 @@ __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const u
   }
 }
 
-// Threads per block and tile rows per thread of variant V.
-template <int V>
-struct VariantShape
-{
-  static constexpr int NT = (V & 4) ? 2 * kHarrisThreads : kHarrisThreads;
-  static constexpr int RPT = (V & 4) ? 1 : 2;
-  static constexpr int MIN_BLOCKS = (V & 2) ? 3 : 2;
-};
-
 // V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
-// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
-// bit 2: 512 threads of one tile row each (a z window half as large: register cap 64, twice
-// the resident warps) instead of 256 threads of two rows.
+// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2.
 template <typename T, int R, int V>
-__global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOCKS)
+__global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
 {
   constexpr bool UNROLL = (V & 1) != 0;
-  constexpr int NT = VariantShape<V>::NT, RPT = VariantShape<V>::RPT;
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
   constexpr int W = S::W;
   constexpr int TX = kHarrisTileX;
 
@@ -440,31 +401,29 @@ __global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOC
   const int ze = min(zb + a.zChunk, a.zOutEnd);
   const std::size_t plane = static_cast<std::size_t>(nx) * ny;
   const bool withHist = a.hist != nullptr;
-  const bool withSlots = a.slotMax != nullptr;
   if (withHist)
   {
-    clearHistogram<NT>(sHist, tid);
+    clearHistogram(sHist, tid);
   }
 
   int inOff[S::LOADS];
-  inputOffsets<R, NT>(inOff, tid, x0, y0, nx, ny);
+  inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
   float pre[S::LOADS]; // the next input slice, loaded ahead of its use
   const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
     y0 + kHarrisTileY + R <= ny;
-  float win[RPT][W][6];
-  clearWindow<RPT, W>(win);
+  float win[2][W][6];
+  clearWindow<W>(win);
 
-  // The z pass, the response and its output for the RPT voxels of this thread at slice z.
+  // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
     constexpr int P = decltype(phase)::value;
 #pragma unroll
-    for (int rr = 0; rr < RPT; ++rr)
+    for (int rr = 0; rr < 2; ++rr)
     {
       float m[6];
-      zSmooth<RPT, W, UNROLL, P>(m, win, rr, a);
+      zSmooth<W, UNROLL, P>(m, win, rr, a);
       const float response = harrisResponse(m, a);
-      const int row = RPT * warp + rr; // in the tile
-      const int gx = x0 + lane, gy = y0 + row;
+      const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
       const bool inside = gx < nx && gy < ny;
       if (inside)
       {
@@ -475,16 +434,6 @@ __global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOC
       if (withHist)
       {
         countCandidate(sHist, response, inside, a.histMode, lane);
-      }
-      if (withSlots)
-      {
-        const unsigned bits = __float_as_uint(response);
-        const unsigned rowMax = warpMax(inside && bits - 1u < 0x7F7FFFFFu ? bits : 0u); // R > 0, finite
-        if (lane == 0)
-        {
-          a.slotMax[((static_cast<long long>(z - a.zOutBegin) * gridDim.y + blockIdx.y) * gridDim.x +
-                      blockIdx.x) * kHarrisSlotsPerTile + row] = rowMax;
-        }
       }
     }
   };
@@ -497,13 +446,13 @@ __global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOC
   const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
   for (int q = max(czFirst - 1, 0); q <= min(czFirst + 1, nz - 1); ++q)
   {
-    loadSlice<R, NT>(pre, in, q, plane, inOff);
-    storeSlice<R, NT>(sIn, q, pre, tid);
+    loadSlice<R>(pre, in, q, plane, inOff);
+    storeSlice<R>(sIn, q, pre, tid);
   }
   int nextLoad = min(czFirst + 1, nz - 1) + 1;
   if (nextLoad <= qLast)
   {
-    loadSlice<R, NT>(pre, in, nextLoad, plane, inOff);
+    loadSlice<R>(pre, in, nextLoad, plane, inOff);
   }
   int lastCz = -1;
   auto step = [&](auto phase, int sv) {
@@ -514,24 +463,24 @@ __global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOC
       if (lastCz >= 0 && nextLoad <= qLast)
       {
         // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
-        storeSlice<R, NT>(sIn, nextLoad, pre, tid);
+        storeSlice<R>(sIn, nextLoad, pre, tid);
         ++nextLoad;
         if (nextLoad <= qLast)
         {
-          loadSlice<R, NT>(pre, in, nextLoad, plane, inOff);
+          loadSlice<R>(pre, in, nextLoad, plane, inOff);
         }
       }
       __syncthreads();
-      gradientProducts<R, NT>(sProd, sIn, cz, interior, x0, y0, a, tid);
+      gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
       __syncthreads();
-      xPass<R, NT>(sXb, sProd, a, tid);
+      xPass<R>(sXb, sProd, a, tid);
       __syncthreads();
-      yPassStore<R, RPT, UNROLL, P>(win, sXb, a, warp, lane);
+      yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       lastCz = cz;
     }
     else
     {
-      repeatStore<RPT, W, UNROLL, P>(win);
+      repeatStore<W, UNROLL, P>(win);
     }
     if (sv >= zb + R)
     {
@@ -556,7 +505,7 @@ __global__ void __launch_bounds__(VariantShape<V>::NT, VariantShape<V>::MIN_BLOC
   if (withHist)
   {
     __syncthreads();
-    flushHistogram<NT>(a.hist, sHist, tid);
+    flushHistogram(a.hist, sHist, tid);
   }
 }
 
@@ -589,8 +538,7 @@ template <typename T, int R, int V>
 cudaError_t launchRadius(
   const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
 {
-  constexpr int NT = VariantShape<V>::NT;
-  using S = TileShape<R, NT>;
+  using S = TileShape<R>;
   const std::size_t smem = S::smemBytes(args.hist != nullptr);
   auto kernel = harrisKernel<T, R, V>;
   cudaError_t err =
@@ -617,7 +565,7 @@ cudaError_t launchRadius(
     int device = 0, sms = 1, perSM = 1;
     if ((err = cudaGetDevice(&device)) != cudaSuccess ||
       (err = cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device)) != cudaSuccess ||
-      (err = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perSM, kernel, NT, smem)) !=
+      (err = cudaOccupancyMaxActiveBlocksPerMultiprocessor(&perSM, kernel, kHarrisThreads, smem)) !=
         cudaSuccess)
     {
       return err;
@@ -635,7 +583,7 @@ cudaError_t launchRadius(
   {
     return cudaErrorInvalidConfiguration;
   }
-  kernel<<<grid, NT, smem, stream>>>(input, a);
+  kernel<<<grid, kHarrisThreads, smem, stream>>>(input, a);
   return cudaGetLastError();
 }
 
@@ -664,10 +612,6 @@ cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int 
           return launchRadius<T, 2, 2>(input, args, zChunk, stream, usedZChunk);
         case 3:
           return launchRadius<T, 2, 3>(input, args, zChunk, stream, usedZChunk);
-        case 4:
-          return launchRadius<T, 2, 4>(input, args, zChunk, stream, usedZChunk);
-        case 5:
-          return launchRadius<T, 2, 5>(input, args, zChunk, stream, usedZChunk);
         default:
           return cudaErrorInvalidValue;
       }

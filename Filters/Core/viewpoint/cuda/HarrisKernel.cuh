@@ -24,14 +24,12 @@ namespace detail
 
 constexpr int kHarrisTileX = 32;
 constexpr int kHarrisTileY = 16;
-constexpr int kHarrisThreads = 256; // 32 x 8, each thread owns two rows of the tile (variants 4, 5: twice the threads, one row each)
+constexpr int kHarrisThreads = 256; // 32 x 8, each thread owns two rows of the tile
 constexpr int kHarrisMaxRadius = 3; // kernel widths 1, 3, 5, 7 run on the GPU
 constexpr int kLevel1Bins = 2048;   // top 11 bits of a positive float
-// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM;
-// bit 2: 512 threads of one tile row each, 2 blocks per SM; 6 and 7 do not exist: 3 blocks of
-// 512 threads would leave 42 registers); all six are built for width 5, the default variant
-// for the other widths. Every variant rounds the same way (bit-identical responses).
-constexpr int kHarrisVariants = 6;
+// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM);
+// all four are built for width 5, the default variant for the other widths.
+constexpr int kHarrisVariants = 4;
 constexpr int kHarrisDefaultVariant = 1; // the fastest measured (mcvBenchmarkGPU --variants)
 
 struct HarrisKernelArgs
@@ -48,21 +46,8 @@ struct HarrisKernelArgs
   float taps[2 * kHarrisMaxRadius + 1] = {};
   float* response = nullptr;
   unsigned long long* hist = nullptr; // level-1 histogram (kLevel1Bins) or null
-  // Per output slice, tile and tile row (32 voxels: harrisSlotCount slots), the largest
-  // candidate's bit pattern (0: none), or null. The selection reads only the rows that can
-  // hold a top-N candidate.
-  unsigned* slotMax = nullptr;
   int histMode = 1; // 0: warp-aggregated shared atomics (__match_any_sync); 1: plain (faster)
 };
-
-// Slots of slotMax for an output of nx x ny x slices voxels, and the slot of a voxel
-// (x, y, output slice zo): slot = ((zo * tilesY + y / 16) * tilesX + x / 32) * 16 + y % 16.
-constexpr int kHarrisSlotsPerTile = kHarrisTileY;
-__host__ __device__ inline long long harrisSlotCount(int nx, int ny, int slices)
-{
-  return static_cast<long long>((nx + kHarrisTileX - 1) / kHarrisTileX) *
-    ((ny + kHarrisTileY - 1) / kHarrisTileY) * slices * kHarrisSlotsPerTile;
-}
 
 // Launches the kernel for input type T (float or uint8) and radius `radius` (0..3);
 // zChunk <= 0 picks one from the occupancy; variant < 0 the default. Returns the launch

@@ -112,9 +112,6 @@ struct HarrisPipeline::Impl
   ImageGrid grid;
   float* scores = nullptr;
   std::size_t scoresCap = 0;
-  unsigned* slotMax = nullptr; // the kernel's per-slot maxima for the selection
-  std::size_t slotMaxCap = 0;
-  detail::SlotMaxima slots;
   detail::TopNSelector selector;
   int zChunk = 0, lastZChunk = 0;
   int variant = -1, histMode = 1;
@@ -152,14 +149,9 @@ struct HarrisPipeline::Impl
     {
       cudaFree(scores);
     }
-    if (slotMax)
-    {
-      cudaFree(slotMax);
-    }
     input = nullptr;
     scores = nullptr;
-    slotMax = nullptr;
-    inputCap = scoresCap = slotMaxCap = 0;
+    inputCap = scoresCap = 0;
     haveVolume = false;
   }
 
@@ -257,20 +249,6 @@ struct HarrisPipeline::Impl
     detail::HarrisKernelArgs a = detail::harrisKernelArgs(grid, params);
     a.response = scores;
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
-    slots = detail::SlotMaxima{};
-    if (withHistogram)
-    {
-      void* p = slotMax;
-      const bool ok = ensure(p, slotMaxCap,
-        static_cast<std::size_t>(detail::harrisSlotCount(a.nx, a.ny, a.nz)) * sizeof(unsigned), error);
-      slotMax = static_cast<unsigned*>(p);
-      if (!ok)
-      {
-        return false;
-      }
-      a.slotMax = slotMax;
-      slots = detail::SlotMaxima{ slotMax, a.nx, a.ny, a.nz };
-    }
     a.histMode = histMode;
     const int radius = params.kernelWidth / 2;
     const cudaError_t launchError = inputIsUint8
@@ -319,8 +297,7 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
-  if (!p.selector.select(
-        p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.slots))
+  if (!p.selector.select(p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5]))
   {
     return false;
   }
@@ -448,7 +425,7 @@ bool HarrisPipeline::timeHarrisKernel(
 
 std::size_t HarrisPipeline::deviceBytesHeld() const
 {
-  return impl_->inputCap + impl_->scoresCap + impl_->slotMaxCap;
+  return impl_->inputCap + impl_->scoresCap;
 }
 
 void HarrisPipeline::release()

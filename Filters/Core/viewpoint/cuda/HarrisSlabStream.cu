@@ -38,9 +38,7 @@ std::size_t planeOf(const ImageGrid& g)
 
 std::size_t wholeVolumeDeviceBytes(const ImageGrid& grid, int bytesPerValue)
 {
-  const std::size_t slotBytes = static_cast<std::size_t>(detail::harrisSlotCount(
-                                  grid.dims[0], grid.dims[1], grid.dims[2])) * sizeof(unsigned);
-  return grid.voxelCount() * (static_cast<std::size_t>(bytesPerValue) + sizeof(float)) + slotBytes +
+  return grid.voxelCount() * (static_cast<std::size_t>(bytesPerValue) + sizeof(float)) +
     kSelectionReserveBytes;
 }
 

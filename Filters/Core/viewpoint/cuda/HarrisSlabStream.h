@@ -40,8 +40,7 @@ struct SlabPlan
 // list of the fast path, the N results), kept free by the plans.
 constexpr std::size_t kSelectionReserveBytes = std::size_t(64) << 20;
 
-// Device bytes the whole-volume pipeline needs for this grid: volume + scores + the Harris
-// kernel's per-row maxima (4 bytes per 32 voxels of a row of the tiled grid) + selection.
+// Device bytes the whole-volume pipeline needs for this grid: volume + scores + selection.
 std::size_t wholeVolumeDeviceBytes(const ImageGrid& grid, int bytesPerValue);
 
 // The largest owned slab height whose buffers fit `budgetBytes` (capped at the grid's

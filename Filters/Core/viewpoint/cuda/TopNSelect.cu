@@ -250,74 +250,6 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __
   }
 }
 
-// The warp's selected entries appended to the list (one atomic per warp that holds any).
-// Called by all 32 lanes.
-__device__ __forceinline__ void appendWarp(bool sel, unsigned bits, long long index, int lane,
-  ListEntry* __restrict__ list, long long cap, unsigned long long* __restrict__ count)
-{
-  const unsigned mask = __ballot_sync(0xffffffffu, sel);
-  if (mask == 0u)
-  {
-    return;
-  }
-  unsigned long long base = 0;
-  if (lane == 0)
-  {
-    base = atomicAdd(count, static_cast<unsigned long long>(__popc(mask)));
-  }
-  base = __shfl_sync(0xffffffffu, base, 0);
-  if (sel)
-  {
-    const unsigned long long pos = base + __popc(mask & ((1u << lane) - 1u));
-    if (pos < static_cast<unsigned long long>(cap))
-    {
-      list[pos] = ListEntry{ bits, 0u, index };
-    }
-  }
-}
-
-// compactKernel over the slots whose maximum reaches state->low only: each warp tests 32
-// slots at once (one coalesced read), then reads the 32-voxel tile row of each hit.
-__global__ void __launch_bounds__(kCompactThreads) compactSlotsKernel(const float* __restrict__ scores,
-  const unsigned* __restrict__ slotMax, int nx, int ny, long long slots,
-  const SelectState* __restrict__ state, ListEntry* __restrict__ list, long long cap,
-  unsigned long long* __restrict__ count)
-{
-  const unsigned low = state->low;
-  if (low == 0xFFFFFFFFu)
-  {
-    return; // the list would not fit: the host runs the slow path
-  }
-  const int lane = threadIdx.x & 31;
-  const int tilesX = (nx + kHarrisTileX - 1) / kHarrisTileX;
-  const int tilesY = (ny + kHarrisTileY - 1) / kHarrisTileY;
-  const long long plane = static_cast<long long>(nx) * ny;
-  const long long warp = (static_cast<long long>(blockIdx.x) * blockDim.x + threadIdx.x) >> 5;
-  const long long warps = (static_cast<long long>(gridDim.x) * blockDim.x) >> 5;
-  for (long long first = warp * 32; first < slots; first += warps * 32)
-  {
-    const long long mine = first + lane;
-    unsigned hits = __ballot_sync(0xffffffffu, mine < slots && __ldg(slotMax + mine) >= low);
-    while (hits)
-    {
-      const long long slot = first + (__ffs(hits) - 1);
-      hits &= hits - 1u;
-      const int row = static_cast<int>(slot % kHarrisSlotsPerTile);
-      long long rest = slot / kHarrisSlotsPerTile;
-      const int bx = static_cast<int>(rest % tilesX);
-      rest /= tilesX;
-      const int by = static_cast<int>(rest % tilesY);
-      const long long z = rest / tilesY;
-      const int gx = bx * kHarrisTileX + lane;
-      const int gy = by * kHarrisTileY + row;
-      const long long index = z * plane + static_cast<long long>(gy) * nx + gx;
-      const bool inside = gx < nx && gy < ny;
-      const unsigned bits = inside ? __float_as_uint(__ldg(scores + index)) : 0u;
-      appendWarp(inside && bits >= low && bits <= kMaxFiniteBits, bits, index, lane, list, cap, count);
-    }
-  }
-}
-
 // "a ranks before b": higher score first, then lower index.
 __device__ __forceinline__ bool ranksBefore(unsigned ka, long long ia, unsigned kb, long long ib)
 {
@@ -816,8 +748,7 @@ bool TopNSelector::histogramLevel1(
 }
 
 bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_t stream,
-  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload,
-  const SlotMaxima* slots)
+  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload)
 {
   out.indices.clear();
   out.scores.clear();
@@ -858,22 +789,10 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   scanLevelKernel<kLevel1Bins><<<1, kScanThreads, 0, stream>>>(Hist, 1, N, kFastListCapacity, State);
   MCV_CUDA_TRY(cudaGetLastError());
   const long long items = static_cast<long long>(n);
-  const auto blocksFor = [&](long long threads) {
-    return static_cast<int>(std::max(1ll,
-      std::min<long long>((threads + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
-  };
-  if (slots && slots->max && static_cast<long long>(slots->nx) * slots->ny * slots->slices == items)
-  {
-    const long long slotCount = harrisSlotCount(slots->nx, slots->ny, slots->slices);
-    compactSlotsKernel<<<blocksFor(slotCount), kCompactThreads, 0, stream>>>(scores, slots->max,
-      slots->nx, slots->ny, slotCount, State, FastList, kFastListCapacity,
-      reinterpret_cast<unsigned long long*>(Counts));
-  }
-  else
-  {
-    compactKernel<<<blocksFor(items / 4), kCompactThreads, 0, stream>>>(scores, items, State,
-      FastList, kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
-  }
+  const int compactBlocks = static_cast<int>(std::max(1ll,
+    std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
+  compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
+    kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
   MCV_CUDA_TRY(cudaGetLastError());
   finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
   MCV_CUDA_TRY(cudaGetLastError());

@@ -14,9 +14,7 @@
 //            a stable radix sort of them by score descending.
 // Fast path (N <= 2048; no host synchronisation until the N results come back): the
 // compaction is a bandwidth-bound kernel (float4 loads, one atomic per warp holding a
-// candidate) into a list of at most kFastListCapacity entries, in no particular order; with
-// the Harris kernel's per-slot maxima (SlotMaxima) it reads only the slots (32-voxel rows
-// of the kernel's tiles) whose largest candidate reaches the level-1 bin;
+// candidate) into a list of at most kFastListCapacity entries, in no particular order;
 // one block then runs levels 2 and 3 and gathers the survivors (if more ties == T exist
 // than places, it bitonic-sorts the ties by index); N / 16 blocks then put each survivor at
 // its rank by (score desc, index asc), counted against all the others.
@@ -63,15 +61,6 @@ struct ListEntry // one candidate of the compacted list
 
 constexpr long long kFastListCapacity = 1 << 16;
 
-// The Harris kernel's per-slot maxima (HarrisKernelArgs::slotMax) over a score volume of
-// nx x ny x slices: with them the fast compaction reads only the rows of slots whose
-// largest candidate reaches the level-1 bin, instead of the whole volume.
-struct SlotMaxima
-{
-  const unsigned* max = nullptr;
-  int nx = 0, ny = 0, slices = 0;
-};
-
 class TopNSelector
 {
 public:
@@ -89,10 +78,8 @@ public:
   bool histogramLevel1(const float* scores, std::size_t n, cudaStream_t stream, std::string* error);
   // Selection from `n` device scores whose level-1 histogram is complete. `beforeDownload`
   // and `afterDownload` (optional) are recorded around the copy of the N results.
-  // `slots` (optional) must describe the same n scores.
   bool select(const float* scores, std::size_t n, int N, cudaStream_t stream, InterestPoints& out,
-    std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr,
-    const SlotMaxima* slots = nullptr);
+    std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr);
   void release();
 
   // Entries of the last selection's compacted list and whether it took the slow path.
