@@ -376,7 +376,8 @@ struct Step
 //    pushes by +4 per axis (umap-learn's fixed push).
 // Squared norms are rounded as (x^2 + y^2) + z^2 (2D: x^2 + y^2), the same in batchAvx2.
 template <int Dim>
-void sampleScalar(std::uint32_t j, std::uint32_t k, int count, std::uint32_t key, const Step& p, float* Y, const float* start)
+void sampleScalar(
+  std::uint32_t j, std::uint32_t k, int count, std::uint32_t key, const Step& p, float* Y, const float* start)
 {
   float* const h = Y + static_cast<std::size_t>(j) * kStride;
   float* const t = Y + static_cast<std::size_t>(k) * kStride;
@@ -439,8 +440,9 @@ struct Batch
 
 #ifdef MCV_UMAP_AVX2
 // Rows of kStride floats at byte offsets at[0..7] from base, transposed: axis c of the
-// eight rows in out[c]. Eight 128-bit loads and a 4 x 4 transpose per half: the AVX2
-// gather instruction was 1.5x slower here (Zen 3).
+// eight rows in out[c]. Eight 128-bit loads and a 4 x 4 transpose per half: with the AVX2
+// gather instruction for the rows and table entries the eight-lane step was no faster than
+// two samples at a time (Zen 3).
 template <int Dim>
 __attribute__((target("avx2"))) inline void loadRows8(const float* base, const std::uint32_t* at, __m256* out)
 {
@@ -530,9 +532,10 @@ __attribute__((target("avx2"))) inline __m256i hash8(__m256i x)
 // sampleScalar for the batch's samples, one per lane: every lane rounds the same float
 // operations in the same order (no FMA: this file is compiled with -ffp-contract=off), so
 // the bits are those of the samples one after the other (they share no vertex, and the
-// negative samples read the snapshot). Lanes beyond b.lanes repeat lane 0's vertices and
-// store nothing. Why: a sample's step is a chain of dependent operations; eight side by
-// side fill the vector units (two at a time ran at ~17 cycles a negative sample).
+// negative samples read the snapshot). Lanes beyond b.lanes repeat lane 0's vertices;
+// their stores are overwritten by lane 0's. Why: eight negative samples per vector, not
+// two; it runs at ~6 cycles a negative sample where two at a time took ~17
+// (docs/benchmarks.md).
 template <int Dim>
 __attribute__((target("avx2"))) void batchAvx2(const Batch& b, const Step& p, float* Y, const float* start)
 {
@@ -810,7 +813,8 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
     std::copy(Y.data() + v * Dim, Y.data() + (v + 1) * Dim, slots.data() + std::size_t(s.slot[v]) * kStride);
   }
   const GradientTable gradient(o.a, o.b, o.gamma);
-  const bool batched = o.vectorised && hasAvx2();
+  // The eight-lane step addresses rows by 32-bit byte offsets (slot << 4).
+  const bool batched = o.vectorised && hasAvx2() && n < (std::size_t(1) << 28);
   float* const y = slots.data();
   float* const snapshot = start.data();
   // The positions this epoch's negative samples read.
@@ -824,9 +828,9 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
   EpochBarrier barrier;
   // umap-learn: epoch 0 at the initial rate, epoch e > 0 at alpha (1 - (e - 1) / epochs).
   const auto step = [&](int epoch) {
+    const std::uint64_t epochKey = mix64(mix64(o.seed) ^ static_cast<std::uint64_t>(epoch));
     return Step{ static_cast<float>(o.initialAlpha * (epoch == 0 ? 1.0 : 1.0 - double(epoch - 1) / o.epochs)), epoch,
-      static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(mix64(mix64(o.seed) ^ static_cast<std::uint64_t>(epoch))),
-      &gradient, batched };
+      static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(epochKey), &gradient, batched };
   };
   ThreadChoice choice(omp_get_max_threads());
   for (int e0 = 0; e0 < o.epochs; e0 += kEpochsPerRegion)
