@@ -13,12 +13,13 @@
 // coordinate texture's fourth channel) as the exact evaluation does.
 //
 // The table is a linear interpolation of a smooth function: its error on a widget of
-// standard deviation sigma is about (h / sigma)^2 / 8 of the peak opacity per axis for a
-// node spacing h. chooseTableSize takes CellsPerSigma nodes per sigma of the narrowest
-// visible widget on every axis (an error of at most 3 / (8 * 16) = 2.3 % of the peak near
-// its centre, and far less in the picture: docs/benchmarks.md section 20); when that needs
-// more than MaximumNodes nodes on an axis or MaximumTableNodes in all, the table would blur
-// the widget, and the caller evaluates every widget per sample instead.
+// standard deviation sigma is at most (h / sigma)^2 / 8 of the peak opacity per axis for a
+// node spacing h. chooseTableSize takes CellsPerSigma intervals per sigma of the narrowest
+// visible widget on every axis (at most 3 / (8 * 9) = 4 % of the peak near its centre,
+// where the three axes add up; the pictures stay within a few 1/255 of the exact ones:
+// test_gaussian_tf_table, docs/benchmarks.md section 20); when that needs more than
+// MaximumNodes nodes on an axis or MaximumTableNodes in all, the table would blur the
+// widget, and the caller evaluates every widget per sample instead.
 //
 // The texture has one more z slice than the table: CheckTexel, which the shader reads to
 // know that the table is bound (the sampler is pointed at it after the first frame of a
@@ -37,9 +38,9 @@ namespace mcv
 namespace tftable
 {
 
-constexpr double CellsPerSigma = 4.0;
-constexpr int MaximumNodes = 256;
-constexpr long long MaximumTableNodes = 160LL * 160LL * 160LL;
+constexpr double CellsPerSigma = 3.0;
+constexpr int MaximumNodes = 512;
+constexpr long long MaximumTableNodes = 1LL << 23; // 64 MiB of 16-bit RGBA
 // The check slice's texel (16-bit RGBA); the shader compares it with a tolerance.
 constexpr std::uint16_t CheckTexel[4] = { 65535, 0, 65535, 4369 };
 // Widgets below this opacity per unit length at a node are left out of it (as the brick

@@ -29,7 +29,8 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
         [--reduced brain_reduced.vti] [--skipping]
 
---skipping adds the exact evaluation with EmptySpaceSkipping.
+--skipping adds the exact evaluation with EmptySpaceSkipping; --sigma-scale S multiplies
+every seeded sigma by S (wider widgets: a coarser table).
 
 The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
 grid; --widgets widgets seeded by auto_widgets. Each of the four is a display of its own
@@ -99,6 +100,18 @@ def measure(mce, view, reduction, mode, moves):
 def parse_size(text):
     dims = [int(v) for v in text.split("x")]
     return dims * 3 if len(dims) == 1 else dims
+
+
+def picture(path):
+    """RGB of a screenshot as an int array."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)[:, None, :]
 
 
 def box_samples(view, bounds, spacing):
@@ -183,6 +196,7 @@ def turn(mce, view, reduction, args):
             for i in range(len(widgets) // 8):
                 if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
                     widgets[8 * i + 7] = 0.05
+                widgets[8 * i + 3] *= args.sigma_scale
             for m in modes[1:]:
                 displays[m].GaussianWidgets = widgets
             visible = sum(1 for i in range(len(widgets) // 8) if widgets[8 * i + 7] > 0)
@@ -204,6 +218,19 @@ def turn(mce, view, reduction, args):
                 if r > 0:
                     samples.append(box_samples(view, bounds, spacing))
                 camera.Azimuth(360.0 / args.frames)
+            # The last angle's pictures, through the table and exact: the largest channel
+            # difference and the share of pixels more than 2/255 apart.
+            shots = {}
+            for m in ("table", "exact"):
+                for other in modes:
+                    displays[other].Visibility = 1 if other == m else 0
+                simple.Render(view)
+                path = os.path.join(args.pictures, "turn_%.1fM_%dw_%s.png"
+                                    % (voxels / 1e6, count, m.replace(" ", "_")))
+                simple.SaveScreenshot(path, view, ImageResolution=list(args.size))
+                shots[m] = picture(path)
+            diff = abs(shots["table"] - shots["exact"]).max(axis=2)
+            largest, share = int(diff.max()), float((diff > 2).mean())
             # A handle move (widget 1's centre by a tenth of its sigma): the table is baked
             # again; the representation's preparation is that bake and the uniforms.
             for other in modes:
@@ -217,12 +244,14 @@ def turn(mce, view, reduction, args):
             used = str(displays["table"].GetPropertyValue("GaussianTFEvaluationUsed"))
             med = {m: statistics.median(times[m]) for m in modes}
             rate = statistics.median(samples) / med["plain"]
-            rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas)))
+            rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas), largest, share))
             print("%.1f M voxels (%s), %d widgets (%d visible, narrowest sigma %.3g): "
                   % (voxels / 1e6, channel, count, visible, min(sigmas))
                   + ", ".join("%s %.0f ms" % (m, 1e3 * med[m]) for m in modes)
                   + "; %s, baked in %.1f ms; plain: %.3g M box samples per frame, %.1f M/s"
-                  % (used, 1e3 * bake, statistics.median(samples) / 1e6, rate / 1e6))
+                  % (used, 1e3 * bake, statistics.median(samples) / 1e6, rate / 1e6)
+                  + "; table vs exact picture: largest %d/255, %.3f %% of pixels > 2/255"
+                  % (largest, 100 * share))
             sys.stdout.flush()
         for m in modes:
             simple.Delete(displays[m])
@@ -231,14 +260,16 @@ def turn(mce, view, reduction, args):
             simple.Delete(grid)
 
     print("\n| voxels | widgets | plain Volume (box samples/s) | "
-          + " | ".join("%s (x plain)" % m for m in modes[1:]) + " | table, bake |")
-    print("|---" * (len(modes) + 3) + "|")
-    for voxels, count, visible, med, used, bake, rate, sigma in rows:
+          + " | ".join("%s (x plain)" % m for m in modes[1:])
+          + " | table, bake | table vs exact picture |")
+    print("|---" * (len(modes) + 4) + "|")
+    for voxels, count, visible, med, used, bake, rate, sigma, largest, share in rows:
         p = med["plain"]
         print("| %.1f M | %d (%d visible) | %.0f ms (%.0f M/s) | " % (voxels / 1e6, count, visible,
                                                                    1e3 * p, rate / 1e6)
               + " | ".join("%.0f ms (x%.2f)" % (1e3 * med[m], med[m] / p) for m in modes[1:])
-              + " | %s, %.0f ms |" % (used.replace("table ", ""), 1e3 * bake))
+              + " | %s, %.0f ms | %d/255, %.2f %% > 2/255 |"
+              % (used.replace("table ", ""), 1e3 * bake, largest, 100 * share))
     sys.stdout.flush()
 
 
@@ -251,6 +282,10 @@ def main():
     parser.add_argument("--widgets", default="1,8,64")
     parser.add_argument("--grids", default="100,181x217x181,318")
     parser.add_argument("--frames", type=int, default=7)
+    parser.add_argument("--pictures", default=".",
+                        help="--turn: folder of the table's and the exact pictures")
+    parser.add_argument("--sigma-scale", type=float, default=1.0,
+                        help="--turn: every seeded widget's sigma times this")
     parser.add_argument("--skipping", action="store_true",
                         help="--turn: also the exact evaluation with EmptySpaceSkipping")
     parser.add_argument("--reduced", default="",
