@@ -33,7 +33,7 @@ namespace bricks
 {
 
 constexpr int BrickSize = 8;
-constexpr int TableWidth = 4096;
+constexpr int TableWidth = 2048; // OpenGL 4.5 guarantees 3D textures of 2048 (llvmpipe: 2048)
 constexpr float CheckValue = 16777.0f; // entry 0: the shader draws nothing without it
 constexpr double Cutoff = 1.0e-6;
 constexpr size_t ListShare = 3;

@@ -13,12 +13,12 @@
  * - Per sample (default): the coordinates are uploaded once as a 16-bit RGBA texture
  *   (x, y, z, drawn; mcv::quantizeCoordinates) and the GPU ray caster's fragment shader
  *   classifies every interpolated ray sample (mcvGaussianTFShader.h): thin structures
- *   between voxels stay sharp and no colour bleeds across boundaries. The shader reads
- *   the widgets baked into a 3D table over the reduced domain (PerSampleEvaluation, the
- *   default: one trilinear fetch per sample, the table re-baked on the CPU at each widget
- *   edit, mcvGaussianTFTable.h), or evaluates every widget at every sample (exact, one
- *   exp per widget; also used when a widget is narrower than the largest table
- *   resolves). Opacity is per unit length (the volume's Scalar Opacity Unit Distance),
+ *   between voxels stay sharp and no colour bleeds across boundaries. The shader
+ *   evaluates every widget at every sample (exact, one exp per widget, the default), or
+ *   reads the widgets baked into a 3D table over the reduced domain (PerSampleEvaluation
+ *   Baked table: one trilinear fetch per sample, the table re-baked on the CPU at each
+ *   widget edit, mcvGaussianTFTable.h; exact where a widget is narrower than the largest
+ *   table resolves). Opacity is per unit length (the volume's Scalar Opacity Unit Distance),
  *   corrected for the sample distance; rays are jittered (property Jittering).
  * - Per voxel: the VTK-free core (mcv::applyGaussianWidgets, CPU or CUDA) computes a uint8
  *   RGBA point array `GaussianTF_RGBA` that the ray caster interpolates as dependent
@@ -178,12 +178,15 @@ public:
 
   ///@{
   /**
-   * Per sample: EVALUATE_TABLE (default) bakes the widgets into a 3D table over the
-   * reduced domain (mcvGaussianTFTable.h: 4 nodes per sigma of the narrowest widget on
-   * every axis, at most 256 per axis and 160^3 in all) that the shader reads with one
+   * Per sample: EVALUATE_TABLE bakes the widgets into a 3D table over the
+   * reduced domain (mcvGaussianTFTable.h: 3 intervals per sigma of the narrowest widget
+   * on every axis, at most 512 nodes per axis and 2^23 in all) that the shader reads with one
    * trilinear fetch per sample; when a widget is too narrow for that table, every widget
-   * is evaluated instead (GetEvaluationUsed says which). EVALUATE_EXACT: every widget at
-   * every sample (one exp each), the formula itself.
+   * is evaluated instead (GetEvaluationUsed says which). EVALUATE_EXACT (default): every
+   * widget at every sample (one exp each), the formula itself. The table is not the
+   * default: near a peak opacity of 1 its interpolation error changes the picture (up to
+   * 37/255 on the brain), a widget edit bakes it (about 0.35 s for 6.6 M nodes), and with
+   * one widget it is slower than the loop (docs/benchmarks.md section 20).
    */
   enum PerSampleEvaluationType
   {
@@ -306,7 +309,7 @@ private:
   int RequestedRenderMode = 0;
   bool Jittering = true;
   bool EmptySpaceSkipping = false;
-  int PerSampleEvaluation = EVALUATE_TABLE;
+  int PerSampleEvaluation = EVALUATE_EXACT;
   int NumberOfBricks = 0;
   int NumberOfEmptyBricks = 0;
   double MeanWidgetsPerBrick = 0;

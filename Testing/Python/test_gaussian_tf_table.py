@@ -1,5 +1,5 @@
 """The "Gaussian TF Volume" per sample through the baked table (PerSampleEvaluation "Baked
-table", the default) against the exact evaluation of every widget ("Exact"), on a
+table") against the exact evaluation of every widget ("Exact", the default), on a
 synthetic volume with known coordinates.
 
 A 48^3 image whose 3-component ReducedCoordinates is the voxel position / 47 (so [0,1]^3),
@@ -12,12 +12,14 @@ seen obliquely with a perspective camera on a black background. Checks:
   evaluation and says why;
 * the pictures through the table and exact agree within the tolerance for 2, 8 and 64
   widgets, composite and maximum intensity, with and without empty space skipping
-  (TOLERANCE: composite: no channel more than 6/255 apart; maximum intensity: 99.9 % of
-  the pixels' brightness within 6/255, as a ray whose two most opaque samples, of two
-  widgets, nearly tie may show either one's colour; both: at most 0.5 % of the pixels
-  more than 2/255 apart);
+  (TOLERANCE: composite: no channel more than 6/255 apart, at most 0.5 % of the pixels
+  more than 2/255; maximum intensity: 99.9 % of the pixels' brightness within 6/255, as a
+  ray whose two most opaque samples, of two widgets, nearly tie may show either one's
+  colour, and at most 3 % more than 2/255: a ray shows its one most opaque sample, so the
+  table's error at a widget's peak is not averaged along the ray);
 * the tolerance can fail: the exact picture against the table's picture of the same
-  widgets with one centre moved by a third of its sigma is outside it;
+  widgets with one centre moved by a third of its sigma is outside it (composite and
+  maximum intensity);
 * "Exact" says so, and a widget edit neither re-delivers the volume nor rebuilds the
   coordinate texture.
 Screenshots go to the test output folder.
@@ -37,6 +39,7 @@ C = T.Checker("test_gaussian_tf_table")
 
 N = 48
 LARGEST, SHARE = 6, 0.005  # TOLERANCE: largest channel difference /255, share > 2/255
+MIP_SHARE = 0.03  # maximum intensity: share of pixels whose brightness is > 2/255 apart
 
 
 def difference(a, b, maximum_intensity=False):
@@ -62,7 +65,7 @@ calc.UpdatePipeline()
 view = G.black_view((400, 400))
 display = mce.show_gaussian_tf(calc, view)
 display.ShowWidgetLegend = 0
-C.check(display.PerSampleEvaluation == "Baked table", "default: PerSampleEvaluation Baked table")
+C.check(display.PerSampleEvaluation == "Exact", "default: PerSampleEvaluation Exact")
 C.check(sorted(display.GetProperty("PerSampleEvaluation").Available) == ["Baked table", "Exact"],
         "PerSampleEvaluation offers Baked table and Exact")
 
@@ -121,16 +124,17 @@ def compare(label, stem, widgets, blend="Composite", skipping=0, expect_used=Non
             "%s: drawn (brightest channel %d)" % (label, exact.max_channel()))
     if expect_used is not None:
         C.check(how == expect_used, "%s: evaluation '%s' (expected '%s')" % (label, how, expect_used))
-    C.check(largest <= LARGEST and share <= SHARE,
+    limit = MIP_SHARE if blend == "Maximum Intensity" else SHARE
+    C.check(largest <= LARGEST and share <= limit,
             "%s: the table's picture is the exact one within %d/255 (largest %d/255, %.3f %% "
-            "of pixels > 2/255)" % (label, LARGEST, largest, 100 * share))
+            "of pixels > 2/255, at most %.1f %%)" % (label, LARGEST, largest, 100 * share, 100 * limit))
     return table, exact
 
 
 # --- the table's size and the pictures ----------------------------------------------------
 table2, exact2 = compare("2 widgets, composite", "table_two", TWO, expect_used="table 39x39x39")
-compare("2 widgets, maximum intensity", "table_two_mip", TWO, "Maximum Intensity",
-        expect_used="table 39x39x39")
+mip_table2, mip_exact2 = compare("2 widgets, maximum intensity", "table_two_mip", TWO,
+                                 "Maximum Intensity", expect_used="table 39x39x39")
 compare("8 widgets, composite", "table_eight", EIGHT, expect_used="table 61x61x61")
 compare("8 widgets, maximum intensity", "table_eight_mip", EIGHT, "Maximum Intensity")
 compare("64 widgets, composite", "table_sixty_four", SIXTY_FOUR, expect_used="table 51x51x51")
@@ -148,6 +152,13 @@ print("a centre moved by sigma/3, table vs exact of the unmoved: largest %d/255,
 C.check(largest > LARGEST or share > SHARE,
         "the comparison sees a centre moved by sigma/3 (largest %d/255, %.3f %% of pixels > 2/255)"
         % (largest, 100 * share))
+shifted, _ = render("table_two_mip_moved", "Baked table", moved, "Maximum Intensity")
+largest, share = difference(shifted, mip_exact2, True)
+print("maximum intensity, a centre moved by sigma/3: 99.9th percentile %d/255, %.3f %%"
+      % (largest, 100 * share))
+C.check(largest > LARGEST or share > MIP_SHARE,
+        "maximum intensity: the comparison sees a centre moved by sigma/3 (99.9th percentile "
+        "%d/255, %.3f %% of pixels > 2/255)" % (largest, 100 * share))
 
 # --- a widget edit bakes again; no re-delivery, no new coordinate texture ----------------
 render("table_two", "Baked table", TWO)
@@ -203,6 +214,7 @@ for coordinate_source, array, label, expected in ((flat, "Flat", "constant z", "
     simple.Hide(calc, view)
     d = mce.show_gaussian_tf(coordinate_source, view, widgets=TWO, coordinates=array)
     d.ShowWidgetLegend = 0
+    d.PerSampleEvaluation = "Baked table"
     simple.Render(view)
     d.UpdatePropertyInformation()
     how = str(d.GetPropertyValue("GaussianTFEvaluationUsed"))
