@@ -141,9 +141,15 @@ ChainResult runFusedChain(const std::vector<mt::Volume>& ch, mcv::FeaturePreset 
   const double total = msSince(t1);
   for (std::size_t i = 0; i < c.stages.size(); ++i)
     c.stages[i].second = (i + 1 < c.stages.size() ? c.stages[i + 1].second : total) - c.stages[i].second;
+  // Each GPU pass's time, and of it: opening the stream (buffers, pinned staging), the
+  // host's conversion of the channels, the waits for the device.
   for (const auto& pass : bricks.devicePasses())
-    passes += " [" + pass.name + (pass.ok ? " " : " FAILED ") + std::to_string(static_cast<int>(pass.stats.totalMs)) +
-      " ms]";
+  {
+    char line[160];
+    std::snprintf(line, sizeof line, " [%s%s%.0f ms: setup %.0f, fill %.0f, wait %.0f]", pass.name.c_str(),
+      pass.ok ? " " : " FAILED ", pass.stats.totalMs, pass.stats.setupMs, pass.stats.fillMs, pass.stats.waitMs);
+    passes += line;
+  }
   c.ok = c.r.ok();
   return c;
 }

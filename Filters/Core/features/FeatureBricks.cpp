@@ -307,7 +307,7 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
   const long long batches = static_cast<long long>((n + kGatherBatch - 1) / kGatherBatch);
 #pragma omp parallel if (batches > 1)
   {
-  std::vector<float> values, features;
+  std::vector<float> values;
   std::vector<unsigned char> bad;
 #pragma omp for schedule(dynamic)
   for (long long batch = 0; batch < batches; ++batch)
@@ -320,7 +320,6 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
     tiny.dims = { static_cast<int>(3 * m), 3, 3 };
     const std::size_t tn = tiny.voxelCount(), row = 3 * m;
     values.resize(tn);
-    features.resize(tn * F);
     bad.assign(m, 0);
     for (std::size_t c = 0; c < channels_.size(); ++c)
     {
@@ -351,13 +350,9 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
           }
         }
       });
-      detail::channelFeaturesCPU(values.data(), anyBad, tiny, selection_, FeatureOutput{ features.data(), tn, cols_ },
+      // The centres alone: the other 26 voxels of each neighbourhood are inputs only.
+      detail::channelFeaturesCentresCPU(values.data(), anyBad, tiny, selection_, FeatureOutput{ out + at * F, m, cols_ },
         static_cast<int>(c) * selection_.perChannel());
-    }
-    for (std::size_t b = 0; b < m; ++b)
-    {
-      const float* centre = features.data() + (3 * b + 1 + row * 4) * F;
-      std::copy(centre, centre + F, out + (at + b) * F);
     }
     detail::applyNormalizationCPU(FeatureOutput{ out + at * F, m, cols_ }, bad.data(), offset_, scale_);
   }

@@ -223,7 +223,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   slices_ = lo;
   plane_ = static_cast<std::size_t>(slices_ + 2) * nxy;
   const std::size_t rows = slabRows(), C = static_cast<std::size_t>(setup.channels);
-  for (int i = 0; i < kSlabSlots; ++i)
+  // Buffers for the slots the slabs will use: pinning host memory costs about as much as
+  // moving it, so a second slot's staging for a one-slab volume would be pure overhead.
+  const int slabCount = (std::max(1, grid.dims[2]) + slices_ - 1) / slices_;
+  slotsUsed_ = std::min(kSlabSlots, std::max(1, slabCount));
+  for (int i = 0; i < slotsUsed_; ++i)
   {
     MCV_CUDA_TRY(cudaStreamCreateWithFlags(&streams_[i], cudaStreamNonBlocking));
     if (!setup.resident)
@@ -253,7 +257,7 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   }
   stats_.slabSlices = slices_;
   stats_.deviceBytes = bytesFor(setup, slices_) + (setup.resident ? setup.resident->bytes() : 0);
-  stats_.pinnedBytes = kSlabSlots * ((stageIn_[0] ? C * plane_ * sizeof(float) : 0) + rows * setup.pass.perRowPinned);
+  stats_.pinnedBytes = static_cast<std::size_t>(slotsUsed_) * ((stageIn_[0] ? C * plane_ * sizeof(float) : 0) + rows * setup.pass.perRowPinned);
   return true;
 }
 

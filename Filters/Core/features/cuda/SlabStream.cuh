@@ -108,6 +108,9 @@ public:
   bool open(const SlabStreamSetup& setup, std::string* error);
   int slabSlices() const { return slices_; }
   std::size_t slabRows() const; // the rows of the thickest slab
+  // The slots the slabs use: kSlabSlots, or fewer when the volume has fewer slabs (a volume
+  // of one slab allocates and pins the buffers of one slot only).
+  int slotsUsed() const { return slotsUsed_; }
 
   // Every slab in order: `fill` converts channel c's voxels into pinned floats (returns the
   // non-finite ones); `launch` (host, after the slab's features are queued) queues the
@@ -127,6 +130,7 @@ private:
 
   SlabStreamSetup setup_;
   int slices_ = 1;
+  int slotsUsed_ = kSlabSlots;
   std::size_t plane_ = 0;
   cudaStream_t streams_[kSlabSlots] = { nullptr, nullptr };
   float* channels_[kSlabSlots] = { nullptr, nullptr };      // device, C x plane (not resident)
