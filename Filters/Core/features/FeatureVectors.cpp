@@ -333,14 +333,8 @@ void channelFeaturesCPU(const float* values, bool hasNonFinite, const ImageGrid&
 void channelFeaturesCentresCPU(const float* values, bool hasNonFinite, const ImageGrid& grid,
   const FeatureSelection& selection, const FeatureOutput& out, int firstColumn)
 {
-  if (hasNonFinite)
-  {
-    channelFeaturesCentresImpl<true>(values, grid, selection, out, firstColumn);
-  }
-  else
-  {
-    channelFeaturesCentresImpl<false>(values, grid, selection, out, firstColumn);
-  }
+  (hasNonFinite ? channelFeaturesCentresImpl<true> : channelFeaturesCentresImpl<false>)(
+    values, grid, selection, out, firstColumn);
 }
 
 void columnStatsCPU(

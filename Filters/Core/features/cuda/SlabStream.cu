@@ -86,8 +86,45 @@ ResidentChannels::~ResidentChannels()
   release();
 }
 
+void* ResidentChannels::takePinned(std::size_t bytes)
+{
+  std::size_t best = pinned_.size();
+  for (std::size_t i = 0; i < pinned_.size(); ++i)
+  {
+    if (pinned_[i].second >= bytes && (best == pinned_.size() || pinned_[i].second < pinned_[best].second))
+    {
+      best = i;
+    }
+  }
+  if (best == pinned_.size())
+  {
+    return nullptr;
+  }
+  void* p = pinned_[best].first;
+  pinned_.erase(pinned_.begin() + static_cast<std::ptrdiff_t>(best));
+  return p;
+}
+
+void ResidentChannels::keepPinned(void* p, std::size_t bytes)
+{
+  if (p)
+  {
+    pinned_.emplace_back(p, bytes);
+  }
+}
+
+void ResidentChannels::freePinned()
+{
+  for (const auto& kept : pinned_)
+  {
+    cudaFreeHost(kept.first);
+  }
+  pinned_.clear();
+}
+
 void ResidentChannels::release()
 {
+  freePinned();
   cudaFree(data_);
   data_ = nullptr;
   channels_ = 0;
@@ -154,8 +191,17 @@ void SlabStream::release()
       cudaEventDestroy(uploaded_[i]);
       uploaded_[i] = nullptr;
     }
-    cudaFreeHost(stageIn_[i]);
-    cudaFreeHost(passPinned_[i]);
+    // Staging of a resident volume's pass goes back to its cache for the next pass.
+    if (setup_.resident)
+    {
+      setup_.resident->keepPinned(stageIn_[i], stageInBytes_);
+      setup_.resident->keepPinned(passPinned_[i], passPinnedBytes_);
+    }
+    else
+    {
+      cudaFreeHost(stageIn_[i]);
+      cudaFreeHost(passPinned_[i]);
+    }
     if (streams_[i])
     {
       cudaStreamDestroy(streams_[i]);
@@ -237,7 +283,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     MCV_CUDA_TRY(cudaMalloc(&features_[i], rows * static_cast<std::size_t>(F) * sizeof(float)));
     if (!setup.resident || !setup.resident->filled)
     {
-      MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], C * plane_ * sizeof(float)));
+      stageInBytes_ = C * plane_ * sizeof(float);
+      if (!(setup.resident && (stageIn_[i] = static_cast<float*>(setup.resident->takePinned(stageInBytes_)))))
+      {
+        MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], stageInBytes_));
+      }
     }
     if (setup.resident && !setup.resident->filled)
     {
@@ -245,7 +295,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     }
     if (setup.pass.perRowPinned > 0)
     {
-      MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], rows * setup.pass.perRowPinned));
+      passPinnedBytes_ = rows * setup.pass.perRowPinned;
+      if (!(setup.resident && (passPinned_[i] = static_cast<unsigned char*>(setup.resident->takePinned(passPinnedBytes_)))))
+      {
+        MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], passPinnedBytes_));
+      }
     }
   }
   MCV_CUDA_TRY(cudaMalloc(&columnParams_, 2 * static_cast<std::size_t>(F) * sizeof(double)));

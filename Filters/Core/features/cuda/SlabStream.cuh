@@ -138,6 +138,7 @@ private:
   float* features_[kSlabSlots] = { nullptr, nullptr };      // device, slab rows x F
   float* stageIn_[kSlabSlots] = { nullptr, nullptr };       // pinned host, C x plane
   unsigned char* passPinned_[kSlabSlots] = { nullptr, nullptr };
+  std::size_t stageInBytes_ = 0, passPinnedBytes_ = 0; // per slot (what a kept buffer holds)
   double* columnParams_ = nullptr;                          // device, offset then scale
   SlabStreamStats stats_;
   int uploadedEnd_ = 0;                     // filling the resident copy: slices [0, uploadedEnd_) are up
