@@ -1258,6 +1258,19 @@ std::string Placement::finalChecks() const
   return {};
 }
 
+// Joins a helper thread however the scope ends (an exception must not meet a running thread).
+struct JoinOnExit
+{
+  std::thread& thread;
+  ~JoinOnExit()
+  {
+    if (thread.joinable())
+    {
+      thread.join();
+    }
+  }
+};
+
 // `inputError`: what the caller found wrong with its rows (shared like the other checks).
 ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
 {
@@ -1274,6 +1287,27 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   if (!error.empty())
   {
     return run.failed(error);
+  }
+  // The coordinates array of the result (85 MB for 7.1 M voxels in 3D) is zero-filled by
+  // std::vector page by page on one thread, after the fit and before the placement: it is
+  // made on a thread of its own while the sample is drawn and the embedding fitted, and
+  // handed to the placement (which would make the same array).
+  std::vector<float> preparedCoordinates;
+  std::thread preparing;
+  const JoinOnExit joinPreparing{ preparing };
+  if (!options.coordinatesOutput && !options.coordinatesHalfOutput && !options.fitOnly)
+  {
+    const std::size_t values = keptRows(options, features.rows()).rows() * static_cast<std::size_t>(run.d);
+    preparing = std::thread([&preparedCoordinates, values] {
+      try
+      {
+        preparedCoordinates.resize(values);
+      }
+      catch (const std::bad_alloc&)
+      {
+        // The placement allocates it again and reports the failure.
+      }
+    });
   }
   std::string deviceWarning;
   run.device = resolveDevice(options.device, &deviceWarning);
@@ -1318,18 +1352,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   std::string trustError;
   const std::size_t fitWarnings = run.fit.warnings.size();
   std::thread trust;
-  // Joined however the placement ends (an exception must not meet a running thread).
-  struct JoinOnExit
-  {
-    std::thread& thread;
-    ~JoinOnExit()
-    {
-      if (thread.joinable())
-      {
-        thread.join();
-      }
-    }
-  } joinOnExit{ trust };
+  const JoinOnExit joinTrust{ trust };
   if (run.trustBesidePlacement)
   {
     // Reads refX and the fit's coordinates, which the placement only reads too; writes the
@@ -1337,6 +1360,11 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     trust = std::thread([&run, &options, &trustError] {
       trustError = runShared(nullptr, [&] { measureTrustworthiness(run.refX, options, run.fit); });
     });
+  }
+  if (preparing.joinable())
+  {
+    preparing.join();
+    run.result.coordinates.swap(preparedCoordinates);
   }
   const auto placeStart = Clock::now();
   error = Placement(run).placeAll();
