@@ -108,6 +108,47 @@ ChainResult runChain(const mt::BrainFeatureMatrix& f, mcv::Device device, std::s
   return c;
 }
 
+// The fused path's rows with the time of their single-voxel gathers (the reference
+// sample's features) counted: what of the sample's stage is feature work on the host.
+class TimedRows final : public mcv::FeatureRows
+{
+public:
+  explicit TimedRows(mcv::FeatureRows& rows)
+    : rows_(rows)
+  {
+  }
+  std::size_t rows() const override { return rows_.rows(); }
+  int cols() const override { return rows_.cols(); }
+  std::size_t blockCount() const override { return rows_.blockCount(); }
+  std::size_t blockBegin(std::size_t b) const override { return rows_.blockBegin(b); }
+  const float* block(std::size_t b) override { return rows_.block(b); }
+  void gather(const std::size_t* index, std::size_t n, float* out) override
+  {
+    const auto t = Clock::now();
+    rows_.gather(index, n, out);
+    gatherMs += msSince(t);
+    ++gathers;
+    gatheredRows += n;
+  }
+  mcv::DevicePlacementReport placeOnDevice(const mcv::DevicePlacement& request) override
+  {
+    return rows_.placeOnDevice(request);
+  }
+  mcv::DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override
+  {
+    return rows_.columnSumsOnDevice(progress);
+  }
+  mcv::DevicePassReport strataOnDevice(const mcv::DeviceStrata& request) override
+  {
+    return rows_.strataOnDevice(request);
+  }
+  double gatherMs = 0;
+  std::size_t gathers = 0, gatheredRows = 0;
+
+private:
+  mcv::FeatureRows& rows_;
+};
+
 // The fused path: FeatureBricks' statistics pass (prepare) is the "features" stage, the
 // features of each slab are computed again where the reduction reads them.
 ChainResult runFusedChain(const std::vector<mt::Volume>& ch, mcv::FeaturePreset preset, mcv::Device device,
@@ -137,13 +178,24 @@ ChainResult runFusedChain(const std::vector<mt::Volume>& ch, mcv::FeaturePreset 
     if (c.stages.empty() || c.stages.back().first != stage)
       c.stages.emplace_back(stage, msSince(t1));
   };
-  c.r = mcv::reduceDimension(bricks, o);
+  TimedRows timed(bricks);
+  c.r = mcv::reduceDimension(timed, o);
   const double total = msSince(t1);
   for (std::size_t i = 0; i < c.stages.size(); ++i)
     c.stages[i].second = (i + 1 < c.stages.size() ? c.stages[i + 1].second : total) - c.stages[i].second;
+  // Each GPU pass's time, and of it: opening the stream (buffers, pinned staging), the
+  // host's conversion of the channels, the waits for the device.
   for (const auto& pass : bricks.devicePasses())
-    passes += " [" + pass.name + (pass.ok ? " " : " FAILED ") + std::to_string(static_cast<int>(pass.stats.totalMs)) +
-      " ms]";
+  {
+    char line[160];
+    std::snprintf(line, sizeof line, " [%s%s%.0f ms: setup %.0f, fill %.0f, wait %.0f]", pass.name.c_str(),
+      pass.ok ? " " : " FAILED ", pass.stats.totalMs, pass.stats.setupMs, pass.stats.fillMs, pass.stats.waitMs);
+    passes += line;
+  }
+  char line[160];
+  std::snprintf(line, sizeof line, "; sample's gathers: %zu calls, %zu voxels, %.0f ms", timed.gathers,
+    timed.gatheredRows, timed.gatherMs);
+  passes += line;
   c.ok = c.r.ok();
   return c;
 }

@@ -12,6 +12,10 @@
 #include <cmath>
 #include <cstdint>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 namespace mcv
 {
 
@@ -96,6 +100,21 @@ cuda::ResidentChannels* residentOf(const std::shared_ptr<void>& resident)
 // Voxels gathered per batch: their 3x3x3 neighbourhoods (27 voxels each, F features) stay
 // a few MiB.
 constexpr std::size_t kGatherBatch = 4096;
+// ... and at least this many: smaller batches cost more in setup than they share out.
+constexpr std::size_t kGatherBatchMin = 128;
+
+// The batch size for n voxels: kGatherBatch, or smaller so that every thread gets about four
+// batches (the sample's gathers are mostly a few thousand voxels: one batch of 4096 left
+// all but one thread idle).
+std::size_t gatherBatch(std::size_t n)
+{
+#ifdef _OPENMP
+  const std::size_t threads = static_cast<std::size_t>(std::max(1, omp_get_max_threads()));
+#else
+  const std::size_t threads = 1;
+#endif
+  return std::max(kGatherBatchMin, std::min(kGatherBatch, n / (4 * threads)));
+}
 } // namespace
 
 FeatureBricks::FeatureBricks(const std::vector<ChannelView>& channels, const ImageGrid& grid,
@@ -304,23 +323,23 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
   const std::size_t F = static_cast<std::size_t>(cols_);
   // Batches on separate threads (the sample's candidates run to millions of voxels in a giga-
   // voxel volume with repeated content); the feature code inside each runs on its thread.
-  const long long batches = static_cast<long long>((n + kGatherBatch - 1) / kGatherBatch);
+  const std::size_t batchSize = gatherBatch(n);
+  const long long batches = static_cast<long long>((n + batchSize - 1) / batchSize);
 #pragma omp parallel if (batches > 1)
   {
-  std::vector<float> values, features;
+  std::vector<float> values;
   std::vector<unsigned char> bad;
 #pragma omp for schedule(dynamic)
   for (long long batch = 0; batch < batches; ++batch)
   {
-    const std::size_t at = static_cast<std::size_t>(batch) * kGatherBatch;
-    const std::size_t m = std::min(kGatherBatch, n - at);
+    const std::size_t at = static_cast<std::size_t>(batch) * batchSize;
+    const std::size_t m = std::min(batchSize, n - at);
     // The neighbourhoods side by side along x: voxel b's is x in [3b, 3b + 3), so its centre
     // (3b + 1, 1, 1) sees only its own neighbours, border-replicated as in the volume.
     ImageGrid tiny = grid_;
     tiny.dims = { static_cast<int>(3 * m), 3, 3 };
     const std::size_t tn = tiny.voxelCount(), row = 3 * m;
     values.resize(tn);
-    features.resize(tn * F);
     bad.assign(m, 0);
     for (std::size_t c = 0; c < channels_.size(); ++c)
     {
@@ -351,13 +370,9 @@ void FeatureBricks::gather(const std::size_t* index, std::size_t n, float* out)
           }
         }
       });
-      detail::channelFeaturesCPU(values.data(), anyBad, tiny, selection_, FeatureOutput{ features.data(), tn, cols_ },
+      // The centres alone: the other 26 voxels of each neighbourhood are inputs only.
+      detail::channelFeaturesCentresCPU(values.data(), anyBad, tiny, selection_, FeatureOutput{ out + at * F, m, cols_ },
         static_cast<int>(c) * selection_.perChannel());
-    }
-    for (std::size_t b = 0; b < m; ++b)
-    {
-      const float* centre = features.data() + (3 * b + 1 + row * 4) * F;
-      std::copy(centre, centre + F, out + (at + b) * F);
     }
     detail::applyNormalizationCPU(FeatureOutput{ out + at * F, m, cols_ }, bad.data(), offset_, scale_);
   }

@@ -160,6 +160,124 @@ inline int clampIndex(int i, int n)
   return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
+// The constants of one channel's feature loop.
+struct FeatureLoop
+{
+  FeatureLoop(const ImageGrid& grid, const FeatureSelection& s)
+    : sel(s)
+    , nx(grid.dims[0])
+    , sx(static_cast<float>(0.5 / grid.spacing[0]))
+    , sy(static_cast<float>(0.5 / grid.spacing[1]))
+    , sz(static_cast<float>(0.5 / grid.spacing[2]))
+    , perChannel(s.perChannel())
+    , needNeighbourhood(s.localMean || s.localVariance)
+    , needGradient(s.gradient || s.gradientMagnitude)
+  {
+  }
+  const FeatureSelection& sel;
+  int nx;
+  float sx, sy, sz;
+  int perChannel;
+  bool needNeighbourhood, needGradient;
+};
+
+// Voxel i of the x-line whose 3 x 3 neighbouring lines (rows[dz + 1][dy + 1], border-clamped)
+// are given: its features of one channel into o[0, perChannel). The one body of the whole-
+// volume loop and of the single voxels' (channelFeaturesCentresCPU), so both give the same bits.
+template <bool Guard>
+inline void voxelFeatures(const float* const (&rows)[3][3], int i, const FeatureLoop& p, float* o)
+{
+  const FeatureSelection& sel = p.sel;
+  const int nx = p.nx;
+  const float c = rows[1][1][i];
+  if (Guard && !std::isfinite(c))
+  {
+    std::fill(o, o + p.perChannel, 0.0f);
+    return;
+  }
+  // A non-finite neighbour counts as the centre value (like a replicated border).
+  auto at = [c](const float* r, int ii) {
+    const float v = r[ii];
+    return (!Guard || std::isfinite(v)) ? v : c;
+  };
+  const int im = i > 0 ? i - 1 : 0, ip = i + 1 < nx ? i + 1 : nx - 1;
+  const float xm = at(rows[1][1], im), xp = at(rows[1][1], ip);
+  const float ym = at(rows[1][0], i), yp = at(rows[1][2], i);
+  const float zm = at(rows[0][1], i), zp = at(rows[2][1], i);
+  int col = 0;
+  if (sel.intensity)
+  {
+    o[col++] = c;
+  }
+  if (p.needGradient)
+  {
+    const float gx = (xp - xm) * p.sx, gy = (yp - ym) * p.sy, gz = (zp - zm) * p.sz;
+    if (sel.gradient)
+    {
+      o[col++] = gx;
+      o[col++] = gy;
+      o[col++] = gz;
+    }
+    if (sel.gradientMagnitude)
+    {
+      o[col++] = std::sqrt(gx * gx + gy * gy + gz * gz);
+    }
+  }
+  if (sel.laplacian)
+  {
+    o[col++] = ((xm + xp) + (ym + yp) + (zm + zp)) / 6.0f - c;
+  }
+  if (p.needNeighbourhood)
+  {
+    const int is[3] = { im, i, ip };
+    float v[27];
+    float s = 0.0f;
+    int t = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int b = 0; b < 3; ++b)
+      {
+        for (int d = 0; d < 3; ++d, ++t)
+        {
+          v[t] = at(rows[a][b], is[d]);
+          s += v[t];
+        }
+      }
+    }
+    const float mean = s / 27.0f;
+    if (sel.localMean)
+    {
+      o[col++] = mean;
+    }
+    if (sel.localVariance)
+    {
+      float s2 = 0.0f;
+      for (t = 0; t < 27; ++t)
+      {
+        const float dv = v[t] - mean;
+        s2 += dv * dv;
+      }
+      o[col++] = s2 / 27.0f;
+    }
+  }
+}
+
+// The pointers to the 3 x 3 x-lines around line (j, k), border-clamped.
+inline void neighbourLines(const float* f, const ImageGrid& grid, int j, int k, const float* (&rows)[3][3])
+{
+  const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
+  const std::size_t nxy = static_cast<std::size_t>(nx) * ny;
+  for (int dz = -1; dz <= 1; ++dz)
+  {
+    const std::size_t kk = static_cast<std::size_t>(clampIndex(k + dz, nz));
+    for (int dy = -1; dy <= 1; ++dy)
+    {
+      const std::size_t jj = static_cast<std::size_t>(clampIndex(j + dy, ny));
+      rows[dz + 1][dy + 1] = f + kk * nxy + jj * static_cast<std::size_t>(nx);
+    }
+  }
+}
+
 template <bool Guard>
 void channelFeaturesImpl(const float* f, const ImageGrid& grid, const FeatureSelection& sel,
   const FeatureOutput& out, int firstColumn)
@@ -167,12 +285,7 @@ void channelFeaturesImpl(const float* f, const ImageGrid& grid, const FeatureSel
   const int nx = grid.dims[0], ny = grid.dims[1], nz = grid.dims[2];
   const std::size_t nxy = static_cast<std::size_t>(nx) * ny;
   const std::size_t F = static_cast<std::size_t>(out.cols);
-  const float sx = static_cast<float>(0.5 / grid.spacing[0]);
-  const float sy = static_cast<float>(0.5 / grid.spacing[1]);
-  const float sz = static_cast<float>(0.5 / grid.spacing[2]);
-  const int perChannel = sel.perChannel();
-  const bool needNeighbourhood = sel.localMean || sel.localVariance;
-  const bool needGradient = sel.gradient || sel.gradientMagnitude;
+  const FeatureLoop loop(grid, sel);
 
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < nz; ++k)
@@ -180,93 +293,28 @@ void channelFeaturesImpl(const float* f, const ImageGrid& grid, const FeatureSel
     for (int j = 0; j < ny; ++j)
     {
       const float* rows[3][3]; // [dz + 1][dy + 1]
-      for (int dz = -1; dz <= 1; ++dz)
-      {
-        const std::size_t kk = static_cast<std::size_t>(clampIndex(k + dz, nz));
-        for (int dy = -1; dy <= 1; ++dy)
-        {
-          const std::size_t jj = static_cast<std::size_t>(clampIndex(j + dy, ny));
-          rows[dz + 1][dy + 1] = f + kk * nxy + jj * static_cast<std::size_t>(nx);
-        }
-      }
+      neighbourLines(f, grid, j, k, rows);
       float* dst = out.data +
         (static_cast<std::size_t>(k) * nxy + static_cast<std::size_t>(j) * nx) * F + firstColumn;
       for (int i = 0; i < nx; ++i)
       {
-        float* o = dst + static_cast<std::size_t>(i) * F;
-        const float c = rows[1][1][i];
-        if (Guard && !std::isfinite(c))
-        {
-          std::fill(o, o + perChannel, 0.0f);
-          continue;
-        }
-        // A non-finite neighbour counts as the centre value (like a replicated border).
-        auto at = [c](const float* r, int ii) {
-          const float v = r[ii];
-          return (!Guard || std::isfinite(v)) ? v : c;
-        };
-        const int im = i > 0 ? i - 1 : 0, ip = i + 1 < nx ? i + 1 : nx - 1;
-        const float xm = at(rows[1][1], im), xp = at(rows[1][1], ip);
-        const float ym = at(rows[1][0], i), yp = at(rows[1][2], i);
-        const float zm = at(rows[0][1], i), zp = at(rows[2][1], i);
-        int col = 0;
-        if (sel.intensity)
-        {
-          o[col++] = c;
-        }
-        if (needGradient)
-        {
-          const float gx = (xp - xm) * sx, gy = (yp - ym) * sy, gz = (zp - zm) * sz;
-          if (sel.gradient)
-          {
-            o[col++] = gx;
-            o[col++] = gy;
-            o[col++] = gz;
-          }
-          if (sel.gradientMagnitude)
-          {
-            o[col++] = std::sqrt(gx * gx + gy * gy + gz * gz);
-          }
-        }
-        if (sel.laplacian)
-        {
-          o[col++] = ((xm + xp) + (ym + yp) + (zm + zp)) / 6.0f - c;
-        }
-        if (needNeighbourhood)
-        {
-          const int is[3] = { im, i, ip };
-          float v[27];
-          float s = 0.0f;
-          int t = 0;
-          for (int a = 0; a < 3; ++a)
-          {
-            for (int b = 0; b < 3; ++b)
-            {
-              for (int d = 0; d < 3; ++d, ++t)
-              {
-                v[t] = at(rows[a][b], is[d]);
-                s += v[t];
-              }
-            }
-          }
-          const float mean = s / 27.0f;
-          if (sel.localMean)
-          {
-            o[col++] = mean;
-          }
-          if (sel.localVariance)
-          {
-            float s2 = 0.0f;
-            for (t = 0; t < 27; ++t)
-            {
-              const float dv = v[t] - mean;
-              s2 += dv * dv;
-            }
-            o[col++] = s2 / 27.0f;
-          }
-        }
+        voxelFeatures<Guard>(rows, i, loop, dst + static_cast<std::size_t>(i) * F);
       }
     }
+  }
+}
+
+template <bool Guard>
+void channelFeaturesCentresImpl(const float* f, const ImageGrid& grid, const FeatureSelection& sel,
+  const FeatureOutput& out, int firstColumn)
+{
+  const std::size_t F = static_cast<std::size_t>(out.cols);
+  const FeatureLoop loop(grid, sel);
+  const float* rows[3][3];
+  neighbourLines(f, grid, 1, 1, rows);
+  for (std::size_t b = 0; b < out.rows; ++b)
+  {
+    voxelFeatures<Guard>(rows, static_cast<int>(3 * b + 1), loop, out.data + b * F + firstColumn);
   }
 }
 
@@ -283,6 +331,13 @@ void channelFeaturesCPU(const float* values, bool hasNonFinite, const ImageGrid&
   {
     channelFeaturesImpl<false>(values, grid, selection, out, firstColumn);
   }
+}
+
+void channelFeaturesCentresCPU(const float* values, bool hasNonFinite, const ImageGrid& grid,
+  const FeatureSelection& selection, const FeatureOutput& out, int firstColumn)
+{
+  (hasNonFinite ? channelFeaturesCentresImpl<true> : channelFeaturesCentresImpl<false>)(
+    values, grid, selection, out, firstColumn);
 }
 
 void columnStatsCPU(

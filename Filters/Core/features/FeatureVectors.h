@@ -171,6 +171,13 @@ std::size_t channelToFloat(const ChannelView& channel, std::size_t n, float* val
 void channelFeaturesCPU(const float* values, bool hasNonFinite, const ImageGrid& grid,
   const FeatureSelection& selection, const FeatureOutput& out, int firstColumn);
 
+// The same features of single voxels: `grid` is out.rows neighbourhoods of 3 x 3 x 3 voxels
+// side by side along x (3 out.rows x 3 x 3, spacing as the volume's), and row b of `out`
+// receives the features of centre (3b + 1, 1, 1) alone, with the expressions of
+// channelFeaturesCPU (the same bits). Serial: callers run batches on their own threads.
+void channelFeaturesCentresCPU(const float* values, bool hasNonFinite, const ImageGrid& grid,
+  const FeatureSelection& selection, const FeatureOutput& out, int firstColumn);
+
 // Pass 1 (count, sum, min, max) and, when `deviation`, pass 2 (sqdev about sum/count).
 void columnStatsCPU(
   const FeatureOutput& out, const unsigned char* mask, bool deviation, ColumnStats& stats);

@@ -27,6 +27,7 @@
 #include <new>
 #include <numeric>
 #include <string>
+#include <thread>
 
 namespace mcv
 {
@@ -393,8 +394,8 @@ void measureTrustworthiness(const RowMatrixF& refX, const ReductionOptions& opti
     trustworthiness(tx.data(), static_cast<int>(D), ty.data(), static_cast<int>(d), nt, k);
 }
 
-// The embedding of the reference rows and its trustworthiness.
-Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const StageProgress& progress)
+// The embedding of the reference rows and (`trust`) its trustworthiness.
+Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const StageProgress& progress, bool trust)
 {
   Fit fit;
   const auto start = Clock::now();
@@ -417,7 +418,10 @@ Fit fitReference(const RowMatrixF& refX, const ReductionOptions& options, const 
   fit.coordinates = std::move(embedding.coordinates);
   fit.eigenvalues = std::move(embedding.eigenvalues);
   fit.varianceRetained = embedding.varianceRetained;
-  measureTrustworthiness(refX, options, fit);
+  if (trust)
+  {
+    measureTrustworthiness(refX, options, fit);
+  }
   fit.referenceRadius = embedding.referenceRadius >= 0.0 ? embedding.referenceRadius : referenceRadius(refX);
   return fit;
 }
@@ -537,15 +541,16 @@ Fit unpack(const std::vector<char>& bytes)
 }
 
 // Process 0 fits and every process gets its answer, so the embedding, spectrum, warnings and
-// trustworthiness are the same everywhere (the others would only repeat the work).
+// trustworthiness are the same everywhere (the others would only repeat the work). `trust`
+// false: the trustworthiness is left to the caller (serial runs only).
 Fit fitOnFirst(const RowMatrixF& refX, const ReductionOptions& options, const Communicator* comm,
-  const StageProgress& progress)
+  const StageProgress& progress, bool trust)
 {
   const bool distributed = isDistributed(comm);
   Fit fit;
   if (!distributed || comm->rank() == 0)
   {
-    const std::string failure = runShared(nullptr, [&] { fit = fitReference(refX, options, progress); });
+    const std::string failure = runShared(nullptr, [&] { fit = fitReference(refX, options, progress, trust); });
     if (!failure.empty())
     {
       fit = Fit();
@@ -593,6 +598,8 @@ struct Run
   RowMatrixF refX;
   Fit fit;
   std::size_t M = 0;
+  // The trustworthiness is measured beside the placement (see reduce()).
+  bool trustBesidePlacement = false;
 
   ReductionResult failed(std::string message)
   {
@@ -866,7 +873,7 @@ std::string Run::drawSample(const std::vector<double>& usedMean, bool devicePass
 std::string Run::fitSample()
 {
   report("Fitting the embedding", 0.05);
-  fit = fitOnFirst(refX, options, comm, within(0.05, 0.6));
+  fit = fitOnFirst(refX, options, comm, within(0.05, 0.6), !trustBesidePlacement);
   result.fitMs = fit.ms;
   result.warnings.insert(result.warnings.end(), fit.warnings.begin(), fit.warnings.end());
   if (!fit.error.empty())
@@ -1251,6 +1258,19 @@ std::string Placement::finalChecks() const
   return {};
 }
 
+// Joins a helper thread however the scope ends (an exception must not meet a running thread).
+struct JoinOnExit
+{
+  std::thread& thread;
+  ~JoinOnExit()
+  {
+    if (thread.joinable())
+    {
+      thread.join();
+    }
+  }
+};
+
 // `inputError`: what the caller found wrong with its rows (shared like the other checks).
 ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, const std::string& inputError)
 {
@@ -1268,6 +1288,27 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
   {
     return run.failed(error);
   }
+  // The coordinates array of the result (85 MB for 7.1 M voxels in 3D) is zero-filled by
+  // std::vector page by page on one thread, after the fit and before the placement: it is
+  // made on a thread of its own while the sample is drawn and the embedding fitted, and
+  // handed to the placement (which would make the same array).
+  std::vector<float> preparedCoordinates;
+  std::thread preparing;
+  const JoinOnExit joinPreparing{ preparing };
+  if (!options.coordinatesOutput && !options.coordinatesHalfOutput && !options.fitOnly)
+  {
+    const std::size_t values = keptRows(options, features.rows()).rows() * static_cast<std::size_t>(run.d);
+    preparing = std::thread([&preparedCoordinates, values] {
+      try
+      {
+        preparedCoordinates.resize(values);
+      }
+      catch (const std::bad_alloc&)
+      {
+        // The placement allocates it again and reports the failure.
+      }
+    });
+  }
   std::string deviceWarning;
   run.device = resolveDevice(options.device, &deviceWarning);
   if (!deviceWarning.empty())
@@ -1284,6 +1325,10 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     // every row (the column statistics, the sample's strata) run there too.
     const bool devicePasses = run.device == Device::GPU && !isDistributed(run.comm) &&
       run.rows.ownedCount() == features.rows();
+    // On the GPU the host mostly waits for the device while it places the rows: the
+    // trustworthiness (which the placement does not need) is measured then, on a thread of
+    // its own, instead of between the fit and the placement.
+    run.trustBesidePlacement = run.device == Device::GPU && !isDistributed(run.comm) && !options.fitOnly;
     std::vector<double> usedMean;
     error = run.chooseColumns(usedMean, devicePasses);
     error = error.empty() ? run.drawSample(usedMean, devicePasses) : error;
@@ -1294,7 +1339,7 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     return run.failed(error);
   }
   run.result.deviceUsed = Device::CPU; // the placement says where it really ran
-  if (options.fittedModel && !run.model)
+  if (options.fittedModel && !run.model && !run.trustBesidePlacement)
   {
     run.exportModel();
   }
@@ -1304,8 +1349,37 @@ ReductionResult reduce(FeatureRows& features, const ReductionOptions& options, c
     run.report("Done", 1.0);
     return std::move(run.result);
   }
+  std::string trustError;
+  const std::size_t fitWarnings = run.fit.warnings.size();
+  std::thread trust;
+  const JoinOnExit joinTrust{ trust };
+  if (run.trustBesidePlacement)
+  {
+    // Reads refX and the fit's coordinates, which the placement only reads too; writes the
+    // fit's trustworthiness and warnings, which the placement does not touch.
+    trust = std::thread([&run, &options, &trustError] {
+      trustError = runShared(nullptr, [&] { measureTrustworthiness(run.refX, options, run.fit); });
+    });
+  }
+  if (preparing.joinable())
+  {
+    preparing.join();
+    run.result.coordinates.swap(preparedCoordinates);
+  }
   const auto placeStart = Clock::now();
   error = Placement(run).placeAll();
+  if (trust.joinable())
+  {
+    trust.join();
+    run.result.trustworthiness = run.fit.trustworthiness;
+    run.result.warnings.insert(
+      run.result.warnings.end(), run.fit.warnings.begin() + static_cast<std::ptrdiff_t>(fitWarnings), run.fit.warnings.end());
+    if (options.fittedModel)
+    {
+      run.exportModel();
+    }
+    error = error.empty() ? trustError : error;
+  }
   if (!error.empty())
   {
     return run.failed(error);

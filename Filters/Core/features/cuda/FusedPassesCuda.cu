@@ -366,7 +366,7 @@ bool fusedRawStatistics(const FusedPassSetup& setup, const FusedChannelFill& fil
   {
     return false;
   }
-  for (int i = 0; i < kSlabSlots; ++i)
+  for (int i = 0; i < stream.slotsUsed(); ++i)
   {
     MCV_CUDA_TRY(cudaMalloc(&partials[i].ptr, partialBytes(stream.slabRows()) + F * sizeof(double)));
     MCV_CUDA_TRY(cudaMalloc(&results[i].ptr, resultBytes));
@@ -555,9 +555,9 @@ bool fusedStrata(const FusedPassSetup& setup, const FusedChannelFill& fill, cons
   {
     MCV_CUDA_TRY(cudaMemcpy(edges, request.edges.data(), E * sizeof(float), cudaMemcpyHostToDevice));
   }
-  for (DeviceBuffer& b : perRow)
+  for (int i = 0; i < stream.slotsUsed(); ++i)
   {
-    MCV_CUDA_TRY(cudaMalloc(&b.ptr, 2 * stream.slabRows()));
+    MCV_CUDA_TRY(cudaMalloc(&perRow[i].ptr, 2 * stream.slabRows()));
   }
   const auto launch = [&](Slab& s) -> bool {
     unsigned char* mask = perRow[s.slot].as<unsigned char>();

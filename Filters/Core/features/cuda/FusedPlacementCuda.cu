@@ -83,16 +83,16 @@ bool placeFused(const FusedPlacementSetup& setup, const FusedChannelFill& fill, 
     return false;
   }
   const std::size_t slabRows = stream.slabRows();
-  if (!placement.upload(setup.references, kSlabSlots, slabRows, error))
+  if (!placement.upload(setup.references, stream.slotsUsed(), slabRows, error))
   {
     return false;
   }
   // Per slot: the coordinates, then (with writeDistances) one distance per row.
   const bool distances = static_cast<bool>(setup.writeDistances);
   const std::size_t perRow = static_cast<std::size_t>(d) + (distances ? 1 : 0);
-  for (float*& c : coords.slot)
+  for (int i = 0; i < stream.slotsUsed(); ++i)
   {
-    MCV_CUDA_TRY(cudaMalloc(&c, slabRows * perRow * sizeof(float)));
+    MCV_CUDA_TRY(cudaMalloc(&coords.slot[i], slabRows * perRow * sizeof(float)));
   }
   SlabStreamStats& ss = stream.stats();
   const PlacementInput& r = setup.references;

@@ -86,8 +86,45 @@ ResidentChannels::~ResidentChannels()
   release();
 }
 
+void* ResidentChannels::takePinned(std::size_t bytes)
+{
+  std::size_t best = pinned_.size();
+  for (std::size_t i = 0; i < pinned_.size(); ++i)
+  {
+    if (pinned_[i].second >= bytes && (best == pinned_.size() || pinned_[i].second < pinned_[best].second))
+    {
+      best = i;
+    }
+  }
+  if (best == pinned_.size())
+  {
+    return nullptr;
+  }
+  void* p = pinned_[best].first;
+  pinned_.erase(pinned_.begin() + static_cast<std::ptrdiff_t>(best));
+  return p;
+}
+
+void ResidentChannels::keepPinned(void* p, std::size_t bytes)
+{
+  if (p)
+  {
+    pinned_.emplace_back(p, bytes);
+  }
+}
+
+void ResidentChannels::freePinned()
+{
+  for (const auto& kept : pinned_)
+  {
+    cudaFreeHost(kept.first);
+  }
+  pinned_.clear();
+}
+
 void ResidentChannels::release()
 {
+  freePinned();
   cudaFree(data_);
   data_ = nullptr;
   channels_ = 0;
@@ -154,8 +191,17 @@ void SlabStream::release()
       cudaEventDestroy(uploaded_[i]);
       uploaded_[i] = nullptr;
     }
-    cudaFreeHost(stageIn_[i]);
-    cudaFreeHost(passPinned_[i]);
+    // Staging of a resident volume's pass goes back to its cache for the next pass.
+    if (setup_.resident)
+    {
+      setup_.resident->keepPinned(stageIn_[i], stageInBytes_);
+      setup_.resident->keepPinned(passPinned_[i], passPinnedBytes_);
+    }
+    else
+    {
+      cudaFreeHost(stageIn_[i]);
+      cudaFreeHost(passPinned_[i]);
+    }
     if (streams_[i])
     {
       cudaStreamDestroy(streams_[i]);
@@ -223,7 +269,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   slices_ = lo;
   plane_ = static_cast<std::size_t>(slices_ + 2) * nxy;
   const std::size_t rows = slabRows(), C = static_cast<std::size_t>(setup.channels);
-  for (int i = 0; i < kSlabSlots; ++i)
+  // Buffers for the slots the slabs will use: pinning host memory costs about as much as
+  // moving it, so a second slot's staging for a one-slab volume would be pure overhead.
+  const int slabCount = (std::max(1, grid.dims[2]) + slices_ - 1) / slices_;
+  slotsUsed_ = std::min(kSlabSlots, std::max(1, slabCount));
+  for (int i = 0; i < slotsUsed_; ++i)
   {
     MCV_CUDA_TRY(cudaStreamCreateWithFlags(&streams_[i], cudaStreamNonBlocking));
     if (!setup.resident)
@@ -233,7 +283,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     MCV_CUDA_TRY(cudaMalloc(&features_[i], rows * static_cast<std::size_t>(F) * sizeof(float)));
     if (!setup.resident || !setup.resident->filled)
     {
-      MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], C * plane_ * sizeof(float)));
+      stageInBytes_ = C * plane_ * sizeof(float);
+      if (!(setup.resident && (stageIn_[i] = static_cast<float*>(setup.resident->takePinned(stageInBytes_)))))
+      {
+        MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], stageInBytes_));
+      }
     }
     if (setup.resident && !setup.resident->filled)
     {
@@ -241,7 +295,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     }
     if (setup.pass.perRowPinned > 0)
     {
-      MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], rows * setup.pass.perRowPinned));
+      passPinnedBytes_ = rows * setup.pass.perRowPinned;
+      if (!(setup.resident && (passPinned_[i] = static_cast<unsigned char*>(setup.resident->takePinned(passPinnedBytes_)))))
+      {
+        MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], passPinnedBytes_));
+      }
     }
   }
   MCV_CUDA_TRY(cudaMalloc(&columnParams_, 2 * static_cast<std::size_t>(F) * sizeof(double)));
@@ -253,7 +311,7 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
   }
   stats_.slabSlices = slices_;
   stats_.deviceBytes = bytesFor(setup, slices_) + (setup.resident ? setup.resident->bytes() : 0);
-  stats_.pinnedBytes = kSlabSlots * ((stageIn_[0] ? C * plane_ * sizeof(float) : 0) + rows * setup.pass.perRowPinned);
+  stats_.pinnedBytes = static_cast<std::size_t>(slotsUsed_) * ((stageIn_[0] ? C * plane_ * sizeof(float) : 0) + rows * setup.pass.perRowPinned);
   return true;
 }
 

@@ -107,6 +107,9 @@ public:
   bool open(const SlabStreamSetup& setup, std::string* error);
   int slabSlices() const { return slices_; }
   std::size_t slabRows() const; // the rows of the thickest slab
+  // The slots the slabs use: kSlabSlots, or fewer when the volume has fewer slabs (a volume
+  // of one slab allocates and pins the buffers of one slot only).
+  int slotsUsed() const { return slotsUsed_; }
 
   // Every slab in order: `fill` converts channel c's voxels into pinned floats (returns the
   // non-finite ones); `launch` (host, after the slab's features are queued) queues the
@@ -126,6 +129,7 @@ private:
 
   SlabStreamSetup setup_;
   int slices_ = 1;
+  int slotsUsed_ = kSlabSlots;
   std::size_t plane_ = 0;
   cudaStream_t streams_[kSlabSlots] = { nullptr, nullptr };
   float* channels_[kSlabSlots] = { nullptr, nullptr };      // device, C x plane (not resident)
@@ -133,6 +137,7 @@ private:
   float* features_[kSlabSlots] = { nullptr, nullptr };      // device, slab rows x F
   float* stageIn_[kSlabSlots] = { nullptr, nullptr };       // pinned host, C x plane
   unsigned char* passPinned_[kSlabSlots] = { nullptr, nullptr };
+  std::size_t stageInBytes_ = 0, passPinnedBytes_ = 0; // per slot (what a kept buffer holds)
   double* columnParams_ = nullptr;                          // device, offset then scale
   SlabStreamStats stats_;
   int uploadedEnd_ = 0;                     // filling the resident copy: slices [0, uploadedEnd_) are up
