@@ -17,7 +17,7 @@ Gaussian widgets included.
       in a fresh process WITHOUT the plugin loaded: runs DIR/FILE (a Python state or the
       trace), which must load the plugin itself; the display has the recorded widgets,
       hidden list, blend and classification, and the picture equals DIR/recorded.png.
-Driver: test_state_replay.sh.
+Driver: record_replay.sh (CTest pvbatch.test_state_replay).
 """
 import argparse
 import json

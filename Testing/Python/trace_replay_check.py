@@ -10,7 +10,7 @@
       in a fresh process WITHOUT the plugin loaded (no PV_PLUGIN_PATH): runs DIR/trace.py,
       which must load the plugin itself, and compares its picture with DIR/recorded.png
       (within a small pixel tolerance).
-Driver: test_trace_replay.sh.
+Driver: record_replay.sh (CTest pvbatch.test_trace_replay).
 """
 import argparse
 import os
