@@ -10,17 +10,12 @@ lines are what loads it."""
 import json
 import os
 import subprocess
-import sys
 
-from gui_checks import arguments, check, finish, load_state
+from gui_checks import arguments, check, finish, state_with_data
 
 here = os.path.dirname(os.path.abspath(__file__))
 path, rc = arguments()
-s = load_state(path)
-if s.get("data") is False:
-    print("SKIP: small_64D.nii is not in MCV_DATA_DIR")
-    sys.exit(125)
-check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+s = state_with_data(path, rc, "small_64D.nii")
 saved = s.get("saved", "")
 text = open(saved).read() if os.path.isfile(saved) else ""
 check(bool(text), "File > Save State wrote the Python state %s" % saved)

@@ -333,6 +333,61 @@ def write_tiff_stack(image, folder, pattern="slice_%03d.tif"):
     return paths
 
 
+def close(a, b, tol, relative=True):
+    """a equals b: dicts of the same keys, lists and tuples of the same length compared
+    item by item, numbers where either is a float within `tol` (times max(1, |a|) when
+    `relative`), anything else exactly."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and sorted(a) == sorted(b) and all(
+            close(a[k], b[k], tol, relative) for k in a)
+    if isinstance(a, (list, tuple)):
+        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(
+            close(x, y, tol, relative) for x, y in zip(a, b))
+    if isinstance(a, float) or isinstance(b, float):
+        return a is not None and b is not None and \
+            abs(a - b) <= tol * (max(1.0, abs(a)) if relative else 1.0)
+    return a == b
+
+
+PIXEL_TOLERANCE = 12  # a channel difference above this counts as a differing pixel
+
+
+def _png_pixels(path):
+    """(dimensions, components, pixel bytes) of a PNG file."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    scalars = image.GetPointData().GetScalars()
+    return image.GetDimensions(), scalars.GetNumberOfComponents(), bytes(memoryview(scalars))
+
+
+def picture_difference(reference, picture):
+    """(largest channel difference, fraction of the pixels differing by more than
+    PIXEL_TOLERANCE, fraction of `picture`'s pixels not its background, the first pixel's
+    colour) of two PNG files of the same size; None when their sizes differ."""
+    (da, ca, a), (db, cb, b) = _png_pixels(reference), _png_pixels(picture)
+    if da != db or ca != cb:
+        return None
+    worst, differing, lit = 0, 0, 0
+    for p in range(0, len(a), ca):
+        d = max(abs(a[p + c] - b[p + c]) for c in range(min(ca, 3)))
+        worst = max(worst, d)
+        differing += d > PIXEL_TOLERANCE
+        lit += max(abs(b[p + c] - b[c]) for c in range(min(cb, 3))) > 20
+    pixels = float(len(a) // ca)
+    return worst, differing / pixels, lit / pixels
+
+
+def blank_picture(path):
+    """True when every pixel of the PNG file has the first pixel's colour (the background
+    only: nothing was drawn)."""
+    _, n, data = _png_pixels(path)
+    return data == data[:n] * (len(data) // n)
+
+
 def norm(v):
     return math.sqrt(sum(x * x for x in v))
 
