@@ -19,7 +19,6 @@ Run as
       the same under pvbatch's parallel engine.
 Driver: test_client_server.sh.
 """
-import argparse
 import json
 import os
 import sys
@@ -37,10 +36,7 @@ COORD_TOLERANCE = 2e-4
 
 
 def parse():
-    parser = argparse.ArgumentParser()
-    mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--reference", metavar="DIR")
-    mode.add_argument("--compare", metavar="DIR")
+    parser, mode = T.reference_compare_parser()
     mode.add_argument("--no-server-plugin", action="store_true",
                       help="with --connect: the plugin loaded on the client only")
     mode.add_argument("--server-dies", metavar="MARKER",

@@ -82,6 +82,20 @@ def programmable_image(dims, name, value="v", body="", components=1, array_type=
     return src
 
 
+def image_without_arrays(last=9):
+    """A ProgrammableSource of image data of extent [0, last] on each axis and no array
+    (last = -1: an empty extent): the bad inputs of the filters' argument checks."""
+    from paraview.simple import ProgrammableSource
+
+    src = ProgrammableSource()
+    src.OutputDataSetType = "vtkImageData"
+    src.ScriptRequestInformation = (
+        "from paraview import util\n"
+        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n" % (last, last, last))
+    src.Script = "self.GetOutput().SetExtent(0, %d, 0, %d, 0, %d)\n" % (last, last, last)
+    return src
+
+
 def data_file(name):
     """Path of a real volume; exits with SKIP when it is missing."""
     path = os.path.join(data_dir(), name)
@@ -120,6 +134,20 @@ def brain_series(folder, factors=(1.0, 1.0, 1.2), step=3):
     paths = [write_vti(os.path.join(folder, "step_%d.vti" % i), [("ch2", t1 * f), ("aal", aal)])
              for i, f in enumerate(factors)]
     return paths, t1, aal
+
+
+def opened_brain_series(checker, folder, factors=(1.0, 1.0, 1.2)):
+    """brain_series(folder, factors) opened as one ParaView time series, checked to have a
+    time step per factor. Returns (series, its time values, paths, t1, aal)."""
+    from paraview.simple import OpenDataFile
+
+    paths, t1, aal = brain_series(folder, factors)
+    series = OpenDataFile(paths)
+    series.UpdatePipelineInformation()
+    times = list(series.TimestepValues)
+    checker.check(len(times) == len(factors),
+                  "the series has %d time steps: %s" % (len(factors), times))
+    return series, times, paths, t1, aal
 
 
 def coordinates_at(reduction, time):
@@ -230,6 +258,34 @@ def brain_channels():
 
     return AppendAttributes(Input=[OpenDataFile(data_file(n))
                                    for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")])
+
+
+def local_processes():
+    """The number of processes pvbatch runs in (mpiexec -np N pvbatch --mpi; 1 without)."""
+    from paraview import servermanager
+
+    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+
+
+def parallel_checker(name):
+    """(processes, a Checker named `name` and the number of processes it runs in)."""
+    processes = local_processes()
+    return processes, Checker("%s (%d process%s)" % (name, processes,
+                                                   "es" if processes > 1 else ""))
+
+
+def reference_compare_parser():
+    """The argument parser of a check script run once with --reference DIR (one process
+    writes the inputs and its answers into DIR) and then with --compare DIR (its answers,
+    often on several MPI processes, compared with those): mpi_reference_compare.sh's
+    calling convention. Returns (parser, the group of those modes, for the script's own)."""
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--reference", metavar="DIR")
+    mode.add_argument("--compare", metavar="DIR")
+    return parser, mode
 
 
 class Checker(object):

@@ -39,10 +39,6 @@ args = parser.parse_args()
 C = T.Checker("mpi_omezarr_check")
 
 
-def processes():
-    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-
-
 if args.write:
     import omezarr_testing as Z
 
@@ -67,7 +63,7 @@ for path in glob.glob(os.path.join(folder, "0", "*.*.*.*")):
     sizes[tuple(int(v) for v in os.path.basename(path).split("."))] = os.path.getsize(path)
 total = sum(sizes.values())
 
-R = processes()
+R = T.local_processes()
 start = time.time()
 reader = simple.OpenDataFile(folder)
 reader.ResolutionLevel = 0

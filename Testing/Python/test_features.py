@@ -183,11 +183,7 @@ f, msgs = run("polydata input", Sphere())
 C.check(msgs.any_error("not image data"), "polydata input: error 'not image data'")
 C.check(empty_output(f), "polydata input: empty output")
 
-no_arrays = ProgrammableSource()
-no_arrays.OutputDataSetType = "vtkImageData"
-no_arrays.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, 9, 0, 9, 0, 9])\n")
-no_arrays.Script = "self.GetOutput().SetExtent(0, 9, 0, 9, 0, 9)\n"
+no_arrays = T.image_without_arrays()
 f, msgs = run("no point array", no_arrays)
 C.check(msgs.any_error("no point scalar array"), "no point array: error 'no point scalar array'")
 C.check(empty_output(f), "no point array: empty output")
@@ -198,11 +194,7 @@ C.check(msgs.any_error("NoSuchArray", "RTData"),
         "missing array name: error names it and the arrays there are")
 C.check(empty_output(f), "missing array name: empty output")
 
-empty = ProgrammableSource()
-empty.OutputDataSetType = "vtkImageData"
-empty.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, -1, 0, -1, 0, -1])\n")
-empty.Script = "self.GetOutput().SetExtent(0, -1, 0, -1, 0, -1)\n"
+empty = T.image_without_arrays(-1)
 f, msgs = run("empty extent", empty)
 C.check(msgs.any_error("empty extent"), "empty extent: error 'empty extent'")
 
