@@ -192,13 +192,7 @@ def stage(name):
 def run(mce, out, reference, previous=None):
     answers = {}
     stage("chain")
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
-    volume = simple.ExtractSubset(Input=merged)
-    volume.VOI = merged.GetDataInformation().GetExtent()
-    volume.SampleRateI = volume.SampleRateJ = volume.SampleRateK = SUBSAMPLE
+    volume = T.brain_subset(SUBSAMPLE)
     feats, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3, **REDUCTION)
     red.UpdatePipeline()
     ext = red.GetDataInformation().GetExtent()
@@ -207,14 +201,7 @@ def run(mce, out, reference, previous=None):
     ranges = red.PointData["ReducedCoordinates"]
     answers["coordinate_ranges"] = [list(ranges.GetRange(c)) for c in range(3)]
 
-    view = simple.CreateView("RenderView")
-    view.ViewSize = VIEW_SIZE
-    view.OrientationAxesVisibility = 0
-    view.Background = [0, 0, 0]
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
+    view = T.render_view(VIEW_SIZE)
     stage("widgets and best view")
     display = mce.show_gaussian_tf(red, view)
     answers["widgets"] = [float(v) for v in mce.auto_widgets(display, 3, seed=1)]

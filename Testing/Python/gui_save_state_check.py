@@ -9,9 +9,9 @@ The same file without its LoadPlugin lines fails there on the plugin's first pro
 lines are what loads it."""
 import json
 import os
-import subprocess
 
 from gui_checks import arguments, check, finish, state_with_data
+import mcv_testing as T
 
 here = os.path.dirname(os.path.abspath(__file__))
 path, rc = arguments()
@@ -44,10 +44,8 @@ def run_state(state_path, name):
         os.remove(report)
     env = dict(os.environ)
     env.pop("PV_PLUGIN_PATH", None)
-    proc = subprocess.run(["sh", os.path.join(here, "run_pvbatch.sh"), os.environ["MCV_PVBATCH"],
-                           os.path.join(here, "gui_save_state_load.py"), state_path, report],
-                          env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, timeout=300)
+    proc = T.run_pvbatch(os.environ["MCV_PVBATCH"], [
+        os.path.join(here, "gui_save_state_load.py"), state_path, report], env=env, timeout=300)
     try:
         with open(report) as f:
             return json.load(f)

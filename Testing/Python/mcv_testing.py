@@ -288,6 +288,66 @@ def reference_compare_parser():
     return parser, mode
 
 
+def brain_subset(step):
+    """The real 3-channel brain (brain_channels, updated), every `step`-th voxel per axis
+    through ExtractSubset, which under MPI each process reads its own piece of. The
+    properties are given to the constructors, so a trace records them."""
+    from paraview import simple
+
+    merged = brain_channels()
+    merged.UpdatePipeline()
+    return simple.ExtractSubset(Input=merged, VOI=merged.GetDataInformation().GetExtent(),
+                                SampleRateI=step, SampleRateJ=step, SampleRateK=step)
+
+
+def render_view(size, background=(0.0, 0.0, 0.0), axes=False):
+    """A new render view of `size` pixels with its own `background` colour (not the colour
+    palette's) and the orientation axes shown or not."""
+    from paraview import simple
+
+    view = simple.CreateView("RenderView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = int(axes)
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:  # ParaView before 5.10: the background is the view's own
+        pass
+    view.Background = list(background)
+    return view
+
+
+def run_pvbatch(program, args, **kwargs):
+    """subprocess.run of PROGRAM (pvbatch) ARGS under its own virtual X server
+    (run_pvbatch.sh, which retries an X server that failed to start), its output and
+    errors as one text in .stdout; `kwargs` go to subprocess.run (cwd, env, timeout)."""
+    import subprocess
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    return subprocess.run(["sh", os.path.join(here, "run_pvbatch.sh"), program] + list(args),
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, **kwargs)
+
+
+def run_example(checker, script, args, output, tail=1500):
+    """pvbatch Examples/SCRIPT ARGS (with --plugin $MCV_PLUGIN when it is set), checked to
+    exit 0 and to write OUTPUT/report.json; prints the last `tail` characters of its output.
+    Returns the report; without one the test ends there (checker.finish)."""
+    import json
+
+    command = [os.path.join(REPO, "Examples", script)] + list(args)
+    if os.environ.get("MCV_PLUGIN"):
+        command += ["--plugin", os.environ["MCV_PLUGIN"]]
+    run = run_pvbatch("pvbatch", command)
+    print(run.stdout[-tail:])
+    checker.check(run.returncode == 0, "%s %s ran (exit %d)"
+                  % (script, " ".join(str(a) for a in args), run.returncode))
+    path = os.path.join(output, "report.json")
+    if not checker.check(os.path.exists(path), "%s written" % path):
+        checker.finish()
+    with open(path) as f:
+        return json.load(f)
+
+
 class Checker(object):
     """Collects failed checks; finish() prints a summary and exits."""
 

@@ -34,13 +34,7 @@ REDUCTION = dict(ReferenceSampleSize=3000, RandomSeed=7)
 
 
 def chain(mce, keep_features):
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
-    volume = simple.ExtractSubset(Input=merged)
-    volume.VOI = merged.GetDataInformation().GetExtent()
-    volume.SampleRateI = volume.SampleRateJ = volume.SampleRateK = SUBSAMPLE
+    volume = T.brain_subset(SUBSAMPLE)
     _, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3,
                                      keep_features=keep_features, **REDUCTION)
     return red

@@ -184,14 +184,7 @@ def point_cloud_shot(red, label, dim=3):
     place.UpdatePipeline()
     n = place.GetDataInformation().GetNumberOfPoints()
     C.check(1000 <= n <= 12000, "%s: point cloud of %d voxels" % (label, n))
-    view = CreateView("RenderView")
-    view.ViewSize = [600, 500]
-    view.OrientationAxesVisibility = 1
-    view.Background = [1, 1, 1]
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
+    view = T.render_view([600, 500], background=(1, 1, 1), axes=True)
     disp = Show(place, view)
     disp.SetRepresentationType("Points")
     disp.PointSize = 3

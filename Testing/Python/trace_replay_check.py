@@ -29,14 +29,9 @@ DIFFERING_FRACTION = 0.005
 def record(C, out):
     mce = T.load_plugin(globals())
     smtrace.start_trace()
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
     # Properties set from a script outside a trace scope are not traced (ParaView's rule):
-    # given to the constructor, they are.
-    volume = simple.ExtractSubset(Input=merged, VOI=merged.GetDataInformation().GetExtent(),
-                                  SampleRateI=3, SampleRateJ=3, SampleRateK=3)
+    # brain_subset gives them to the constructors, so they are.
+    volume = T.brain_subset(3)
     feats, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3,
                                          ReferenceSampleSize=3000, RandomSeed=7)
     view = simple.CreateView("RenderView")
