@@ -19,12 +19,19 @@ repo="$(cd "$(dirname "$0")/.." && pwd)"
 build="${MCV_BUILD_DIR:-$repo/build}"
 plugin="$build/lib/paraview-5.11/plugins/MultichannelExplorer"
 tests="$repo/Testing/Python"
-[ -f "$plugin/MultichannelExplorer.so" ] || { echo "no plugin in $plugin: build first" >&2; exit 1; }
-[ -f "$tests/gui_${name}_setup.py" ] || { echo "no GUI test $tests/gui_${name}_setup.py" >&2; exit 1; }
+if [ ! -f "$plugin/MultichannelExplorer.so" ]; then
+  echo "no plugin in $plugin: build first" >&2
+  exit 1
+fi
+if [ ! -f "$tests/gui_${name}_setup.py" ]; then
+  echo "no GUI test $tests/gui_${name}_setup.py" >&2
+  exit 1
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 PV_PLUGIN_PATH="$plugin" MCV_OUTPUT_DIR="$tmp" MCV_GUI_SCREENSHOT="$tmp/screen.png" \
-  MCV_DATA_DIR="${MCV_DATA_DIR:-$repo/.cache/volumes}" PYTHONPATH="$tests${PYTHONPATH:+:$PYTHONPATH}" \
+  MCV_DATA_DIR="${MCV_DATA_DIR:-$repo/.cache/volumes}" \
+  PYTHONPATH="$tests${PYTHONPATH:+:$PYTHONPATH}" \
   xvfb-run -a -s "-screen 0 1600x1000x24" timeout 200 paraview --dr --test-directory="$tmp" \
   --script="$tests/gui_${name}_setup.py" --test-script="$tests/gui_${name}_click.xml" --exit ||
   true

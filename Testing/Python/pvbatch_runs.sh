@@ -1,7 +1,8 @@
 # pvbatch_runs.sh: sourced by the tests that run a check script several times, a first run
 # that writes the reference (or the recording) and later runs, often under mpiexec, that
 # compare with it (test_mpi.sh, test_mpi_no_opengl.sh, test_mpi_probe_brush.sh,
-# mpi_reference_compare.sh, record_replay.sh). Sets $here, the folder of the test and of its check scripts.
+# mpi_reference_compare.sh, record_replay.sh). Sets $here, the folder of the test and of
+# its check scripts.
 #   fresh_dir NAME             prints MCV_OUTPUT_DIR/NAME (default /tmp/NAME), emptied and
 #                              created
 #   first_run PROGRAM SCRIPT [ARGS...]
