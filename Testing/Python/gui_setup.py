@@ -53,14 +53,15 @@ def open_active(name, state):
 
 
 class State(dict):
-    """What the test records: a dict that save() writes as JSON to $MCV_GUI_STATE (default
-    `folder`/gui_NAME_state.json, `folder` the output folder by default). The setup scripts
-    save after every change, so that a GUI that hangs or crashes still leaves what it did."""
+    """What the test records: a dict (its first items `initial`) that save() writes as JSON
+    to $MCV_GUI_STATE (default `in_folder`/gui_NAME_state.json, `in_folder` the output
+    folder by default). The setup scripts save after every change, so that a GUI that
+    hangs or crashes still leaves what it did."""
 
-    def __init__(self, name, folder=None, **initial):
+    def __init__(self, name, in_folder=None, **initial):
         dict.__init__(self, initial)
         self.path = os.environ.get("MCV_GUI_STATE") or os.path.join(
-            folder or output_dir(), "gui_%s_state.json" % name)
+            in_folder or output_dir(), "gui_%s_state.json" % name)
 
     def save(self):
         with open(self.path, "w") as f:

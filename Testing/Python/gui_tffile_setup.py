@@ -39,7 +39,7 @@ ResetCamera(view)
 Render(view)
 SetActiveSource(reduction)  # the Properties panel shows its display: the editor
 
-state = G.State("tffile", out, initial=WIDGETS, events=[], folder=out)
+state = G.State("tffile", in_folder=out, initial=WIDGETS, events=[], folder=out)
 save = state.save
 # The splitter under the Pipeline Browser moved up in the screenshot: the editor's buttons
 # in view.
