@@ -12,7 +12,7 @@
 // ln a - k d^2 (d: the distance from its centre to the bounds), exceeds ln(Cutoff): the
 // widgets left out add less than Cutoff opacity per unit length to any of its samples.
 //
-// The table is one stream of (x, y) float pairs, TableWidth to a row of an RG float 2D
+// The table is one stream of (x, y) float pairs, TableWidth to a row of an RG float
 // texture: entry 0 is a check value, entries 1 .. bricks are each brick's (list start,
 // list length) in x-fastest brick order, then the lists (widget index in x). Identical
 // lists are stored once. A brick reached by more than 1/ListShare of the widgets gets
@@ -33,7 +33,7 @@ namespace bricks
 {
 
 constexpr int BrickSize = 8;
-constexpr int TableWidth = 4096;
+constexpr int TableWidth = 2048; // OpenGL 4.5 guarantees 3D textures of 2048 (llvmpipe: 2048)
 constexpr float CheckValue = 16777.0f; // entry 0: the shader draws nothing without it
 constexpr double Cutoff = 1.0e-6;
 constexpr size_t ListShare = 3;

@@ -2,13 +2,14 @@
 
 #include "GaussianWidgetFormula.h"
 #include "mcvGaussianTFBricks.h"
+#include "mcvGaussianTFTable.h"
 
 namespace mcv
 {
 namespace shader
 {
 
-std::string ClassifyDeclaration(bool bricks)
+std::string ClassifyDeclaration(bool bricks, bool table)
 {
   std::string code = mcv::widgetFormulaGLSL();
   if (bricks)
@@ -16,13 +17,47 @@ std::string ClassifyDeclaration(bool bricks)
     code += "#define MCV_TABLE_WIDTH " + std::to_string(bricks::TableWidth) + "\n#define MCV_BRICK " +
       std::to_string(bricks::BrickSize) + ".0\n#define MCV_CHECK " +
       std::to_string(static_cast<int>(bricks::CheckValue)) + ".0\n" + R"GLSL(
-// The widget table of mcvGaussianTFBricks.h: (x, y) entries, TableWidth to a row.
-uniform sampler2D mcv_brickTable;
+// The widget table of mcvGaussianTFBricks.h: (x, y) entries, TableWidth to a row. A 3D
+// texture of one slice, as the baked table: until the mapper points the samplers at their
+// tables, both read unit 0, which OpenGL allows only for samplers of one type.
+uniform sampler3D mcv_brickTable;
 vec2 mcvTableEntry(int n)
 {
-  return texelFetch(mcv_brickTable, ivec2(n % MCV_TABLE_WIDTH, n / MCV_TABLE_WIDTH), 0).xy;
+  return texelFetch(mcv_brickTable, ivec3(n % MCV_TABLE_WIDTH, n / MCV_TABLE_WIDTH, 0), 0).xy;
 }
 )GLSL";
+  }
+  if (table)
+  {
+    const auto& check = tftable::CheckTexel;
+    code += "#define MCV_TABLE_CHECK vec4(" + std::to_string(check[0] / 65535.0) + ", " +
+      std::to_string(check[1] / 65535.0) + ", " + std::to_string(check[2] / 65535.0) + ", " +
+      std::to_string(check[3] / 65535.0) + ")\n";
+    code += R"GLSL(
+// Multichannel Explorer: the Gaussian widgets baked into a 3D table over the reduced domain
+// (mcvGaussianTFTable.h), read per sample with linear filtering.
+uniform sampler3D mcv_tfTable;
+// The table's check slice (its last z slice) holds MCV_TABLE_CHECK: false until the
+// sampler reads the table.
+bool mcvTableBound()
+{
+  ivec3 size = textureSize(mcv_tfTable, 0);
+  vec4 check = texelFetch(mcv_tfTable, ivec3(0, 0, size.z - 1), 0);
+  return size.z > 1 && all(lessThan(abs(check - MCV_TABLE_CHECK), vec4(1.0e-3)));
+}
+// start and count (the brick table's list) are not needed: the table holds every widget.
+vec4 mcvClassify(vec4 texel, int start, int count)
+{
+  if (texel.w <= 0.0)
+  {
+    return vec4(0.0);
+  }
+  vec3 t = clamp(texel.xyz / texel.w, 0.0, 1.0);
+  vec4 c = texture(mcv_tfTable, t * mcv_tableScale + mcv_tableOffset);
+  return vec4(c.rgb, c.a * texel.w);
+}
+)GLSL";
+    return code;
   }
   code += R"GLSL(
 // Multichannel Explorer: Gaussian widgets evaluated per sample.
@@ -86,9 +121,13 @@ vec4 mcvClassify(vec4 texel, int start, int count)
   return code;
 }
 
-std::string RayStart(bool jitter, bool bricks)
+std::string RayStart(bool jitter, bool bricks, bool table)
 {
   std::string code = "//VTK::Shading::Init\n";
+  if (table)
+  {
+    code += "  if (!mcvTableBound()) { discard; }\n";
+  }
   if (bricks)
   {
     // A table not bound where the sampler reads (the mapper binds it and checks the

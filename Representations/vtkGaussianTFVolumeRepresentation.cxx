@@ -7,6 +7,7 @@
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
 #include "mcvGaussianTFBricks.h"
 #include "mcvGaussianTFShader.h"
+#include "mcvGaussianTFTable.h"
 #include "vtkGaussianTFVolumeMapper.h"
 
 #include "vtkCompositeDataSet.h"
@@ -273,6 +274,8 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   int TextureComponents = 3;
   mcv::bricks::BrickBounds Bricks; // of the one piece's texture; empty: no table
   bool UseBricks = false;          // the shader reads the widget table
+  bool UseTable = false;           // the shader reads the baked table
+  std::string EvaluationUsed;      // per sample: the table's size, or why every widget
 
   bool Valid = false;
   std::string DeviceUsed;
@@ -731,6 +734,21 @@ void vtkGaussianTFVolumeRepresentation::SetEmptySpaceSkipping(bool skipping)
   }
 }
 
+void vtkGaussianTFVolumeRepresentation::SetPerSampleEvaluation(int evaluation)
+{
+  evaluation = evaluation == EVALUATE_EXACT ? EVALUATE_EXACT : EVALUATE_TABLE;
+  if (evaluation != this->PerSampleEvaluation)
+  {
+    this->PerSampleEvaluation = evaluation;
+    this->Internals->SettingsTime.Modified(); // the table or the uniforms, at the next render
+  }
+}
+
+const char* vtkGaussianTFVolumeRepresentation::GetEvaluationUsed()
+{
+  return this->Internals->EvaluationUsed.c_str();
+}
+
 void vtkGaussianTFVolumeRepresentation::SetRequestedRenderMode(int mode)
 {
   if (mode != this->RequestedRenderMode)
@@ -825,6 +843,7 @@ bool vtkGaussianTFVolumeRepresentation::UpdateRGBA()
     return internals.Valid;
   }
   internals.ComputeTime.Modified();
+  internals.EvaluationUsed.clear(); // per sample only
   internals.RGBAInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
   internals.Valid = false;
   if (pieces.empty())
@@ -1057,14 +1076,54 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
     internals.TextureComponents == 3 ? float(range.Extent(2)) : 0.f };
   vtkUniforms* uniforms = internals.ShaderProperty->GetFragmentCustomUniforms();
   uniforms->SetUniformi(mcv::shader::WidgetCount, static_cast<int>(packed.size()));
-  uniforms->SetUniform4fv(mcv::shader::WidgetCentreK, mcv::shader::MaximumWidgets, centreK);
-  uniforms->SetUniform4fv(mcv::shader::WidgetColourLogA, mcv::shader::MaximumWidgets, colourLogA);
-  uniforms->SetUniform3f(mcv::shader::CoordinateMin, minimum);
-  uniforms->SetUniform3f(mcv::shader::CoordinateExtent, extent);
+  auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
+
+  // The baked table (a widget edit bakes it again: nodes x widgets in reach, not voxels),
+  // or every widget at every sample: by request, or when a widget is narrower than the
+  // largest table resolves.
+  const mcv::tftable::TableSize size = this->PerSampleEvaluation == EVALUATE_TABLE && mapper
+    ? mcv::tftable::chooseTableSize(packed, minimum, extent)
+    : mcv::tftable::TableSize();
+  internals.UseTable = size.Valid();
+  if (internals.UseTable)
+  {
+    const int dims[3] = { size.nodes[0], size.nodes[1], size.nodes[2] + 1 }; // + check slice
+    mapper->SetTransferFunctionTable(mcv::tftable::bakeTable(packed, minimum, extent, size), dims);
+    float scale[3], offset[3];
+    for (int c = 0; c < 3; ++c)
+    {
+      scale[c] = static_cast<float>(size.nodes[c] - 1) / static_cast<float>(dims[c]);
+      offset[c] = 0.5f / static_cast<float>(dims[c]);
+    }
+    uniforms->SetUniform3f(mcv::shader::TableScale, scale);
+    uniforms->SetUniform3f(mcv::shader::TableOffset, offset);
+    for (const char* name : { mcv::shader::WidgetCentreK, mcv::shader::WidgetColourLogA,
+           mcv::shader::CoordinateMin, mcv::shader::CoordinateExtent })
+    {
+      uniforms->RemoveUniform(name); // not in the table's shader
+    }
+    std::ostringstream used;
+    used << "table " << size.nodes[0] << "x" << size.nodes[1] << "x" << size.nodes[2];
+    internals.EvaluationUsed = used.str();
+  }
+  else
+  {
+    if (mapper)
+    {
+      mapper->SetTransferFunctionTable(std::vector<std::uint16_t>(), size.nodes);
+    }
+    uniforms->RemoveUniform(mcv::shader::TableScale);
+    uniforms->RemoveUniform(mcv::shader::TableOffset);
+    uniforms->SetUniform4fv(mcv::shader::WidgetCentreK, mcv::shader::MaximumWidgets, centreK);
+    uniforms->SetUniform4fv(mcv::shader::WidgetColourLogA, mcv::shader::MaximumWidgets, colourLogA);
+    uniforms->SetUniform3f(mcv::shader::CoordinateMin, minimum);
+    uniforms->SetUniform3f(mcv::shader::CoordinateExtent, extent);
+    internals.EvaluationUsed =
+      this->PerSampleEvaluation == EVALUATE_TABLE ? "exact: " + size.reason : "exact";
+  }
 
   // The widget table: which widgets reach each brick (a widget edit rebuilds it: a pass
   // over the bricks, not the voxels).
-  auto mapper = vtkGaussianTFVolumeMapper::SafeDownCast(this->VolumeMapper);
   internals.UseBricks = this->EmptySpaceSkipping && mapper && internals.Bricks.Count() > 0;
   this->NumberOfBricks = this->NumberOfEmptyBricks = 0;
   this->MeanWidgetsPerBrick = 0;
@@ -1125,16 +1184,17 @@ void vtkGaussianTFVolumeRepresentation::UpdateMapperParameters()
     internals.ShaderProperty->GetFragmentCustomUniforms()->SetUniformf(
       mcv::shader::UnitDistance, static_cast<float>(unitDistance));
     const bool bricks = internals.UseBricks;
+    const bool table = internals.UseTable;
     const std::string key = std::string(mip ? "mip" : "composite") + (this->Jittering ? "+jitter" : "") +
-      (bricks ? "+bricks" : "");
+      (bricks ? "+bricks" : "") + (table ? "+table" : "");
     if (key != internals.ShaderKey)
     {
       vtkOpenGLShaderProperty* sp = internals.ShaderProperty;
       sp->ClearAllFragmentShaderReplacements();
       sp->AddFragmentShaderReplacement("//VTK::Shading::Dec", true,
-        "//VTK::Shading::Dec\n" + mcv::shader::ClassifyDeclaration(bricks), false);
-      sp->AddFragmentShaderReplacement(
-        "//VTK::Shading::Init", true, mcv::shader::RayStart(this->Jittering, bricks), false);
+        "//VTK::Shading::Dec\n" + mcv::shader::ClassifyDeclaration(bricks, table), false);
+      sp->AddFragmentShaderReplacement("//VTK::Shading::Init", true,
+        mcv::shader::RayStart(this->Jittering, bricks, table), false);
       sp->AddFragmentShaderReplacement(
         "//VTK::Shading::Impl", true, mcv::shader::SampleAndBlend(mip, bricks), false);
       internals.ShaderKey = key;
@@ -1201,6 +1261,8 @@ void vtkGaussianTFVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Classification: " << (this->Classification == PER_SAMPLE ? "per sample" : "per voxel") << "\n";
   os << indent << "Jittering: " << this->Jittering << "\n";
   os << indent << "EmptySpaceSkipping: " << this->EmptySpaceSkipping << "\n";
+  os << indent << "PerSampleEvaluation: "
+     << (this->PerSampleEvaluation == EVALUATE_TABLE ? "baked table" : "exact") << "\n";
   os << indent << "CoordinateArray: " << this->Internals->CoordinateArray << "\n";
   os << indent << "MaskArray: " << this->Internals->MaskArray << "\n";
   os << indent << "GaussianWidgets: " << this->Internals->WidgetValues.Size() << " values\n";

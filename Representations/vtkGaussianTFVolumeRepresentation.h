@@ -12,10 +12,14 @@
  * Two ways to classify (property Classification):
  * - Per sample (default): the coordinates are uploaded once as a 16-bit RGBA texture
  *   (x, y, z, drawn; mcv::quantizeCoordinates) and the GPU ray caster's fragment shader
- *   evaluates the widgets at every interpolated ray sample (mcvGaussianTFShader.h): thin
- *   structures between voxels stay sharp and no colour bleeds across boundaries. A widget
- *   edit sets uniforms only. Opacity is per unit length (the volume's Scalar Opacity Unit
- *   Distance), corrected for the sample distance; rays are jittered (property Jittering).
+ *   classifies every interpolated ray sample (mcvGaussianTFShader.h): thin structures
+ *   between voxels stay sharp and no colour bleeds across boundaries. The shader
+ *   evaluates every widget at every sample (exact, one exp per widget, the default), or
+ *   reads the widgets baked into a 3D table over the reduced domain (PerSampleEvaluation
+ *   Baked table: one trilinear fetch per sample, the table re-baked on the CPU at each
+ *   widget edit, mcvGaussianTFTable.h; exact where a widget is narrower than the largest
+ *   table resolves). Opacity is per unit length (the volume's Scalar Opacity Unit Distance),
+ *   corrected for the sample distance; rays are jittered (property Jittering).
  * - Per voxel: the VTK-free core (mcv::applyGaussianWidgets, CPU or CUDA) computes a uint8
  *   RGBA point array `GaussianTF_RGBA` that the ray caster interpolates as dependent
  *   components (pre-classification). Any number of widgets; colours on the CPU or CUDA.
@@ -174,6 +178,34 @@ public:
 
   ///@{
   /**
+   * Per sample: EVALUATE_TABLE bakes the widgets into a 3D table over the
+   * reduced domain (mcvGaussianTFTable.h: 3 intervals per sigma of the narrowest widget
+   * on every axis, at most 512 nodes per axis and 2^23 in all) that the shader reads with one
+   * trilinear fetch per sample; when a widget is too narrow for that table, every widget
+   * is evaluated instead (GetEvaluationUsed says which). EVALUATE_EXACT (default): every
+   * widget at every sample (one exp each), the formula itself. The table is not the
+   * default: near a peak opacity of 1 its interpolation error changes the picture (up to
+   * 37/255 on the brain), a widget edit bakes it (about 0.35 s for 6.6 M nodes), and with
+   * one widget it is slower than the loop (docs/benchmarks.md section 20).
+   */
+  enum PerSampleEvaluationType
+  {
+    EVALUATE_TABLE = 0,
+    EVALUATE_EXACT = 1
+  };
+  void SetPerSampleEvaluation(int evaluation);
+  vtkGetMacro(PerSampleEvaluation, int);
+  ///@}
+
+  /**
+   * How the last per-sample update classifies: "table NXxNYxNZ" (the baked table's node
+   * counts), "exact" (requested), or "exact: " and why no table could be used; "" before
+   * the first one.
+   */
+  const char* GetEvaluationUsed();
+
+  ///@{
+  /**
    * Point array whose zero values mark voxels that are never drawn (uint8 or any numeric
    * type; default `Foreground`, the background mask of MultichannelFeatures). A name that
    * is not an array of the input masks nothing.
@@ -277,6 +309,7 @@ private:
   int RequestedRenderMode = 0;
   bool Jittering = true;
   bool EmptySpaceSkipping = false;
+  int PerSampleEvaluation = EVALUATE_EXACT;
   int NumberOfBricks = 0;
   int NumberOfEmptyBricks = 0;
   double MeanWidgetsPerBrick = 0;

@@ -22,12 +22,15 @@ medians over the moves:
 
 With --turn, instead: the frame time of the volume while the camera turns, ParaView's
 plain "Volume" representation of one channel (the first, the T1) against the "Gaussian TF
-Volume" per sample (with and without EmptySpaceSkipping) and per voxel, on the same
-grid, view and sample distance:
+Volume" per sample (the baked table, PerSampleEvaluation's default, and the exact
+evaluation of every widget) and per voxel, on the same grid, view and sample distance:
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
-        [--reduced brain_reduced.vti]
+        [--reduced brain_reduced.vti] [--skipping]
+
+--skipping adds the exact evaluation with EmptySpaceSkipping; --sigma-scale S multiplies
+every seeded sigma by S (wider widgets: a coarser table).
 
 The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
 grid; --widgets widgets seeded by auto_widgets. Each of the four is a display of its own
@@ -35,9 +38,14 @@ copy of the grid (PassArrays), shown alone; a round renders each once at the sam
 camera angle, the camera turns 360/--frames degrees between rounds, after one warm-up
 round (textures uploaded). A widget the seeding starts hidden (the cluster of more than
 half of the voxels: the only one with --widgets 1) is shown at opacity 0.05. Prints the
-medians and each one's ratio to the plain volume.
+medians and each one's ratio to the plain volume, the baked table's size and the time
+to bake it (the representation's preparation after the widgets are set), and the plain
+volume's sample rate: the samples of every ray through the volume's box (its chord over
+the sample distance VTK picks, the smallest spacing, before early ray termination) per
+second of its frame time.
 """
 import argparse
+import math
 import os
 import statistics
 import sys
@@ -94,12 +102,62 @@ def parse_size(text):
     return dims * 3 if len(dims) == 1 else dims
 
 
+def picture(path):
+    """RGB of a screenshot as an int array."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())[:, :3].astype(int)[:, None, :]
+
+
+def box_samples(view, bounds, spacing):
+    """Ray samples of a frame through the box `bounds` at a sample distance of the smallest
+    spacing (VTK's automatic sample distance), without early termination: the sum over the
+    view's pixels of each ray's chord in the box over that distance (perspective camera)."""
+    import numpy as np
+
+    camera = view.GetActiveCamera()
+    width, height = [int(v) for v in view.ViewSize]
+    eye = np.array(camera.GetPosition())
+    forward = np.array(camera.GetFocalPoint()) - eye
+    forward /= np.linalg.norm(forward)
+    up = np.array(camera.GetViewUp())
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    half = math.tan(math.radians(camera.GetViewAngle()) / 2.0)  # vertical half-angle
+    ys, xs = np.mgrid[0:height, 0:width]
+    u = ((xs + 0.5) / width * 2 - 1) * half * width / height
+    v = ((ys + 0.5) / height * 2 - 1) * half
+    dirs = forward[None, None, :] + u[..., None] * right + v[..., None] * up
+    dirs /= np.linalg.norm(dirs, axis=2)[..., None]
+    lo = np.array(bounds[0::2]) - eye
+    hi = np.array(bounds[1::2]) - eye
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0 = np.where(dirs != 0, lo / dirs, -np.inf)
+        t1 = np.where(dirs != 0, hi / dirs, np.inf)
+    near = np.maximum(np.minimum(t0, t1).max(axis=2), 0)
+    far = np.maximum(t0, t1).min(axis=2)
+    chord = np.clip(far - near, 0, None)
+    return float(chord.sum() / min(spacing))
+
+
 def turn(mce, view, reduction, args):
     """The --turn table (see the module's doc)."""
     native = list(reduction.GetDataInformation().GetExtent())
     native = [native[1] - native[0] + 1, native[3] - native[2] + 1, native[5] - native[4] + 1]
     counts = [int(v) for v in args.widgets.split(",")]
-    modes = ("plain", "per sample", "per sample, no skipping", "per voxel")
+    # name: (classification, PerSampleEvaluation, EmptySpaceSkipping)
+    settings = {"table": ("Per sample", "Baked table", 0),
+                "exact": ("Per sample", "Exact", 0),
+                "exact, skipping": ("Per sample", "Exact", 1),
+                "per voxel": ("Per voxel", "Baked table", 0)}
+    modes = ["plain", "table", "exact"] + (["exact, skipping"] if args.skipping else []) + \
+        ["per voxel"]
     rows = []
     for text in args.grids.split(","):
         dims = parse_size(text)
@@ -109,6 +167,11 @@ def turn(mce, view, reduction, args):
                                           UseInputBounds=1)
         grid.UpdatePipeline()
         voxels = dims[0] * dims[1] * dims[2]
+        info = grid.GetDataInformation()
+        bounds = info.GetBounds()
+        extent = info.GetExtent()
+        spacing = [(bounds[2 * a + 1] - bounds[2 * a]) / max(extent[2 * a + 1] - extent[2 * a], 1)
+                   for a in range(3)]
         copies = {m: simple.PassArrays(Input=grid) for m in modes}
         displays = {}
         plain = simple.Show(copies["plain"], view)
@@ -121,22 +184,27 @@ def turn(mce, view, reduction, args):
         plain.RescaleTransferFunctionToDataRange(True, False)
         displays["plain"] = plain
         for m in modes[1:]:
-            d = mce.show_gaussian_tf(copies[m], view,
-                                     classification="Per voxel" if m == "per voxel" else "Per sample")
+            classification, evaluation, skipping = settings[m]
+            d = mce.show_gaussian_tf(copies[m], view, classification=classification)
             d.Device = "CPU"
             d.ShowWidgetLegend = 0
-            d.EmptySpaceSkipping = 0 if m.endswith("no skipping") else 1
+            d.PerSampleEvaluation = evaluation
+            d.EmptySpaceSkipping = skipping
             displays[m] = d
         for count in counts:
-            widgets = [float(v) for v in mce.auto_widgets(displays["per sample"], count, seed=0)]
+            widgets = [float(v) for v in mce.auto_widgets(displays["table"], count, seed=0)]
             for i in range(len(widgets) // 8):
                 if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
                     widgets[8 * i + 7] = 0.05
+                widgets[8 * i + 3] *= args.sigma_scale
             for m in modes[1:]:
                 displays[m].GaussianWidgets = widgets
             visible = sum(1 for i in range(len(widgets) // 8) if widgets[8 * i + 7] > 0)
+            sigmas = [widgets[8 * i + 3] for i in range(len(widgets) // 8)
+                      if widgets[8 * i + 7] > 0]
             camera = view.GetActiveCamera()
             times = {m: [] for m in modes}
+            samples = []
             for r in range(args.frames + 1):
                 for m in modes:
                     for other in modes:
@@ -147,17 +215,43 @@ def turn(mce, view, reduction, args):
                     simple.Render(view)
                     if r > 0:
                         times[m].append(time.perf_counter() - start)
+                if r > 0:
+                    samples.append(box_samples(view, bounds, spacing))
                 camera.Azimuth(360.0 / args.frames)
-            displays["per sample"].UpdatePropertyInformation()
-            info = displays["per sample"]
-            bricks = int(info.GetPropertyValue("GaussianTFBricks"))
-            empty = int(info.GetPropertyValue("GaussianTFEmptyBricks"))
-            listed = float(info.GetPropertyValue("GaussianTFWidgetsPerBrick"))
+            # The last angle's pictures, through the table and exact: the largest channel
+            # difference and the share of pixels more than 2/255 apart.
+            shots = {}
+            for m in ("table", "exact"):
+                for other in modes:
+                    displays[other].Visibility = 1 if other == m else 0
+                simple.Render(view)
+                path = os.path.join(args.pictures, "turn_%.1fM_%dw_%s.png"
+                                    % (voxels / 1e6, count, m.replace(" ", "_")))
+                simple.SaveScreenshot(path, view, ImageResolution=list(args.size))
+                shots[m] = picture(path)
+            diff = abs(shots["table"] - shots["exact"]).max(axis=2)
+            largest, share = int(diff.max()), float((diff > 2).mean())
+            # A handle move (widget 1's centre by a tenth of its sigma): the table is baked
+            # again; the representation's preparation is that bake and the uniforms.
+            for other in modes:
+                displays[other].Visibility = 1 if other == "table" else 0
+            moved = list(widgets)
+            moved[0] += 0.1 * widgets[3]
+            displays["table"].GaussianWidgets = moved
+            simple.Render(view)
+            displays["table"].UpdatePropertyInformation()
+            bake = float(displays["table"].GetPropertyValue("GaussianTFPreparationSeconds"))
+            used = str(displays["table"].GetPropertyValue("GaussianTFEvaluationUsed"))
             med = {m: statistics.median(times[m]) for m in modes}
-            rows.append((voxels, count, visible, med, bricks, empty, listed))
-            print("%.1f M voxels (%s), %d widgets (%d visible): " % (voxels / 1e6, channel, count, visible)
+            rate = statistics.median(samples) / med["plain"]
+            rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas), largest, share))
+            print("%.1f M voxels (%s), %d widgets (%d visible, narrowest sigma %.3g): "
+                  % (voxels / 1e6, channel, count, visible, min(sigmas))
                   + ", ".join("%s %.0f ms" % (m, 1e3 * med[m]) for m in modes)
-                  + "; bricks %d, empty %d, widgets per reached brick %.1f" % (bricks, empty, listed))
+                  + "; %s, baked in %.1f ms; plain: %.3g M box samples per frame, %.1f M/s"
+                  % (used, 1e3 * bake, statistics.median(samples) / 1e6, rate / 1e6)
+                  + "; table vs exact picture: largest %d/255, %.3f %% of pixels > 2/255"
+                  % (largest, 100 * share))
             sys.stdout.flush()
         for m in modes:
             simple.Delete(displays[m])
@@ -165,18 +259,17 @@ def turn(mce, view, reduction, args):
         if grid is not reduction:
             simple.Delete(grid)
 
-    print("\n| voxels | widgets | plain Volume | per sample (x plain) | per sample, no skipping "
-          "(x plain) | per voxel (x plain) | empty bricks, widgets per brick |")
-    print("|---|---|---|---|---|---|---|")
-    for voxels, count, visible, med, bricks, empty, listed in rows:
+    print("\n| voxels | widgets | plain Volume (box samples/s) | "
+          + " | ".join("%s (x plain)" % m for m in modes[1:])
+          + " | table, bake | table vs exact picture |")
+    print("|---" * (len(modes) + 4) + "|")
+    for voxels, count, visible, med, used, bake, rate, sigma, largest, share in rows:
         p = med["plain"]
-        print("| %.1f M | %d (%d visible) | %.0f ms | %.0f ms (x%.2f) | %.0f ms (x%.2f) | %.0f ms (x%.2f) "
-              "| %.0f %%, %.1f |"
-              % (voxels / 1e6, count, visible, 1e3 * p,
-                 1e3 * med["per sample"], med["per sample"] / p,
-                 1e3 * med["per sample, no skipping"], med["per sample, no skipping"] / p,
-                 1e3 * med["per voxel"], med["per voxel"] / p,
-                 100.0 * empty / max(bricks, 1), listed))
+        print("| %.1f M | %d (%d visible) | %.0f ms (%.0f M/s) | " % (voxels / 1e6, count, visible,
+                                                                   1e3 * p, rate / 1e6)
+              + " | ".join("%.0f ms (x%.2f)" % (1e3 * med[m], med[m] / p) for m in modes[1:])
+              + " | %s, %.0f ms | %d/255, %.2f %% > 2/255 |"
+              % (used.replace("table ", ""), 1e3 * bake, largest, 100 * share))
     sys.stdout.flush()
 
 
@@ -189,6 +282,12 @@ def main():
     parser.add_argument("--widgets", default="1,8,64")
     parser.add_argument("--grids", default="100,181x217x181,318")
     parser.add_argument("--frames", type=int, default=7)
+    parser.add_argument("--pictures", default=".",
+                        help="--turn: folder of the table's and the exact pictures")
+    parser.add_argument("--sigma-scale", type=float, default=1.0,
+                        help="--turn: every seeded widget's sigma times this")
+    parser.add_argument("--skipping", action="store_true",
+                        help="--turn: also the exact evaluation with EmptySpaceSkipping")
     parser.add_argument("--reduced", default="",
                         help="--turn: a .vti of the reduced brain, written by the first run "
                              "and read by the next ones")

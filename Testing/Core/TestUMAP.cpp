@@ -346,13 +346,16 @@ TEST(UMAP, SameSeedSameResultForAnyThreadCount)
   EXPECT_NE(mcv::reduceDimension({ b.X.data(), 500, 10 }, o).coordinates, runs[0]);
 }
 
-TEST(UMAP, VectorisedNegativeSamplesMatchThePortableLoop)
+TEST(UMAP, VectorisedLayoutMatchesThePortableLoop)
 {
-  if (!mcv::layoutHasWideNegatives())
+  if (!mcv::layoutIsVectorised())
   {
     GTEST_SKIP() << "this CPU has no AVX2: the layout runs the portable loop only";
   }
-  // Two touching blobs (one component), 2D and 3D layouts from the same random start.
+  // Two touching blobs (one component), 2D and 3D layouts from the same random start. With
+  // 400 points a task holds ~50 vertices, so many batches are cut short by a shared vertex
+  // and padded; a negative sample often draws its own head; and the first 200 points start
+  // on 5 positions, so negative samples meet points on top of the head.
   Blobs b = twoBlobs(200, 13);
   b.X.bottomRows(200).rowwise() -= (b.centres.row(1) - b.centres.row(0)) * 0.9f;
   const mcv::KnnGraph knn = mcv::buildKnnGraph(b.X.data(), 400, 10, 15);
@@ -366,7 +369,10 @@ TEST(UMAP, VectorisedNegativeSamplesMatchThePortableLoop)
     {
       start.data()[i] = u(rng);
     }
-    start.row(7) = start.row(8); // two coincident points: the fixed push
+    for (Eigen::Index i = 5; i < 200; ++i) // points on top of each other: the fixed push
+    {
+      start.row(i) = start.row(i % 5);
+    }
     mcv::LayoutOptions o;
     o.epochs = 200;
     o.seed = 4;

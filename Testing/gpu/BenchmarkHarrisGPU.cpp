@@ -3,7 +3,7 @@
 // opacity 0..255 on the GPU, the same values /255 in float on the CPU).
 //
 //   mcvBenchmarkGPU [--sizes 64,128,256,384,512] [--runs R] [--cpu-runs R] [--cpu-max N]
-//                   [--sweep] [--variants] [--no-float] [--profile]
+//                   [--sweep] [--variants] [--variant V] [--no-float] [--profile]
 //                   [--slabs] [--slab-budget-mib M] [--slab-runs R] [--large N]
 //
 // Per size: GPU stage times (CUDA events, median of R runs, volume resident on the GPU):
@@ -15,8 +15,9 @@
 // --cpu-runs runs, up to --cpu-max voxels per side. Agreement: top-N overlap between the
 // GPU (uint8) and CPU (float) points, and the angle between their PCA best views.
 // --sweep times the Harris kernel for several z chunks, --variants the kernel variants
-// (z-loop unrolling, 3 blocks/SM, histogram atomics) from 256^3 up; the float path (the
-// plugin's input) is timed too unless --no-float.
+// (z-loop unrolling, 3 blocks/SM, histogram atomics) from 256^3 up;
+// --variant V runs every measurement with Harris kernel variant V instead of the default.
+// The float path (the plugin's input) is timed too unless --no-float.
 // --slabs also runs the z-slab path (HarrisSlabStream: volume on the host, streamed in
 // slabs with halos, running top-N) under a forced device budget (--slab-budget-mib, default
 // a quarter of what the whole volume needs), checks that its points equal the whole-volume
@@ -63,6 +64,7 @@ struct Config
   int cpuMax = 256;
   bool sweep = false;
   bool variants = false;
+  int variant = -1; // Harris kernel variant of every measurement (-1: the default)
   bool floatPath = true;
   bool profile = false; // one warm topN on the first size, then exit (for ncu)
   bool slabs = false;
@@ -227,6 +229,8 @@ int main(int argc, char** argv)
       cfg.sweep = true;
     else if (a == "--variants")
       cfg.variants = true;
+    else if (a == "--variant")
+      cfg.variant = std::atoi(next());
     else if (a == "--profile")
       cfg.profile = true;
     else if (a == "--no-float")
@@ -256,14 +260,17 @@ int main(int argc, char** argv)
   std::printf("GPU: %s, %d SMs, %.0f MB L2, compute %d.%d; CPU threads: %d\n", prop.name,
     prop.multiProcessorCount, prop.l2CacheSize / 1048576.0, prop.major, prop.minor,
     omp_get_max_threads());
-  std::printf("N = 2048 interest points, Harris width 5, sigma 1.5, k 0.004; GPU runs %d "
-              "(median), CPU runs %d (median)\n\n",
-    cfg.runs, cfg.cpuRuns);
+  std::printf("N = 2048 interest points, Harris width 5, sigma 1.5, k 0.004; Harris kernel "
+              "variant %s; GPU runs %d (median), CPU runs %d (median)\n\n",
+    cfg.variant < 0 ? "default" : std::to_string(cfg.variant).c_str(), cfg.runs, cfg.cpuRuns);
 
   const mcv::HarrisParameters params;
   const int N = 2048;
   std::vector<Row> rows;
   mcv::cuda::HarrisPipeline pipeline;
+  if (cfg.variant >= mcv::cuda::HarrisPipeline::kernelVariantCount())
+    die("--variant: no such Harris kernel variant");
+  pipeline.setKernelVariant(cfg.variant, 1);
   std::string error;
 
   for (int n : cfg.sizes)
@@ -361,7 +368,7 @@ int main(int argc, char** argv)
     if (cfg.variants && n >= 256)
     {
       std::printf("  kernel variants (harris+histogram ms, median of %d):", cfg.runs);
-      for (int v = 0; v < 4; ++v)
+      for (int v = 0; v < mcv::cuda::HarrisPipeline::kernelVariantCount(); ++v)
         for (int hm = 0; hm < 2; ++hm)
         {
           pipeline.setKernelVariant(v, hm);
@@ -376,7 +383,7 @@ int main(int argc, char** argv)
           std::printf("  v%d%s %.3f", v, hm ? "a" : "m", median(hs));
         }
       std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM; m: match_any, a: plain atomics)\n");
-      pipeline.setKernelVariant(-1, 1);
+      pipeline.setKernelVariant(cfg.variant, 1);
     }
     std::printf("  H2D uint8: pinned %.3f ms, pageable %.3f ms\n", row.h2dPinned, row.h2dPageable);
 

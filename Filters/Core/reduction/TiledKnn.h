@@ -3,7 +3,7 @@
 // exact kNN (ExactKnn.h) in high dimension, where a kd-tree visits most of its leaves.
 //
 // The references are kept transposed (D x M, padded to a multiple of 16) so a register
-// block of 4 queries x 16 references is a handful of vector loads, subtractions and FMAs
+// block of 3 queries x 16 references is a handful of vector loads, subtractions and FMAs
 // per feature; L2-sized reference chunks are swept by every query block. An AVX2+FMA
 // kernel is chosen at run time where the CPU has it (the library itself is built for
 // baseline x86-64), a portable loop otherwise; both keep, per query, the kp smallest float

@@ -11,12 +11,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <thread>
 
-#ifdef __SSE__
-#include <xmmintrin.h>
-#endif
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define MCV_UMAP_AVX2 1
 #include <immintrin.h>
@@ -291,7 +289,8 @@ public:
   }
   float attraction(float d2) const { return lookup(table_[0].data(), d2); }
   float repulsion(float d2) const { return lookup(table_[1].data(), d2); }
-  // For negativesAvx2, which repeats lookup two samples at a time.
+  // For batchAvx2, which repeats lookup eight samples at a time.
+  const float* attractionTable() const { return table_[0].data(); }
   const float* repulsionTable() const { return table_[1].data(); }
   static constexpr int kMantissaBits = 6, kMinOctave = -27, kMaxOctave = 20;
   static constexpr int kShift = 23 - kMantissaBits;
@@ -318,150 +317,316 @@ private:
   std::vector<float> table_[2]; // per entry: value, slope
 };
 
-// A position as 4 floats (2D and 3D layouts leave the unused lanes at 0): one SSE register
-// on x86-64 (GCC/Clang vector extension, portable), so a difference, a clip or an update
-// is one instruction instead of one per axis (the layout ran 1.3x slower per axis).
-using Vec4 = float __attribute__((vector_size(16)));
+// Positions as kStride floats per slot (2D and 3D layouts leave the unused ones at 0):
+// aligned rows, and a slot's offset is one shift.
 constexpr int kStride = 4;
 
-struct Step;
-// The summed repulsions of one positive sample's `count` negative samples (see runTask).
-using NegativesFn = Vec4 (*)(std::uint64_t& rng, int count, std::uint32_t head, Vec4 current, const Step& p,
-  const float* start);
+// umap-learn's clip of every gradient component to [-4, 4].
+inline float clip(float v)
+{
+  return std::min(std::max(v, -4.f), 4.f);
+}
+
+// The negative samples' vertices come from a counter-based generator: draw q of the sample
+// of edge e in epoch t is hash32(key(t, e) + q * kDrawStep) (lowbias32, a 32-bit bijection
+// with good avalanche), mapped to [0, n) by Lemire's multiply-shift. Every sample has its own
+// stream, so eight samples side by side draw their vertices in eight lanes at once with the
+// same bits as one after the other (a shared sequential stream cost ~7 instructions per
+// draw in the eight-lane loop, more than the rest of a negative sample).
+inline std::uint32_t hash32(std::uint32_t x)
+{
+  x ^= x >> 16;
+  x *= 0x7FEB352Du;
+  x ^= x >> 15;
+  x *= 0x846CA68Bu;
+  x ^= x >> 16;
+  return x;
+}
+constexpr std::uint32_t kDrawStep = 0x9E3779B9u;
+
+inline std::uint32_t sampleKey(std::uint32_t epochKey, std::size_t edge)
+{
+  return hash32(epochKey ^ static_cast<std::uint32_t>(edge * 0x85EBCA6Bull) ^ static_cast<std::uint32_t>(edge >> 32));
+}
+
+inline std::uint32_t drawVertex(std::uint32_t key, int q, std::uint32_t n)
+{
+  const std::uint32_t r = hash32(key + static_cast<std::uint32_t>(q) * kDrawStep);
+  return static_cast<std::uint32_t>((static_cast<std::uint64_t>(r) * n) >> 32);
+}
 
 struct Step
 {
   float alpha;
-  std::size_t n;
   int epoch;
-  std::uint64_t seed;
+  std::uint32_t n;
+  std::uint32_t epochKey;
   const GradientTable* gradient;
-  Vec4 coincidentPush; // 4 on the layout's axes, 0 beyond
-  NegativesFn negatives;
+  bool batched; // eight samples side by side (AVX2)
 };
 
-inline Vec4 load4(const float* p)
+// One positive sample of edge (head j, tail k), umap-learn's loop body, on positions stored
+// as kStride floats per slot (Y, and start: the epoch's snapshot):
+//  - attraction: both ends move by the clipped gradient times alpha;
+//  - `count` negative samples: all see the head where the attraction left it, their clipped
+//    pushes summed in draw order and applied together (umap-learn moves the head after
+//    each: a difference within one sample's step, and independent of each other they
+//    overlap in the core instead of forming one chain of dependent updates); a draw of the
+//    head itself is skipped, as umap-learn skips it; another point on top of the head
+//    pushes by +4 per axis (umap-learn's fixed push).
+// Squared norms are rounded as (x^2 + y^2) + z^2 (2D: x^2 + y^2), the same in batchAvx2.
+template <int Dim>
+void sampleScalar(
+  std::uint32_t j, std::uint32_t k, int count, std::uint32_t key, const Step& p, float* Y, const float* start)
 {
-  Vec4 v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-
-inline void store4(float* p, Vec4 v)
-{
-  std::memcpy(p, &v, sizeof v);
-}
-
-inline float squaredNorm(Vec4 v)
-{
-  const Vec4 s = v * v;
-  return (s[0] + s[1]) + (s[2] + s[3]);
-}
-
-// umap-learn's clip of every gradient component to [-4, 4].
-inline Vec4 clip4(Vec4 v)
-{
-#ifdef __SSE__
-  // minps/maxps: the compiler keeps the selects below as compare-and-mask sequences.
-  return reinterpret_cast<Vec4>(_mm_min_ps(_mm_max_ps(reinterpret_cast<__m128>(v), _mm_set1_ps(-4.f)), _mm_set1_ps(4.f)));
-#else
-  const Vec4 lo = { -4.f, -4.f, -4.f, -4.f }, hi = { 4.f, 4.f, 4.f, 4.f };
-  v = v < lo ? lo : v;
-  return v > hi ? hi : v;
-#endif
-}
-
-// The negative samples of one positive sample all see the head where the attraction left
-// it, and their (clipped) pushes are applied together: umap-learn moves the head after
-// each, a difference within one sample's step, and independent of each other they overlap
-// in the core instead of forming one chain of dependent updates.
-// Two vertices per 64-bit draw, each by Lemire's multiply-shift from 32 of its bits: the
-// hash's two multiplies were the busiest port of this loop.
-Vec4 negativesScalar(std::uint64_t& rng, int count, std::uint32_t head, Vec4 current, const Step& p, const float* start)
-{
-  Vec4 push = {};
-  const auto repel = [&](std::uint64_t k) {
-    if (k == head)
-    {
-      return; // umap-learn skips the point itself
-    }
-    const Vec4 away = current - load4(start + k * kStride);
-    const float d = squaredNorm(away);
-    // Another point on top of the head is pushed by +4 per axis (umap-learn's fixed push).
-    push += d > 0 ? clip4(p.gradient->repulsion(d) * away) : p.coincidentPush;
-  };
-  for (int q = 0; q < count; q += 2)
+  float* const h = Y + static_cast<std::size_t>(j) * kStride;
+  float* const t = Y + static_cast<std::size_t>(k) * kStride;
+  float diff[Dim], cur[Dim], push[Dim];
+  for (int c = 0; c < Dim; ++c)
   {
-    const std::uint64_t r = splitmix64(rng);
-    repel(((r >> 32) * p.n) >> 32);
-    if (q + 1 < count)
+    diff[c] = h[c] - t[c];
+  }
+  float d2 = diff[0] * diff[0] + diff[1] * diff[1];
+  if (Dim == 3)
+  {
+    d2 = d2 + diff[Dim - 1] * diff[Dim - 1];
+  }
+  const float coeff = d2 > 0 ? p.gradient->attraction(d2) : 0.f;
+  for (int c = 0; c < Dim; ++c)
+  {
+    const float pull = clip(coeff * diff[c]) * p.alpha;
+    cur[c] = h[c] + pull;
+    t[c] = t[c] - pull;
+    push[c] = 0.f;
+  }
+  for (int q = 0; q < count; ++q)
+  {
+    const std::uint32_t v = drawVertex(key, q, p.n);
+    if (v == j)
     {
-      repel(((r & 0xFFFFFFFFull) * p.n) >> 32);
+      continue;
+    }
+    float away[Dim];
+    for (int c = 0; c < Dim; ++c)
+    {
+      away[c] = cur[c] - start[static_cast<std::size_t>(v) * kStride + c];
+    }
+    float d = away[0] * away[0] + away[1] * away[1];
+    if (Dim == 3)
+    {
+      d = d + away[Dim - 1] * away[Dim - 1];
+    }
+    const float rep = p.gradient->repulsion(d);
+    for (int c = 0; c < Dim; ++c)
+    {
+      push[c] += d > 0 ? clip(rep * away[c]) : 4.f;
     }
   }
-  return push;
+  for (int c = 0; c < Dim; ++c)
+  {
+    h[c] = cur[c] + push[c] * p.alpha;
+  }
 }
+
+constexpr int kLanes = 8;
+
+// Up to eight samples of one task, due consecutively and sharing no vertex.
+struct Batch
+{
+  int lanes = 0;
+  alignas(32) std::uint32_t head[kLanes], tail[kLanes], key[kLanes];
+  alignas(32) std::int32_t count[kLanes];
+};
 
 #ifdef MCV_UMAP_AVX2
-// negativesScalar two samples at a time, one per 128-bit half of a 256-bit register, with
-// the same bits: every half rounds the same float operations in the same order (the
-// squared norm as (x^2 + y^2) + (z^2 + w^2) by two in-lane shuffles; this file is compiled
-// with -ffp-contract=off, so nothing is fused into an FMA), and the pushes are added in
-// draw order. A test compares the two (TestUMAP). 1.2x faster layout than the scalar loop
-// (6D, N = 10000, one thread); eight samples a time with AVX-512 gathers of the positions
-// and table entries was 1.3x slower than the scalar loop (the dev VM's EPYC).
-__attribute__((target("avx2"))) Vec4 negativesAvx2(
-  std::uint64_t& rng, int count, std::uint32_t head, Vec4 current, const Step& p, const float* start)
+// Rows of kStride floats at byte offsets at[0..7] from base, transposed: axis c of the
+// eight rows in out[c]. Eight 128-bit loads and a 4 x 4 transpose per half: with the AVX2
+// gather instruction for the rows and table entries the eight-lane step was no faster than
+// two samples at a time (Zen 3).
+template <int Dim>
+__attribute__((target("avx2"))) inline void loadRows8(const float* base, const std::uint32_t* at, __m256* out)
+{
+  const char* const bytes = reinterpret_cast<const char*>(base);
+  const auto row = [&](int l) { return _mm_load_ps(reinterpret_cast<const float*>(bytes + at[l])); };
+  const __m256 r0 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(0)), row(4), 1);
+  const __m256 r1 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(1)), row(5), 1);
+  const __m256 r2 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(2)), row(6), 1);
+  const __m256 r3 = _mm256_insertf128_ps(_mm256_castps128_ps256(row(3)), row(7), 1);
+  const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t2 = _mm256_unpacklo_ps(r2, r3); // x0 x1 y0 y1, x2 x3 y2 y3
+  out[0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+  out[1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+  if (Dim == 3)
+  {
+    const __m256 t1 = _mm256_unpackhi_ps(r0, r1), t3 = _mm256_unpackhi_ps(r2, r3);
+    out[Dim - 1] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+  }
+}
+
+// loadRows8 backwards: the eight rows of axes in[0..Dim) (the other axes 0) stored at byte
+// offsets at[7], ..., at[0], in that order (a row stored twice keeps lane 0's, see runTask).
+template <int Dim>
+__attribute__((target("avx2"))) inline void storeRows8(float* base, const std::uint32_t* at, const __m256* in)
+{
+  char* const bytes = reinterpret_cast<char*>(base);
+  const __m256 zero = _mm256_setzero_ps(), z = Dim == 3 ? in[Dim - 1] : zero;
+  const __m256 t0 = _mm256_unpacklo_ps(in[0], in[1]), t1 = _mm256_unpackhi_ps(in[0], in[1]); // x0 y0 x1 y1, x2 y2 x3 y3
+  const __m256 t2 = _mm256_unpacklo_ps(z, zero), t3 = _mm256_unpackhi_ps(z, zero);
+  const __m256 r0 = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0)); // rows 0 and 4
+  const __m256 r1 = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2)); // rows 1 and 5
+  const __m256 r2 = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0)); // rows 2 and 6
+  const __m256 r3 = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2)); // rows 3 and 7
+  const auto row = [&](int l) { return reinterpret_cast<float*>(bytes + at[l]); };
+  _mm_store_ps(row(7), _mm256_extractf128_ps(r3, 1));
+  _mm_store_ps(row(6), _mm256_extractf128_ps(r2, 1));
+  _mm_store_ps(row(5), _mm256_extractf128_ps(r1, 1));
+  _mm_store_ps(row(4), _mm256_extractf128_ps(r0, 1));
+  _mm_store_ps(row(3), _mm256_castps256_ps128(r3));
+  _mm_store_ps(row(2), _mm256_castps256_ps128(r2));
+  _mm_store_ps(row(1), _mm256_castps256_ps128(r1));
+  _mm_store_ps(row(0), _mm256_castps256_ps128(r0));
+}
+
+// GradientTable::lookup in eight lanes; each entry's (value, slope) pair is one 64-bit load.
+__attribute__((target("avx2"))) inline __m256 lookup8(const float* table, __m256 d2)
 {
   using G = GradientTable;
-  const float* const table = p.gradient->repulsionTable();
-  __m128 c4, pc4;
-  std::memcpy(&c4, &current, sizeof c4);
-  std::memcpy(&pc4, &p.coincidentPush, sizeof pc4);
-  const __m256 cur = _mm256_set_m128(c4, c4), coincident = _mm256_set_m128(pc4, pc4);
-  const __m256 low = _mm256_set1_ps(G::kLow), high = _mm256_set1_ps(G::kHigh);
-  const __m256 four = _mm256_set1_ps(4.f), minusFour = _mm256_set1_ps(-4.f), zero = _mm256_setzero_ps();
-  const __m256i offset = _mm256_set1_epi32((127 + G::kMinOctave) << G::kMantissaBits);
-  const __m256i grid = _mm256_set1_epi32(static_cast<int>(~((1u << G::kShift) - 1u)));
-  __m128 push = _mm_setzero_ps();
-  for (int q = 0; q < count; q += 2)
+  const __m256 d2c = _mm256_min_ps(_mm256_max_ps(d2, _mm256_set1_ps(G::kLow)), _mm256_set1_ps(G::kHigh));
+  const __m256i bits = _mm256_castps_si256(d2c);
+  const __m256i entry =
+    _mm256_sub_epi32(_mm256_srli_epi32(bits, G::kShift), _mm256_set1_epi32((127 + G::kMinOctave) << G::kMantissaBits));
+  const __m256 x0 =
+    _mm256_castsi256_ps(_mm256_and_si256(bits, _mm256_set1_epi32(static_cast<int>(~((1u << G::kShift) - 1u)))));
+  alignas(32) volatile std::uint32_t e[kLanes]; // byte offsets of the pairs (see loadRows8)
+  _mm256_store_si256(const_cast<__m256i*>(reinterpret_cast<volatile __m256i*>(e)), _mm256_slli_epi32(entry, 3));
+  const char* const bytes = reinterpret_cast<const char*>(table);
+  std::uint32_t o[kLanes];
+  for (int l = 0; l < kLanes; ++l)
   {
-    const std::uint64_t r = splitmix64(rng);
-    const bool two = q + 1 < count;
-    const std::uint64_t k0 = ((r >> 32) * p.n) >> 32;
-    const std::uint64_t k1 = two ? ((r & 0xFFFFFFFFull) * p.n) >> 32 : k0;
-    const __m256 at = _mm256_insertf128_ps(
-      _mm256_castps128_ps256(_mm_loadu_ps(start + k0 * kStride)), _mm_loadu_ps(start + k1 * kStride), 1);
-    const __m256 away = _mm256_sub_ps(cur, at);
-    const __m256 sq = _mm256_mul_ps(away, away);
-    const __m256 pairs = _mm256_add_ps(sq, _mm256_permute_ps(sq, _MM_SHUFFLE(2, 3, 0, 1)));
-    const __m256 d2 = _mm256_add_ps(pairs, _mm256_permute_ps(pairs, _MM_SHUFFLE(1, 0, 3, 2)));
-    // GradientTable::lookup, the entry's (value, slope) pair as one 64-bit load per half.
-    const __m256 d2c = _mm256_min_ps(_mm256_max_ps(d2, low), high);
-    const __m256i bits = _mm256_castps_si256(d2c);
-    const __m256i entry = _mm256_sub_epi32(_mm256_srli_epi32(bits, G::kShift), offset);
-    const __m256 x0 = _mm256_castsi256_ps(_mm256_and_si256(bits, grid));
-    const float* const t0 = table + 2 * _mm256_cvtsi256_si32(entry);
-    const float* const t1 = table + 2 * _mm256_extract_epi32(entry, 4);
-    const __m256 vs = _mm256_insertf128_ps(
-      _mm256_castps128_ps256(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(t0)))),
-      _mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(t1))), 1);
-    const __m256 coeff =
-      _mm256_add_ps(_mm256_permute_ps(vs, 0x00), _mm256_mul_ps(_mm256_sub_ps(d2c, x0), _mm256_permute_ps(vs, 0x55)));
-    const __m256 clipped = _mm256_min_ps(_mm256_max_ps(_mm256_mul_ps(coeff, away), minusFour), four);
-    const __m256 force = _mm256_blendv_ps(coincident, clipped, _mm256_cmp_ps(d2, zero, _CMP_GT_OQ));
-    if (k0 != head)
+    o[l] = e[l];
+  }
+  const auto two = [&](int l, int m) { // entries l, m as (value, slope, value, slope)
+    return _mm_castpd_ps(_mm_loadh_pd(_mm_load_sd(reinterpret_cast<const double*>(bytes + o[l])),
+      reinterpret_cast<const double*>(bytes + o[m])));
+  };
+  const __m256 a = _mm256_insertf128_ps(_mm256_castps128_ps256(two(0, 1)), two(4, 5), 1);
+  const __m256 b = _mm256_insertf128_ps(_mm256_castps128_ps256(two(2, 3)), two(6, 7), 1);
+  const __m256 value = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0));
+  const __m256 slope = _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1));
+  return _mm256_add_ps(value, _mm256_mul_ps(_mm256_sub_ps(d2c, x0), slope));
+}
+
+__attribute__((target("avx2"))) inline __m256 clip8(__m256 v)
+{
+  return _mm256_min_ps(_mm256_max_ps(v, _mm256_set1_ps(-4.f)), _mm256_set1_ps(4.f));
+}
+
+__attribute__((target("avx2"))) inline __m256i hash8(__m256i x)
+{
+  x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+  x = _mm256_mullo_epi32(x, _mm256_set1_epi32(0x7FEB352D));
+  x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 15));
+  x = _mm256_mullo_epi32(x, _mm256_set1_epi32(static_cast<int>(0x846CA68Bu)));
+  return _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+}
+
+// sampleScalar for the batch's samples, one per lane: every lane rounds the same float
+// operations in the same order (no FMA: this file is compiled with -ffp-contract=off), so
+// the bits are those of the samples one after the other (they share no vertex, and the
+// negative samples read the snapshot). Lanes beyond b.lanes repeat lane 0's vertices;
+// their stores are overwritten by lane 0's. Why: eight negative samples per vector, not
+// two; it runs at ~6 cycles a negative sample where two at a time took ~17
+// (docs/benchmarks.md).
+template <int Dim>
+__attribute__((target("avx2"))) void batchAvx2(const Batch& b, const Step& p, float* Y, const float* start)
+{
+  const __m256 zero = _mm256_setzero_ps(), alpha = _mm256_set1_ps(p.alpha);
+  const __m256i head = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.head));
+  alignas(32) std::uint32_t headAt[kLanes], tailAt[kLanes]; // byte offsets of the rows
+  _mm256_store_si256(reinterpret_cast<__m256i*>(headAt), _mm256_slli_epi32(head, 4));
+  _mm256_store_si256(reinterpret_cast<__m256i*>(tailAt),
+    _mm256_slli_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(b.tail)), 4));
+  static_assert(kStride * sizeof(float) == 16, "row offsets are slot << 4");
+  __m256 cur[Dim], tails[Dim], diff[Dim], push[Dim];
+  loadRows8<Dim>(Y, headAt, cur);
+  loadRows8<Dim>(Y, tailAt, tails);
+  for (int c = 0; c < Dim; ++c)
+  {
+    diff[c] = _mm256_sub_ps(cur[c], tails[c]);
+    push[c] = zero;
+  }
+  __m256 d2 = _mm256_add_ps(_mm256_mul_ps(diff[0], diff[0]), _mm256_mul_ps(diff[1], diff[1]));
+  if (Dim == 3)
+  {
+    d2 = _mm256_add_ps(d2, _mm256_mul_ps(diff[Dim - 1], diff[Dim - 1]));
+  }
+  const __m256 coeff = _mm256_and_ps(lookup8(p.gradient->attractionTable(), d2), _mm256_cmp_ps(d2, zero, _CMP_GT_OQ));
+  for (int c = 0; c < Dim; ++c)
+  {
+    const __m256 pull = _mm256_mul_ps(clip8(_mm256_mul_ps(coeff, diff[c])), alpha);
+    cur[c] = _mm256_add_ps(cur[c], pull);
+    tails[c] = _mm256_sub_ps(tails[c], pull);
+  }
+  const __m256i count = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.count));
+  const __m256i key = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.key));
+  const __m256i n = _mm256_set1_epi32(static_cast<int>(p.n));
+  const __m256 four = _mm256_set1_ps(4.f);
+  const float* const table = p.gradient->repulsionTable();
+  int most = 0;
+  for (int l = 0; l < kLanes; ++l)
+  {
+    most = std::max(most, b.count[l]);
+  }
+  // The draws first, kChunk at a time (they do not depend on the positions): the loop
+  // below then starts every load without waiting for the hash (one chain of ~25 cycles).
+  constexpr int kChunk = 16;
+  alignas(32) std::uint32_t vertexAt[kChunk][kLanes];
+  __m256i use[kChunk];
+  __m256i draw = key;
+  for (int q0 = 0; q0 < most; q0 += kChunk)
+  {
+    const int q1 = std::min(most, q0 + kChunk);
+    for (int q = q0; q < q1; ++q)
     {
-      push = _mm_add_ps(push, _mm256_castps256_ps128(force));
+      const __m256i r = hash8(draw);
+      draw = _mm256_add_epi32(draw, _mm256_set1_epi32(static_cast<int>(kDrawStep)));
+      // (r n) >> 32 per lane: the even lanes' products shifted down, the odd lanes' high words.
+      const __m256i even = _mm256_srli_epi64(_mm256_mul_epu32(r, n), 32);
+      const __m256i odd = _mm256_mul_epu32(_mm256_srli_epi64(r, 32), n);
+      const __m256i v = _mm256_blend_epi32(even, odd, 0xAA);
+      use[q - q0] = _mm256_andnot_si256(_mm256_cmpeq_epi32(v, head), _mm256_cmpgt_epi32(count, _mm256_set1_epi32(q)));
+      _mm256_store_si256(reinterpret_cast<__m256i*>(vertexAt[q - q0]), _mm256_slli_epi32(v, 4));
     }
-    if (two && k1 != head)
+    for (int q = q0; q < q1; ++q)
     {
-      push = _mm_add_ps(push, _mm256_extractf128_ps(force, 1));
+      __m256 away[Dim];
+      loadRows8<Dim>(start, vertexAt[q - q0], away);
+      for (int c = 0; c < Dim; ++c)
+      {
+        away[c] = _mm256_sub_ps(cur[c], away[c]);
+      }
+      __m256 d = _mm256_add_ps(_mm256_mul_ps(away[0], away[0]), _mm256_mul_ps(away[1], away[1]));
+      if (Dim == 3)
+      {
+        d = _mm256_add_ps(d, _mm256_mul_ps(away[Dim - 1], away[Dim - 1]));
+      }
+      const __m256 rep = lookup8(table, d);
+      const __m256 apart = _mm256_cmp_ps(d, zero, _CMP_GT_OQ);
+      for (int c = 0; c < Dim; ++c)
+      {
+        const __m256 force = _mm256_blendv_ps(four, clip8(_mm256_mul_ps(rep, away[c])), apart);
+        push[c] = _mm256_blendv_ps(push[c], _mm256_add_ps(push[c], force), _mm256_castsi256_ps(use[q - q0]));
+      }
     }
   }
-  Vec4 out;
-  std::memcpy(&out, &push, sizeof out);
-  return out;
+  __m256 heads[Dim];
+  for (int c = 0; c < Dim; ++c)
+  {
+    heads[c] = _mm256_add_ps(cur[c], _mm256_mul_ps(push[c], alpha));
+  }
+  // Padding lanes repeat lane 0's vertices: lane 0 is stored last. A padding lane's tail is
+  // lane 0's (same inputs, same pull); its head, without negative samples, is overwritten.
+  storeRows8<Dim>(Y, tailAt, tails);
+  storeRows8<Dim>(Y, headAt, heads);
 }
 
 bool hasAvx2()
@@ -476,26 +641,29 @@ bool hasAvx2()
 }
 #endif
 
-NegativesFn negativesFor(bool vectorised)
+// Per thread: the batch each vertex last joined (batches are numbered per thread).
+struct BatchMarks
 {
-#ifdef MCV_UMAP_AVX2
-  if (vectorised && hasAvx2())
+  std::vector<std::uint32_t> mark;
+  std::uint32_t current = 0;
+  // Before a task of `edges` due edges (each starts at most one batch).
+  void reset(std::size_t n, std::size_t edges)
   {
-    return negativesAvx2;
+    if (mark.size() != n || current >= std::numeric_limits<std::uint32_t>::max() - edges - 1)
+    {
+      mark.assign(n, 0);
+      current = 0;
+    }
   }
-#endif
-  (void)vectorised;
-  return negativesScalar;
-}
+};
 
 // One task's edges in one epoch: umap-learn's _optimize_layout_euclidean_single_epoch.
-// Y, start: kStride floats per slot.
+// Y, start (the epoch's snapshot): kStride floats per slot.
+template <int Dim>
 void runTask(Schedule& s, int task, const Step& p, float* Y, const float* start)
 {
   thread_local std::vector<std::uint32_t> due;
-  std::uint64_t rng = mix64(mix64(p.seed) ^ (static_cast<std::uint64_t>(p.epoch) * kTasks + task + 1));
   const double epoch = p.epoch;
-  const Vec4 alpha = { p.alpha, p.alpha, p.alpha, p.alpha };
   // The edges due this epoch first, without a branch: an edge is due with probability
   // w / max w, a branch the CPU mispredicts, flushing the updates in flight (the
   // attractions alone ran 1.4x slower).
@@ -507,28 +675,68 @@ void runTask(Schedule& s, int task, const Step& p, float* Y, const float* start)
     due[m] = static_cast<std::uint32_t>(first + e);
     m += s.nextSample[first + e] <= epoch ? 1 : 0;
   }
+  // The schedule (make_epochs_per_sample, umap-learn's bookkeeping of negative samples)
+  // moves on before the positions, which it does not depend on.
+  const auto advance = [&](std::size_t i) {
+    const int negatives = static_cast<int>((epoch - s.nextNegative[i]) / s.epochsPerNegative[i]);
+    s.nextSample[i] += s.epochsPerSample[i];
+    s.nextNegative[i] += negatives * s.epochsPerNegative[i];
+    return negatives;
+  };
+#ifdef MCV_UMAP_AVX2
+  if (p.batched)
+  {
+    thread_local BatchMarks marks;
+    marks.reset(p.n, m);
+    Batch b;
+    ++marks.current;
+    const auto run = [&]() { // lanes beyond b.lanes: lane 0's vertices, no negative samples
+      for (int l = b.lanes; l < kLanes; ++l)
+      {
+        b.head[l] = b.head[0];
+        b.tail[l] = b.tail[0];
+        b.key[l] = 0;
+        b.count[l] = 0;
+      }
+      batchAvx2<Dim>(b, p, Y, start);
+      b.lanes = 0;
+      ++marks.current;
+    };
+    for (std::size_t r = 0; r < m; ++r)
+    {
+      const std::size_t i = due[r];
+      const std::uint32_t j = s.head[i], k = s.tail[i];
+      if (marks.mark[j] == marks.current || marks.mark[k] == marks.current) // shares a vertex: run the batch first
+      {
+        run();
+      }
+      marks.mark[j] = marks.mark[k] = marks.current;
+      const int l = b.lanes++;
+      b.head[l] = j;
+      b.tail[l] = k;
+      b.key[l] = sampleKey(p.epochKey, i);
+      b.count[l] = advance(i);
+      if (b.lanes == kLanes)
+      {
+        run();
+      }
+    }
+    if (b.lanes > 0)
+    {
+      run();
+    }
+    return;
+  }
+#endif
   for (std::size_t r = 0; r < m; ++r)
   {
     const std::size_t i = due[r];
-    const std::uint32_t j = s.head[i];
-    float* const headAt = Y + static_cast<std::size_t>(j) * kStride;
-    float* const tailAt = Y + static_cast<std::size_t>(s.tail[i]) * kStride;
-    Vec4 current = load4(headAt);
-    const Vec4 other = load4(tailAt);
-    const Vec4 diff = current - other;
-    const float d2 = squaredNorm(diff);
-    const float coeff = d2 > 0 ? p.gradient->attraction(d2) : 0.f;
-    const Vec4 pull = clip4(coeff * diff) * alpha;
-    current += pull;
-    store4(tailAt, other - pull);
-    s.nextSample[i] += s.epochsPerSample[i];
-
-    const int negatives = static_cast<int>((epoch - s.nextNegative[i]) / s.epochsPerNegative[i]);
-    const Vec4 push = p.negatives(rng, negatives, j, current, p, start);
-    store4(headAt, current + push * alpha);
-    s.nextNegative[i] += negatives * s.epochsPerNegative[i];
+    const std::uint32_t key = sampleKey(p.epochKey, i);
+    const int negatives = advance(i);
+    sampleScalar<Dim>(s.head[i], s.tail[i], negatives, key, p, Y, start);
   }
 }
+
 
 // A barrier whose waiters spin with a yield (OpenMP's spin without yielding: on a machine
 // shared with other work, a waiting thread then burns the time slice the late one needs).
@@ -604,15 +812,13 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
   {
     std::copy(Y.data() + v * Dim, Y.data() + (v + 1) * Dim, slots.data() + std::size_t(s.slot[v]) * kStride);
   }
-  Vec4 coincidentPush = {};
-  for (int c = 0; c < Dim; ++c)
-  {
-    coincidentPush[c] = 4.f;
-  }
   const GradientTable gradient(o.a, o.b, o.gamma);
-  const NegativesFn negatives = negativesFor(o.vectorised);
+  // The eight-lane step addresses rows by 32-bit byte offsets (slot << 4).
+  const bool batched = o.vectorised && hasAvx2() && n < (std::size_t(1) << 28);
   float* const y = slots.data();
   float* const snapshot = start.data();
+  // The positions this epoch's negative samples read.
+  const auto takeSnapshot = [&]() { std::copy(y, y + n * kStride, snapshot); };
   // The threads take the epoch's tasks in order (round by round) from a shared counter; a
   // task waits only for its two blocks to finish the round before (every block is in one
   // task per round), and the epochs are separated by one barrier (the snapshot). Both waits
@@ -622,8 +828,9 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
   EpochBarrier barrier;
   // umap-learn: epoch 0 at the initial rate, epoch e > 0 at alpha (1 - (e - 1) / epochs).
   const auto step = [&](int epoch) {
-    return Step{ static_cast<float>(o.initialAlpha * (epoch == 0 ? 1.0 : 1.0 - double(epoch - 1) / o.epochs)), n, epoch,
-      o.seed, &gradient, coincidentPush, negatives };
+    const std::uint64_t epochKey = mix64(mix64(o.seed) ^ static_cast<std::uint64_t>(epoch));
+    return Step{ static_cast<float>(o.initialAlpha * (epoch == 0 ? 1.0 : 1.0 - double(epoch - 1) / o.epochs)), epoch,
+      static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(epochKey), &gradient, batched };
   };
   ThreadChoice choice(omp_get_max_threads());
   for (int e0 = 0; e0 < o.epochs; e0 += kEpochsPerRegion)
@@ -635,11 +842,11 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
     {
       for (int epoch = e0; epoch < e1; ++epoch)
       {
-        std::copy(y, y + n * kStride, snapshot);
+        takeSnapshot();
         const Step p = step(epoch);
         for (int task = 0; task < kTasks; ++task)
         {
-          runTask(s, task, p, y, snapshot);
+          runTask<Dim>(s, task, p, y, snapshot);
         }
         for (auto& r : rounds)
         {
@@ -656,7 +863,7 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
         {
           if (me == 0) // the positions this epoch's negative samples read
           {
-            std::copy(y, y + n * kStride, snapshot);
+            takeSnapshot();
             nextTask.store(0, std::memory_order_relaxed);
           }
           barrier.wait(T);
@@ -671,7 +878,7 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
                 std::this_thread::yield();
               }
             }
-            runTask(s, task, p, y, snapshot);
+            runTask<Dim>(s, task, p, y, snapshot);
             for (const int b : s.blocks[task])
             {
               rounds[b].store(before + 1, std::memory_order_release);
@@ -694,7 +901,7 @@ void optimize(const FuzzyGraph& graph, const LayoutOptions& o, RowMatrixF& Y)
 }
 } // namespace
 
-bool layoutHasWideNegatives()
+bool layoutIsVectorised()
 {
   return hasAvx2();
 }

@@ -21,15 +21,20 @@
 // epoch when last tried (a machine busy with other work can leave two threads waiting for
 // each other): the same bits either way, so only the time depends on it.
 // Within a task the edges go by their rank in the row, then by row (consecutive samples
-// have different heads), and the negative samples run two at a time in AVX2 where the CPU
-// has it, with the same bits as the portable loop (LayoutOptions::vectorised).
+// have different heads). Where the CPU has AVX2, up to eight consecutive due samples that
+// share no vertex run side by side, one per lane, with the same bits as the portable loop
+// that runs them one after the other (LayoutOptions::vectorised). The vertices of a sample's
+// negative samples come from its own counter-based stream (a hash of seed, epoch, edge and
+// draw), so the eight lanes draw them at once.
 //
 // Differences from umap-learn's sequential pass, all within the noise of SGD (the
 // trustworthiness of the result matches: docs/benchmarks.md): the order of the updates;
 // that staleness (at most one epoch); the negative samples of one positive sample are all
 // evaluated at the head's position after the attraction and their pushes applied together
 // (umap-learn moves the head after each one); and the two gradient coefficients come from a
-// table of the squared distance (relative error < 4e-4, UMAPLayout.cpp) instead of powf.
+// table of the squared distance (relative error < 4e-4, UMAPLayout.cpp) instead of powf;
+// the negative samples' vertices come from a hash per sample instead of one sequential
+// generator.
 //
 // optimizeLayout is the one function a GPU kernel would replace (same problem, same
 // options, the layout in place).
@@ -68,14 +73,14 @@ struct LayoutOptions
   double initialAlpha = 1.0;    // learning rate
   int negativeSampleRate = 5;
   std::uint64_t seed = 0;
-  // The negative samples two at a time (AVX2, where the CPU has it): the same bits as the
-  // portable loop that false selects (a test compares them).
+  // Eight samples at a time (AVX2, where the CPU has it): the same bits as the portable
+  // loop that false selects (a test compares them).
   bool vectorised = true;
   StageProgress progress; // called between epochs, from the calling thread
 };
 
-// Whether this CPU runs the vectorised negative samples (LayoutOptions::vectorised).
-bool layoutHasWideNegatives();
+// Whether this CPU runs the eight-lane samples (LayoutOptions::vectorised).
+bool layoutIsVectorised();
 
 // graph: the fuzzy simplicial set (weights in (0, 1]); Y: n x d (d = 2 or 3) start
 // positions, replaced by the layout. OpenMP inside every epoch (or one thread, above).

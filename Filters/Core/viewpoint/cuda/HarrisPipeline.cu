@@ -370,6 +370,11 @@ void HarrisPipeline::setKernelVariant(int variant, int histogramMode)
   impl_->histMode = histogramMode;
 }
 
+int HarrisPipeline::kernelVariantCount()
+{
+  return detail::kHarrisVariants;
+}
+
 int HarrisPipeline::lastZChunk() const
 {
   return impl_->lastZChunk;

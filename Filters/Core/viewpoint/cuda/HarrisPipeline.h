@@ -51,6 +51,8 @@ public:
   // loop unrolled into a register ring, bit 1: 3 blocks per SM); histogram mode 0: warp-
   // aggregated shared atomics, 1 (default): plain shared atomics.
   void setKernelVariant(int variant, int histogramMode);
+  // Variants built for width 5 (0 .. count - 1).
+  static int kernelVariantCount();
   int lastZChunk() const;
   double lastUploadMs() const;
 

@@ -256,9 +256,9 @@ __device__ __forceinline__ bool ranksBefore(unsigned ka, long long ia, unsigned 
   return ka > kb || (ka == kb && ia < ib);
 }
 
-// In-place bitonic sort of P (a power of two <= 2 * kScanThreads) pairs by ranksBefore, or
-// of the indices alone ascending when `keys` is null. Called by the whole block.
-__device__ void bitonicSort(unsigned* keys, long long* idx, int P)
+// In-place bitonic sort of P (a power of two <= 2 * kScanThreads) indices, ascending (the
+// ties at the threshold, when more exist than places). Called by the whole block.
+__device__ void bitonicSortIndices(long long* idx, int P)
 {
   for (int k = 2; k <= P; k <<= 1)
   {
@@ -267,17 +267,10 @@ __device__ void bitonicSort(unsigned* keys, long long* idx, int P)
       for (int i = threadIdx.x; i < P / 2; i += blockDim.x)
       {
         const int lo = 2 * j * (i / j) + (i % j), hi = lo + j;
-        const bool up = (lo & k) == 0; // this run ends up best-first
-        const unsigned klo = keys ? keys[lo] : 0u, khi = keys ? keys[hi] : 0u;
+        const bool up = (lo & k) == 0; // this run ends up ascending
         const long long ilo = idx[lo], ihi = idx[hi];
-        const bool hiFirst = ranksBefore(khi, ihi, klo, ilo);
-        if (up ? hiFirst : !hiFirst)
+        if (up ? ihi < ilo : ilo < ihi)
         {
-          if (keys)
-          {
-            keys[lo] = khi;
-            keys[hi] = klo;
-          }
           idx[lo] = ihi;
           idx[hi] = ilo;
         }
@@ -287,12 +280,12 @@ __device__ void bitonicSort(unsigned* keys, long long* idx, int P)
   }
 }
 
-constexpr int kFastMaxN = 2 * kScanThreads; // survivors sorted in one block
+constexpr int kFastMaxN = 2 * kScanThreads; // survivors gathered in one block
 constexpr int kFastMaxTies = 2048;           // ties at the threshold sortable in one block
 
 __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,
-  const long long* __restrict__ listCount, SelectState* state, int N, unsigned* __restrict__ keysOut,
-  long long* __restrict__ valsOut)
+  const long long* __restrict__ listCount, SelectState* state, int N,
+  unsigned* __restrict__ survivorKeys, long long* __restrict__ survivorVals)
 {
   // Phase 1 uses the histograms and the scan, phase 2 the sort buffers (same storage).
   __shared__ union
@@ -415,7 +408,7 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     for (int i = static_cast<int>(nTies) + t; i < P; i += kScanThreads)
       sm.sort.ties[i] = LLONG_MAX;
     __syncthreads();
-    bitonicSort(nullptr, sm.sort.ties, P);
+    bitonicSortIndices(sm.sort.ties, P);
   }
   const int count = static_cast<int>(above + need);
   for (int s = static_cast<int>(above) + t; s < count; s += kScanThreads)
@@ -423,26 +416,77 @@ __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __
     sm.sort.keys[s] = threshold;
     sm.sort.vals[s] = sm.sort.ties[s - static_cast<int>(above)];
   }
-  int P = 2;
-  while (P < N)
-    P <<= 1;
-  for (int s = count + t; s < P; s += kScanThreads)
-  {
-    sm.sort.keys[s] = 0u; // padding sorts last (real keys are >= 1)
-    sm.sort.vals[s] = LLONG_MAX;
-  }
   __syncthreads();
-  bitonicSort(sm.sort.keys, sm.sort.vals, P);
-  for (int s = t; s < N; s += kScanThreads)
+  for (int s = t; s < count; s += kScanThreads) // unsorted: rankSortKernel orders them
   {
-    keysOut[s] = sm.sort.keys[s];
-    valsOut[s] = sm.sort.vals[s];
+    survivorKeys[s] = sm.sort.keys[s];
+    survivorVals[s] = sm.sort.vals[s];
   }
   if (t == 0)
   {
     state->threshold = threshold;
     state->above = above;
     state->need = need;
+  }
+}
+
+// The survivors of finishKernel (above + need <= N <= kFastMaxN of them, unsorted) in rank
+// order: each survivor's place is the number of survivors that rank before it, counted by
+// kRankLanes threads over strided parts of the list held in shared memory; the places are
+// distinct (indices are). Spread over N / 16 blocks instead of a one-block bitonic sort,
+// whose 66 barrier-separated steps ran on a single SM. Slots [count, N) get the padding
+// (key 0, index LLONG_MAX).
+constexpr int kRankLanes = 16;
+constexpr int kRankThreads = 256;
+
+__global__ void __launch_bounds__(kRankThreads) rankSortKernel(const unsigned* __restrict__ keysIn,
+  const long long* __restrict__ valsIn, const SelectState* __restrict__ state, int N,
+  unsigned* __restrict__ keysOut, long long* __restrict__ valsOut)
+{
+  __shared__ unsigned sk[kFastMaxN];
+  __shared__ long long sv[kFastMaxN];
+  if (state->overflow)
+  {
+    return; // the host runs the slow path
+  }
+  const int count = static_cast<int>(state->above + state->need);
+  for (int i = threadIdx.x; i < count; i += kRankThreads)
+  {
+    sk[i] = keysIn[i];
+    sv[i] = valsIn[i];
+  }
+  __syncthreads();
+  const int e = static_cast<int>((blockIdx.x * kRankThreads + threadIdx.x) / kRankLanes);
+  const int part = static_cast<int>(threadIdx.x % kRankLanes);
+  unsigned ke = 0u;
+  long long ie = LLONG_MAX;
+  unsigned rank = 0;
+  if (e < count)
+  {
+    ke = sk[e];
+    ie = sv[e];
+    for (int j = part; j < count; j += kRankLanes)
+    {
+      rank += ranksBefore(sk[j], sv[j], ke, ie) ? 1u : 0u;
+    }
+  }
+#pragma unroll
+  for (int o = kRankLanes / 2; o > 0; o >>= 1)
+  {
+    rank += __shfl_xor_sync(0xffffffffu, rank, o);
+  }
+  if (part == 0)
+  {
+    if (e < count)
+    {
+      keysOut[rank] = ke;
+      valsOut[rank] = ie;
+    }
+    else if (e < N)
+    {
+      keysOut[e] = 0u;
+      valsOut[e] = LLONG_MAX;
+    }
   }
 }
 
@@ -750,7 +794,10 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
     kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
   MCV_CUDA_TRY(cudaGetLastError());
-  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysOut, ValsOut);
+  finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
+  MCV_CUDA_TRY(cudaGetLastError());
+  rankSortKernel<<<(N * kRankLanes + kRankThreads - 1) / kRankThreads, kRankThreads, 0, stream>>>(
+    KeysIn, ValsIn, State, N, KeysOut, ValsOut);
   MCV_CUDA_TRY(cudaGetLastError());
   MCV_CUDA_TRY(record(beforeDownload));
   MCV_CUDA_TRY(cudaMemcpyAsync(HostResult, Result, ResultBytes, cudaMemcpyDeviceToHost, stream));

@@ -15,8 +15,9 @@
 // Fast path (N <= 2048; no host synchronisation until the N results come back): the
 // compaction is a bandwidth-bound kernel (float4 loads, one atomic per warp holding a
 // candidate) into a list of at most kFastListCapacity entries, in no particular order;
-// one block then runs levels 2 and 3, gathers the survivors (and, if more ties == T exist
-// than places, sorts the ties by index) and bitonic-sorts them by (score desc, index asc).
+// one block then runs levels 2 and 3 and gathers the survivors (if more ties == T exist
+// than places, it bitonic-sorts the ties by index); N / 16 blocks then put each survivor at
+// its rank by (score desc, index asc), counted against all the others.
 // Slow path (larger N, a list longer than the capacity, or more than 2048 ties at T): the
 // host reads the list size after level 1, and stable CUB selects in index order and a
 // stable CUB radix sort do the same steps.
