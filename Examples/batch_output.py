@@ -505,27 +505,25 @@ def gib(n):
     return "%.2f GiB" % (n / float(1 << 30))
 
 
-def _meminfo(key):
+def _proc_kib(path, key):
+    """The "KEY: N kB" line of a /proc file as bytes, or None."""
     try:
-        with open("/proc/meminfo") as f:
+        with open(path) as f:
             for line in f:
                 if line.startswith(key + ":"):
                     return int(line.split()[1]) * 1024
     except (OSError, ValueError):
         pass
     return None
+
+
+def _meminfo(key):
+    return _proc_kib("/proc/meminfo", key)
 
 
 def _vm_size(key="VmSize"):
     """The process's virtual size (VmSize), or its peak so far (key "VmPeak"), in bytes."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith(key + ":"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError):
-        pass
-    return None
+    return _proc_kib("/proc/self/status", key)
 
 
 def _cgroup_room():

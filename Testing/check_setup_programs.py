@@ -385,38 +385,34 @@ def main(argv):
 
     failures = []
     rows = []
-    for program in sorted(called):
-        if program in ours or program in OPTIONAL:
-            continue
-        path, pkg = owner(program)
-        where = ", ".join(sorted(set(called[program]))[:3])
+
+    def judge(name, row, users, verb, path, pkg, unowned_ok):
+        """A row for `name` (a program or a Python module) found at `path` in package `pkg`,
+        or a failure when it is missing or no package that setup.sh brings provides it;
+        `users`: the files that call or import it; `unowned_ok`: a file of no package (a
+        module of Python itself) needs no row."""
+        where = ", ".join(sorted(set(users))[:3])
         if path is None:
-            failures.append("%s (called by %s) is not installed: add its Debian package to "
-                            "scripts/setup.sh" % (program, where))
-            continue
-        why = provenance(pkg)
-        if why is None:
-            failures.append("%s (%s, called by %s) comes from package %s, which scripts/setup.sh "
-                            "does not install" % (program, path, where, pkg))
-            continue
-        rows.append("%-14s %-28s %s" % (program, pkg, why))
+            failures.append("%s (%s by %s) is not installed: add its Debian package to "
+                            "scripts/setup.sh" % (name, verb, where))
+        elif pkg is None and unowned_ok:
+            return
+        elif provenance(pkg) is None:
+            failures.append("%s (%s, %s by %s) comes from package %s, which scripts/setup.sh "
+                            "does not install" % (name, path, verb, where, pkg))
+        else:
+            rows.append("%-14s %-28s %s" % (row, pkg, provenance(pkg)))
+
+    for program in sorted(called):
+        if program not in ours and program not in OPTIONAL:
+            judge(program, program, called[program], "called", *owner(program),
+                  unowned_ok=False)
     own_modules = {os.path.splitext(n)[0] for n in ours if n.endswith(".py")} | \
         {d for d in os.listdir(os.path.join(repo, "Plugin", "MultichannelExplorer"))}
     for module in sorted(imported):
-        if module in own_modules or module == "__future__":
-            continue
-        path, pkg = module_owner(module)
-        where = ", ".join(sorted(set(imported[module]))[:3])
-        if path is None:
-            failures.append("Python module %s (imported by %s) is not installed: add its Debian "
-                            "package to scripts/setup.sh" % (module, where))
-        elif pkg is None:
-            continue
-        elif provenance(pkg):
-            rows.append("%-14s %-28s %s" % ("py:" + module, pkg, provenance(pkg)))
-        else:
-            failures.append("Python module %s (%s, imported by %s) comes from package %s, which "
-                            "scripts/setup.sh does not install" % (module, path, where, pkg))
+        if module not in own_modules and module != "__future__":
+            judge("Python module " + module, "py:" + module, imported[module], "imported",
+                  *module_owner(module), unowned_ok=True)
     print("programs and Python modules used by scripts, tests and examples: %d checked"
           % len(rows))
     for r in rows:

@@ -19,7 +19,6 @@ Run as
       the same under pvbatch's parallel engine.
 Driver: test_client_server.sh.
 """
-import argparse
 import json
 import os
 import sys
@@ -32,16 +31,12 @@ from paraview import servermanager, simple  # noqa: E402
 SUBSAMPLE = 3
 REDUCTION = dict(ReferenceSampleSize=3000, RandomSeed=7)
 VIEW_SIZE = [400, 400]
-PIXEL_TOLERANCE = 12      # a channel difference above this counts as a differing pixel
 DIFFERING_FRACTION = 0.005  # at most this fraction of the pixels may differ
 COORD_TOLERANCE = 2e-4
 
 
 def parse():
-    parser = argparse.ArgumentParser()
-    mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--reference", metavar="DIR")
-    mode.add_argument("--compare", metavar="DIR")
+    parser, mode = T.reference_compare_parser()
     mode.add_argument("--no-server-plugin", action="store_true",
                       help="with --connect: the plugin loaded on the client only")
     mode.add_argument("--server-dies", metavar="MARKER",
@@ -197,13 +192,7 @@ def stage(name):
 def run(mce, out, reference, previous=None):
     answers = {}
     stage("chain")
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
-    volume = simple.ExtractSubset(Input=merged)
-    volume.VOI = merged.GetDataInformation().GetExtent()
-    volume.SampleRateI = volume.SampleRateJ = volume.SampleRateK = SUBSAMPLE
+    volume = T.brain_subset(SUBSAMPLE)
     feats, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3, **REDUCTION)
     red.UpdatePipeline()
     ext = red.GetDataInformation().GetExtent()
@@ -212,14 +201,7 @@ def run(mce, out, reference, previous=None):
     ranges = red.PointData["ReducedCoordinates"]
     answers["coordinate_ranges"] = [list(ranges.GetRange(c)) for c in range(3)]
 
-    view = simple.CreateView("RenderView")
-    view.ViewSize = VIEW_SIZE
-    view.OrientationAxesVisibility = 0
-    view.Background = [0, 0, 0]
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
+    view = T.render_view(VIEW_SIZE)
     stage("widgets and best view")
     display = mce.show_gaussian_tf(red, view)
     answers["widgets"] = [float(v) for v in mce.auto_widgets(display, 3, seed=1)]
@@ -420,56 +402,6 @@ def ground_truth_checks(C, answers, red):
             % len(answers["brush_ids"]))
 
 
-def close(a, b, tol):
-    if isinstance(a, dict):
-        return isinstance(b, dict) and sorted(a) == sorted(b) and all(
-            close(a[k], b[k], tol) for k in a)
-    if isinstance(a, (list, tuple)):
-        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(
-            close(x, y, tol) for x, y in zip(a, b))
-    if isinstance(a, float) or isinstance(b, float):
-        return b is not None and a is not None and abs(a - b) <= tol * max(1.0, abs(a))
-    return a == b
-
-
-def picture_difference(reference, picture):
-    """(max channel difference, fraction of pixels differing by more than
-    PIXEL_TOLERANCE) of two PNG files of the same size; None when sizes differ."""
-    from vtkmodules.vtkIOImage import vtkPNGReader
-
-    def read(path):
-        reader = vtkPNGReader()
-        reader.SetFileName(path)
-        reader.Update()
-        image = reader.GetOutput()
-        scalars = image.GetPointData().GetScalars()
-        return image.GetDimensions(), scalars.GetNumberOfComponents(), bytes(memoryview(scalars))
-
-    (da, ca, a), (db, cb, b) = read(reference), read(picture)
-    if da != db or ca != cb:
-        return None
-    worst, differing = 0, 0
-    for p in range(0, len(a), ca):
-        d = max(abs(a[p + c] - b[p + c]) for c in range(min(ca, 3)))
-        worst = max(worst, d)
-        differing += d > PIXEL_TOLERANCE
-    return worst, differing / float(len(a) // ca)
-
-
-def blank_picture(path):
-    """True when every pixel of the PNG file has the first pixel's colour (the background
-    only: nothing was drawn)."""
-    from vtkmodules.vtkIOImage import vtkPNGReader
-
-    reader = vtkPNGReader()
-    reader.SetFileName(path)
-    reader.Update()
-    scalars = reader.GetOutput().GetPointData().GetScalars()
-    n = scalars.GetNumberOfComponents()
-    data = bytes(memoryview(scalars))
-    return data == data[:n] * (len(data) // n)
-
-
 def compare(C, reference, answers, ref_picture, picture, processes):
     """Each answer equal to the built-in one: a table row per check, [(name, ok, detail)]."""
     rows = []
@@ -480,48 +412,48 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         rows.append((name, ok, detail))
 
     row("chain (extent)", answers["dims"] == reference["dims"], str(answers["dims"]))
-    row("coordinate ranges", close(answers["coordinate_ranges"], reference["coordinate_ranges"],
+    row("coordinate ranges", T.close(answers["coordinate_ranges"], reference["coordinate_ranges"],
                                    COORD_TOLERANCE))
-    row("auto widgets", close(answers["widgets"], reference["widgets"], 1e-3))
-    row("best view", close(answers["best_view"], reference["best_view"], 1e-3),
+    row("auto widgets", T.close(answers["widgets"], reference["widgets"], 1e-3))
+    row("best view", T.close(answers["best_view"], reference["best_view"], 1e-3),
         str(["%.4f" % v for v in answers["best_view"]]))
-    diff = picture_difference(ref_picture, picture)
+    diff = T.picture_difference(ref_picture, picture)
     why = ""
     if answers.get("remote_rendering_available") is False:
         why = ("; the render server could not render (no OpenGL through its display: "
                "remote rendering not available), so the client drew the view without the "
                "volume")
-    elif blank_picture(picture):
+    elif T.blank_picture(picture):
         why = "; the picture is blank (background only)"
     row("picture", diff is not None and diff[1] <= DIFFERING_FRACTION,
         "max channel difference %s, %.3f%% of pixels above %d%s"
-        % (diff and diff[0], 100 * diff[1] if diff else 100, PIXEL_TOLERANCE, why))
+        % (diff and diff[0], 100 * diff[1] if diff else 100, T.PIXEL_TOLERANCE, why))
     for key in ("probes", "probes_by_id", "probes_by_position"):
         bad = [r["index"] for r, a in zip(reference[key], answers[key])
-               if not close(a, r, COORD_TOLERANCE)]
+               if not T.close(a, r, COORD_TOLERANCE)]
         row(key, len(answers[key]) == len(reference[key]) and not bad,
             "%d voxels (differ: %s)" % (len(reference[key]), bad[:4]))
     row("domain sample (VoxelIds)", answers["domain_ids"] == reference["domain_ids"],
         "%d points, %d distinct (built-in %d)" % (len(answers["domain_ids"]),
                                                 len(set(answers["domain_ids"])),
                                                 len(reference["domain_ids"])))
-    row("domain points", close(answers["domain_points"], reference["domain_points"],
+    row("domain points", T.close(answers["domain_points"], reference["domain_points"],
                                COORD_TOLERANCE))
-    row("probe markers", close([answers["probe_marker"], answers["probe_voxel_marker"]],
+    row("probe markers", T.close([answers["probe_marker"], answers["probe_voxel_marker"]],
                                [reference["probe_marker"], reference["probe_voxel_marker"]],
                                COORD_TOLERANCE))
-    row("add_widget_at", close(answers["added_widget"], reference["added_widget"], 1e-3))
+    row("add_widget_at", T.close(answers["added_widget"], reference["added_widget"], 1e-3))
     row("probe_domain_at_pixel", answers["probe_domain_at_pixel"] is not None and
-        close(answers["probe_domain_at_pixel"], reference["probe_domain_at_pixel"],
+        T.close(answers["probe_domain_at_pixel"], reference["probe_domain_at_pixel"],
               COORD_TOLERANCE), str(answers["probe_domain_at_pixel"] and
                                     answers["probe_domain_at_pixel"]["index"]))
     for key in ("brush_ids", "brush_box", "brush_selection"):
         row(key, answers[key] == reference[key] and
             answers[key + "_count"] == reference[key + "_count"],
             "%d voxels (built-in %d)" % (len(answers[key]), len(reference[key])))
-    row("brushed positions", close(answers["brush_ids_positions"],
+    row("brushed positions", T.close(answers["brush_ids_positions"],
                                    reference["brush_ids_positions"], 1e-9) and
-        close(answers["brush_box_positions"], reference["brush_box_positions"], 1e-9))
+        T.close(answers["brush_box_positions"], reference["brush_box_positions"], 1e-9))
     row("probe_at_pixel", answers["probe_at_pixel"] == reference["probe_at_pixel"],
         str(answers["probe_at_pixel"]))
     row("ExtractVoxels", answers["extract_outside_points"] == 0 and answers["extract_ijk_match"]
@@ -534,10 +466,10 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         all(answers["errors"].values()))
     tf, ref_tf = answers["tf_file"], reference["tf_file"]
     row("transfer-function file", tf["loaded_widgets"] == tf["saved_widgets"] and
-        close(tf["saved_widgets"], ref_tf["saved_widgets"], 1e-3) and
+        T.close(tf["saved_widgets"], ref_tf["saved_widgets"], 1e-3) and
         tf["model_header"] is not None and
-        close(tf["model_header"], ref_tf["model_header"], 1e-9) and
-        close(tf["ranges_with_model"], ref_tf["ranges_with_model"], COORD_TOLERANCE),
+        T.close(tf["model_header"], ref_tf["model_header"], 1e-9) and
+        T.close(tf["ranges_with_model"], ref_tf["ranges_with_model"], COORD_TOLERANCE),
         "saved, changed, loaded back: %d widgets; %s's header equal within 1e-9 (%s bit "
         "for bit), the coordinates it gives equal"
         % (len(tf["loaded_widgets"]) // 8, tf["model_file"],
@@ -571,7 +503,7 @@ def main():
         C.check(bool(message), "%s: %s" % (name, message))
     if args.reference:
         ground_truth_checks(C, answers, red)
-        C.check(not blank_picture(picture), "built-in: the picture shows the volume (%s)"
+        C.check(not T.blank_picture(picture), "built-in: the picture shows the volume (%s)"
                 % picture)
         listed = sorted([answers["brush_ids"][-1], 5, answers["brush_ids"][-1]] +
                         answers["brush_ids"][:3])
@@ -585,7 +517,7 @@ def main():
                 "built-in: a transfer-function file saved, the widgets changed, loaded back: "
                 "the 4 widgets (3 seeded, 1 added), the reduction applies the model written "
                 "beside it (%s)" % tf["model_file"])
-        C.check(close(tf["ranges_with_model"], answers["coordinate_ranges"], COORD_TOLERANCE),
+        C.check(T.close(tf["ranges_with_model"], answers["coordinate_ranges"], COORD_TOLERANCE),
                 "built-in: the model applied gives the fitted coordinate ranges %s"
                 % tf["ranges_with_model"])
         C.check(answers["state_brush"] == answers["brush_selection"],

@@ -8,17 +8,7 @@ import mcv_testing as T
 
 
 def black_view(size=(400, 400)):
-    from paraview import simple
-
-    view = simple.CreateView("RenderView")
-    view.ViewSize = list(size)
-    view.OrientationAxesVisibility = 0
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
-    view.Background = [0.0, 0.0, 0.0]
-    return view
+    return T.render_view(size)
 
 
 def look_down_z(view, bounds):

@@ -1,27 +1,23 @@
 """GUI test, part 1 (run by `paraview --script=` before the XML test script clicks the
 toolbar button): open brainsmall.den, show it as a volume, make it the active source,
-and record what the button's Python call does into $MCV_OUTPUT_DIR/gui_state.json
+and record what the button's Python call does into $MCV_GUI_STATE
 (apply_best_viewpoint is wrapped, not replaced). test_gui.sh checks that file with gui_best_viewpoint_check.py."""
-import json
 import os
 
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer as mce
+import gui_setup as G
 
-data = os.environ.get("MCV_DATA_DIR", "")
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-os.makedirs(out, exist_ok=True)
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_best_viewpoint_state.json")
-
-reader = OpenDataFile(os.path.join(data, "brainsmall.den"))
+out = G.output_dir()
+reader = OpenDataFile(G.data_path("brainsmall.den"))
 view = GetActiveViewOrCreate("RenderView")
 display = Show(reader, view)
 display.SetRepresentationType("Volume")
 Render(view)
 SetActiveSource(reader)
-state = {"loaded": reader.GetXMLName(), "before": [float(x) for x in view.CameraPosition]}
-with open(state_file, "w") as f:
-    json.dump(state, f)
+state = G.State("best_viewpoint", loaded=reader.GetXMLName(),
+                before=[float(x) for x in view.CameraPosition])
+state.save()
 
 _original = mce.apply_best_viewpoint
 
@@ -38,8 +34,7 @@ def _recording(*args, **kwargs):
         camera_focal_point=[float(x) for x in v.CameraFocalPoint],
         camera_view_up=[float(x) for x in v.CameraViewUp])
     SaveScreenshot(os.path.join(out, "gui_after_button.png"), v)
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+    state.save()
     return result
 
 

@@ -41,6 +41,17 @@ def load_state(path):
         return {}
 
 
+def state_with_data(path, rc, data):
+    """load_state(path) after paraview's exit status is checked; exits 125 (CTest's skip)
+    when the setup script found its data file `data` missing (gui_setup.open_active)."""
+    s = load_state(path)
+    if s.get("data") is False:
+        print("SKIP: %s is not in MCV_DATA_DIR" % data)
+        sys.exit(125)
+    check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+    return s
+
+
 def finish(name):
     print("%s: %d failed" % (name, len(fails)))
     sys.exit(1 if fails else 0)

@@ -15,36 +15,24 @@ opened here. What happens is recorded into $MCV_GUI_STATE for gui_explore_check.
 - the probe's answer (probe_at_pixel wrapped), and a screenshot of the whole window 2.5 s
   after it (the domain view's camera reset to the whole domain first):
   gui_explore_window.png."""
-import json
 import os
-import subprocess
 
 from paraview import servermanager
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer as mce
 import multichannel_explorer.exploration as exploration
+import gui_setup as G
 
-data = os.environ.get("MCV_DATA_DIR", "")
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_explore_state.json")
-folder = os.path.join(out, "gui_explore")
+folder = os.path.join(G.output_dir(), "gui_explore")
 os.makedirs(folder, exist_ok=True)
-window_png = os.path.join(out, "gui_explore_window.png")
-if os.path.exists(window_png):
-    os.remove(window_png)
-state = {"files": [], "changes": [], "undo": [], "probes": [], "screenshot": window_png}
+window_png = G.removed(os.path.join(G.output_dir(), "gui_explore_window.png"))
+state = G.State("explore", files=[], changes=[], undo=[], probes=[], screenshot=window_png)
+save = state.save
 for name in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz"):
-    source, link = os.path.join(data, name), os.path.join(folder, name)
-    if os.path.lexists(link):
-        os.remove(link)
+    source, link = G.data_path(name), G.removed(os.path.join(folder, name))
     if os.path.exists(source):
         os.symlink(os.path.abspath(source), link)
         state["files"].append(name)
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
 
 
 def camera(view):
@@ -165,9 +153,7 @@ def probe_at_pixel(view, x, y, *args, **kwargs):
     if exploration.last is not None:
         ResetCamera(exploration.last.domain_view)
         Render(exploration.last.domain_view)
-    # The screen less its empty (black) margin: the main window.
-    subprocess.Popen(["sh", "-c", "sleep 2.5; xwd -root -silent | convert xwd:- -trim +repage "
-                      "'%s'" % window_png])
+    G.screenshot(window_png, delay=2.5, trim=True)
     return hit
 
 

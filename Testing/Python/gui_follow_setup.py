@@ -5,15 +5,13 @@ positions is shown as a Gaussian TF Volume with 5 widgets on a plane; the helper
 buttons call (follow_best_viewpoint, auto_widgets) are wrapped so that what they did is
 recorded into $MCV_GUI_STATE, with the camera of every render while the seed button's
 widgets turn it. gui_follow_check.py checks it."""
-import json
 import os
 
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer as mce
+import gui_setup as G
 
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-os.makedirs(out, exist_ok=True)
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_follow_state.json")
+out = G.output_dir()
 
 wavelet = Wavelet(WholeExtent=[-20, 20, -20, 20, -20, 20])
 coords = Calculator(Input=wavelet, Function="coords", ResultArrayName="ReducedCoordinates",
@@ -29,12 +27,8 @@ view.CameraFocalPoint = [0, 0, 0]
 view.CameraViewUp = [0, 0, 1]
 Render(view)
 SetActiveSource(coords)
-state = {"events": []}
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+state = G.State("follow", events=[])
+save = state.save
 
 
 def camera():

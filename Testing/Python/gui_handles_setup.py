@@ -11,20 +11,14 @@ Recorded into $MCV_GUI_STATE for gui_handles_check.py: the widgets at the start,
 change of the display's GaussianWidgets (with the domain view's size and camera), the
 undo stack's labels after every push. After the second undo set (the second drag) a
 screenshot of the whole window is taken: gui_handles_window.png."""
-import json
 import os
-import subprocess
 
 from paraview import servermanager
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer as mce
+import gui_setup as G
 
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-os.makedirs(out, exist_ok=True)
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_handles_state.json")
-window_png = os.path.join(out, "gui_handles_window.png")
-if os.path.exists(window_png):
-    os.remove(window_png)
+window_png = G.removed(os.path.join(G.output_dir(), "gui_handles_window.png"))
 
 wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
 coords = Calculator(Input=wavelet, Function="coords", ResultArrayName="ReducedCoordinates",
@@ -51,13 +45,9 @@ domain_view.CameraParallelScale = 12
 Render(domain_view)
 SetActiveView(domain_view)
 
-state = {"initial": [float(v) for v in display.GaussianWidgets], "changes": [],
-         "undo": [], "screenshot": window_png}
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+state = G.State("handles", initial=[float(v) for v in display.GaussianWidgets],
+                changes=[], undo=[], screenshot=window_png)
+save = state.save
 
 
 def on_widgets(*unused):
@@ -87,8 +77,7 @@ def on_undo_stack(*unused):
         # the event loop running meanwhile, so the views are drawn).
         state["screenshot_requested"] = True
         save()
-        subprocess.Popen(["sh", "-c", "sleep 2; xwd -root -silent | convert xwd:- '%s'"
-                          % window_png])
+        G.screenshot(window_png)
 
 
 stack.AddObserver("ModifiedEvent", on_undo_stack)

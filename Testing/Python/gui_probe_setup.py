@@ -10,17 +10,14 @@ cloud that point's voxel. probe_at_pixel and brush are wrapped
 (the package-level names the buttons call) to record what they returned, the expected
 answers computed here from the data, and a screenshot of the whole window (xwd) a moment
 later, once the label is shown."""
-import json
 import os
-import subprocess
 
 from paraview import servermanager
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer as mce
+import gui_setup as G
 
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-os.makedirs(out, exist_ok=True)
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_probe_state.json")
+out = G.output_dir()
 
 wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -6, 6])
 coords = Calculator(Input=wavelet, ResultArrayName="ReducedCoordinates", ResultArrayType="Float",
@@ -56,19 +53,14 @@ domain_view.CameraPosition = [centre[0], centre[1], z]
 Render(domain_view)
 SetActiveView(view)
 SetActiveSource(volume)
-state = {"events": []}
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+state = G.State("probe", events=[])
+save = state.save
 
 
 def whole_window(name):
     """A screenshot of the whole screen 2 s from now (the label appears after the helper
     returns); the click script pauses for it."""
-    path = os.path.join(out, name)
-    subprocess.Popen(["sh", "-c", "sleep 2; xwd -root -silent | convert xwd:- '%s'" % path])
+    G.screenshot(os.path.join(out, name))
 
 
 _probe_at_pixel, _brush = mce.probe_at_pixel, mce.brush

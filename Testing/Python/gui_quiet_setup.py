@@ -4,7 +4,6 @@ the real 3-channel brain (MultichannelFeatures -> DimensionReduction -> Gaussian
 Volume, per voxel and per sample -> seeded widgets -> best viewpoint) runs in the GUI.
 Every warning and error that reaches ParaView's output window (what opens the Output
 Messages window) is recorded into $MCV_GUI_STATE; gui_quiet_check.py wants none."""
-import json
 import os
 
 from paraview.simple import *  # noqa: F401,F403
@@ -12,10 +11,11 @@ from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 import multichannel_explorer as mce
+import gui_setup as G
 
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_quiet_state.json")
-state = {"messages": [], "steps": []}
+out = G.output_dir()
+state = G.State("quiet", messages=[], steps=[])
+save = state.save
 
 
 @calldata_type(VTK_STRING)
@@ -24,19 +24,13 @@ def record(caller, event, text):
     save()
 
 
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
-
-
 window = vtkOutputWindow.GetInstance()
 state["output_window"] = window.GetClassName()
 for event in (vtkCommand.WarningEvent, vtkCommand.ErrorEvent):
     window.AddObserver(event, record)
 save()
 
-data = os.environ.get("MCV_DATA_DIR", ".")
-volume = AppendAttributes(Input=[OpenDataFile(os.path.join(data, n))
+volume = AppendAttributes(Input=[OpenDataFile(G.data_path(n))
                                  for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")])
 features, reduction = mce.reduce_multichannel(volume, "PCA", "6D")
 state["steps"].append("reduced on " + str(reduction.GetPropertyValue("DeviceUsed")))

@@ -9,18 +9,13 @@ The same file without its LoadPlugin lines fails there on the plugin's first pro
 lines are what loads it."""
 import json
 import os
-import subprocess
-import sys
 
-from gui_checks import arguments, check, finish, load_state
+from gui_checks import arguments, check, finish, state_with_data
+import mcv_testing as T
 
 here = os.path.dirname(os.path.abspath(__file__))
 path, rc = arguments()
-s = load_state(path)
-if s.get("data") is False:
-    print("SKIP: small_64D.nii is not in MCV_DATA_DIR")
-    sys.exit(125)
-check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+s = state_with_data(path, rc, "small_64D.nii")
 saved = s.get("saved", "")
 text = open(saved).read() if os.path.isfile(saved) else ""
 check(bool(text), "File > Save State wrote the Python state %s" % saved)
@@ -49,10 +44,8 @@ def run_state(state_path, name):
         os.remove(report)
     env = dict(os.environ)
     env.pop("PV_PLUGIN_PATH", None)
-    proc = subprocess.run(["sh", os.path.join(here, "run_pvbatch.sh"), os.environ["MCV_PVBATCH"],
-                           os.path.join(here, "gui_save_state_load.py"), state_path, report],
-                          env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                          universal_newlines=True, timeout=300)
+    proc = T.run_pvbatch(os.environ["MCV_PVBATCH"], [
+        os.path.join(here, "gui_save_state_load.py"), state_path, report], env=env, timeout=300)
     try:
         with open(report) as f:
             return json.load(f)

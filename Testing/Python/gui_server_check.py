@@ -13,37 +13,16 @@ both sessions' state files and paraview's exit statuses):
   their coordinates, the added widget, the brushed voxels, every widget change.
 
   python3 gui_server_check.py BUILTIN_STATE RC SERVER_STATE RC PROCESSES"""
-import json
 import os
 import subprocess
 import sys
 
-from gui_checks import check, finish
+from gui_checks import check, finish, load_state
+from mcv_testing import close
 
 builtin_path, builtin_rc, server_path, server_rc, processes = (
     sys.argv[1], int(sys.argv[2]), sys.argv[3], int(sys.argv[4]), int(sys.argv[5]))
 here = os.path.dirname(os.path.abspath(__file__))
-
-
-def close(a, b, tol=1e-6):
-    if isinstance(a, dict):
-        return isinstance(b, dict) and sorted(a) == sorted(b) and all(
-            close(a[k], b[k], tol) for k in a)
-    if isinstance(a, (list, tuple)):
-        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(
-            close(x, y, tol) for x, y in zip(a, b))
-    if isinstance(a, float) or isinstance(b, float):
-        return a is not None and b is not None and abs(a - b) <= tol
-    return a == b
-
-
-def load(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError) as e:
-        check(False, "state file %s readable (%s)" % (path, e))
-        return {}
 
 
 sessions = {}
@@ -55,7 +34,7 @@ for name, path, rc in (("built-in", builtin_path, builtin_rc),
                                 path, str(rc)])
     check(probe_rc == 0, "%s: Probe, Add Widget Here and Brush Selection give the data's "
           "answers (gui_probe_check.py)" % name)
-    sessions[name] = load(path)
+    sessions[name] = load_state(path)
 
 print("== the sessions")
 b, s = sessions["built-in"], sessions["connected"]
@@ -92,7 +71,7 @@ for name, st in (("built-in", b), ("connected", s)):
         check(moved and set(moved) <= {0, 1} and end[0] > added[0] and end[1] < added[1],
               "%s: the drag moved widget 1's centre right and down in the domain view, "
               "nothing else (%s -> %s)" % (name, added[0:2], end[0:2]))
-    check(close(changes[-1], added, 1e-9),
+    check(close(changes[-1], added, 1e-9, relative=False),
           "%s: Edit > Undo put the widgets back as before the drag" % name)
 
 events = lambda st, kind: [e for e in st.get("events", []) if e["event"] == kind]  # noqa: E731
@@ -102,10 +81,11 @@ for kind, keys in (("probe", ("point_id", "coordinates", "marker")),
                    ("brush", ("count", "highlighted"))):
     eb, es = events(b, kind), events(s, kind)
     same = len(eb) == len(es) and len(eb) > 0 and all(
-        close([x[k] for k in keys], [y[k] for k in keys]) for x, y in zip(eb, es))
+        close([x[k] for k in keys], [y[k] for k in keys], 1e-6, relative=False)
+        for x, y in zip(eb, es))
     check(same, "connected = built-in: %s (%s)" % (kind, ", ".join(
         "%s %s" % (k, es[0][k] if es and k != "after" else "") for k in keys[:2])))
 check(close([c["values"] for c in s.get("widget_changes", [])],
-            [c["values"] for c in b.get("widget_changes", [])]),
+            [c["values"] for c in b.get("widget_changes", [])], 1e-6, relative=False),
       "connected = built-in: every widget change (%d)" % len(s.get("widget_changes", [])))
 finish("gui_server")

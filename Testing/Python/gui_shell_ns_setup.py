@@ -4,21 +4,16 @@ as the README writes it, LoadPlugin(path, ns=globals()), which puts its filters 
 namespace and not into paraview.simple's; then every public helper of
 multichannel_explorer is called on the real 3-channel brain. Each call's outcome (ok, or
 the exception's text) is recorded into $MCV_GUI_STATE for gui_shell_ns_check.py."""
-import json
 import os
 import traceback
 
 from paraview import simple
 from paraview.simple import *  # noqa: F401,F403
+import gui_setup as G
 
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_shell_ns_state.json")
-state = {"events": []}
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+out = G.output_dir()
+state = G.State("shell_ns", events=[])
+save = state.save
 
 
 def step(name, call, expect=lambda result: True):
@@ -44,8 +39,7 @@ state["in_namespace"] = all(name in globals() for name in (
 save()
 import multichannel_explorer as mx  # noqa: E402
 
-data = os.environ.get("MCV_DATA_DIR", ".")
-channels = [OpenDataFile(os.path.join(data, n))
+channels = [OpenDataFile(G.data_path(n))
             for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
 volume = MergeChannels(Input=channels)  # noqa: F405 (from the plugin, through ns=)
 view = GetActiveViewOrCreate("RenderView")

@@ -3,16 +3,11 @@ exit status): DimensionReduction applied from the Filters menu opened no view fo
 Spectrum port (the render view alone, showing the reduction); Show Spectrum, reached
 through Filters > Multichannel, opened one bar chart of the Spectrum port: X the
 component column 'index', only the eigenvalues plotted, the method in the title."""
-import sys
 
-from gui_checks import arguments, check, finish, load_state
+from gui_checks import arguments, check, finish, state_with_data
 
 path, rc = arguments()
-s = load_state(path)
-if s.get("data") is False:
-    print("SKIP: small_64D.nii is not in MCV_DATA_DIR")
-    sys.exit(125)
-check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
+s = state_with_data(path, rc, "small_64D.nii")
 before = s.get("before")
 if check(before is not None, "Filters > Multichannel > Show Spectrum called the helper"):
     check([v["type"] for v in before] == ["RenderView"] and

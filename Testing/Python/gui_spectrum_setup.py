@@ -3,23 +3,14 @@ gui_spectrum_click.xml applies Filters > Multichannel > DimensionReduction with 
 Properties panel's Apply, then Filters > Multichannel > Show Spectrum): opens small_64D.nii
 (65 channels) as the active source, and wraps the button's helper to record, into
 $MCV_GUI_STATE, the views before and after it (types, what each shows) and its text."""
-import json
-import os
-
 from paraview import servermanager
 from paraview.simple import *  # noqa: F401,F403
 import multichannel_explorer.exploration as exploration
+import gui_setup as G
 
-data = os.environ.get("MCV_DATA_DIR", "")
-out = os.environ.get("MCV_OUTPUT_DIR", ".")
-state_file = os.environ.get("MCV_GUI_STATE") or os.path.join(out, "gui_spectrum_state.json")
-path = os.path.join(data, "small_64D.nii")
-state = {"data": os.path.exists(path)}
-
-
-def save():
-    with open(state_file, "w") as f:
-        json.dump(state, f, indent=1)
+state = G.State("spectrum")
+save = state.save
+reader = G.open_active("small_64D.nii", state)
 
 
 def views():
@@ -37,12 +28,6 @@ def views():
     return found
 
 
-if state["data"]:
-    reader = OpenDataFile(path)
-    view = GetActiveViewOrCreate("RenderView")
-    Show(reader, view)
-    Render(view)
-    SetActiveSource(reader)
 _helper = exploration._gui_show_spectrum
 
 

@@ -82,6 +82,20 @@ def programmable_image(dims, name, value="v", body="", components=1, array_type=
     return src
 
 
+def image_without_arrays(last=9):
+    """A ProgrammableSource of image data of extent [0, last] on each axis and no array
+    (last = -1: an empty extent): the bad inputs of the filters' argument checks."""
+    from paraview.simple import ProgrammableSource
+
+    src = ProgrammableSource()
+    src.OutputDataSetType = "vtkImageData"
+    src.ScriptRequestInformation = (
+        "from paraview import util\n"
+        "util.SetOutputWholeExtent(self, [0, %d, 0, %d, 0, %d])\n" % (last, last, last))
+    src.Script = "self.GetOutput().SetExtent(0, %d, 0, %d, 0, %d)\n" % (last, last, last)
+    return src
+
+
 def data_file(name):
     """Path of a real volume; exits with SKIP when it is missing."""
     path = os.path.join(data_dir(), name)
@@ -120,6 +134,20 @@ def brain_series(folder, factors=(1.0, 1.0, 1.2), step=3):
     paths = [write_vti(os.path.join(folder, "step_%d.vti" % i), [("ch2", t1 * f), ("aal", aal)])
              for i, f in enumerate(factors)]
     return paths, t1, aal
+
+
+def opened_brain_series(checker, folder, factors=(1.0, 1.0, 1.2)):
+    """brain_series(folder, factors) opened as one ParaView time series, checked to have a
+    time step per factor. Returns (series, its time values, paths, t1, aal)."""
+    from paraview.simple import OpenDataFile
+
+    paths, t1, aal = brain_series(folder, factors)
+    series = OpenDataFile(paths)
+    series.UpdatePipelineInformation()
+    times = list(series.TimestepValues)
+    checker.check(len(times) == len(factors),
+                  "the series has %d time steps: %s" % (len(factors), times))
+    return series, times, paths, t1, aal
 
 
 def coordinates_at(reduction, time):
@@ -232,6 +260,94 @@ def brain_channels():
                                    for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")])
 
 
+def local_processes():
+    """The number of processes pvbatch runs in (mpiexec -np N pvbatch --mpi; 1 without)."""
+    from paraview import servermanager
+
+    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+
+
+def parallel_checker(name):
+    """(processes, a Checker named `name` and the number of processes it runs in)."""
+    processes = local_processes()
+    return processes, Checker("%s (%d process%s)" % (name, processes,
+                                                   "es" if processes > 1 else ""))
+
+
+def reference_compare_parser():
+    """The argument parser of a check script run once with --reference DIR (one process
+    writes the inputs and its answers into DIR) and then with --compare DIR (its answers,
+    often on several MPI processes, compared with those): mpi_reference_compare.sh's
+    calling convention. Returns (parser, the group of those modes, for the script's own)."""
+    import argparse
+
+    parser = argparse.ArgumentParser()
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--reference", metavar="DIR")
+    mode.add_argument("--compare", metavar="DIR")
+    return parser, mode
+
+
+def brain_subset(step):
+    """The real 3-channel brain (brain_channels, updated), every `step`-th voxel per axis
+    through ExtractSubset, which under MPI each process reads its own piece of. The
+    properties are given to the constructors, so a trace records them."""
+    from paraview import simple
+
+    merged = brain_channels()
+    merged.UpdatePipeline()
+    return simple.ExtractSubset(Input=merged, VOI=merged.GetDataInformation().GetExtent(),
+                                SampleRateI=step, SampleRateJ=step, SampleRateK=step)
+
+
+def render_view(size, background=(0.0, 0.0, 0.0), axes=False):
+    """A new render view of `size` pixels with its own `background` colour (not the colour
+    palette's) and the orientation axes shown or not."""
+    from paraview import simple
+
+    view = simple.CreateView("RenderView")
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = int(axes)
+    try:
+        view.UseColorPaletteForBackground = 0
+    except AttributeError:  # ParaView before 5.10: the background is the view's own
+        pass
+    view.Background = list(background)
+    return view
+
+
+def run_pvbatch(program, args, **kwargs):
+    """subprocess.run of PROGRAM (pvbatch) ARGS under its own virtual X server
+    (run_pvbatch.sh, which retries an X server that failed to start), its output and
+    errors as one text in .stdout; `kwargs` go to subprocess.run (cwd, env, timeout)."""
+    import subprocess
+
+    here = os.path.dirname(os.path.abspath(__file__))
+    return subprocess.run(["sh", os.path.join(here, "run_pvbatch.sh"), program] + list(args),
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, **kwargs)
+
+
+def run_example(checker, script, args, output, tail=1500):
+    """pvbatch Examples/SCRIPT ARGS (with --plugin $MCV_PLUGIN when it is set), checked to
+    exit 0 and to write OUTPUT/report.json; prints the last `tail` characters of its output.
+    Returns the report; without one the test ends there (checker.finish)."""
+    import json
+
+    command = [os.path.join(REPO, "Examples", script)] + list(args)
+    if os.environ.get("MCV_PLUGIN"):
+        command += ["--plugin", os.environ["MCV_PLUGIN"]]
+    run = run_pvbatch("pvbatch", command)
+    print(run.stdout[-tail:])
+    checker.check(run.returncode == 0, "%s %s ran (exit %d)"
+                  % (script, " ".join(str(a) for a in args), run.returncode))
+    path = os.path.join(output, "report.json")
+    if not checker.check(os.path.exists(path), "%s written" % path):
+        checker.finish()
+    with open(path) as f:
+        return json.load(f)
+
+
 class Checker(object):
     """Collects failed checks; finish() prints a summary and exits."""
 
@@ -331,6 +447,61 @@ def write_tiff_stack(image, folder, pattern="slice_%03d.tif"):
         writer.Write()
         paths.append(writer.GetFileName())
     return paths
+
+
+def close(a, b, tol, relative=True):
+    """a equals b: dicts of the same keys, lists and tuples of the same length compared
+    item by item, numbers where either is a float within `tol` (times max(1, |a|) when
+    `relative`), anything else exactly."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and sorted(a) == sorted(b) and all(
+            close(a[k], b[k], tol, relative) for k in a)
+    if isinstance(a, (list, tuple)):
+        return isinstance(b, (list, tuple)) and len(a) == len(b) and all(
+            close(x, y, tol, relative) for x, y in zip(a, b))
+    if isinstance(a, float) or isinstance(b, float):
+        return a is not None and b is not None and \
+            abs(a - b) <= tol * (max(1.0, abs(a)) if relative else 1.0)
+    return a == b
+
+
+PIXEL_TOLERANCE = 12  # a channel difference above this counts as a differing pixel
+
+
+def _png_pixels(path):
+    """(dimensions, components, pixel bytes) of a PNG file."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    scalars = image.GetPointData().GetScalars()
+    return image.GetDimensions(), scalars.GetNumberOfComponents(), bytes(memoryview(scalars))
+
+
+def picture_difference(reference, picture):
+    """(largest channel difference, fraction of the pixels differing by more than
+    PIXEL_TOLERANCE, fraction of `picture`'s pixels not its background, the first pixel's
+    colour) of two PNG files of the same size; None when their sizes differ."""
+    (da, ca, a), (db, cb, b) = _png_pixels(reference), _png_pixels(picture)
+    if da != db or ca != cb:
+        return None
+    worst, differing, lit = 0, 0, 0
+    for p in range(0, len(a), ca):
+        d = max(abs(a[p + c] - b[p + c]) for c in range(min(ca, 3)))
+        worst = max(worst, d)
+        differing += d > PIXEL_TOLERANCE
+        lit += max(abs(b[p + c] - b[c]) for c in range(min(cb, 3))) > 20
+    pixels = float(len(a) // ca)
+    return worst, differing / pixels, lit / pixels
+
+
+def blank_picture(path):
+    """True when every pixel of the PNG file has the first pixel's colour (the background
+    only: nothing was drawn)."""
+    _, n, data = _png_pixels(path)
+    return data == data[:n] * (len(data) // n)
 
 
 def norm(v):

@@ -19,7 +19,6 @@ this process needs" unless a representation had updated the volume before.
       chain before it): the same voxels, coordinates and channels bit for bit.
 Test driver: mpi_reference_compare.sh (CTest pvbatch.test_mpi_first_consumer).
 """
-import argparse
 import json
 import os
 import sys
@@ -35,13 +34,7 @@ REDUCTION = dict(ReferenceSampleSize=3000, RandomSeed=7)
 
 
 def chain(mce, keep_features):
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
-    volume = simple.ExtractSubset(Input=merged)
-    volume.VOI = merged.GetDataInformation().GetExtent()
-    volume.SampleRateI = volume.SampleRateJ = volume.SampleRateK = SUBSAMPLE
+    volume = T.brain_subset(SUBSAMPLE)
     _, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3,
                                      keep_features=keep_features, **REDUCTION)
     return red
@@ -61,14 +54,9 @@ def extracted(data):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--reference", metavar="DIR")
-    mode.add_argument("--compare", metavar="DIR")
-    args = parser.parse_args()
+    args = T.reference_compare_parser()[0].parse_args()
     mce = T.load_plugin(globals())
-    processes = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-    C = T.Checker("mpi_first_consumer_check (%d process(es))" % processes)
+    processes, C = T.parallel_checker("mpi_first_consumer_check")
     dims = [61, 73, 61]
     voxels = probed_voxels(dims)
     ids = [i + dims[0] * (j + dims[1] * k) for i, j, k in voxels]

@@ -14,7 +14,6 @@ the same one-fit series on R processes as on one.
       One time step and All time steps give the reference coordinates at every step.
 Test driver: mpi_reference_compare.sh.
 """
-import argparse
 import os
 import sys
 
@@ -28,10 +27,6 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 METHODS = ("PCA", "Isomap")
 SAMPLE = 3000
-
-
-def processes():
-    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
 
 
 def write_vti(path, t1, aal):
@@ -64,14 +59,9 @@ def gathered(proxy, names, shape, R):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--reference")
-    mode.add_argument("--compare")
-    args = parser.parse_args()
+    args = T.reference_compare_parser()[0].parse_args()
     mce = T.load_plugin(globals())
-    R = processes()
-    C = T.Checker("mpi_model_check (%d process%s)" % (R, "es" if R > 1 else ""))
+    R, C = T.parallel_checker("mpi_model_check")
     folder = args.reference or args.compare
     if args.reference:
         os.makedirs(folder, exist_ok=True)

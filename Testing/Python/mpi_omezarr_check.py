@@ -1,6 +1,6 @@
 """The OME-Zarr reader split over MPI processes: each reads its own piece's chunks.
 
-    pvbatch mpi_omezarr_check.py --write DIR [--upsample F] [--chunk N]
+    pvbatch mpi_omezarr_check.py --write DIR [--upsample F] [--chunk N]   (or --reference DIR)
         one process: writes the real 3-channel brain (upsampled F times along each axis by
         repetition, F = 1 by default) as DIR/brain.ome.zarr (c z y x, blosc, N^3 chunks,
         N = 32 by default) and the source as DIR/brain.npy;
@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 parser = argparse.ArgumentParser()
-parser.add_argument("--write")
+parser.add_argument("--write", "--reference", dest="write")  # mpi_reference_compare.sh
 parser.add_argument("--compare")
 parser.add_argument("--upsample", type=int, default=1)
 parser.add_argument("--chunk", type=int, default=32)
@@ -37,10 +37,6 @@ parser.add_argument("--bytes-table")
 args = parser.parse_args()
 
 C = T.Checker("mpi_omezarr_check")
-
-
-def processes():
-    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
 
 
 if args.write:
@@ -67,7 +63,7 @@ for path in glob.glob(os.path.join(folder, "0", "*.*.*.*")):
     sizes[tuple(int(v) for v in os.path.basename(path).split("."))] = os.path.getsize(path)
 total = sum(sizes.values())
 
-R = processes()
+R = T.local_processes()
 start = time.time()
 reader = simple.OpenDataFile(folder)
 reader.ResolutionLevel = 0

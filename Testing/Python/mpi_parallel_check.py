@@ -24,7 +24,6 @@ With --thin, a 2 x 2 x 2 synthetic volume instead (PCA): more processes than the
 splits in, so some own no voxel and must take part with nothing.
 Test driver: test_mpi.sh. No numpy in Debian's ParaView Python: plain arrays.
 """
-import argparse
 import array
 import json
 import os
@@ -40,11 +39,6 @@ SUBSAMPLE = 3
 REDUCTION = dict(Method="Isomap", OutputDimension=3, NumberOfNeighbors=12,
                  NumberOfLandmarks=200, ReferenceSampleSize=3000, RandomSeed=7)
 THIN_REDUCTION = dict(Method="PCA", OutputDimension=3, ReferenceSampleSize=32, RandomSeed=7)
-
-
-def processes():
-    pm = servermanager.vtkProcessModule.GetProcessModule()
-    return pm.GetNumberOfLocalPartitions()
 
 
 def brain():
@@ -91,17 +85,13 @@ def piece_indices(piece, dims):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    group = parser.add_mutually_exclusive_group(required=True)
-    group.add_argument("--reference", metavar="DIR")
-    group.add_argument("--compare", metavar="DIR")
+    parser, _ = T.reference_compare_parser()
     parser.add_argument("--thin", action="store_true",
                         help="a 2 x 2 x 2 synthetic volume instead of the brain")
     args = parser.parse_args()
     mce = T.load_plugin(globals())
     from paraview.simple import BestViewpoint, DimensionReduction, MultichannelFeatures
-    R = processes()
-    C = T.Checker("mpi_parallel_check (%d process%s)" % (R, "es" if R > 1 else ""))
+    R, C = T.parallel_checker("mpi_parallel_check")
     timings = {}
 
     merged = thin_volume() if args.thin else brain()

@@ -12,7 +12,6 @@
       volume (sharing boundary layers only); with R > 1 no process holds the whole volume.
 Test driver: mpi_reference_compare.sh.
 """
-import argparse
 import os
 import sys
 
@@ -26,10 +25,6 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 NAMES = ("C1", "C2", "C3")
 TIMES = (0.0, 0.25)
-
-
-def processes():
-    return servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
 
 
 def piece_arrays(image):
@@ -62,14 +57,9 @@ def write(folder):
 
 
 def main():
-    parser = argparse.ArgumentParser()
-    mode = parser.add_mutually_exclusive_group(required=True)
-    mode.add_argument("--reference")
-    mode.add_argument("--compare")
-    args = parser.parse_args()
+    args = T.reference_compare_parser()[0].parse_args()
     T.load_plugin(globals())
-    R = processes()
-    C = T.Checker("mpi_tiff_check (%d process%s)" % (R, "es" if R > 1 else ""))
+    R, C = T.parallel_checker("mpi_tiff_check")
     folder = args.reference or args.compare
     if args.reference:
         os.makedirs(folder, exist_ok=True)

@@ -77,6 +77,21 @@ def can_mount(scratch):
     return probe.ok, probe.reason
 
 
+def mounted_tmpfs(scratch, kib, what):
+    """A Tmpfs of `kib` KiB at scratch/tmpfs; None, with `what` reported skipped, where no
+    tmpfs can be mounted here (not root)."""
+    ok, why = can_mount(scratch)
+    if not ok:
+        print("SKIP: %s: cannot mount a tmpfs here (%s)" % (what, why))
+        return None
+    return Tmpfs(os.path.join(scratch, "tmpfs"), kib)
+
+
+def last_line(output):
+    """The last line of a job's output, where it says why it stopped ("" when silent)."""
+    return output.strip().splitlines()[-1] if output.strip() else ""
+
+
 def content(folder):
     """{relative path: sha1} of every file under `folder` (hidden ones too)."""
     out = {}
@@ -210,6 +225,19 @@ def main_job_outputs_valid(folder, checker, label):
     leftovers = [n for n in os.listdir(folder) if ".part" in n]
     return checker.check(not leftovers, "%s: no temporary files (%s)" % (label, leftovers)) \
         and ok
+
+
+def ran_or_refused(folder, checker, label, code, message, refusal, why, previous):
+    """A main job run under a limit either succeeded, with valid outputs in `folder`, or
+    exited 1 with `message` (its last line) saying `why` (`refusal`: it does) and left the
+    previous output `previous` (content()) as it was. Returns the output now there."""
+    print("%s: exit %d, %s" % (label, code, message))
+    if code == 0:
+        main_job_outputs_valid(folder, checker, label)
+        return content(folder)
+    checker.check(code == 1 and refusal, "%s: exit code 1 and %s: %s" % (label, why, message))
+    checker.check(content(folder) == previous, "%s: the previous output as it was" % label)
+    return previous
 
 
 def no_staging_left(parent, base, checker, label):

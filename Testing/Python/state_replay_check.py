@@ -17,7 +17,7 @@ Gaussian widgets included.
       in a fresh process WITHOUT the plugin loaded: runs DIR/FILE (a Python state or the
       trace), which must load the plugin itself; the display has the recorded widgets,
       hidden list, blend and classification, and the picture equals DIR/recorded.png.
-Driver: test_state_replay.sh.
+Driver: record_replay.sh (CTest pvbatch.test_state_replay).
 """
 import argparse
 import json
@@ -26,7 +26,6 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import mcv_testing as T  # noqa: E402
-from trace_replay_check import picture_difference  # noqa: E402
 
 from paraview import simple, smtrace  # noqa: E402
 
@@ -151,7 +150,7 @@ def replay(C, out, name):
     simple.Render(shown_in)
     replayed = os.path.join(out, "replayed_%s.png" % name.replace(".", "_"))
     simple.SaveScreenshot(replayed, shown_in, ImageResolution=VIEW_SIZE)
-    diff = picture_difference(os.path.join(out, "recorded.png"), replayed)
+    diff = T.picture_difference(os.path.join(out, "recorded.png"), replayed)
     C.check(diff is not None and diff[1] <= 0.005 and diff[2] > 0.05,
             "%s: the recorded picture (%s)" % (name, "max channel difference %d, %.3f%% of "
             "pixels above 12, %.1f%% not background" % (diff[0], 100 * diff[1], 100 * diff[2])

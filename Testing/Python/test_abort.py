@@ -23,11 +23,9 @@ from paraview.simple import *  # noqa: E402,F401,F403
 mce = T.load_plugin(globals())
 C = T.Checker("test_abort")
 
-t1 = OpenDataFile(T.data_file("ch2.nii.gz"))
-aal = OpenDataFile(T.data_file("aal.nii.gz"))
-brodmann = OpenDataFile(T.data_file("brodmann.nii.gz"))
-merged = AppendAttributes(Input=[t1, aal, brodmann])
+merged = T.brain_channels()
 merged.UpdatePipeline()
+t1 = merged.Input[0]  # the Colin27 T1 reader
 
 
 class AbortAt(object):

@@ -54,11 +54,7 @@ C.check(res["points"] == 0 and res["ViewValid"] == 0, "polydata input: empty out
 Delete(bvp)
 
 # ---- no point array -----------------------------------------------------------------
-empty_arrays = ProgrammableSource()
-empty_arrays.OutputDataSetType = "vtkImageData"
-empty_arrays.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, 9, 0, 9, 0, 9])\n")
-empty_arrays.Script = "self.GetOutput().SetExtent(0, 9, 0, 9, 0, 9)\n"
+empty_arrays = T.image_without_arrays()
 bvp, msgs, res = run("no point array", empty_arrays)
 C.check(msgs.any_error("no point scalar array"), "no point array: error 'no point scalar array'")
 C.check(res["points"] == 0, "no point array: empty output")
@@ -80,11 +76,7 @@ C.check(msgs.any_error("NoSuchArray", "RTData"),
 Delete(bvp)
 
 # ---- empty extent ---------------------------------------------------------------------
-empty = ProgrammableSource()
-empty.OutputDataSetType = "vtkImageData"
-empty.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, -1, 0, -1, 0, -1])\n")
-empty.Script = "pass\n"
+empty = T.image_without_arrays(-1)
 bvp, msgs, res = run("empty extent", empty)
 C.check(msgs.any_error("empty extent"), "empty extent: error 'empty extent'")
 Delete(bvp)

@@ -30,11 +30,6 @@ C = T.Checker("test_channel_list")
 out = T.fresh_output_dir("channel_list")
 
 
-def table_of(data, name):
-    array = data.GetFieldData().GetAbstractArray(name)
-    return [array.GetValue(i) for i in range(array.GetNumberOfValues())] if array else None
-
-
 label_file = T.data_file("aal.nii.txt")
 expected = []
 with open(label_file) as f:
@@ -47,7 +42,7 @@ C.check(len(expected) == 116 and expected[0] == "1\tPrecentral_L",
 
 readers = [simple.OpenDataFile(T.data_file(f))
            for f in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-tables = [table_of(T.output_of(r), n + "_labels") for r, n in zip(readers, ("ch2", "aal", "brodmann"))]
+tables = [T.field_strings(T.output_of(r), n + "_labels") for r, n in zip(readers, ("ch2", "aal", "brodmann"))]
 C.check(tables[1] == expected, "the AAL reader's field array aal_labels is the file, line by "
         "line (%s entries)" % (len(tables[1]) if tables[1] else None))
 C.check(tables[0] is None and tables[2] is None, "ch2 and Brodmann: no label table")
@@ -60,13 +55,13 @@ shutil.copyfile(label_file, os.path.join(other, "aal.nii.txt"))
 twice = simple.MergeChannels(Input=readers + [simple.OpenDataFile(os.path.join(other, "aal.nii.gz"))])
 image = T.output_of(twice)
 names = [image.GetPointData().GetArrayName(i) for i in range(image.GetPointData().GetNumberOfArrays())]
-C.check(names == ["ch2", "aal", "brodmann", "aal_2"] and table_of(image, "aal_labels") == expected
-        and table_of(image, "aal_2_labels") == expected,
+C.check(names == ["ch2", "aal", "brodmann", "aal_2"] and T.field_strings(image, "aal_labels") == expected
+        and T.field_strings(image, "aal_2_labels") == expected,
         "merged with a second AAL: channels %s, tables aal_labels and aal_2_labels" % names)
 simple.Delete(twice)
 
 merged = simple.MergeChannels(Input=readers)
-C.check(table_of(T.output_of(merged), "aal_labels") == expected, "MergeChannels keeps aal_labels")
+C.check(T.field_strings(T.output_of(merged), "aal_labels") == expected, "MergeChannels keeps aal_labels")
 
 
 def domain_strings(proxy):
@@ -92,7 +87,7 @@ C.check(shown == OFFERED and list(reduction.Channels) == IN_ORDER,
         "DimensionReduction's Channels list after MultichannelFeatures: %s (no Features, no "
         "Foreground), all used, in that order %s" % (shown, list(reduction.Channels)))
 reduced = T.output_of(reduction)
-C.check(table_of(reduced, "aal_labels") == expected,
+C.check(T.field_strings(reduced, "aal_labels") == expected,
         "the reduced volume still carries aal_labels (MultichannelFeatures and "
         "DimensionReduction pass it on)")
 best = simple.BestViewpoint(Input=reduction)
@@ -110,7 +105,7 @@ bad_reader = simple.OpenDataFile(os.path.join(bad, "aal.nii.gz"))
 msgs = T.Messages(bad_reader)
 data = T.output_of(bad_reader)
 C.check(msgs.any_warning("aal.nii.txt", "line 2") and data.GetNumberOfPoints() == 181 * 217 * 181
-        and table_of(data, "aal_labels") is None,
+        and T.field_strings(data, "aal_labels") is None,
         "a bad label file: a warning naming it and the line (%s), the volume read, no table"
         % msgs.warnings)
 C.finish()

@@ -149,11 +149,17 @@ C.check(sorted(late.Channels) == ["aal", "brodmann", "ch2"],
         % list(late.Channels))
 simple.Delete(late)
 
+
+def offered_channels(proxy):
+    """The arrays the Channels property of `proxy` offers (its array_list domain)."""
+    domain = proxy.GetProperty("Channels").SMProperty.GetDomain("array_list")
+    return [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+
+
 features = simple.MultichannelFeatures(Input=merged, FeatureSet="6D")
 features.UpdatePipeline()
 reduction = simple.DimensionReduction(Input=features)
-domain = reduction.GetProperty("Channels").SMProperty.GetDomain("array_list")
-offered = [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+offered = offered_channels(reduction)
 # (ParaView's array lists are sorted by name.)
 C.check(offered == ["aal", "brodmann", "ch2"],
         "DimensionReduction after MultichannelFeatures offers the channels only: %s" % offered)
@@ -162,8 +168,7 @@ C.check(list(reduction.Channels) == ["aal", "brodmann", "ch2"],
 reduction.ReferenceSampleSize = 300
 reduction.UpdatePipeline()
 viewpoint = simple.BestViewpoint(Input=reduction)
-domain = viewpoint.GetProperty("Channels").SMProperty.GetDomain("array_list")
-offered = [domain.GetString(i) for i in range(domain.GetNumberOfStrings())]
+offered = offered_channels(viewpoint)
 C.check(offered == ["aal", "brodmann", "ch2"],
         "BestViewpoint after DimensionReduction offers the channels only: %s" % offered)
 for proxy in (viewpoint, reduction, features):

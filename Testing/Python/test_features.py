@@ -42,6 +42,13 @@ def column_values(array, c):
     return memoryview(array).cast("B").cast("f")[c::n]
 
 
+def max_difference(a, b, stride):
+    """The largest difference between two 6-feature arrays, every `stride`-th voxel."""
+    return B.max(B.max(B.abs(x - y) for x, y in zip(column_values(a, c)[::stride],
+                                                     column_values(b, c)[::stride]))
+                 for c in range(6))
+
+
 def run(label, source, **props):
     f = MultichannelFeatures(Input=source, **props)
     msgs = T.Messages(f)
@@ -127,10 +134,7 @@ if arr3 is not None and "6D" in results:
     print("names:", [arr3.GetComponentName(c) for c in range(6)])
     C.check(arr3.GetComponentName(0) == "T1_AAL_BA_0.intensity",
             "3-component array: channels named <array>_<component>")
-    a6 = results["6D"][1]
-    diff = B.max(B.max(B.abs(x - y) for x, y in zip(column_values(arr3, c)[::991],
-                                                     column_values(a6, c)[::991]))
-                 for c in range(6))
+    diff = max_difference(arr3, results["6D"][1], 991)
     C.check(diff < 1e-4, "3-component array == three arrays (max diff %.2g)" % diff)
 Delete(f3)
 
@@ -160,10 +164,7 @@ C.check(not msgs.errors and arrg is not None, "Device=GPU: runs (on %s)" % used)
 if used == "CPU":
     C.check(msgs.any_warning("CPU"), "Device=GPU without a GPU: warning, CPU fallback")
 if arrg is not None and "6D" in results:
-    a6 = results["6D"][1]
-    diff = B.max(B.max(B.abs(x - y) for x, y in zip(column_values(arrg, c)[::499],
-                                                     column_values(a6, c)[::499]))
-                 for c in range(6))
+    diff = max_difference(arrg, results["6D"][1], 499)
     C.check(diff < 1e-4, "Device=GPU == CPU (max diff %.2g)" % diff)
 Delete(fg)
 for preset in list(results):
@@ -183,11 +184,7 @@ f, msgs = run("polydata input", Sphere())
 C.check(msgs.any_error("not image data"), "polydata input: error 'not image data'")
 C.check(empty_output(f), "polydata input: empty output")
 
-no_arrays = ProgrammableSource()
-no_arrays.OutputDataSetType = "vtkImageData"
-no_arrays.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, 9, 0, 9, 0, 9])\n")
-no_arrays.Script = "self.GetOutput().SetExtent(0, 9, 0, 9, 0, 9)\n"
+no_arrays = T.image_without_arrays()
 f, msgs = run("no point array", no_arrays)
 C.check(msgs.any_error("no point scalar array"), "no point array: error 'no point scalar array'")
 C.check(empty_output(f), "no point array: empty output")
@@ -198,11 +195,7 @@ C.check(msgs.any_error("NoSuchArray", "RTData"),
         "missing array name: error names it and the arrays there are")
 C.check(empty_output(f), "missing array name: empty output")
 
-empty = ProgrammableSource()
-empty.OutputDataSetType = "vtkImageData"
-empty.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, -1, 0, -1, 0, -1])\n")
-empty.Script = "self.GetOutput().SetExtent(0, -1, 0, -1, 0, -1)\n"
+empty = T.image_without_arrays(-1)
 f, msgs = run("empty extent", empty)
 C.check(msgs.any_error("empty extent"), "empty extent: error 'empty extent'")
 

@@ -31,26 +31,13 @@ OUT = os.path.join(T.output_dir(), "fit_all_steps")
 os.makedirs(OUT, exist_ok=True)
 
 factors = (1.0, 1.0, 1.2)
-steps, t1, aal = T.brain_series(OUT, factors)
+series, times, steps, t1, aal = T.opened_brain_series(C, OUT, factors)
 foreground = t1.ravel() > 0
 
-
-coordinates_at = T.coordinates_at
-
-
-def reduction_of(source, **props):
-    return T.pca_reduction(mce, source, **props)
-
-
-series = OpenDataFile(steps)
-series.UpdatePipelineInformation()
-times = list(series.TimestepValues)
-C.check(len(times) == 3, "the series has 3 time steps: %s" % times)
-
 # ---- All time steps --------------------------------------------------------------------
-every = reduction_of(series, FitTime="All time steps")
+every = T.pca_reduction(mce, series, FitTime="All time steps")
 messages = T.Messages(every)
-at = [coordinates_at(every, t) for t in times]
+at = [T.coordinates_at(every, t) for t in times]
 C.check(all(a[0] is not None for a in at) and not messages.errors,
         "every step is placed (errors: %s)" % messages.errors)
 C.check(np.array_equal(at[0][0], at[1][0]),
@@ -76,7 +63,7 @@ for channel, values in (("ch2", [t1 * f for f in factors]), ("aal", [aal] * 3)):
             "%s: the normalisation of the three steps as one volume (offset %.9g vs mean %.9g, "
             "scale %.9g vs 1/sd %.9g)" % (names[column], offset, mean, scale, 1.0 / sd))
 
-each = reduction_of(series)
+each = T.pca_reduction(mce, series)
 per_step = []
 for t in times:
     each.UpdatePipeline(t)
@@ -86,8 +73,8 @@ C.check(info["fit"]["sampledVoxels"] == sum(per_step),
         "the sample is drawn from the voxels of every step: %d = %s"
         % (info["fit"]["sampledVoxels"], " + ".join(str(v) for v in per_step)))
 
-applied = reduction_of(OpenDataFile(steps[0]), ModelFile=model_path)
-applied_at, _ = coordinates_at(applied, 0.0)
+applied = T.pca_reduction(mce, OpenDataFile(steps[0]), ModelFile=model_path)
+applied_at, _ = T.coordinates_at(applied, 0.0)
 C.check(applied_at is not None and np.array_equal(applied_at, at[0][0]),
         "the saved model applied to step 0 alone gives step 0's coordinates exactly")
 
@@ -95,28 +82,28 @@ C.check(applied_at is not None and np.array_equal(applied_at, at[0][0]),
 odd = [steps[0], T.write_vti(os.path.join(OUT, "odd_1.vti"), [("ch2", t1), ("atlas", aal)])]
 odd_series = OpenDataFile(odd)
 odd_series.UpdatePipelineInformation()
-odd_reduction = reduction_of(odd_series, FitTime="All time steps")
+odd_reduction = T.pca_reduction(mce, odd_series, FitTime="All time steps")
 odd_messages = T.Messages(odd_reduction)
-odd_at, _ = coordinates_at(odd_reduction, list(odd_series.TimestepValues)[0])
+odd_at, _ = T.coordinates_at(odd_reduction, list(odd_series.TimestepValues)[0])
 C.check(odd_at is None and odd_messages.any_error("time step 1", "other channels", "step 0"),
         "a step with other channels: no output and an error naming the step: %s"
         % odd_messages.errors)
 
 # ---- One time step, the current one ----------------------------------------------------
-current = reduction_of(series, FitTime="One time step")
+current = T.pca_reduction(mce, series, FitTime="One time step")
 C.check(int(current.GetPropertyValue("FitTimeStep")) == -1, "FitTimeStep defaults to -1 (current)")
-cur_at1, cur_src = coordinates_at(current, times[1])
+cur_at1, cur_src = T.coordinates_at(current, times[1])
 current.UpdatePropertyInformation()
 C.check(int(current.GetPropertyValue("FittedTimeStep")) == 1,
         "set at time %g, the fit is on step 1 (FittedTimeStep %s)"
         % (times[1], current.GetPropertyValue("FittedTimeStep")))
-cur_at2, cur_src2 = coordinates_at(current, times[2])
+cur_at2, cur_src2 = T.coordinates_at(current, times[2])
 current.UpdatePropertyInformation()
 C.check(int(current.GetPropertyValue("FittedTimeStep")) == 1 and cur_src2 is not None and
         ("fit of time %g" % times[1]) in cur_src2[0],
         "moving on to step 2 keeps the fit of step 1: %s" % (cur_src2,))
-one_at_1 = reduction_of(series, FitTime="One time step", FitTimeStep=1)
-explicit, _ = coordinates_at(one_at_1, times[2])
+one_at_1 = T.pca_reduction(mce, series, FitTime="One time step", FitTimeStep=1)
+explicit, _ = T.coordinates_at(one_at_1, times[2])
 C.check(cur_at2 is not None and np.array_equal(cur_at2, explicit),
         "... the same coordinates as FitTimeStep 1")
 C.finish()

@@ -28,27 +28,14 @@ OUT = os.path.join(T.output_dir(), "fit_time")
 os.makedirs(OUT, exist_ok=True)
 
 
-steps, t1, aal = T.brain_series(OUT)
+series, times, steps, t1, aal = T.opened_brain_series(C, OUT)
 foreground = t1.ravel() > 0
 
-
-coordinates_at = T.coordinates_at
-
-
-def reduction_of(source, **props):
-    return T.pca_reduction(mce, source, **props)
-
-
-series = OpenDataFile(steps)
-series.UpdatePipelineInformation()
-times = list(series.TimestepValues)
-C.check(len(times) == 3, "the series has 3 time steps: %s" % times)
-
 alone = OpenDataFile(steps[0])
-fit_alone, _ = coordinates_at(reduction_of(alone), 0.0)
+fit_alone, _ = T.coordinates_at(T.pca_reduction(mce, alone), 0.0)
 
-one = reduction_of(series, FitTime="One time step", FitTimeStep=0)
-at = [coordinates_at(one, t) for t in times]
+one = T.pca_reduction(mce, series, FitTime="One time step", FitTimeStep=0)
+at = [T.coordinates_at(one, t) for t in times]
 C.check(at[0][0] is not None and np.array_equal(at[0][0], fit_alone),
         "step 0 gets exactly the coordinates of a fit on that volume alone")
 C.check(at[1][0] is not None and np.array_equal(at[1][0], at[0][0]),
@@ -61,8 +48,8 @@ C.check(at[1][1] is not None and at[2][1] is not None and "fit of time" in at[1]
         at[0][1] is None,
         "steps 1 and 2 name the fit of step 0 as their model: %s" % (at[1][1],))
 
-each = reduction_of(series)
-each_at = [coordinates_at(each, t) for t in times]
+each = T.pca_reduction(mce, series)
+each_at = [T.coordinates_at(each, t) for t in times]
 shift_each = np.linalg.norm(each_at[2][0] - each_at[0][0], axis=1)[foreground]
 print("     a fit per step (ZScore) moves step 2 by a median %.4f (one fit: %.3f)"
       % (float(np.median(shift_each)), float(np.median(moved))))
@@ -70,9 +57,9 @@ C.check(float(np.median(shift_each)) < float(np.median(moved)) / 5,
         "a fit per step normalises the brightening away (median %.4f vs %.3f with one fit)"
         % (float(np.median(shift_each)), float(np.median(moved))))
 
-last = reduction_of(series, FitTime="One time step", FitTimeStep=5)  # clamped to step 2
-last_at = [coordinates_at(last, t) for t in (times[2], times[0])]
-step2_alone, _ = coordinates_at(reduction_of(OpenDataFile(steps[2])), 0.0)
+last = T.pca_reduction(mce, series, FitTime="One time step", FitTimeStep=5)  # clamped to step 2
+last_at = [T.coordinates_at(last, t) for t in (times[2], times[0])]
+step2_alone, _ = T.coordinates_at(T.pca_reduction(mce, OpenDataFile(steps[2])), 0.0)
 C.check(last_at[0][0] is not None and np.array_equal(last_at[0][0], step2_alone),
         "FitTimeStep 5 (clamped to the last step) fits on step 2 alone")
 C.check(last_at[1][0] is not None and not np.array_equal(last_at[1][0], at[0][0]) and

@@ -25,10 +25,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 mce = T.load_plugin(globals())
 C = T.Checker("test_fused_reduction")
 
-t1 = OpenDataFile(T.data_file("ch2.nii.gz"))
-aal = OpenDataFile(T.data_file("aal.nii.gz"))
-brodmann = OpenDataFile(T.data_file("brodmann.nii.gz"))
-merged = AppendAttributes(Input=[t1, aal, brodmann])
+merged = T.brain_channels()
 merged.UpdatePipeline()
 channels = list(merged.PointData.keys())
 voxels = merged.GetDataInformation().GetNumberOfPoints()

@@ -13,6 +13,8 @@ mkdir -p "$MCV_OUTPUT_DIR"
 state="$MCV_OUTPUT_DIR/gui_${name}_state.json"
 rm -f "$state"
 export MCV_GUI_STATE="$state"
+# The setup scripts import gui_setup.py and mcv_testing.py from here.
+export PYTHONPATH="$here${PYTHONPATH:+:$PYTHONPATH}"
 # --dr: default settings (no welcome dialog); a failed playback would wait on a dialog,
 # hence the timeout (MCV_GUI_TIMEOUT seconds, default 300). --test-directory: $PARAVIEW_TEST_ROOT in a file dialog's playback.
 # MCV_GUI_GEOMETRY (e.g. 1280x1000+0+0): the main window's size, for tests whose screenshot

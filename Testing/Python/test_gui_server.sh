@@ -18,6 +18,8 @@ out="${MCV_OUTPUT_DIR:-/tmp}/gui_server"
 rm -rf "$out"
 mkdir -p "$out/builtin" "$out/server"
 export MCV_TESTING_DIR="$here"
+# The setup scripts import gui_setup.py from here.
+export PYTHONPATH="$here${PYTHONPATH:+:$PYTHONPATH}"
 [ -n "${PV_PLUGIN_PATH:-}" ] || { echo "test_gui_server.sh: PV_PLUGIN_PATH is not set" >&2; exit 1; }
 
 run_gui() {  # run_gui DIR [PARAVIEW OPTIONS...]: the GUI test, its state in DIR/state.json

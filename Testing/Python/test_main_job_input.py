@@ -7,9 +7,7 @@ Known answers: the job runs to the end; report.json names the file and counts it
 and the same job given the three channels as NIfTI files with --channels, on the same grid,
 finds the same best direction (the chain's equality itself is test_tiff_chain's).
 """
-import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -45,22 +43,9 @@ tifffile.imwrite(stack, np.ascontiguousarray(np.stack(channels).transpose(1, 0, 
 
 
 def job(output, *inputs):
-    command = [os.path.join(T.REPO, "Examples", "transfer_function.py"), "--features", "6D",
-               "--method", "PCA", "--no-methods", "--widgets", "3", "--size", "400", "300",
-               "--output", output] + list(inputs)
-    if os.environ.get("MCV_PLUGIN"):
-        command += ["--plugin", os.environ["MCV_PLUGIN"]]
-    run = subprocess.run(["sh", os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                             "run_pvbatch.sh"), "pvbatch"] + command,
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True)
-    print(run.stdout[-1500:])
-    C.check(run.returncode == 0, "main job %s ran (exit %d)" % (" ".join(inputs), run.returncode))
-    path = os.path.join(output, "report.json")
-    if not C.check(os.path.exists(path), "%s written" % path):
-        C.finish()
-    with open(path) as f:
-        return json.load(f)
+    return T.run_example(C, "transfer_function.py", [
+        "--features", "6D", "--method", "PCA", "--no-methods", "--widgets", "3",
+        "--size", "400", "300", "--output", output] + list(inputs), output)
 
 
 report = job(os.path.join(work, "from_hyperstack"), "--input", stack)

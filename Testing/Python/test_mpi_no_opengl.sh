@@ -10,11 +10,9 @@
 set -u
 pvbatch="$1"
 mpiexec="$2"
-here="$(cd "$(dirname "$0")" && pwd)"
-out="${MCV_OUTPUT_DIR:-/tmp}/mpi_no_opengl"
-mkdir -p "$out"
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-export OMPI_MCA_rmaps_base_oversubscribe=1 OMP_NUM_THREADS=1
+. "$(dirname "$0")/pvbatch_runs.sh"
+out=$(fresh_dir mpi_no_opengl)
+mpi_environment
 export PYTHONPATH="$here${PYTHONPATH:+:$PYTHONPATH}"
 run() {  # run MODE SECONDS: the two-process run under one virtual X server
   timeout -k 10 "$2" sh "$here/run_pvbatch.sh" "$mpiexec" \

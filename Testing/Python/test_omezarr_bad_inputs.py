@@ -22,10 +22,7 @@ from numcodecs import BZ2, Delta  # noqa: E402
 import omezarr_testing as Z  # noqa: E402
 
 C = T.Checker("test_omezarr_bad_inputs")
-OUT = os.path.join(T.output_dir(), "omezarr_bad_inputs")
-if os.path.exists(OUT):
-    shutil.rmtree(OUT)
-os.makedirs(OUT)
+OUT = T.fresh_output_dir("omezarr_bad_inputs")
 
 brain = Z.brain_arrays()
 small = np.ascontiguousarray(brain[:, 80:120, 60:124, 40:104])  # 3 x 40 x 64 x 64

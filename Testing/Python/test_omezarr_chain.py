@@ -8,7 +8,6 @@ coordinates must be the same and the best view the same direction. Writes
 omezarr_chain/best.png (the OME-Zarr brain through its widgets, from its best view).
 """
 import os
-import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -23,10 +22,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 import omezarr_testing as Z  # noqa: E402
 
 C = T.Checker("test_omezarr_chain")
-OUT = os.path.join(T.output_dir(), "omezarr_chain")
-if os.path.exists(OUT):
-    shutil.rmtree(OUT)
-os.makedirs(OUT)
+OUT = T.fresh_output_dir("omezarr_chain")
 
 brain = Z.brain_arrays()
 folder = Z.write_image(os.path.join(OUT, "brain.ome.zarr"),

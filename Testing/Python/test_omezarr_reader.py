@@ -10,7 +10,6 @@ a missing chunk reading as the fill value; OpenDataFile choosing the reader for 
 """
 import glob
 import os
-import shutil
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -25,10 +24,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 import omezarr_testing as Z  # noqa: E402
 
 C = T.Checker("test_omezarr_reader")
-OUT = os.path.join(T.output_dir(), "omezarr_reader")
-if os.path.exists(OUT):
-    shutil.rmtree(OUT)
-os.makedirs(OUT)
+OUT = T.fresh_output_dir("omezarr_reader")
 
 
 def read(folder, level=None, time=None, extent=None):

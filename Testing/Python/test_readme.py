@@ -7,7 +7,6 @@ from another build folder. Checks: exit status 0, no Python traceback, and the p
 the block saves are written and not blank."""
 import os
 import re
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -48,10 +47,7 @@ for index, (page, number, block) in enumerate(blocks, 1):
     for picture in saved:
         if os.path.exists(os.path.join(work, picture)):
             os.remove(os.path.join(work, picture))
-    run = subprocess.run(["sh", os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                             "run_pvbatch.sh"), "pvbatch", path],
-                         cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True, timeout=900)
+    run = T.run_pvbatch("pvbatch", [path], cwd=work, timeout=900)
     print("--- %s (%s):\n%s" % (name, path, run.stdout[-2500:]))
     C.check(run.returncode == 0 and "Traceback" not in run.stdout,
             "%s runs as written (exit %d)" % (name, run.returncode))

@@ -184,14 +184,7 @@ def point_cloud_shot(red, label, dim=3):
     place.UpdatePipeline()
     n = place.GetDataInformation().GetNumberOfPoints()
     C.check(1000 <= n <= 12000, "%s: point cloud of %d voxels" % (label, n))
-    view = CreateView("RenderView")
-    view.ViewSize = [600, 500]
-    view.OrientationAxesVisibility = 1
-    view.Background = [1, 1, 1]
-    try:
-        view.UseColorPaletteForBackground = 0
-    except AttributeError:
-        pass
+    view = T.render_view([600, 500], background=(1, 1, 1), axes=True)
     disp = Show(place, view)
     disp.SetRepresentationType("Points")
     disp.PointSize = 3
@@ -304,21 +297,13 @@ def bad(label, source, error_words=None, warning_words=None, **props):
 smooth = "math.sin(0.3 * i + c) + math.cos(0.2 * j * (c + 1)) + 0.1 * k * c"
 good = image_source((12, 10, 8), 4, smooth)
 bad("not image data", Sphere(), error_words=("not image data",))
-noarray = ProgrammableSource()
-noarray.OutputDataSetType = "vtkImageData"
-noarray.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, 9, 0, 9, 0, 9])\n")
-noarray.Script = "self.GetOutput().SetExtent(0, 9, 0, 9, 0, 9)\n"
+noarray = T.image_without_arrays()
 bad("no feature array", noarray, error_words=("no point arrays",))
 bad("missing array name", good, error_words=("No point array named 'Nope'",),
     Features=["POINTS", "Nope"])
 bad("one component", Wavelet(), error_words=("1 component", "nothing to reduce"),
     Features=["POINTS", "RTData"])
-empty = ProgrammableSource()
-empty.OutputDataSetType = "vtkImageData"
-empty.ScriptRequestInformation = (
-    "from paraview import util\nutil.SetOutputWholeExtent(self, [0, -1, 0, -1, 0, -1])\n")
-empty.Script = "pass\n"
+empty = T.image_without_arrays(-1)
 bad("empty extent", empty, error_words=("empty extent",))
 bad("OutputDimension 4", good, error_words=("OutputDimension", "2 or 3"), OutputDimension=4)
 bad("OutputDimension 1", good, error_words=("OutputDimension", "2 or 3"), OutputDimension=1)

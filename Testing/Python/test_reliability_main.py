@@ -115,13 +115,13 @@ before = R.content(out)
 # (--no-memory-check), the filter's own check stops it with the filter's message.
 env = dict(os.environ, MCV_MEMORY_LIMIT_MB="1")
 code, output, _ = run_job(out, env=env)
-last = output.strip().splitlines()[-1] if output.strip() else ""
+last = R.last_line(output)
 C.check(code == 1 and last.startswith("error: the job needs") and "available" in last and
         "\nread " not in "\n" + output,
         "the job's estimate refuses it before reading: %d %s" % (code, last))
 env["MCV_MEMORY_LIMIT_MB"] = "8"  # the readers fit (6.8 MiB each), the reduction not
 code, output, _ = run_job(out, env=env, extra=["--no-memory-check"])
-last = output.strip().splitlines()[-1] if output.strip() else ""
+last = R.last_line(output)
 C.check(code == 1 and last.startswith("error: reduction failed: DimensionReduction needs") and
         "available" in last,
         "a filter's memory check stops the job with its message: %d %s" % (code, last))
@@ -134,23 +134,14 @@ LAUNCHER = [os.path.join(T.REPO, "scripts", "main-job.sh")] + job_command(out)[2
 for gb in (0.5, 1.0, 1.5, 2.0, 4.0):
     label = "ulimit -v %g GB" % gb
     code, output, _ = R.run(["bash"] + LAUNCHER, memory_limit=int(gb * (1 << 30)))
-    last = output.strip().splitlines()[-1] if output.strip() else ""
-    print("%s: exit %d, %s" % (label, code, last))
-    if code == 0:
-        R.main_job_outputs_valid(out, C, label)
-        before = R.content(out)
-    else:
-        C.check(code == 1 and last.startswith("error:") and "needs" in last and
-                "available" in last, "%s: exit code 1 with the memory it needs: %d %s"
-                % (label, code, last))
-    C.check(R.content(out) == before, "%s: the previous output intact" % label)
+    last = R.last_line(output)
+    before = R.ran_or_refused(out, C, label, code, last, last.startswith("error:") and
+                              "needs" in last and "available" in last,
+                              "the memory it needs", before)
 
 # Full disk at several fill levels, and read-only.
-ok, why = R.can_mount(work)
-if not ok:
-    print("SKIP: full-disk and read-only cases: cannot mount a tmpfs here (%s)" % why)
-else:
-    disk = R.Tmpfs(os.path.join(work, "tmpfs"), 8192)
+disk = R.mounted_tmpfs(work, 8192, "full-disk and read-only cases")
+if disk is not None:
     try:
         small = os.path.join(disk.folder, "out")
         complete_run(small, "tmpfs: complete run")
@@ -164,22 +155,15 @@ else:
             free = disk.fill(leave)
             label = "tmpfs with %d KiB free" % (free // 1024)
             code, output, _ = run_job(small)
-            message = output.strip().splitlines()[-1] if output.strip() else ""
-            print("%s: exit %d, %s" % (label, code, message))
-            if code == 0:
-                R.main_job_outputs_valid(small, C, label)
-                previous = R.content(small)
-            else:
-                C.check(code == 1 and "disk full" in message and
-                        ("was not written" in message or "the outputs need" in message),
-                        "%s: exit code 1 and the cause: %s" % (label, message))
-                C.check(R.content(small) == previous,
-                        "%s: the previous output as it was" % label)
+            message = R.last_line(output)
+            previous = R.ran_or_refused(small, C, label, code, message, "disk full" in message and
+                                        ("was not written" in message or
+                                         "the outputs need" in message), "the cause", previous)
             R.no_staging_left(disk.folder, "out", C, label)
         disk.unfill()
         if C.check(disk.remount("ro"), "tmpfs remounted read-only"):
             code, output, _ = run_job(small)
-            message = output.strip().splitlines()[-1] if output.strip() else ""
+            message = R.last_line(output)
             C.check(code == 1 and "read-only file system" in message and
                     "\nread " not in "\n" + output,
                     "read-only: exit code 1 before anything is read: %s" % message)

@@ -147,11 +147,8 @@ index = consistent(out, "after SIGKILL, a plain run")
 C.check(code == 0 and "0 processed, 4 skipped" in text and index.get("run") == "complete",
         "after SIGKILL, a plain run skips all and ends complete (%d)" % code)
 
-ok, why = R.can_mount(work)
-if not ok:
-    print("SKIP: the full-disk cases: cannot mount a tmpfs here (%s)" % why)
-else:
-    disk = R.Tmpfs(os.path.join(work, "tmpfs"), 4096)
+disk = R.mounted_tmpfs(work, 4096, "the full-disk cases")
+if disk is not None:
     try:
         small = os.path.join(disk.folder, "out")
         per_volume = max(os.path.getsize(os.path.join(out, "thumbnails", n))

@@ -27,9 +27,8 @@ from vtkmodules.vtkIOImage import vtkNIFTIImageWriter  # noqa: E402
 
 mce = T.load_plugin(globals())
 C = T.Checker("test_tiff_chain")
-OUT = os.path.join(T.output_dir(), "tiff_chain")
-os.makedirs(OUT, exist_ok=True)
-NAMES = ("ch2", "aal", "brodmann")
+OUT = T.fresh_output_dir("tiff_chain")
+NAMES = T.BRAIN
 
 
 channels = list(T.brain_arrays(NAMES, step=2).astype(np.uint16))

@@ -35,9 +35,8 @@ from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 mce = T.load_plugin(globals())
 C = T.Checker("test_tiff_hyperstack")
-OUT = os.path.join(T.output_dir(), "tiff_hyperstack")
-os.makedirs(OUT, exist_ok=True)
-NAMES = ("ch2", "aal", "brodmann")
+OUT = T.fresh_output_dir("tiff_hyperstack")
+NAMES = T.BRAIN
 
 
 def path(name):

@@ -9,9 +9,7 @@ Known answers:
 - the same series with that model (--model): the same frames, pixel for pixel;
 - --camera follow: one frame for step 0 and --turn-frames frames for each later step.
 """
-import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -34,23 +32,9 @@ tifffile.imwrite(stack, np.ascontiguousarray(frames.transpose(0, 2, 1, 3, 4)).as
 
 
 def example(output, *extra):
-    command = [os.path.join(T.REPO, "Examples", "time_series.py"), "--input", stack,
-               "--output", output, "--size", "320", "240", "--widgets", "3",
-               "--reference-size", "3000"] + list(extra)
-    if os.environ.get("MCV_PLUGIN"):
-        command += ["--plugin", os.environ["MCV_PLUGIN"]]
-    run = subprocess.run(["sh", os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                             "run_pvbatch.sh"), "pvbatch"] + command,
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                         universal_newlines=True)
-    print(run.stdout[-1200:])
-    C.check(run.returncode == 0, "time_series.py %s ran (exit %d)" % (" ".join(extra),
-                                                                       run.returncode))
-    path = os.path.join(output, "report.json")
-    if not C.check(os.path.exists(path), "%s written" % path):
-        C.finish()
-    with open(path) as f:
-        return json.load(f)
+    return T.run_example(C, "time_series.py", [
+        "--input", stack, "--output", output, "--size", "320", "240", "--widgets", "3",
+        "--reference-size", "3000"] + list(extra), output, tail=1200)
 
 
 def pixels(folder, name):

@@ -65,10 +65,15 @@ widgets_a = plane_widgets(normal_a)
 widgets_b = plane_widgets(normal_b, color=(0.1, 0.4, 1.0))
 
 # ---- BestViewpoint from the widgets' opacity --------------------------------------------
+def best_direction(viewpoint):
+    """The BestViewpoint's BestViewDirection after an update."""
+    viewpoint.UpdatePipeline()
+    viewpoint.UpdatePropertyInformation()
+    return [float(x) for x in viewpoint.GetPropertyValue("BestViewDirection")]
+
+
 bvp = BestViewpoint(Input=coords, OpacitySource="Representation", GaussianWidgets=widgets_a)
-bvp.UpdatePipeline()
-bvp.UpdatePropertyInformation()
-best_a = [float(x) for x in bvp.GetPropertyValue("BestViewDirection")]
+best_a = best_direction(bvp)
 C.check(T.angle_deg(best_a, normal_a, unsigned=True) < 2.0,
         "widgets on a plane: best direction %s is the plane normal (%.2f deg)"
         % (["%.3f" % x for x in best_a], T.angle_deg(best_a, normal_a, unsigned=True)))
@@ -77,17 +82,13 @@ as_channel = Calculator(Input=coords, Function=opacity_expression(widgets_a),
                         ResultArrayName="WidgetOpacity")
 ramp = CreatePiecewiseFunction(Points=[0.0, 0.0, 0.5, 0.0, 1.0, 1.0, 0.5, 0.0])
 bvp_channel = BestViewpoint(Input=as_channel, Channels=["WidgetOpacity"], OpacityFunction=ramp)
-bvp_channel.UpdatePipeline()
-bvp_channel.UpdatePropertyInformation()
-best_channel = [float(x) for x in bvp_channel.GetPropertyValue("BestViewDirection")]
+best_channel = best_direction(bvp_channel)
 C.check(T.angle_deg(best_a, best_channel, unsigned=True) < 0.5,
         "widget opacity == the same opacity as a channel (%.3f deg)"
         % T.angle_deg(best_a, best_channel, unsigned=True))
 
 bvp.GaussianWidgets = widgets_b
-bvp.UpdatePipeline()
-bvp.UpdatePropertyInformation()
-best_b = [float(x) for x in bvp.GetPropertyValue("BestViewDirection")]
+best_b = best_direction(bvp)
 C.check(T.angle_deg(best_b, normal_b, unsigned=True) < 2.0,
         "new widgets: best direction follows to the new normal (%.2f deg)"
         % T.angle_deg(best_b, normal_b, unsigned=True))

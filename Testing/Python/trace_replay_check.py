@@ -10,7 +10,7 @@
       in a fresh process WITHOUT the plugin loaded (no PV_PLUGIN_PATH): runs DIR/trace.py,
       which must load the plugin itself, and compares its picture with DIR/recorded.png
       (within a small pixel tolerance).
-Driver: test_trace_replay.sh.
+Driver: record_replay.sh (CTest pvbatch.test_trace_replay).
 """
 import argparse
 import os
@@ -23,45 +23,15 @@ import mcv_testing as T  # noqa: E402
 from paraview import simple, smtrace  # noqa: E402
 
 VIEW_SIZE = [400, 400]
-PIXEL_TOLERANCE = 12
 DIFFERING_FRACTION = 0.005
-
-
-def picture_difference(a_path, b_path):
-    from vtkmodules.vtkIOImage import vtkPNGReader
-
-    def read(path):
-        reader = vtkPNGReader()
-        reader.SetFileName(path)
-        reader.Update()
-        image = reader.GetOutput()
-        scalars = image.GetPointData().GetScalars()
-        return image.GetDimensions(), scalars.GetNumberOfComponents(), bytes(memoryview(scalars))
-
-    (da, ca, a), (db, cb, b) = read(a_path), read(b_path)
-    if da != db or ca != cb:
-        return None
-    worst, differing, lit = 0, 0, 0
-    for p in range(0, len(a), ca):
-        d = max(abs(a[p + c] - b[p + c]) for c in range(min(ca, 3)))
-        worst = max(worst, d)
-        differing += d > PIXEL_TOLERANCE
-        lit += max(abs(b[p + c] - b[c]) for c in range(min(cb, 3))) > 20  # not background
-    pixels = float(len(a) // ca)
-    return worst, differing / pixels, lit / pixels
 
 
 def record(C, out):
     mce = T.load_plugin(globals())
     smtrace.start_trace()
-    channels = [simple.OpenDataFile(T.data_file(n))
-                for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
-    merged = simple.AppendAttributes(Input=channels)
-    merged.UpdatePipeline()
     # Properties set from a script outside a trace scope are not traced (ParaView's rule):
-    # given to the constructor, they are.
-    volume = simple.ExtractSubset(Input=merged, VOI=merged.GetDataInformation().GetExtent(),
-                                  SampleRateI=3, SampleRateJ=3, SampleRateK=3)
+    # brain_subset gives them to the constructors, so they are.
+    volume = T.brain_subset(3)
     feats, red = mce.reduce_multichannel(volume, "PCA", "6D", output_dimension=3,
                                          ReferenceSampleSize=3000, RandomSeed=7)
     view = simple.CreateView("RenderView")
@@ -105,11 +75,11 @@ def replay(C, out):
     pvs.Render(view)
     replayed = os.path.join(out, "replayed.png")
     pvs.SaveScreenshot(replayed, view, ImageResolution=VIEW_SIZE)
-    diff = picture_difference(os.path.join(out, "recorded.png"), replayed)
+    diff = T.picture_difference(os.path.join(out, "recorded.png"), replayed)
     C.check(diff is not None and diff[1] <= DIFFERING_FRACTION and diff[2] > 0.05,
             "the replayed trace draws the recorded picture: %s"
             % ("max channel difference %d, %.3f%% of pixels above %d, %.1f%% of pixels not background"
-               % (diff[0], 100 * diff[1], PIXEL_TOLERANCE, 100 * diff[2]) if diff
+               % (diff[0], 100 * diff[1], T.PIXEL_TOLERANCE, 100 * diff[2]) if diff
                else "a picture of another size"))
 
 

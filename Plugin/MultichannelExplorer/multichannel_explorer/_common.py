@@ -257,6 +257,20 @@ def _warn(message):
         sys.stderr.write("multichannel_explorer: warning: %s\n" % message)
 
 
+def _gui_text(title, action):
+    """The text a GUI control shows for action(), which returns it: an error becomes
+    "title: error" (a ValueError is the user's to fix; any other is also warned in Output
+    Messages), so a click never fails silently."""
+    try:
+        return action()
+    except ValueError as error:
+        return "%s: %s" % (title, error)
+    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
+        text = "%s: %s" % (title, error)
+        _warn(text)
+        return text
+
+
 def _same_proxy(a, b):
     if a is None or b is None:
         return False

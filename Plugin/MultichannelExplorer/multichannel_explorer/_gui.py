@@ -8,7 +8,7 @@ The helpers are called through the package (``multichannel_explorer.probe_at_pix
 so GUI tests can wrap them there.
 """
 
-from ._common import _same_proxy, _simple, _warn
+from ._common import _gui_text, _same_proxy, _simple, _warn
 
 text = ""
 last_hit = None  # the last probe's result: "Add Widget Here" puts a widget there
@@ -46,21 +46,18 @@ def probe(x, y):
     global text, last_hit
     import multichannel_explorer as mce
 
-    simple = _simple()
-    view = simple.GetActiveView()
-    try:
+    def run():
+        global last_hit
+        view = _simple().GetActiveView()
         if mce.picking._gaussian_tf_in(view) is None and mce.picking._domain_in(view):
             hit = mce.probe_domain_at_pixel(view, x, y, render=False)  # the domain view
         else:
             # The views are rendered by the GUI after the answer is shown.
             hit = mce.probe_at_pixel(view, x, y, render=False)
-        text = describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
         last_hit = hit if hit is not None else last_hit
-    except ValueError as error:  # nothing to probe in this view: the label says so
-        text = "Probe: %s" % error
-    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
-        text = "Probe: %s" % error
-        _warn(text)
+        return describe(hit) if hit is not None else "Probe: nothing visible at this pixel"
+
+    text = _gui_text("Probe", run)  # nothing to probe in this view: the label says so
     return text
 
 
@@ -84,14 +81,11 @@ def brush():
     global text
     import multichannel_explorer as mce
 
-    try:
+    def run():
         count = mce.brush(_selected_domain())
-        text = "Brushed %d voxel%s" % (count, "" if count == 1 else "s")
-    except ValueError as error:  # nothing selected: the label says so
-        text = "Brush: %s" % error
-    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
-        text = "Brush: %s" % error
-        _warn(text)
+        return "Brushed %d voxel%s" % (count, "" if count == 1 else "s")
+
+    text = _gui_text("Brush", run)  # nothing selected: the label says so
     return text
 
 
@@ -100,18 +94,15 @@ def add_widget():
     global text
     import multichannel_explorer as mce
 
-    try:
+    def run():
         if last_hit is None or last_hit.display is None:
             raise ValueError("probe a voxel of a \"Gaussian TF Volume\" first")
         widget = mce.add_widget_at(last_hit.display, last_hit)
         count = len(last_hit.display.GaussianWidgets) // 8
-        text = "Widget %d added at (%s), sigma %.3g" % (count, _numbers(widget[:3]), widget[3])
         _simple().Render()
-    except ValueError as error:
-        text = "Add Widget Here: %s" % error
-    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
-        text = "Add Widget Here: %s" % error
-        _warn(text)
+        return "Widget %d added at (%s), sigma %.3g" % (count, _numbers(widget[:3]), widget[3])
+
+    text = _gui_text("Add Widget Here", run)
     return text
 
 

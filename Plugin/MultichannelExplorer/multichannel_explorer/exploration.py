@@ -15,7 +15,7 @@ bar what is running; scripts call ``explore_multichannel``::
 import os
 import re
 
-from ._common import _filter, _same_proxy, _simple, _warn
+from ._common import _filter, _gui_text, _same_proxy, _simple, _warn
 
 __all__ = [
     "explore_multichannel",
@@ -374,59 +374,53 @@ def _gui_step():
     return text
 
 
-def _gui_show_domain():
-    """Show Reduced Domain on the active source's Gaussian TF Volume display."""
-    global text
+def _show_domain():
+    """Show Reduced Domain on the active source's Gaussian TF Volume display; returns
+    what the status bar says."""
     simple = _simple()
+    from paraview import servermanager
+
+    from ._common import _find_filter
     from .dual_domain import show_dual_domain
     from .transfer_function import _gaussian_tf_display
 
     view = simple.GetActiveView()
     source = simple.GetActiveSource()
     display = _gaussian_tf_display(source, view)
-    try:
-        if display is None:
-            raise ValueError("select a volume shown as Gaussian TF Volume in the active view "
-                             "(pick Gaussian TF Volume in the Representation box, or press "
-                             "Explore Multichannel)")
-        from ._common import _find_filter
-        from paraview import servermanager
+    if display is None:
+        raise ValueError("select a volume shown as Gaussian TF Volume in the active view "
+                         "(pick Gaussian TF Volume in the Representation box, or press "
+                         "Explore Multichannel)")
+    domain = _find_filter(source, "ReducedDomain")
+    for other in simple.GetViews() if domain is not None else []:
+        rep = servermanager.GetRepresentation(domain, other)
+        if rep is not None and rep.Visibility:
+            return ("The reduced domain of %s is already shown (%s): drag its spheres "
+                    "there" % (_registered_name(source), _registered_name(domain)))
+    if not len(display.GaussianWidgets):
+        from .seeding import auto_widgets
 
-        domain = _find_filter(source, "ReducedDomain")
-        for other in simple.GetViews() if domain is not None else []:
-            rep = servermanager.GetRepresentation(domain, other)
-            if rep is not None and rep.Visibility:
-                text = ("The reduced domain of %s is already shown (%s): drag its spheres "
-                        "there" % (_registered_name(source), _registered_name(domain)))
-                return text
-        if not len(display.GaussianWidgets):
-            from .seeding import auto_widgets
+        auto_widgets(display, 4, view)
+    dual = show_dual_domain(display, view)
+    name = _registered_name(source)
+    _rename(dual.filter, "Reduced domain of %s" % name)
+    _rename(dual.glyph, "Widget spheres of %s" % name)
+    simple.SetActiveView(view)
+    simple.SetActiveSource(source)
+    return ("Reduced domain of %s opened on the right: drag a sphere to move its widget, "
+            "shift+drag to resize it" % name)
 
-            auto_widgets(display, 4, view)
-        dual = show_dual_domain(display, view)
-        name = _registered_name(source)
-        _rename(dual.filter, "Reduced domain of %s" % name)
-        _rename(dual.glyph, "Widget spheres of %s" % name)
-        simple.SetActiveView(view)
-        simple.SetActiveSource(source)
-        text = ("Reduced domain of %s opened on the right: drag a sphere to move its widget, "
-                "shift+drag to resize it" % name)
-    except ValueError as error:
-        text = "Show Reduced Domain: %s" % error
-    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
-        text = "Show Reduced Domain: %s" % error
-        _warn(text)
+
+def _gui_show_domain():
+    """What the Show Reduced Domain button runs: ``text`` is what the status bar (or, on
+    an error, a message box) shows."""
+    global text
+    text = _gui_text("Show Reduced Domain", _show_domain)
     return text
 
 
 def _gui_show_spectrum():
+    """What the Show Spectrum button runs: ``text`` as for _gui_show_domain."""
     global text
-    try:
-        chart, _ = show_spectrum()
-        text = "Spectrum: %s" % chart.ChartTitle
-    except ValueError as error:
-        text = "Show Spectrum: %s" % error
-    except Exception as error:  # noqa: BLE001 - shown to the user, not swallowed
-        text = "Show Spectrum: %s" % error
-        _warn(text)
+    text = _gui_text("Show Spectrum", lambda: "Spectrum: %s" % show_spectrum()[0].ChartTitle)
     return text
