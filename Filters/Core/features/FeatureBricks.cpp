@@ -443,20 +443,30 @@ bool FeatureBricks::deviceStatistics(std::vector<detail::ColumnStats>& parts, st
 #endif
 }
 
+#ifdef MCV_HAS_CUDA
+template <class Pass>
+bool FeatureBricks::normalisedDevicePass(const char* name, std::string& error, Pass pass)
+{
+  if (!normalisedPassesApply())
+  {
+    return false;
+  }
+  const cuda::FusedPassSetup setup =
+    passSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_, residentOf(resident_));
+  cuda::FusedPassStats stats;
+  const bool ok = pass(setup, &stats, &error);
+  recordDevicePass(name, statsOf(stats), ok, error);
+  return true;
+}
+#endif
+
 DeviceColumnSums FeatureBricks::columnSumsOnDevice(const std::function<void(double)>& progress)
 {
   DeviceColumnSums out;
 #ifdef MCV_HAS_CUDA
-  if (!normalisedPassesApply())
-  {
-    return out;
-  }
-  out.attempted = true;
-  const cuda::FusedPassSetup setup =
-    passSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_, residentOf(resident_));
-  cuda::FusedPassStats stats;
-  const bool ok = cuda::fusedColumnSums(setup, channelFill(channels_), &out, progress, &stats, &out.error);
-  recordDevicePass("column sums", statsOf(stats), ok, out.error);
+  out.attempted = normalisedDevicePass("column sums", out.error,
+    [&](const cuda::FusedPassSetup& setup, cuda::FusedPassStats* stats, std::string* error)
+    { return cuda::fusedColumnSums(setup, channelFill(channels_), &out, progress, stats, error); });
 #else
   (void)progress;
 #endif
@@ -467,16 +477,9 @@ DevicePassReport FeatureBricks::strataOnDevice(const DeviceStrata& request)
 {
   DevicePassReport out;
 #ifdef MCV_HAS_CUDA
-  if (!normalisedPassesApply())
-  {
-    return out;
-  }
-  out.attempted = true;
-  const cuda::FusedPassSetup setup =
-    passSetup(grid_, channels_.size(), selection_, cols_, offset_, scale_, deviceBytes_, residentOf(resident_));
-  cuda::FusedPassStats stats;
-  const bool ok = cuda::fusedStrata(setup, channelFill(channels_), request, &stats, &out.error);
-  recordDevicePass("strata", statsOf(stats), ok, out.error);
+  out.attempted = normalisedDevicePass("strata", out.error,
+    [&](const cuda::FusedPassSetup& setup, cuda::FusedPassStats* stats, std::string* error)
+    { return cuda::fusedStrata(setup, channelFill(channels_), request, stats, error); });
 #else
   (void)request;
 #endif

@@ -132,6 +132,11 @@ private:
   bool normalisedPassesApply() const;
   // Logs a GPU pass (devicePasses); a failure without a message gets one.
   bool recordDevicePass(const char* name, const DeviceStats& stats, bool ok, std::string& error);
+  // CUDA builds: runs one pass over the normalised features (column sums, strata) when
+  // normalisedPassesApply(); pass(setup, stats, error) returns false on a device failure,
+  // which is logged. Returns whether the pass was attempted.
+  template <class Pass>
+  bool normalisedDevicePass(const char* name, std::string& error, Pass pass);
   // The statistics pass on the GPU; false (with error) leaves the CPU to run it.
   bool deviceStatistics(std::vector<detail::ColumnStats>& parts, std::vector<double>& badPerChannel,
     double& badVoxels, std::string& error);
