@@ -340,16 +340,20 @@ void channelFeaturesCentresCPU(const float* values, bool hasNonFinite, const Ima
     values, grid, selection, out, firstColumn);
 }
 
-void columnStatsCPU(
-  const FeatureOutput& out, const unsigned char* mask, bool deviation, ColumnStats& stats)
+namespace
+{
+// One OpenMP pass over the rows of out that mask does not exclude: each thread folds every
+// finite value into its own Local (add(local, column, value)), then merge(local) combines it
+// into the result, one thread at a time.
+template <class Local, class Add, class Merge>
+void foldFiniteColumns(const FeatureOutput& out, const unsigned char* mask, const Local& empty,
+  Add add, Merge merge)
 {
   const int F = out.cols;
   const std::int64_t n = static_cast<std::int64_t>(out.rows);
-  stats.reset(F);
 #pragma omp parallel
   {
-    ColumnStats local;
-    local.reset(F);
+    Local local = empty;
 #pragma omp for schedule(static)
     for (std::int64_t r = 0; r < n; ++r)
     {
@@ -363,22 +367,41 @@ void columnStatsCPU(
         const double x = row[c];
         if (std::isfinite(x))
         {
-          local.count[c] += 1.0;
-          local.sum[c] += x;
-          local.min[c] = std::min(local.min[c], x);
-          local.max[c] = std::max(local.max[c], x);
+          add(local, c, x);
         }
       }
     }
 #pragma omp critical(mcvFeatureStats)
-    for (int c = 0; c < F; ++c)
-    {
-      stats.count[c] += local.count[c];
-      stats.sum[c] += local.sum[c];
-      stats.min[c] = std::min(stats.min[c], local.min[c]);
-      stats.max[c] = std::max(stats.max[c], local.max[c]);
-    }
+    merge(local);
   }
+}
+} // namespace
+
+void columnStatsCPU(
+  const FeatureOutput& out, const unsigned char* mask, bool deviation, ColumnStats& stats)
+{
+  const int F = out.cols;
+  stats.reset(F);
+  ColumnStats empty;
+  empty.reset(F);
+  foldFiniteColumns(out, mask, empty,
+    [](ColumnStats& local, int c, double x)
+    {
+      local.count[c] += 1.0;
+      local.sum[c] += x;
+      local.min[c] = std::min(local.min[c], x);
+      local.max[c] = std::max(local.max[c], x);
+    },
+    [&](const ColumnStats& local)
+    {
+      for (int c = 0; c < F; ++c)
+      {
+        stats.count[c] += local.count[c];
+        stats.sum[c] += local.sum[c];
+        stats.min[c] = std::min(stats.min[c], local.min[c]);
+        stats.max[c] = std::max(stats.max[c], local.max[c]);
+      }
+    });
   if (!deviation)
   {
     return;
@@ -388,33 +411,19 @@ void columnStatsCPU(
   {
     mean[c] = stats.count[c] > 0 ? stats.sum[c] / stats.count[c] : 0.0;
   }
-#pragma omp parallel
-  {
-    std::vector<double> local(static_cast<std::size_t>(F), 0.0);
-#pragma omp for schedule(static)
-    for (std::int64_t r = 0; r < n; ++r)
+  foldFiniteColumns(out, mask, std::vector<double>(static_cast<std::size_t>(F), 0.0),
+    [&](std::vector<double>& local, int c, double x)
     {
-      if (mask && mask[r])
-      {
-        continue;
-      }
-      const float* row = out.data + static_cast<std::size_t>(r) * F;
+      const double d = x - mean[c];
+      local[c] += d * d;
+    },
+    [&](const std::vector<double>& local)
+    {
       for (int c = 0; c < F; ++c)
       {
-        const double x = row[c];
-        if (std::isfinite(x))
-        {
-          const double d = x - mean[c];
-          local[c] += d * d;
-        }
+        stats.sqdev[c] += local[c];
       }
-    }
-#pragma omp critical(mcvFeatureStats)
-    for (int c = 0; c < F; ++c)
-    {
-      stats.sqdev[c] += local[c];
-    }
-  }
+    });
 }
 
 void applyNormalizationCPU(const FeatureOutput& out, const unsigned char* mask,
