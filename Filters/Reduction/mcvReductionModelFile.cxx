@@ -57,6 +57,75 @@ std::uint32_t crcOf(const char* p, std::size_t n)
   return static_cast<std::uint32_t>(crc);
 }
 
+// The scalar fields kept under a fixed key of the selection and fit sections: one list that
+// encodeModel and decodeModel both walk, so that a field is named in one place.
+enum Section
+{
+  SelectionSection,
+  FitSection
+};
+template <class Model, class Visit>
+void visitScalarFields(Model& m, Visit visit)
+{
+  auto& s = m.features.selection;
+  visit(SelectionSection, "intensity", s.intensity);
+  visit(SelectionSection, "gradient", s.gradient);
+  visit(SelectionSection, "gradientMagnitude", s.gradientMagnitude);
+  visit(SelectionSection, "laplacian", s.laplacian);
+  visit(SelectionSection, "localMean", s.localMean);
+  visit(SelectionSection, "localVariance", s.localVariance);
+  visit(FitSection, "numberOfNeighbors", m.fit.numberOfNeighbors);
+  visit(FitSection, "numberOfLandmarks", m.fit.numberOfLandmarks);
+  visit(FitSection, "numberOfEpochs", m.fit.numberOfEpochs);
+  visit(FitSection, "minimumDistance", m.fit.minimumDistance);
+  visit(FitSection, "referenceSampleSize", m.fit.referenceSampleSize);
+  visit(FitSection, "randomSeed", m.fit.randomSeed);
+  visit(FitSection, "sampledVoxels", m.fit.sampledVoxels);
+  visit(FitSection, "fittedOn", m.fit.fittedOn);
+}
+
+Json::Value jsonOf(bool v)
+{
+  return Json::Value(v);
+}
+Json::Value jsonOf(int v)
+{
+  return Json::Value(v);
+}
+Json::Value jsonOf(double v)
+{
+  return Json::Value(v);
+}
+Json::Value jsonOf(std::uint64_t v)
+{
+  return Json::Value(static_cast<Json::UInt64>(v));
+}
+Json::Value jsonOf(const std::string& v)
+{
+  return Json::Value(v);
+}
+
+void fromJson(const Json::Value& j, bool& v)
+{
+  v = j.asBool();
+}
+void fromJson(const Json::Value& j, int& v)
+{
+  v = j.asInt();
+}
+void fromJson(const Json::Value& j, double& v)
+{
+  v = j.asDouble();
+}
+void fromJson(const Json::Value& j, std::uint64_t& v)
+{
+  v = j.asUInt64();
+}
+void fromJson(const Json::Value& j, std::string& v)
+{
+  v = j.asString();
+}
+
 // The hosts this suite runs on are little-endian (x86-64, aarch64); the file is too.
 bool littleEndian()
 {
@@ -151,12 +220,10 @@ std::vector<char> encodeModel(const ModelFile& m)
   features["channels"] = stringList(f.channels);
   features["featureSet"] = presetName(f.preset);
   Json::Value selection(Json::objectValue);
-  selection["intensity"] = f.selection.intensity;
-  selection["gradient"] = f.selection.gradient;
-  selection["gradientMagnitude"] = f.selection.gradientMagnitude;
-  selection["laplacian"] = f.selection.laplacian;
-  selection["localMean"] = f.selection.localMean;
-  selection["localVariance"] = f.selection.localVariance;
+  Json::Value fit(Json::objectValue);
+  Json::Value* sections[] = { &selection, &fit };
+  visitScalarFields(m, [&](Section section, const char* key, const auto& field)
+    { (*sections[section])[key] = jsonOf(field); });
   features["selection"] = selection;
   features["normalization"] = normalizationName(f.normalization);
   features["names"] = stringList(f.featureNames);
@@ -181,16 +248,7 @@ std::vector<char> encodeModel(const ModelFile& m)
   reduction["trustworthiness"] = std::isfinite(r.trustworthiness) ? Json::Value(r.trustworthiness) : Json::Value();
   root["reduction"] = reduction;
 
-  Json::Value fit(Json::objectValue);
-  fit["numberOfNeighbors"] = m.fit.numberOfNeighbors;
-  fit["numberOfLandmarks"] = m.fit.numberOfLandmarks;
-  fit["numberOfEpochs"] = m.fit.numberOfEpochs;
-  fit["minimumDistance"] = m.fit.minimumDistance;
-  fit["referenceSampleSize"] = static_cast<Json::UInt64>(m.fit.referenceSampleSize);
-  fit["randomSeed"] = static_cast<Json::UInt64>(m.fit.randomSeed);
-  fit["sampledVoxels"] = static_cast<Json::UInt64>(m.fit.sampledVoxels);
   fit["volumeDimensions"] = numberList(std::vector<int>(m.fit.volumeDimensions.begin(), m.fit.volumeDimensions.end()));
-  fit["fittedOn"] = m.fit.fittedOn;
   root["fit"] = fit;
 
   Json::Value blocks(Json::arrayValue);
@@ -273,13 +331,10 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   {
     return name + " names an unknown feature set '" + preset + "'.";
   }
-  const Json::Value& s = features["selection"];
-  f.selection.intensity = s["intensity"].asBool();
-  f.selection.gradient = s["gradient"].asBool();
-  f.selection.gradientMagnitude = s["gradientMagnitude"].asBool();
-  f.selection.laplacian = s["laplacian"].asBool();
-  f.selection.localMean = s["localMean"].asBool();
-  f.selection.localVariance = s["localVariance"].asBool();
+  const Json::Value& fit = root["fit"];
+  const Json::Value* sections[] = { &features["selection"], &fit };
+  visitScalarFields(m, [&](Section section, const char* key, auto& field)
+    { fromJson((*sections[section])[key], field); });
   const std::string normalization = features["normalization"].asString();
   if (!normalizationNamed(normalization, f.normalization))
   {
@@ -320,19 +375,10 @@ std::string decodeModel(const std::vector<char>& bytes, const std::string& where
   }
   r.usedColumns.assign(used.begin(), used.end());
 
-  const Json::Value& fit = root["fit"];
-  m.fit.numberOfNeighbors = fit["numberOfNeighbors"].asInt();
-  m.fit.numberOfLandmarks = fit["numberOfLandmarks"].asInt();
-  m.fit.numberOfEpochs = fit["numberOfEpochs"].asInt();
-  m.fit.minimumDistance = fit["minimumDistance"].asDouble();
-  m.fit.referenceSampleSize = fit["referenceSampleSize"].asUInt64();
-  m.fit.randomSeed = fit["randomSeed"].asUInt64();
-  m.fit.sampledVoxels = fit["sampledVoxels"].asUInt64();
   for (int a = 0; a < 3 && fit["volumeDimensions"].isArray(); ++a)
   {
     m.fit.volumeDimensions[a] = fit["volumeDimensions"][a].asInt();
   }
-  m.fit.fittedOn = fit["fittedOn"].asString();
 
   // The blocks, in the header's order, must fill the file up to the checksum exactly.
   std::size_t at = 16 + headerSize;
