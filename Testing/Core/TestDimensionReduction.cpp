@@ -1,6 +1,7 @@
 // Dimension reduction (PCA, landmark Isomap, LLE, out-of-sample placement) against known
 // answers on synthetic data, where the answer is the point: a direct SVD, a swiss roll, an
 // S-curve (scikit-learn's generators, re-implemented).
+#include "CpuReduction.h"
 #include "DimensionReduction.h"
 #include "OutOfSample.h"
 #include "Trustworthiness.h"
@@ -97,6 +98,11 @@ bool hasWarning(const mcv::ReductionResult& r, const std::string& part)
   return false;
 }
 
+bool allFinite(const std::vector<float>& values)
+{
+  return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+}
+
 mcv::ReductionOptions cpu(mcv::ReductionMethod method, int d = 2)
 {
   mcv::ReductionOptions o;
@@ -182,16 +188,10 @@ TEST(DimensionReduction, PCAEqualsDirectSVD)
 TEST(DimensionReduction, IsomapUnrollsSwissRoll)
 {
   const Manifold m = swissRoll(1500, 7);
-  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
-  o.numberOfNeighbors = 10;
-  o.numberOfLandmarks = 150;
-  o.referenceSampleSize = m.n;
+  mcv::ReductionOptions o = mcv::testing::cpuReduction(mcv::ReductionMethod::Isomap, 2, 10, 150, m.n);
   const auto r = mcv::reduceDimension(m.matrix(), o);
   ASSERT_TRUE(r.ok()) << r.error;
-  for (float v : r.coordinates)
-  {
-    ASSERT_TRUE(std::isfinite(v));
-  }
+  ASSERT_TRUE(allFinite(r.coordinates));
   const double c = correlation(r.coordinates, 2, 0, m.t);
   EXPECT_GE(std::abs(c), 0.95) << "corr(first coordinate, roll parameter)";
   EXPECT_GT(r.varianceRetained, 0.9);
@@ -208,17 +208,11 @@ TEST(DimensionReduction, IsomapJoinsDisconnectedGraph)
     a.x.insert(a.x.end(), { b.x[3 * i] + 500.f, b.x[3 * i + 1], b.x[3 * i + 2] });
   }
   a.n += b.n;
-  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
-  o.numberOfNeighbors = 8;
-  o.numberOfLandmarks = 100;
-  o.referenceSampleSize = a.n;
+  mcv::ReductionOptions o = mcv::testing::cpuReduction(mcv::ReductionMethod::Isomap, 2, 8, 100, a.n);
   const auto r = mcv::reduceDimension(a.matrix(), o);
   ASSERT_TRUE(r.ok()) << r.error;
   EXPECT_TRUE(hasWarning(r, "connected components")) << "a warning names the components";
-  for (float v : r.coordinates)
-  {
-    ASSERT_TRUE(std::isfinite(v));
-  }
+  ASSERT_TRUE(allFinite(r.coordinates));
 }
 
 TEST(DimensionReduction, LLEOnSCurveIsTrustworthy)
@@ -228,10 +222,7 @@ TEST(DimensionReduction, LLEOnSCurveIsTrustworthy)
   for (int landmarks : { 300, static_cast<int>(m.n) })
   {
     SCOPED_TRACE("landmarks " + std::to_string(landmarks));
-    mcv::ReductionOptions o = cpu(mcv::ReductionMethod::LLE, 2);
-    o.numberOfNeighbors = 12;
-    o.numberOfLandmarks = landmarks;
-    o.referenceSampleSize = m.n;
+    mcv::ReductionOptions o = mcv::testing::cpuReduction(mcv::ReductionMethod::LLE, 2, 12, landmarks, m.n);
     o.trustworthinessSample = m.n;
     const auto r = mcv::reduceDimension(m.matrix(), o);
     ASSERT_TRUE(r.ok()) << r.error;
@@ -239,10 +230,7 @@ TEST(DimensionReduction, LLEOnSCurveIsTrustworthy)
     EXPECT_GE(r.trustworthiness, 0.95);
     ASSERT_EQ(r.eigenvalues.size(), 2u);
     EXPECT_LE(r.eigenvalues[0], r.eigenvalues[1]);
-    for (float v : r.coordinates)
-    {
-      ASSERT_TRUE(std::isfinite(v));
-    }
+    ASSERT_TRUE(allFinite(r.coordinates));
   }
 }
 
@@ -297,10 +285,8 @@ TEST(DimensionReduction, SameSeedSameResult)
   const Manifold m = swissRoll(1200, 3);
   for (auto method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap, mcv::ReductionMethod::LLE })
   {
-    mcv::ReductionOptions o = cpu(method, 2);
-    o.numberOfNeighbors = 10;
-    o.numberOfLandmarks = 60;
-    o.referenceSampleSize = 500; // a real sample: the seed matters
+    // 500 references, a real sample: the seed matters
+    mcv::ReductionOptions o = mcv::testing::cpuReduction(method, 2, 10, 60, 500);
     o.randomSeed = 42;
     const auto a = mcv::reduceDimension(m.matrix(), o);
     const auto b = mcv::reduceDimension(m.matrix(), o);
@@ -353,10 +339,7 @@ TEST(DimensionReduction, DuplicateVoxelsAreFittedOnce)
     m.x.insert(m.x.end(), { 0.f, 0.f, 0.f });
   }
   m.n = 1200;
-  mcv::ReductionOptions o = cpu(mcv::ReductionMethod::Isomap, 2);
-  o.numberOfNeighbors = 10;
-  o.numberOfLandmarks = 50;
-  o.referenceSampleSize = 2000;
+  mcv::ReductionOptions o = mcv::testing::cpuReduction(mcv::ReductionMethod::Isomap, 2, 10, 50, 2000);
   const auto r = mcv::reduceDimension(m.matrix(), o);
   ASSERT_TRUE(r.ok()) << r.error;
   EXPECT_EQ(r.referenceIndices.size(), 601u);
@@ -544,10 +527,8 @@ TEST(DimensionReduction, SameCoordinatesForAnyThreadCount)
   for (const auto method : { mcv::ReductionMethod::LLE, mcv::ReductionMethod::Isomap })
   {
     SCOPED_TRACE(method == mcv::ReductionMethod::LLE ? "LLE" : "Isomap");
-    mcv::ReductionOptions o = cpu(method, 2);
-    o.numberOfNeighbors = 12;
-    o.numberOfLandmarks = 150;
-    o.referenceSampleSize = 900; // the other rows are placed out of sample
+    // 900 references: the other rows are placed out of sample
+    mcv::ReductionOptions o = mcv::testing::cpuReduction(method, 2, 12, 150, 900);
     std::vector<std::vector<float>> coordinates;
     std::vector<std::vector<double>> eigenvalues;
     for (int t : { 1, 3 })
@@ -573,10 +554,7 @@ TEST(DimensionReduction, CallerBufferReceivesTheCoordinates)
          std::pair(mcv::ReductionMethod::Isomap, std::size_t(500)), std::pair(mcv::ReductionMethod::Isomap, m.n) })
   {
     SCOPED_TRACE(std::to_string(static_cast<int>(method)) + ", fitted on " + std::to_string(fitted));
-    mcv::ReductionOptions o = cpu(method, 3);
-    o.numberOfNeighbors = 10;
-    o.numberOfLandmarks = 60;
-    o.referenceSampleSize = fitted;
+    mcv::ReductionOptions o = mcv::testing::cpuReduction(method, 3, 10, 60, fitted);
     const auto inVector = mcv::reduceDimension(m.matrix(), o);
     ASSERT_TRUE(inVector.ok()) << inVector.error;
     std::vector<float> buffer(m.n * 3, std::numeric_limits<float>::quiet_NaN());

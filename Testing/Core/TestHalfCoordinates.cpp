@@ -3,6 +3,7 @@
 // output, the coordinate texture, the per-voxel transfer function) against the same
 // values read as float32.
 #include "CoordinateTexture.h"
+#include "CpuReduction.h"
 #include "DimensionReduction.h"
 #include "GaussianTransferFunction.h"
 #include "HalfCoordinates.h"
@@ -151,13 +152,7 @@ TEST(HalfCoordinates, ReductionWritesTheFloatCoordinatesRounded)
   for (mcv::ReductionMethod method : { mcv::ReductionMethod::PCA, mcv::ReductionMethod::Isomap })
   {
     SCOPED_TRACE(static_cast<int>(method));
-    mcv::ReductionOptions o;
-    o.method = method;
-    o.outputDimension = 3;
-    o.device = mcv::Device::CPU;
-    o.referenceSampleSize = 800;
-    o.numberOfNeighbors = 10;
-    o.numberOfLandmarks = 100;
+    mcv::ReductionOptions o = mcv::testing::cpuReduction(method, 3, 10, 100, 800);
     o.trustworthinessSample = 0;
     const mcv::ReductionResult f32 = mcv::reduceDimension(features, o);
     ASSERT_TRUE(f32.ok()) << f32.error;

@@ -2,6 +2,7 @@
 // split run's piece without its ghost layers): KeptRows' runs against a scan of every row,
 // and the reduction's boxed output against the same rows of its whole-block output, for
 // float32 and float16, PCA and Isomap.
+#include "CpuReduction.h"
 #include "DimensionReduction.h"
 #include "KeptRows.h"
 
@@ -58,13 +59,7 @@ std::vector<float> curve()
 
 mcv::ReductionOptions onGrid(mcv::ReductionMethod method)
 {
-  mcv::ReductionOptions o;
-  o.method = method;
-  o.outputDimension = 3;
-  o.device = mcv::Device::CPU;
-  o.numberOfNeighbors = 10;
-  o.numberOfLandmarks = 60;
-  o.referenceSampleSize = 300;
+  mcv::ReductionOptions o = mcv::testing::cpuReduction(method, 3, 10, 60, 300);
   o.block.dims = kDims;
   o.piece = mcv::GridPiece::whole(o.block);
   return o;
