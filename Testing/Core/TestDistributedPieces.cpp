@@ -108,6 +108,26 @@ std::vector<std::vector<float>> cropChannels(const std::vector<std::vector<float
   return out;
 }
 
+// Runs body(rank, options, block, channels) on R threads that share one communicator: each
+// rank gets its piece of the volume padded by one ghost layer (makeBlock), the channels
+// cropped to that block, and a copy of `options` with its communicator and piece set.
+// Returns the pieces in rank order.
+template <class Options, class Body>
+std::vector<Extent> runOnPieces(const Extent& wholeExtent, const mcv::ImageGrid& whole, int R,
+  const std::vector<std::vector<float>>& channels, const Options& options, Body body)
+{
+  const std::vector<Extent> pieces = splitPieces(wholeExtent, R);
+  mcv::testing::ThreadGroup group(R);
+  group.run([&](int rank, const mcv::Communicator& comm) {
+    const Block b = makeBlock(wholeExtent, pieces[static_cast<std::size_t>(rank)], 1, whole);
+    Options o = options;
+    o.communicator = &comm;
+    o.piece = b.piece;
+    body(rank, o, b, cropChannels(channels, whole, b.extent));
+  });
+  return pieces;
+}
+
 // Smooth blobs plus noise: many corners, distinct responses.
 std::vector<float> blobVolume(const mcv::ImageGrid& g, unsigned seed)
 {
@@ -223,17 +243,10 @@ TEST_P(Distributed, FeaturesEqualOneProcess)
     ASSERT_TRUE(mcv::computeFeatures(views(data), whole, options, { serialOut.data(), whole.voxelCount(), F }, serial));
     ASSERT_EQ(serial.nonFiniteVoxels, 1u);
 
-    const std::vector<Extent> pieces = splitPieces(wholeExtent, R);
     std::vector<mcv::FeatureResult> results(static_cast<std::size_t>(R));
     std::vector<std::vector<float>> pieceFeatures(static_cast<std::size_t>(R));
-    mcv::testing::ThreadGroup group(R);
-    group.run([&](int rank, const mcv::Communicator& comm) {
-      const Extent& piece = pieces[static_cast<std::size_t>(rank)];
-      const Block b = makeBlock(wholeExtent, piece, 1, whole);
-      const std::vector<std::vector<float>> local = cropChannels(data, whole, b.extent);
-      mcv::FeatureOptions o = options;
-      o.communicator = &comm;
-      o.piece = b.piece;
+    const std::vector<Extent> pieces = runOnPieces(wholeExtent, whole, R, data, options,
+      [&](int rank, const mcv::FeatureOptions& o, const Block& b, const std::vector<std::vector<float>>& local) {
       std::vector<float> out(b.grid.voxelCount() * F);
       if (slabs)
       {
@@ -314,17 +327,10 @@ TEST_P(Distributed, BackgroundMaskEqualsOneProcess)
   ASSERT_GT(serial.backgroundVoxels, 0u);
   ASSERT_LT(serial.backgroundVoxels, whole.voxelCount());
 
-  const std::vector<Extent> pieces = splitPieces(wholeExtent, R);
   std::vector<mcv::BackgroundMaskResult> results(static_cast<std::size_t>(R));
   std::vector<std::vector<unsigned char>> pieceMasks(static_cast<std::size_t>(R));
-  mcv::testing::ThreadGroup group(R);
-  group.run([&](int rank, const mcv::Communicator& comm) {
-    const Extent& piece = pieces[static_cast<std::size_t>(rank)];
-    const Block b = makeBlock(wholeExtent, piece, 1, whole);
-    const std::vector<std::vector<float>> local = cropChannels(data, whole, b.extent);
-    mcv::BackgroundMaskOptions o = options;
-    o.communicator = &comm;
-    o.piece = b.piece;
+  const std::vector<Extent> pieces = runOnPieces(wholeExtent, whole, R, data, options,
+    [&](int rank, const mcv::BackgroundMaskOptions& o, const Block& b, const std::vector<std::vector<float>>& local) {
     std::vector<unsigned char> out(b.grid.voxelCount());
     mcv::computeBackgroundMask(views(local), b.grid, o, out.data(), results[static_cast<std::size_t>(rank)]);
     pieceMasks[static_cast<std::size_t>(rank)] = cropValues(out, 1, b.grid, b.pieceInBlock);
