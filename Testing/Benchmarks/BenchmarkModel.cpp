@@ -9,13 +9,13 @@
 // The collection: `volumes` copies of the brain resampled every `step` voxels, copy i with
 // the T1 scaled by 1 + 0.01 i (a series whose intensity drifts).
 #include "BrainFeatures.h"
+#include "CommandLine.h"
 #include "ModelRuns.h"
 
 #include <omp.h>
 
 #include <cstdio>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,15 +23,6 @@ namespace mt = mcv::testing;
 
 namespace
 {
-std::vector<std::string> split(const std::string& s)
-{
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    out.push_back(item);
-  return out;
-}
-
 std::vector<mt::Volume> resampled(const std::vector<mt::Volume>& ch, int step, float t1Scale)
 {
   std::vector<mt::Volume> out;
@@ -74,7 +65,7 @@ int main(int argc, char** argv)
     a[std::string(argv[i]).substr(2)] = argv[i + 1];
   std::string why;
   const bool gpu = mcv::gpuUsable(&why);
-  const auto devices = split(a.count("devices") ? a["devices"] : (gpu ? "cpu,gpu" : "cpu"));
+  const auto devices = mt::stringList(a.count("devices") ? a["devices"] : (gpu ? "cpu,gpu" : "cpu"));
   const std::size_t reference = a.count("reference") ? std::stoull(a["reference"]) : 10000;
   const int volumes = a.count("volumes") ? std::stoi(a["volumes"]) : 20;
   const int step = a.count("step") ? std::stoi(a["step"]) : 2;

@@ -15,6 +15,7 @@
 // --sweep: kd-tree vs brute-force placement time against the dimension (the first D of
 // the 24 brain features), the measurement behind chooseKnnMethod's crossover.
 #include "BrainFeatures.h"
+#include "CommandLine.h"
 #include "DimensionReduction.h"
 #include "ExactKnn.h"
 #include "FeatureBricks.h"
@@ -30,7 +31,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -42,15 +42,6 @@ namespace
 double msSince(Clock::time_point t)
 {
   return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
-
-std::vector<std::string> split(const std::string& s)
-{
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');)
-    out.push_back(item);
-  return out;
 }
 
 // Rows i = 0, step, 2 step, ... of a matrix: a subset spread over the whole volume.
@@ -268,10 +259,10 @@ int main(int argc, char** argv)
       return 2;
     }
   }
-  const auto presets = split(a.count("presets") ? a["presets"] : "24,6");
+  const auto presets = mt::stringList(a.count("presets") ? a["presets"] : "24,6");
   std::string why;
   const bool gpu = mcv::gpuUsable(&why);
-  auto devices = split(a.count("devices") ? a["devices"] : (gpu ? "cpu,gpu" : "cpu"));
+  auto devices = mt::stringList(a.count("devices") ? a["devices"] : (gpu ? "cpu,gpu" : "cpu"));
   const std::size_t reference = a.count("reference") ? std::stoull(a["reference"]) : 10000;
   const std::size_t baselineRows = a.count("baseline-rows") ? std::stoull(a["baseline-rows"]) : 100000;
   const std::size_t sweepRows = a.count("sweep-rows") ? std::stoull(a["sweep-rows"]) : 20000;

@@ -45,18 +45,28 @@ inline bool hasFlag(int argc, char** argv, const char* name)
   return false;
 }
 
+// The items of a comma-separated list ("cpu,gpu"); empty items are skipped.
+inline std::vector<std::string> stringList(const std::string& text)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');)
+  {
+    if (!item.empty())
+    {
+      out.push_back(item);
+    }
+  }
+  return out;
+}
+
 // The integers of a comma-separated list ("64,128,256"); empty items are skipped.
 inline std::vector<int> integerList(const char* text)
 {
   std::vector<int> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ','))
+  for (const std::string& item : stringList(text))
   {
-    if (!item.empty())
-    {
-      out.push_back(std::atoi(item.c_str()));
-    }
+    out.push_back(std::atoi(item.c_str()));
   }
   return out;
 }
