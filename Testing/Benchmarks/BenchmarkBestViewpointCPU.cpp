@@ -38,9 +38,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <unordered_set>
+#include <utility>
 #include <vector>
 
 namespace
@@ -143,6 +145,11 @@ void usage()
 
 bool parseArgs(int argc, char** argv, Config& c)
 {
+  // The options that take a count, at least 1.
+  static const std::pair<const char*, int Config::*> kCounts[] = { { "--runs", &Config::runs },
+    { "--entropy-runs", &Config::entropyRuns }, { "--entropy-samples", &Config::entropySamples },
+    { "--large-entropy-samples", &Config::largeEntropySamples }, { "--image-size", &Config::imageSize },
+    { "--threads", &Config::threads } };
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -154,6 +161,8 @@ bool parseArgs(int argc, char** argv, Config& c)
       }
       return argv[++i];
     };
+    const auto count =
+      std::find_if(std::begin(kCounts), std::end(kCounts), [&](const auto& option) { return a == option.first; });
     if (a == "--quick")
     {
       c.quick = true;
@@ -163,22 +172,12 @@ bool parseArgs(int argc, char** argv, Config& c)
       c.entropySamples = 24;
       c.imageSize = 64;
     }
-    else if (a == "--runs")
-      c.runs = std::max(1, std::atoi(next("--runs")));
-    else if (a == "--entropy-runs")
-      c.entropyRuns = std::max(1, std::atoi(next("--entropy-runs")));
+    else if (count != std::end(kCounts))
+      c.*(count->second) = std::max(1, std::atoi(next(count->first)));
     else if (a == "--sizes")
       c.sizes = mt::integerList(next("--sizes"));
-    else if (a == "--entropy-samples")
-      c.entropySamples = std::max(1, std::atoi(next("--entropy-samples")));
-    else if (a == "--large-entropy-samples")
-      c.largeEntropySamples = std::max(1, std::atoi(next("--large-entropy-samples")));
     else if (a == "--large-from")
       c.largeFrom = std::atoi(next("--large-from"));
-    else if (a == "--image-size")
-      c.imageSize = std::max(1, std::atoi(next("--image-size")));
-    else if (a == "--threads")
-      c.threads = std::max(1, std::atoi(next("--threads")));
     else if (a == "--no-real")
       c.real = false;
     else if (a == "--no-synthetic")
