@@ -7,6 +7,44 @@ import os
 import mcv_testing as T
 
 
+def coords_2d(source, n):
+    """A ProgrammableFilter on source (an n^3 image at unit spacing from the origin) that adds
+    the 2-component float array "Coords2D" = (x, y) / (n - 1), so [0,1]^2."""
+    from paraview import simple
+    two_d = simple.ProgrammableFilter(Input=source)
+    two_d.Script = """
+from vtkmodules.vtkCommonCore import vtkFloatArray
+inp = self.GetInput()
+out = self.GetOutput()
+out.ShallowCopy(inp)
+a = vtkFloatArray()
+a.SetName("Coords2D")
+a.SetNumberOfComponents(2)
+n = inp.GetNumberOfPoints()
+a.SetNumberOfTuples(n)
+for i in range(n):
+    p = inp.GetPoint(i)
+    a.SetTuple2(i, p[0] / %d.0, p[1] / %d.0)
+out.GetPointData().AddArray(a)
+""" % (n - 1, n - 1)
+    return two_d
+
+
+def print_mode_table(rows, quantity, extra_headers, extra_cells):
+    """Prints a Markdown table of a Gaussian TF benchmark, one line per volume. Each row holds
+    "voxels" and, for "Per sample" and "Per voxel", a tuple whose first value is `quantity` in
+    seconds; the table gives both, their ratio, then the columns extra_headers whose cells
+    extra_cells(per_sample, per_voxel) returns as strings."""
+    print("\n| voxels | per sample: %s | per voxel: %s | per voxel / per sample | %s |"
+          % (quantity, quantity, " | ".join(extra_headers)))
+    print("|---" * (4 + len(extra_headers)) + "|")
+    for row in rows:
+        s, v = row["Per sample"], row["Per voxel"]
+        print("| %.1f M | %.3f ms | %.1f ms | %.0fx | %s |"
+              % (row["voxels"] / 1e6, 1e3 * s[0], 1e3 * v[0], v[0] / max(s[0], 1e-9),
+                 " | ".join(extra_cells(s, v))))
+
+
 def black_view(size=(400, 400)):
     return T.render_view(size)
 

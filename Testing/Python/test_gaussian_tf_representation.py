@@ -193,22 +193,7 @@ check_two_colours("float64 coordinates", shot("gaussian_tf_double.png"))
 calc.ResultArrayType = "Float"
 
 # 2D coordinates (x, y): the widgets' third centre coordinate is ignored
-two_d = simple.ProgrammableFilter(Input=calc)
-two_d.Script = """
-from vtkmodules.vtkCommonCore import vtkFloatArray
-inp = self.GetInput()
-out = self.GetOutput()
-out.ShallowCopy(inp)
-a = vtkFloatArray()
-a.SetName("Coords2D")
-a.SetNumberOfComponents(2)
-n = inp.GetNumberOfPoints()
-a.SetNumberOfTuples(n)
-for i in range(n):
-    p = inp.GetPoint(i)
-    a.SetTuple2(i, p[0] / %d.0, p[1] / %d.0)
-out.GetPointData().AddArray(a)
-""" % (N - 1, N - 1)
+two_d = G.coords_2d(calc, N)
 simple.Hide(calc, view)
 display2 = mce.show_gaussian_tf(
     two_d, view, widgets=[[0.25, 0.5, 99.0, 0.08, 1, 0, 0, 1], [0.75, 0.5, -7.0, 0.08, 0, 1, 0, 1]],

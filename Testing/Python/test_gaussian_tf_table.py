@@ -193,22 +193,7 @@ C.check(used() == "exact", "PerSampleEvaluation Exact: '%s'" % used())
 # --- 2D coordinates: one node in z; a constant component: one node ------------------------
 flat = simple.Calculator(Input=wavelet, ResultArrayName="Flat", ResultArrayType="Float",
                          Function="coordsX/%d*iHat+coordsY/%d*jHat+0.5*kHat" % (N - 1, N - 1))
-two_d = simple.ProgrammableFilter(Input=calc)
-two_d.Script = """
-from vtkmodules.vtkCommonCore import vtkFloatArray
-inp = self.GetInput()
-out = self.GetOutput()
-out.ShallowCopy(inp)
-a = vtkFloatArray()
-a.SetName("Coords2D")
-a.SetNumberOfComponents(2)
-n = inp.GetNumberOfPoints()
-a.SetNumberOfTuples(n)
-for i in range(n):
-    p = inp.GetPoint(i)
-    a.SetTuple2(i, p[0] / %d.0, p[1] / %d.0)
-out.GetPointData().AddArray(a)
-""" % (N - 1, N - 1)
+two_d = G.coords_2d(calc, N)
 for coordinate_source, array, label, expected in ((flat, "Flat", "constant z", "table 39x39x1"),
                                        (two_d, "Coords2D", "2D coordinates", "table 39x39x1")):
     simple.Hide(calc, view)
