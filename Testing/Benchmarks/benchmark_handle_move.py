@@ -53,6 +53,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import mcv_testing as T  # noqa: E402
+import gaussian_tf_testing as G  # noqa: E402
 
 from paraview import simple  # noqa: E402
 
@@ -335,14 +336,11 @@ def main():
             sys.stdout.flush()
         rows.append(row)
 
-    print("\n| voxels | per sample: prepare | per voxel: prepare | per voxel / per sample "
-          "| set (per sample, per voxel) | set to frame (per sample, per voxel) |")
-    print("|---|---|---|---|---|---|")
-    for row in rows:
-        s, v = row["Per sample"], row["Per voxel"]
-        print("| %.1f M | %.3f ms | %.1f ms | %.0fx | %.2f ms, %.2f ms | %.0f ms, %.0f ms |"
-              % (row["voxels"] / 1e6, 1e3 * s[0], 1e3 * v[0], v[0] / max(s[0], 1e-9),
-                 1e3 * s[1], 1e3 * v[1], 1e3 * s[2], 1e3 * v[2]))
+    G.print_mode_table(
+        rows, "prepare",
+        ["set (per sample, per voxel)", "set to frame (per sample, per voxel)"],
+        lambda s, v: ["%.2f ms, %.2f ms" % (1e3 * s[1], 1e3 * v[1]),
+                      "%.0f ms, %.0f ms" % (1e3 * s[2], 1e3 * v[2])])
     if len(rows) == 2:
         (a, b) = rows
         print("7.1 M / 1 M: voxels %.1fx; prepare per sample %.2fx, per voxel %.2fx"

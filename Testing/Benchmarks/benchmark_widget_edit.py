@@ -19,6 +19,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import mcv_testing as T  # noqa: E402
+import gaussian_tf_testing as G  # noqa: E402
 
 from paraview import simple  # noqa: E402
 
@@ -78,16 +79,13 @@ def main():
         simple.Delete(coords)
         simple.Delete(source)
 
-    print("\n| voxels | per sample: work per edit | per voxel: work per edit | per voxel / per "
-          "sample | first render (texture / RGBA) per sample, per voxel |")
-    print("|---|---|---|---|---|")
+    G.print_mode_table(
+        rows, "work per edit", ["first render (texture / RGBA) per sample, per voxel"],
+        lambda s, v: ["%.0f ms, %.0f ms" % (1e3 * s[1], 1e3 * v[1])])
     for row in rows:
-        s, v = row["Per sample"], row["Per voxel"]
-        print("| %.1f M | %.3f ms | %.1f ms | %.0fx | %.0f ms, %.0f ms |"
-              % (row["voxels"] / 1e6, 1e3 * s[0], 1e3 * v[0], v[0] / max(s[0], 1e-9),
-                 1e3 * s[1], 1e3 * v[1]))
-        if s[2] != 0:
-            print("  (!) per sample built the texture %d times during the edits" % s[2])
+        if row["Per sample"][2] != 0:
+            print("  (!) %.1f M voxels: per sample built the texture %d times during the edits"
+                  % (row["voxels"] / 1e6, row["Per sample"][2]))
     sys.stdout.flush()
     os._exit(0)
 
