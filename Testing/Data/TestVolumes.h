@@ -29,9 +29,12 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace mcv
@@ -222,6 +225,27 @@ private:
 #endif
 };
 
+// The NIfTI datatype codes this loader reads and the C++ type each stores, in the same order:
+// uint8, int8, int16, uint16, int32, uint32, float32, float64.
+constexpr int kNiftiCodes[] = { 2, 256, 4, 512, 8, 768, 16, 64 };
+using NiftiStoredTypes =
+  std::tuple<std::uint8_t, std::int8_t, std::int16_t, std::uint16_t, std::int32_t, std::uint32_t, float, double>;
+
+template <class F, std::size_t... I>
+bool visitNiftiType(int datatype, F& f, std::index_sequence<I...>)
+{
+  return ((datatype == kNiftiCodes[I] && (f(std::tuple_element_t<I, NiftiStoredTypes>()), true)) || ...);
+}
+
+// Calls f(T()) with the C++ type that NIfTI datatype code `datatype` stores; false, without
+// calling f, for a code not in kNiftiCodes. The header reader (bytes per voxel) and
+// convertVoxel (the value) share this one table.
+template <class F>
+bool visitNiftiType(int datatype, F&& f)
+{
+  return visitNiftiType(datatype, f, std::make_index_sequence<std::size(kNiftiCodes)>());
+}
+
 inline NiftiInfo readNiftiHeader(ByteReader& f, const std::string& path)
 {
   unsigned char h[348];
@@ -280,29 +304,10 @@ inline NiftiInfo readNiftiHeader(ByteReader& f, const std::string& path)
     info.volumes *= dim[i];
 
   info.datatype = i16(70);
-  switch (info.datatype)
-  {
-    case 2: // uint8
-    case 256: // int8
-      info.bytesPerVoxel = 1;
-      break;
-    case 4: // int16
-    case 512: // uint16
-      info.bytesPerVoxel = 2;
-      break;
-    case 8: // int32
-    case 768: // uint32
-    case 16: // float32
-      info.bytesPerVoxel = 4;
-      break;
-    case 64: // float64
-      info.bytesPerVoxel = 8;
-      break;
-    default:
-      throw std::runtime_error(path + ": unsupported NIfTI datatype " +
-        std::to_string(info.datatype) +
-        " (supported: uint8, int8, int16, uint16, int32, uint32, float32, float64)");
-  }
+  if (!visitNiftiType(info.datatype, [&](auto stored) { info.bytesPerVoxel = sizeof(stored); }))
+    throw std::runtime_error(path + ": unsupported NIfTI datatype " +
+      std::to_string(info.datatype) +
+      " (supported: uint8, int8, int16, uint16, int32, uint32, float32, float64)");
   const float off = f32(108);
   info.voxOffset = (std::isfinite(off) && off >= 348) ? static_cast<std::int64_t>(off) : 352;
   const float slope = f32(112), inter = f32(116);
@@ -330,33 +335,7 @@ inline float convertVoxel(const unsigned char* p, const NiftiInfo& info)
   if (info.swapped)
     swapN(b, info.bytesPerVoxel);
   double v = 0;
-  switch (info.datatype)
-  {
-    case 2:
-      v = b[0];
-      break;
-    case 256:
-      v = static_cast<std::int8_t>(b[0]);
-      break;
-    case 4:
-      v = storedValue<std::int16_t>(b);
-      break;
-    case 512:
-      v = storedValue<std::uint16_t>(b);
-      break;
-    case 8:
-      v = storedValue<std::int32_t>(b);
-      break;
-    case 768:
-      v = storedValue<std::uint32_t>(b);
-      break;
-    case 16:
-      v = storedValue<float>(b);
-      break;
-    case 64:
-      v = storedValue<double>(b);
-      break;
-  }
+  visitNiftiType(info.datatype, [&](auto stored) { v = storedValue<decltype(stored)>(b); });
   return static_cast<float>(v * info.slope + info.inter);
 }
 
