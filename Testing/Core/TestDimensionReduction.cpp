@@ -3,8 +3,11 @@
 // S-curve (scikit-learn's generators, re-implemented).
 #include "CpuReduction.h"
 #include "DimensionReduction.h"
+#include "IsomapEmbedding.h"
+#include "LLEEmbedding.h"
 #include "OutOfSample.h"
 #include "Trustworthiness.h"
+#include "UMAPEmbedding.h"
 
 #include <Eigen/SVD>
 #include <gtest/gtest.h>
@@ -183,6 +186,29 @@ TEST(DimensionReduction, PCAEqualsDirectSVD)
     top += k < 3 ? r.eigenvalues[k] : 0;
   }
   EXPECT_NEAR(r.varianceRetained, top / all, 1e-9);
+}
+
+// Isomap, LLE and UMAP refuse a neighbourhood size outside [1, n - 1] with the same message.
+TEST(DimensionReduction, GraphMethodsNameAnOutOfRangeNeighbourCount)
+{
+  const mcv::RowMatrixF X = mcv::RowMatrixF::Random(20, 3);
+  for (int K : { 0, 20 })
+  {
+    const std::string tail = ": the number of neighbours (" + std::to_string(K) +
+      ") must be at least 1 and less than the number of reference points (20).";
+    mcv::IsomapOptions io;
+    io.outputDimension = 2;
+    io.numberOfNeighbors = K;
+    EXPECT_EQ(mcv::fitIsomap(X, io).error, "Isomap" + tail);
+    mcv::LLEOptions lo;
+    lo.outputDimension = 2;
+    lo.numberOfNeighbors = K;
+    EXPECT_EQ(mcv::fitLLE(X, lo).error, "LLE" + tail);
+    mcv::UMAPOptions uo;
+    uo.outputDimension = 2;
+    uo.numberOfNeighbors = K;
+    EXPECT_EQ(mcv::fitUMAP(X, uo).error, "UMAP" + tail);
+  }
 }
 
 TEST(DimensionReduction, IsomapUnrollsSwissRoll)

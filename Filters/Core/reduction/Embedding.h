@@ -17,6 +17,27 @@ using RowMatrixF = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 // A method reports the fraction of its own work done, in [0,1].
 using StageProgress = std::function<void(const char* stage, double fraction)>;
 
+// The graph methods' neighbourhood size K must be at least 1 and less than the number of
+// reference points n: empty when it is, else the error, named after `method`.
+inline std::string neighboursError(const char* method, int K, std::size_t n)
+{
+  if (K >= 1 && static_cast<std::size_t>(K) < n)
+  {
+    return std::string();
+  }
+  return std::string(method) + ": the number of neighbours (" + std::to_string(K) +
+    ") must be at least 1 and less than the number of reference points (" + std::to_string(n) + ").";
+}
+
+// Reports a stage's progress to `progress` when one is set (the fits' progress is optional).
+inline void reportStage(const StageProgress& progress, const char* stage, double fraction)
+{
+  if (progress)
+  {
+    progress(stage, fraction);
+  }
+}
+
 struct Embedding
 {
   std::string error;                 // non-empty: nothing else is meaningful

@@ -219,16 +219,10 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   const std::size_t n = static_cast<std::size_t>(X.rows());
   const int d = options.outputDimension;
   const int K = options.numberOfNeighbors;
-  auto report = [&](const char* stage, double f) {
-    if (options.progress)
-    {
-      options.progress(stage, f);
-    }
-  };
-  if (K < 1 || static_cast<std::size_t>(K) >= n)
+  auto report = [&](const char* stage, double f) { reportStage(options.progress, stage, f); };
+  e.error = neighboursError("Isomap", K, n);
+  if (!e.error.empty())
   {
-    e.error = "Isomap: the number of neighbours (" + std::to_string(K) +
-      ") must be at least 1 and less than the number of reference points (" + std::to_string(n) + ").";
     return e;
   }
   if (n < static_cast<std::size_t>(d) + 1)

@@ -163,16 +163,10 @@ Embedding fitLLE(const RowMatrixF& X, const LLEOptions& options)
   const Eigen::Index D = X.cols();
   const int d = options.outputDimension;
   const int K = options.numberOfNeighbors;
-  auto report = [&](const char* stage, double f) {
-    if (options.progress)
-    {
-      options.progress(stage, f);
-    }
-  };
-  if (K < 1 || K >= n)
+  auto report = [&](const char* stage, double f) { reportStage(options.progress, stage, f); };
+  e.error = neighboursError("LLE", K, static_cast<std::size_t>(n));
+  if (!e.error.empty())
   {
-    e.error = "LLE: the number of neighbours (" + std::to_string(K) +
-      ") must be at least 1 and less than the number of reference points (" + std::to_string(n) + ").";
     return e;
   }
   if (n < d + 2)

@@ -61,21 +61,15 @@ Embedding fitUMAP(const RowMatrixF& X, const UMAPOptions& o)
   const std::size_t n = static_cast<std::size_t>(X.rows());
   const int d = o.outputDimension;
   const int K = o.numberOfNeighbors;
-  auto report = [&](const char* stage, double f) {
-    if (o.progress)
-    {
-      o.progress(stage, f);
-    }
-  };
+  auto report = [&](const char* stage, double f) { reportStage(o.progress, stage, f); };
   if (d != 2 && d != 3)
   {
     e.error = "UMAP: the output dimension must be 2 or 3 (got " + std::to_string(d) + ").";
     return e;
   }
-  if (K < 1 || static_cast<std::size_t>(K) >= n)
+  e.error = neighboursError("UMAP", K, n);
+  if (!e.error.empty())
   {
-    e.error = "UMAP: the number of neighbours (" + std::to_string(K) +
-      ") must be at least 1 and less than the number of reference points (" + std::to_string(n) + ").";
     return e;
   }
   if (n < static_cast<std::size_t>(d) + 2)
