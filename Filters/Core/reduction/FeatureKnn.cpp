@@ -132,6 +132,16 @@ std::size_t KnnIndex::query(const float* q, std::size_t k, std::uint32_t* indice
   return impl_->query(q, k, indices, squaredDistances);
 }
 
+KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, double* referenceRadius)
+{
+  KnnGraph g = buildKnnGraph(data, n, dim, k);
+  if (g.largestFourthSquaredDistance >= 0.0)
+  {
+    *referenceRadius = std::sqrt(g.largestFourthSquaredDistance);
+  }
+  return g;
+}
+
 KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
 {
   KnnGraph g;

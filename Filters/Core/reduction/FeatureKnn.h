@@ -52,6 +52,10 @@ struct KnnGraph
   double largestFourthSquaredDistance = -1.0;
 };
 KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k);
+// buildKnnGraph of a fit's reference points that also sets *referenceRadius (ModelDistance.h)
+// to the root of largestFourthSquaredDistance when the search found it, so that the fit need
+// not search every reference's neighbours a second time; else *referenceRadius is unchanged.
+KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, double* referenceRadius);
 
 // An edge between two points, Euclidean length.
 struct GraphEdge

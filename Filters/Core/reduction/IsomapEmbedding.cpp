@@ -232,13 +232,7 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   }
 
   report("Isomap: neighbour graph", 0.0);
-  const KnnGraph knn = buildKnnGraph(X.data(), n, static_cast<int>(X.cols()), K);
-  if (knn.largestFourthSquaredDistance >= 0.0)
-  {
-    // referenceRadius (ModelDistance.h) from the graph's search, in its arithmetic: the fit
-    // need not search every reference's neighbours a second time.
-    e.referenceRadius = std::sqrt(knn.largestFourthSquaredDistance);
-  }
+  const KnnGraph knn = buildReferenceGraph(X.data(), n, static_cast<int>(X.cols()), K, &e.referenceRadius);
   report("Isomap: neighbour graph", 0.15);
   std::size_t components = 1;
   const std::vector<GraphEdge> joins = joinKnnComponents(X.data(), n, static_cast<int>(X.cols()), knn, &components);

@@ -94,11 +94,7 @@ Embedding fitUMAP(const RowMatrixF& X, const UMAPOptions& o)
   }
 
   report("UMAP: neighbour graph", 0.0);
-  const KnnGraph knn = buildKnnGraph(X.data(), n, static_cast<int>(X.cols()), K);
-  if (knn.largestFourthSquaredDistance >= 0.0)
-  {
-    e.referenceRadius = std::sqrt(knn.largestFourthSquaredDistance);
-  }
+  const KnnGraph knn = buildReferenceGraph(X.data(), n, static_cast<int>(X.cols()), K, &e.referenceRadius);
   report("UMAP: fuzzy simplicial set", 0.1);
   FuzzyGraph graph = fuzzySimplicialSet(knn);
   const int epochs = o.numberOfEpochs > 0 ? o.numberOfEpochs : defaultEpochs(n);
