@@ -18,15 +18,21 @@ __device__ __forceinline__ int clampi(int v, int lo, int hi)
   return min(max(v, lo), hi);
 }
 
+// An input value as loaded, kept in a register until it is stored to shared memory: the
+// conversion to float waits for the load, so it is done at the store, a slice later, not
+// right after the load (where it would stall the warp for the load's whole latency).
+template <typename T>
+using RawInput = std::conditional_t<std::is_same_v<T, float>, float, unsigned>;
+
 // Input value as float. uint8: exact via the float bit pattern of 2^23 + v (an OR and a
 // full-rate add instead of the quarter-rate integer-to-float conversion).
 __device__ __forceinline__ float toFloat(float v)
 {
   return v;
 }
-__device__ __forceinline__ float toFloat(std::uint8_t v)
+__device__ __forceinline__ float toFloat(unsigned v)
 {
-  return __uint_as_float(0x4B000000u | static_cast<unsigned>(v)) - 8388608.0f;
+  return __uint_as_float(0x4B000000u | v) - 8388608.0f;
 }
 
 // Shared-memory layout of one block for radius R (all sizes in floats).
@@ -101,7 +107,7 @@ __device__ __forceinline__ void inputOffsets(
 // This thread's elements of input slice q into registers (the next slice, loaded ahead of
 // its use).
 template <int R, typename T>
-__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], const T* in, int q,
+__device__ __forceinline__ void loadSlice(RawInput<T> (&pre)[TileShape<R>::LOADS], const T* in, int q,
   std::size_t plane, const int (&inOff)[TileShape<R>::LOADS])
 {
   const T* src = in + static_cast<std::size_t>(q) * plane;
@@ -110,14 +116,14 @@ __device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], con
   {
     // Only the last round can run past the tile (inOff -1); the others need no test.
     const bool whole = (i + 1) * kHarrisThreads <= TileShape<R>::IS;
-    pre[i] = whole || inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
+    pre[i] = whole || inOff[i] >= 0 ? static_cast<RawInput<T>>(__ldg(src + inOff[i])) : 0;
   }
 }
 
-// The loaded slice q into its slot of the ring of three input slices.
-template <int R>
+// The loaded slice q, as floats, into its slot of the ring of three input slices.
+template <int R, typename Raw>
 __device__ __forceinline__ void storeSlice(
-  float* sIn, int q, const float (&pre)[TileShape<R>::LOADS], int tid)
+  float* sIn, int q, const Raw (&pre)[TileShape<R>::LOADS], int tid)
 {
   using S = TileShape<R>;
   float* dst = sIn + (q % 3) * S::IS;
@@ -127,7 +133,7 @@ __device__ __forceinline__ void storeSlice(
     const int e = tid + i * kHarrisThreads;
     if ((i + 1) * kHarrisThreads <= S::IS || e < S::IS)
     {
-      dst[e] = pre[i];
+      dst[e] = toFloat(pre[i]);
     }
   }
 }
@@ -483,7 +489,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
 
   int inOff[S::LOADS];
   inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
-  float pre[S::LOADS]; // the next input slice, loaded ahead of its use
+  RawInput<T> pre[S::LOADS]; // the next input slice, loaded ahead of its use
   const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
     y0 + kHarrisTileY + R <= ny;
   float win[2][W][6];
