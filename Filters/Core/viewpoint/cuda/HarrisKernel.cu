@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 namespace mcv
 {
@@ -713,6 +714,17 @@ cudaError_t launchRadius(
   return cudaGetLastError();
 }
 
+// Width 5 with kernel variant `variant` (one of V...).
+template <typename T, int... V>
+cudaError_t launchVariant(int variant, const T* input, const HarrisKernelArgs& args, int zChunk,
+  cudaStream_t stream, int* used, std::integer_sequence<int, V...>)
+{
+  cudaError_t err = cudaErrorInvalidValue;
+  (void)((variant == V && ((err = launchRadius<T, 2, V>(input, args, zChunk, stream, used)), true)) ||
+    ...);
+  return err;
+}
+
 } // namespace
 
 template <typename T>
@@ -728,27 +740,8 @@ cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int 
       return launchRadius<T, 1, D>(input, args, zChunk, stream, usedZChunk);
     case 2:
       // The default width: every variant is built (the benchmark compares them).
-      switch (variant < 0 ? D : variant)
-      {
-        case 4:
-          return launchRadius<T, 2, 4>(input, args, zChunk, stream, usedZChunk);
-        case 5:
-          return launchRadius<T, 2, 5>(input, args, zChunk, stream, usedZChunk);
-        case 6:
-          return launchRadius<T, 2, 6>(input, args, zChunk, stream, usedZChunk);
-        case 7:
-          return launchRadius<T, 2, 7>(input, args, zChunk, stream, usedZChunk);
-        case 0:
-          return launchRadius<T, 2, 0>(input, args, zChunk, stream, usedZChunk);
-        case 1:
-          return launchRadius<T, 2, 1>(input, args, zChunk, stream, usedZChunk);
-        case 2:
-          return launchRadius<T, 2, 2>(input, args, zChunk, stream, usedZChunk);
-        case 3:
-          return launchRadius<T, 2, 3>(input, args, zChunk, stream, usedZChunk);
-        default:
-          return cudaErrorInvalidValue;
-      }
+      return launchVariant<T>(variant < 0 ? D : variant, input, args, zChunk, stream,
+        usedZChunk, std::make_integer_sequence<int, kHarrisVariants>());
     case 3:
       return launchRadius<T, 3, D>(input, args, zChunk, stream, usedZChunk);
     default:
