@@ -139,6 +139,24 @@ __device__ __forceinline__ void storeSlice(
   }
 }
 
+// The six gradient products of input-tile element c of slice sc (neighbour slices sm, sp)
+// into d[0], d[CS], ..., d[5 CS].
+template <int R>
+__device__ __forceinline__ void productsAt(float* d, const float* sc, const float* sm,
+  const float* sp, int c, float scaleX, float scaleY, float scaleZ)
+{
+  constexpr int IW = TileShape<R>::IW, CS = TileShape<R>::PH * TileShape<R>::PW;
+  const float gx = (sc[c + 1] - sc[c - 1]) * scaleX;
+  const float gy = (sc[c + IW] - sc[c - IW]) * scaleY;
+  const float gz = (sp[c] - sm[c]) * scaleZ;
+  d[0] = gx * gx;
+  d[CS] = gx * gy;
+  d[2 * CS] = gx * gz;
+  d[3 * CS] = gy * gy;
+  d[4 * CS] = gy * gz;
+  d[5 * CS] = gz * gz;
+}
+
 // Six gradient products of slice cz on the product tile. A product position outside the
 // grid takes the products of the clamped (border) voxel; gradients read clamped neighbours.
 // Interior blocks (the whole product tile inside the grid) skip the clamping.
@@ -148,22 +166,12 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
 {
   using S = TileShape<R>;
   constexpr int IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
-  constexpr int CS = PH * PW; // channel stride of the product tile
   const int nx = a.nx, ny = a.ny, nz = a.nz;
   const float* sc = sIn + (cz % 3) * IS;
   const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
   const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
   auto at = [&](int c, int py, int px) {
-    const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
-    const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
-    const float gz = (sp[c] - sm[c]) * a.scaleZ;
-    float* d = sProd + py * PW + px;
-    d[0] = gx * gx;
-    d[CS] = gx * gy;
-    d[2 * CS] = gx * gz;
-    d[3 * CS] = gy * gy;
-    d[4 * CS] = gy * gz;
-    d[5 * CS] = gz * gz;
+    productsAt<R>(sProd + py * PW + px, sc, sm, sp, c, a.scaleX, a.scaleY, a.scaleZ);
   };
   if (interior)
   {
@@ -212,7 +220,7 @@ __device__ __forceinline__ void gradientProductsTable(
   float* sProd, const float* sIn, const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid)
 {
   using S = TileShape<R>;
-  constexpr int IW = S::IW, IS = S::IS, CS = S::PH * S::PW, N = S::Positions;
+  constexpr int IS = S::IS, N = S::Positions;
   constexpr int ROUNDS = (N + kHarrisThreads - 1) / kHarrisThreads;
   const int nz = a.nz;
   const float* sc = sIn + (cz % 3) * IS;
@@ -226,17 +234,8 @@ __device__ __forceinline__ void gradientProductsTable(
     if ((k + 1) * kHarrisThreads <= N || p < N)
     {
       const unsigned e = sPos[p];
-      const int c = static_cast<int>(e & 0xffffu);
-      float* d = sProd + (e >> 16);
-      const float gx = (sc[c + 1] - sc[c - 1]) * scaleX;
-      const float gy = (sc[c + IW] - sc[c - IW]) * scaleY;
-      const float gz = (sp[c] - sm[c]) * scaleZ;
-      d[0] = gx * gx;
-      d[CS] = gx * gy;
-      d[2 * CS] = gx * gz;
-      d[3 * CS] = gy * gy;
-      d[4 * CS] = gy * gz;
-      d[5 * CS] = gz * gz;
+      productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX, scaleY,
+        scaleZ);
     }
   }
 }
