@@ -115,15 +115,10 @@ struct vtkOMEZarrReader::Internals
 vtkOMEZarrReader::vtkOMEZarrReader()
   : Impl(new Internals)
 {
-  this->SetNumberOfInputPorts(0);
-  this->SetNumberOfOutputPorts(1);
 }
 
 //------------------------------------------------------------------------------
-vtkOMEZarrReader::~vtkOMEZarrReader()
-{
-  this->SetFileName(nullptr);
-}
+vtkOMEZarrReader::~vtkOMEZarrReader() = default;
 
 //------------------------------------------------------------------------------
 std::string vtkOMEZarrReader::Describe() const
@@ -630,7 +625,6 @@ int vtkOMEZarrReader::RequestData(
 void vtkOMEZarrReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ResolutionLevel: " << this->ResolutionLevel << "\n";
   os << indent << "LevelRead: " << this->LevelRead << "\n";
   os << indent << "NumberOfLevels: " << this->NumberOfLevels << "\n";

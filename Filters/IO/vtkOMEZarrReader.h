@@ -2,6 +2,8 @@
  * @class   vtkOMEZarrReader
  * @brief   reads an OME-Zarr image (OME-NGFF 0.4, Zarr format 2): a folder `x.ome.zarr`.
  *
+ * FileName is the image's folder (the one that holds `.zattrs`).
+ *
  * The folder's `.zattrs` holds `multiscales[0]`: the axes (a subset of t, c, z, y, x in that
  * order; a y, x image is a volume of one slice) and the resolution levels (`datasets`, finest
  * first), each a Zarr array in its own folder with a scale and a translation per axis
@@ -31,23 +33,17 @@
 #define vtkOMEZarrReader_h
 
 #include "mcvIOVolPackModule.h" // for export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkVolumeFileReader.h"
 
 #include <memory> // for std::unique_ptr
 #include <string> // for std::string
 
-class MCVIOVOLPACK_EXPORT vtkOMEZarrReader : public vtkImageAlgorithm
+class MCVIOVOLPACK_EXPORT vtkOMEZarrReader : public vtkVolumeFileReader
 {
 public:
   static vtkOMEZarrReader* New();
-  vtkTypeMacro(vtkOMEZarrReader, vtkImageAlgorithm);
+  vtkTypeMacro(vtkOMEZarrReader, vtkVolumeFileReader);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /** The OME-Zarr image's folder (the one that holds `.zattrs`). */
-  vtkSetFilePathMacro(FileName);
-  vtkGetFilePathMacro(FileName);
-  ///@}
 
   ///@{
   /**
@@ -75,7 +71,7 @@ public:
    * 1 when `name` is a folder with Zarr metadata (`.zattrs`, `.zgroup` or `.zarray`), else
    * 0. Whether it is an OME-Zarr image that can be read is for RequestInformation to say.
    */
-  int CanReadFile(VTK_FILEPATH const char* name);
+  int CanReadFile(VTK_FILEPATH const char* name) override;
 
 protected:
   vtkOMEZarrReader();
@@ -84,7 +80,6 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  char* FileName = nullptr;
   int ResolutionLevel = -1;
   int LevelRead = -1;
   int NumberOfLevels = 0;

@@ -123,15 +123,12 @@ std::string readHeader(const char* fileName, DenHeader& header)
 //------------------------------------------------------------------------------
 vtkVolPackDenReader::vtkVolPackDenReader()
 {
-  this->SetNumberOfInputPorts(0);
-  this->SetNumberOfOutputPorts(1);
   this->SetScalarArrayName("Density");
 }
 
 //------------------------------------------------------------------------------
 vtkVolPackDenReader::~vtkVolPackDenReader()
 {
-  this->SetFileName(nullptr);
   this->SetScalarArrayName(nullptr);
 }
 
@@ -248,7 +245,6 @@ int vtkVolPackDenReader::RequestData(
 void vtkVolPackDenReader::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FileName: " << (this->FileName ? this->FileName : "(none)") << "\n";
   os << indent << "ScalarArrayName: " << (this->ScalarArrayName ? this->ScalarArrayName : "")
      << "\n";
   os << indent << "DataSpacing: " << this->DataSpacing[0] << " " << this->DataSpacing[1] << " "

@@ -18,20 +18,14 @@
 #define vtkVolPackDenReader_h
 
 #include "mcvIOVolPackModule.h" // for export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkVolumeFileReader.h"
 
-class MCVIOVOLPACK_EXPORT vtkVolPackDenReader : public vtkImageAlgorithm
+class MCVIOVOLPACK_EXPORT vtkVolPackDenReader : public vtkVolumeFileReader
 {
 public:
   static vtkVolPackDenReader* New();
-  vtkTypeMacro(vtkVolPackDenReader, vtkImageAlgorithm);
+  vtkTypeMacro(vtkVolPackDenReader, vtkVolumeFileReader);
   void PrintSelf(ostream& os, vtkIndent indent) override;
-
-  ///@{
-  /** The .den file to read. */
-  vtkSetFilePathMacro(FileName);
-  vtkGetFilePathMacro(FileName);
-  ///@}
 
   ///@{
   /** World size of a voxel (the format has none; default 1 1 1). */
@@ -55,7 +49,7 @@ public:
    * 1 when `fileName` starts as a .den file (its version field), else 0; the rest of the
    * header and the size are checked when it is read, and an error says what is wrong.
    */
-  int CanReadFile(VTK_FILEPATH const char* fileName);
+  int CanReadFile(VTK_FILEPATH const char* fileName) override;
 
   /** Dimensions read from the header by the last RequestInformation. */
   vtkGetVector3Macro(Dimensions, int);
@@ -67,7 +61,6 @@ protected:
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  char* FileName = nullptr;
   char* ScalarArrayName = nullptr;
   double DataSpacing[3] = { 1.0, 1.0, 1.0 };
   double DataOrigin[3] = { 0.0, 0.0, 0.0 };
