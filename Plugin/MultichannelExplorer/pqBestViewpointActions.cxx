@@ -17,32 +17,15 @@ pqBestViewpointActions::pqBestViewpointActions(QObject* parentObject)
 {
   // Explore Multichannel, Show Reduced Domain, Show Spectrum: the toolbar's first buttons.
   new pqExploreMultichannelActions(this);
-  this->BestViewpointAction = pqMultichannelToolbarAction::add(this, "BestViewpoint",
-    "Best Viewpoint", "Best View", "actionMultichannelBestViewpoint",
-    "Best Viewpoint: turn the camera of the active view to the best view of the active "
-    "volume (3D Harris interest points + PCA of its opacity, following the volume "
-    "display's opacity function)");
-
-  this->FollowAction = pqMultichannelToolbarAction::add(this, "FollowBestViewpoint",
-    "Follow Best Viewpoint", "Follow", "actionMultichannelFollowBestViewpoint",
-    "Follow Best Viewpoint: while on, the camera turns to the best view of the active "
-    "\"Gaussian TF Volume\" display after every change of its Gaussian widgets");
-  this->FollowAction->setCheckable(true);
-
-  this->SeedWidgetsAction = pqMultichannelToolbarAction::add(this, "SeedWidgets",
-    "Seed Gaussian Widgets", "Seed", "actionMultichannelSeedWidgets",
-    "Seed Gaussian Widgets: put 4 widgets at the k-means clusters of the reduced domain "
-    "of the active \"Gaussian TF Volume\" display (a starting point to edit)");
+  this->BestViewpointAction =
+    pqMultichannelToolbarAction::add(this, this, "actionMultichannelBestViewpoint");
+  this->FollowAction =
+    pqMultichannelToolbarAction::add(this, this, "actionMultichannelFollowBestViewpoint");
+  this->SeedWidgetsAction =
+    pqMultichannelToolbarAction::add(this, this, "actionMultichannelSeedWidgets");
   new pqMultichannelProbe(this); // Probe, Add Widget Here, Brush Selection, in this toolbar
   this->setExclusive(false);
 
-  QObject::connect(
-    this->FollowAction, &QAction::toggled, this, &pqBestViewpointActions::onFollowToggled);
-  QObject::connect(
-    this->SeedWidgetsAction, &QAction::triggered, this, &pqBestViewpointActions::onSeedWidgets);
-
-  QObject::connect(
-    this->BestViewpointAction, &QAction::triggered, this, &pqBestViewpointActions::onTriggered);
   pqActiveObjects& active = pqActiveObjects::instance();
   QObject::connect(&active, &pqActiveObjects::sourceChanged, this,
     &pqBestViewpointActions::updateEnableState);

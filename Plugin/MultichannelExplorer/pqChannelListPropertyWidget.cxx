@@ -31,15 +31,12 @@ const char* LabelSuffix = "_labels";
 //-----------------------------------------------------------------------------
 pqChannelListPropertyWidget::pqChannelListPropertyWidget(
   vtkSMProxy* smproxy, vtkSMProperty* smproperty, QWidget* parentObject)
-  : Superclass(smproxy, parentObject)
+  : Superclass(smproxy, smproperty, parentObject, nullptr, true)
 {
-  this->setProperty(smproperty);
-  this->setShowLabel(true);
   this->setChangeAvailableAsChangeFinished(true);
 
-  this->Summary = new QLabel(this);
-  this->Summary->setObjectName("channelSummary");
-  this->Summary->setWordWrap(true);
+  this->Summary = this->addMessageLabel("channelSummary");
+  this->panelLayout()->setSpacing(2);
   this->Tree = new QTreeWidget(this);
   this->Tree->setObjectName("channelList");
   this->Tree->setColumnCount(2);
@@ -49,11 +46,7 @@ pqChannelListPropertyWidget::pqChannelListPropertyWidget(
   this->Tree->header()->setStretchLastSection(true);
   this->Tree->setToolTip("The channels of the input, numbered in the order the filter takes "
                          "them. Ticked: used. None ticked: every channel is used.");
-  auto* layout = new QVBoxLayout(this);
-  layout->setContentsMargins(0, 0, 0, 0);
-  layout->setSpacing(2);
-  layout->addWidget(this->Summary);
-  layout->addWidget(this->Tree);
+  this->panelLayout()->addWidget(this->Tree);
 
   QObject::connect(this->Tree, &QTreeWidget::itemChanged, this, [this]() {
     if (!this->Updating)

@@ -11,7 +11,7 @@
 #ifndef pqChannelListPropertyWidget_h
 #define pqChannelListPropertyWidget_h
 
-#include "pqPropertyWidget.h"
+#include "pqMultichannelPropertyWidget.h"
 
 #include <QList>
 #include <QVariant>
@@ -21,10 +21,10 @@ class QLabel;
 class QTreeWidget;
 class vtkEventQtSlotConnect;
 
-class pqChannelListPropertyWidget : public pqPropertyWidget
+class pqChannelListPropertyWidget : public pqMultichannelPropertyWidget
 {
   Q_OBJECT
-  typedef pqPropertyWidget Superclass;
+  typedef pqMultichannelPropertyWidget Superclass;
   Q_PROPERTY(QList<QVariant> channels READ channels WRITE setChannels NOTIFY channelsChanged)
 
 public:

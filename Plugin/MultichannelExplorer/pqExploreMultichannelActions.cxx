@@ -48,28 +48,11 @@ QString withoutAmpersands(QString text)
 pqExploreMultichannelActions::pqExploreMultichannelActions(QActionGroup* group)
   : Superclass(group)
 {
-  this->ExploreAction = pqMultichannelToolbarAction::add(group, "ExploreMultichannel",
-    "Explore Multichannel", "Explore", "actionMultichannelExplore",
-    "Explore Multichannel: the selected channel readers (merged) or multichannel volume "
-    "reduced to a 3D domain, shown as a Gaussian TF Volume with seeded widgets, its reduced "
-    "domain beside it, the camera at the best view (one undo step)");
-
-  this->ShowDomainAction = pqMultichannelToolbarAction::add(group, "ReducedDomain",
-    "Show Reduced Domain", "Domain", "actionMultichannelShowDomain",
-    "Show Reduced Domain: the reduced domain of the active \"Gaussian TF Volume\" beside it, "
-    "its widgets as spheres to drag");
-
-  this->SpectrumAction = pqMultichannelToolbarAction::add(group, "Spectrum",
-    "Show Spectrum", "Spectrum", "actionMultichannelSpectrum",
-    "Show Spectrum: the eigenvalue spectrum of the active source's DimensionReduction as a "
-    "bar chart (component vs eigenvalue) below the active view");
-
-  QObject::connect(
-    this->ExploreAction, &QAction::triggered, this, &pqExploreMultichannelActions::onExplore);
-  QObject::connect(this->ShowDomainAction, &QAction::triggered, this,
-    &pqExploreMultichannelActions::onShowDomain);
-  QObject::connect(this->SpectrumAction, &QAction::triggered, this,
-    &pqExploreMultichannelActions::onShowSpectrum);
+  this->ExploreAction = pqMultichannelToolbarAction::add(group, this, "actionMultichannelExplore");
+  this->ShowDomainAction =
+    pqMultichannelToolbarAction::add(group, this, "actionMultichannelShowDomain");
+  this->SpectrumAction =
+    pqMultichannelToolbarAction::add(group, this, "actionMultichannelSpectrum");
   pqActiveObjects& active = pqActiveObjects::instance();
   QObject::connect(&active, &pqActiveObjects::selectionChanged, this,
     &pqExploreMultichannelActions::updateEnableState);

@@ -15,7 +15,6 @@
 
 #include <QLabel>
 #include <QStringList>
-#include <QVBoxLayout>
 
 #include <cstring>
 #include <string>
@@ -65,17 +64,9 @@ vtkSMSourceProxy* inputOf(vtkSMProxy* proxy, unsigned int* port = nullptr)
 //-----------------------------------------------------------------------------
 pqFeatureCountWidget::pqFeatureCountWidget(
   vtkSMProxy* smproxy, vtkSMProperty* smproperty, QWidget* parentWidget)
-  : Superclass(smproxy, parentWidget)
+  : Superclass(smproxy, smproperty, parentWidget, "FeatureCount", false)
 {
-  this->setObjectName("FeatureCount");
-  this->setProperty(smproperty);
-  this->setShowLabel(false);
-  auto* layout = new QVBoxLayout(this);
-  layout->setContentsMargins(0, 0, 0, 0);
-  this->Label = new QLabel(this);
-  this->Label->setObjectName("featureCount");
-  this->Label->setWordWrap(true);
-  layout->addWidget(this->Label);
+  this->Label = this->addMessageLabel("featureCount");
 
   // Unchecked edits (before Apply) are shown too.
   for (const char* name : WatchedProperties)

@@ -16,17 +16,17 @@
 #ifndef pqFeatureCountWidget_h
 #define pqFeatureCountWidget_h
 
-#include "pqPropertyWidget.h"
+#include "pqMultichannelPropertyWidget.h"
 
 #include <vtkNew.h>
 
 class QLabel;
 class vtkEventQtSlotConnect;
 
-class pqFeatureCountWidget : public pqPropertyWidget
+class pqFeatureCountWidget : public pqMultichannelPropertyWidget
 {
   Q_OBJECT
-  typedef pqPropertyWidget Superclass;
+  typedef pqMultichannelPropertyWidget Superclass;
 
 public:
   pqFeatureCountWidget(vtkSMProxy* proxy, vtkSMProperty* property, QWidget* parent = nullptr);

@@ -50,22 +50,14 @@ const char* NamesProperty = "GaussianWidgetNames";
 //-----------------------------------------------------------------------------
 pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   vtkSMProxy* smproxy, vtkSMProperty* smproperty, QWidget* parentWidget)
-  : Superclass(smproxy, parentWidget)
+  : Superclass(smproxy, smproperty, parentWidget, "GaussianWidgetsEditor", false)
 {
-  this->setObjectName("GaussianWidgetsEditor");
-  this->setProperty(smproperty);
-  this->setShowLabel(false);
-
-  auto* layout = new QVBoxLayout(this);
-  layout->setContentsMargins(0, 0, 0, 0);
+  QVBoxLayout* layout = this->panelLayout();
   layout->setSpacing(4);
   auto* title = new QLabel("<b>Gaussian Widgets</b>", this);
   layout->addWidget(title);
-  this->Message = new QLabel(this);
-  this->Message->setObjectName("message");
-  this->Message->setWordWrap(true);
+  this->Message = this->addMessageLabel("message");
   this->Message->hide();
-  layout->addWidget(this->Message);
   this->RowsLayout = new QVBoxLayout();
   this->RowsLayout->setSpacing(2);
   layout->addLayout(this->RowsLayout);

@@ -15,7 +15,7 @@
 #ifndef pqGaussianWidgetsPropertyWidget_h
 #define pqGaussianWidgetsPropertyWidget_h
 
-#include "pqPropertyWidget.h"
+#include "pqMultichannelPropertyWidget.h"
 
 #include <vtkNew.h>
 
@@ -32,10 +32,10 @@ class pqDataRepresentation;
 class pqGaussianWidgetRow;
 class vtkEventQtSlotConnect;
 
-class pqGaussianWidgetsPropertyWidget : public pqPropertyWidget
+class pqGaussianWidgetsPropertyWidget : public pqMultichannelPropertyWidget
 {
   Q_OBJECT
-  typedef pqPropertyWidget Superclass;
+  typedef pqMultichannelPropertyWidget Superclass;
 
 public:
   pqGaussianWidgetsPropertyWidget(

@@ -22,28 +22,10 @@
 pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
   : Superclass(group)
 {
-  this->ProbeAction = pqMultichannelToolbarAction::add(group, "Probe",
-    "Probe", "Probe", "actionMultichannelProbe",
-    "Probe: while on, click a voxel in the \"Gaussian TF Volume\" view to read its reduced "
-    "coordinates, channels and features, and mark it in the reduced domain");
-  this->ProbeAction->setCheckable(true);
-
-  this->AddWidgetAction = pqMultichannelToolbarAction::add(group, "AddWidget",
-    "Add Widget Here", "Add Here", "actionMultichannelAddWidget",
-    "Add Widget Here: a new Gaussian widget at the reduced coordinates of the last probed "
-    "voxel (a palette colour no widget has, sigma 5% of the coordinates' range)");
-
-  this->BrushAction = pqMultichannelToolbarAction::add(group, "Brush",
-    "Brush Selection", "Brush", "actionMultichannelBrush",
-    "Brush Selection: highlight in the volume view the voxels of the points selected in the "
-    "reduced domain (select them first, e.g. with Select Points Through in the domain view)");
-
-  QObject::connect(
-    this->ProbeAction, &QAction::toggled, this, &pqMultichannelProbe::onProbeToggled);
-  QObject::connect(
-    this->BrushAction, &QAction::triggered, this, &pqMultichannelProbe::onBrush);
-  QObject::connect(
-    this->AddWidgetAction, &QAction::triggered, this, &pqMultichannelProbe::onAddWidget);
+  this->ProbeAction = pqMultichannelToolbarAction::add(group, this, "actionMultichannelProbe");
+  this->AddWidgetAction =
+    pqMultichannelToolbarAction::add(group, this, "actionMultichannelAddWidget");
+  this->BrushAction = pqMultichannelToolbarAction::add(group, this, "actionMultichannelBrush");
   // Views made while probing are watched too.
   QObject::connect(pqApplicationCore::instance()->getServerManagerModel(),
     &pqServerManagerModel::viewAdded, this, &pqMultichannelProbe::watchView);

@@ -1,22 +1,24 @@
-// The actions of the plugin's toolbar (Explore Multichannel, Best Viewpoint, Probe, ...) are
-// made the same way: made here once.
+// The actions of the plugin's toolbar (Explore Multichannel, Best Viewpoint, Probe, ...): one
+// table, ToolbarActions.json (in the plugin's resources), and one way to make each action.
 #ifndef pqMultichannelToolbarAction_h
 #define pqMultichannelToolbarAction_h
 
-#include <QString>
-
 class QAction;
 class QActionGroup;
+class QObject;
 
 namespace pqMultichannelToolbarAction
 {
 /**
- * A new action in `group` (its parent too): the icon Icons/`icon`.svg of the plugin's
- * resources, `text` (menus), `iconText` (the short text beside the icon in the toolbar),
- * `objectName` (the GUI tests find the action by it) and `toolTip`, also the status tip.
+ * A new action in `group` (its parent too), made from the entry `objectName` of the table
+ * ToolbarActions.json, which lists every action in the toolbar's order: its icon
+ * (Icons/<icon>.svg of the plugin's resources), text (menus), icon text (the short text
+ * beside the icon in the toolbar), tool tip (also the status tip), and the slot of
+ * `receiver` it runs: `slot()` when triggered, or, for a toggle (`"toggle": true`, the
+ * action checkable), `slot(bool)` at each change of its state. The GUI tests find the action
+ * by its `objectName`. A name or slot missing from the table is a warning, not a stop.
  */
-QAction* add(QActionGroup* group, const char* icon, const QString& text, const QString& iconText,
-  const char* objectName, const QString& toolTip);
+QAction* add(QActionGroup* group, QObject* receiver, const char* objectName);
 }
 
 #endif
