@@ -34,6 +34,17 @@ namespace
 
 namespace mt = mcv::testing;
 
+// n x D rows of independent standard normal values.
+mcv::RowMatrixF normalRows(Eigen::Index n, Eigen::Index D, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> normal;
+  mcv::RowMatrixF X(n, D);
+  for (Eigen::Index i = 0; i < X.size(); ++i)
+    X.data()[i] = normal(rng);
+  return X;
+}
+
 struct Csr
 {
   std::vector<std::size_t> start;
@@ -270,12 +281,7 @@ void expectSameFit(const FitPair& f)
 TEST(IsomapGPU, FitIsTheCpusOnRandomRows)
 {
   MCV_REQUIRE_GPU();
-  std::mt19937 rng(11);
-  std::normal_distribution<float> normal;
-  mcv::RowMatrixF X(4000, 24);
-  for (Eigen::Index i = 0; i < X.size(); ++i)
-    X.data()[i] = normal(rng);
-  expectSameFit(fitBoth(X, 12, 300));
+  expectSameFit(fitBoth(normalRows(4000, 24, 11), 12, 300));
 }
 
 TEST(IsomapGPU, FitIsTheCpusOnTheBrain)
@@ -299,11 +305,7 @@ TEST(IsomapGPU, FitIsTheCpusOnTheBrain)
 TEST(IsomapGPU, AFailureOnTheDeviceLeavesTheCpusFitWithAWarning)
 {
   MCV_REQUIRE_GPU();
-  std::mt19937 rng(12);
-  std::normal_distribution<float> normal;
-  mcv::RowMatrixF X(1500, 24);
-  for (Eigen::Index i = 0; i < X.size(); ++i)
-    X.data()[i] = normal(rng);
+  const mcv::RowMatrixF X = normalRows(1500, 24, 12);
   mcv::IsomapOptions o;
   o.numberOfNeighbors = 10;
   o.numberOfLandmarks = 200;

@@ -19,6 +19,7 @@
 
 #include "cuda/CudaCheck.h"
 #include "cuda/DeviceBuffer.cuh"
+#include "cuda/DeviceProbe.h"
 
 #ifdef MCV_HAS_CUSOLVER
 #include <cusolverDn.h>
@@ -126,15 +127,9 @@ __global__ void __launch_bounds__(kThreads, 2) geodesicsKernel(unsigned n, const
 
 std::size_t geodesicMaxVertices()
 {
-  int device = 0, optin = 0;
-  if (cudaGetDevice(&device) != cudaSuccess ||
-    cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, device) != cudaSuccess)
-  {
-    (void)cudaGetLastError();
-    return 0;
-  }
+  const std::size_t optin = sharedMemoryPerBlockOptin();
   const std::size_t fixed = 64; // the kernel's own shared variables, with room
-  return optin > static_cast<int>(fixed) ? (static_cast<std::size_t>(optin) - fixed) / kBytesPerVertex : 0;
+  return optin > fixed ? (optin - fixed) / kBytesPerVertex : 0;
 }
 
 bool geodesicDistances(std::size_t n, const std::size_t* start, const std::uint32_t* to, const float* weight,

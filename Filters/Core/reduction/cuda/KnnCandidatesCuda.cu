@@ -8,6 +8,7 @@
 
 #include "cuda/CudaCheck.h"
 #include "cuda/DeviceBuffer.cuh"
+#include "cuda/DeviceProbe.h"
 
 #include <vector>
 
@@ -110,16 +111,10 @@ __global__ void __launch_bounds__(kThreads) candidatesKernel(const float* data, 
 
 std::size_t knnCandidatesMaxPoints()
 {
-  int device = 0, optin = 0;
-  if (cudaGetDevice(&device) != cudaSuccess ||
-    cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, device) != cudaSuccess)
-  {
-    (void)cudaGetLastError();
-    return 0;
-  }
   // The kernel's static shared variables: the query, the histogram, the chosen keys.
+  const std::size_t optin = sharedMemoryPerBlockOptin();
   const std::size_t fixed = kMaxKnnCandidateDimension * 4 + 256 * 4 + kMaxKnnCandidatesOnDevice * 8 + 64;
-  return optin > static_cast<int>(fixed) ? (static_cast<std::size_t>(optin) - fixed) / 8 : 0;
+  return optin > fixed ? (optin - fixed) / 8 : 0;
 }
 
 bool knnCandidates(const float* data, std::size_t n, int dim, int kp, std::uint32_t* idx, float* f, std::string* error)
