@@ -221,17 +221,20 @@ __device__ __forceinline__ void buildPositionTable(
 
 // gradientProducts from the position table: the same values, one table read instead of
 // the position's index arithmetic, rounds unrolled (only the last one tests its bound).
-template <int R>
-__device__ __forceinline__ void gradientProductsTable(
-  float* sProd, const float* sIn, const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid)
+// Input slices sit in a ring of RING slots. PAIR: when `two`, slice cz + 1 (< nz) too,
+// into the product tile after cz's, from the same table reads.
+template <int R, int RING = 3, bool PAIR = false>
+__device__ __forceinline__ void gradientProductsTable(float* sProd, const float* sIn,
+  const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid, bool two = false)
 {
   using S = TileShape<R>;
   constexpr int IS = S::IS, N = S::Positions;
   constexpr int ROUNDS = (N + kHarrisThreads - 1) / kHarrisThreads;
   const int nz = a.nz;
-  const float* sc = sIn + (cz % 3) * IS;
-  const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
-  const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+  const float* sc = sIn + (cz % RING) * IS;
+  const float* sm = sIn + (max(cz - 1, 0) % RING) * IS;
+  const float* sp = sIn + (min(cz + 1, nz - 1) % RING) * IS;
+  [[maybe_unused]] const float* spp = PAIR ? sIn + (min(cz + 2, nz - 1) % RING) * IS : nullptr;
   const float scaleX = a.scaleX, scaleY = a.scaleY, scaleZ = a.scaleZ;
 #pragma unroll
   for (int k = 0; k < ROUNDS; ++k)
@@ -240,8 +243,22 @@ __device__ __forceinline__ void gradientProductsTable(
     if ((k + 1) * kHarrisThreads <= N || p < N)
     {
       const unsigned e = sPos[p];
-      productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX, scaleY,
-        scaleZ);
+      if constexpr (PAIR)
+      {
+        const int c = static_cast<int>(e & 0xffffu);
+        float* d = sProd + (e >> 16);
+        productsAt<R>(d, sc, sm, sp, c, scaleX, scaleY, scaleZ);
+        if (two)
+        {
+          // slice cz + 1: its lower neighbour is cz, its upper one cz + 2 (clamped)
+          productsAt<R>(d + S::ProdFloats, sp, sc, spp, c, scaleX, scaleY, scaleZ);
+        }
+      }
+      else
+      {
+        productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX,
+          scaleY, scaleZ);
+      }
     }
   }
 }
@@ -457,6 +474,50 @@ __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const u
   }
 }
 
+// A block's place in the grid and its thread's: the xy tile's origin and the output slices
+// [zb, ze). Clears the block's histogram when there is one.
+struct BlockPlace
+{
+  int tid, lane, warp;
+  int x0, y0; // tile origin
+  int zb, ze; // output slices
+  std::size_t plane;
+  bool withHist; // the level-1 histogram is counted
+
+  __device__ __forceinline__ BlockPlace(const HarrisKernelArgs& a, unsigned* sHist)
+  {
+    tid = threadIdx.x;
+    lane = tid & 31;
+    warp = tid >> 5;
+    x0 = blockIdx.x * kHarrisTileX;
+    y0 = blockIdx.y * kHarrisTileY;
+    zb = a.zOutBegin + blockIdx.z * a.zChunk;
+    ze = min(zb + a.zChunk, a.zOutEnd);
+    plane = static_cast<std::size_t>(a.nx) * a.ny;
+    withHist = a.hist != nullptr;
+    if (withHist)
+    {
+      clearHistogram(sHist, tid);
+    }
+  }
+};
+
+// The thread's two voxels: the in-plane offset of the first (the second is one row on) and
+// which of the two are inside the grid.
+struct OwnVoxels
+{
+  int offset;
+  bool inside[2];
+
+  __device__ __forceinline__ OwnVoxels(const BlockPlace& bp, int nx, int ny)
+  {
+    const int gx = bp.x0 + bp.lane, gy = bp.y0 + 2 * bp.warp;
+    offset = gx < nx && gy < ny ? gx + gy * nx : 0;
+    inside[0] = gx < nx && gy < ny;
+    inside[1] = gx < nx && gy + 1 < ny;
+  }
+};
+
 // V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
 // compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
 // bit 2: the product positions from a table built once per block (buildPositionTable), the
@@ -479,17 +540,12 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   unsigned* sPos = reinterpret_cast<unsigned*>(sIn + S::InFloats);
   unsigned* sHist = sPos + (TABLE ? S::Positions : 0);
 
-  const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
+  const BlockPlace bp(a, sHist);
+  const int tid = bp.tid, lane = bp.lane, warp = bp.warp;
   const int nx = a.nx, ny = a.ny, nz = a.nz;
-  const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
-  const int zb = a.zOutBegin + blockIdx.z * a.zChunk;
-  const int ze = min(zb + a.zChunk, a.zOutEnd);
-  const std::size_t plane = static_cast<std::size_t>(nx) * ny;
-  const bool withHist = a.hist != nullptr;
-  if (withHist)
-  {
-    clearHistogram(sHist, tid);
-  }
+  const int x0 = bp.x0, y0 = bp.y0, zb = bp.zb, ze = bp.ze;
+  const std::size_t plane = bp.plane;
+  const bool withHist = bp.withHist;
   if constexpr (TABLE)
   {
     buildPositionTable<R>(sPos, x0, y0, nx, ny, tid); // read after the first barrier
@@ -502,10 +558,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     y0 + kHarrisTileY + R <= ny;
   float win[2][W][6];
   clearWindow<W>(win);
-  // The thread's two voxels: in-plane offset of the first (the second is one row on).
-  const int gxOwn = x0 + lane, gyOwn = y0 + 2 * warp;
-  const int ownOffset = gxOwn < nx && gyOwn < ny ? gyOwn * nx + gxOwn : 0;
-  const bool ownInside[2] = { gxOwn < nx && gyOwn < ny, gxOwn < nx && gyOwn + 1 < ny };
+  const OwnVoxels own(bp, nx, ny);
 
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
@@ -524,10 +577,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       bool inside;
       if constexpr (TABLE)
       {
-        inside = ownInside[rr];
+        inside = own.inside[rr];
         if (inside)
         {
-          outSlice[ownOffset + rr * nx] = response;
+          outSlice[own.offset + rr * nx] = response;
         }
       }
       else
@@ -744,41 +797,6 @@ __device__ __forceinline__ void forPairs(F& f, int sv, int svEnd)
   }
 }
 
-// Two product slices at once from the position table: slice c0 into sProd, and when `two`
-// slice c0 + 1 into the tile after it; each table entry is read once for both. The products
-// themselves are productsAt's, as in gradientProductsTable.
-template <int R>
-__device__ __forceinline__ void gradientProductsPair(float* sProd, const float* sIn,
-  const unsigned* sPos, int c0, bool two, const HarrisKernelArgs& a, int tid)
-{
-  using S = TileShape<R>;
-  constexpr int IS = S::IS, N = S::Positions;
-  constexpr int ROUNDS = (N + kHarrisThreads - 1) / kHarrisThreads;
-  const int nz = a.nz;
-  const float* s0 = sIn + (c0 % 4) * IS;
-  const float* m0 = sIn + (max(c0 - 1, 0) % 4) * IS;
-  const float* p0 = sIn + (min(c0 + 1, nz - 1) % 4) * IS;
-  const float* p1 = sIn + (min(c0 + 2, nz - 1) % 4) * IS;
-  const float scaleX = a.scaleX, scaleY = a.scaleY, scaleZ = a.scaleZ;
-#pragma unroll
-  for (int k = 0; k < ROUNDS; ++k)
-  {
-    const int p = tid + k * kHarrisThreads;
-    if ((k + 1) * kHarrisThreads <= N || p < N)
-    {
-      const unsigned e = sPos[p];
-      const int c = static_cast<int>(e & 0xffffu);
-      float* d = sProd + (e >> 16);
-      productsAt<R>(d, s0, m0, p0, c, scaleX, scaleY, scaleZ);
-      if (two)
-      {
-        // slice c0 + 1 (< nz): its lower neighbour is c0, its upper one p1
-        productsAt<R>(d + S::ProdFloats, p0, s0, p1, c, scaleX, scaleY, scaleZ);
-      }
-    }
-  }
-}
-
 // The two-slice form of harrisKernel's table variant (variant 8): each round of two barriers
 // forms the products, x pass and y pass of two input slices (where both are new), so the
 // barriers, the table reads and the per-slice index work are paid once per two slices. The
@@ -791,7 +809,6 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
 {
   using S = TileShape<R>;
   constexpr int W = S::W, NS = W + 1; // window slots: W + 1 is even, two per round
-  constexpr int TX = kHarrisTileX;
 
   extern __shared__ float4 smem4[];
   float* sProd = reinterpret_cast<float*>(smem4);
@@ -800,26 +817,16 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   unsigned* sPos = reinterpret_cast<unsigned*>(sIn + 4 * S::IS);
   unsigned* sHist = sPos + S::Positions;
 
-  const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
-  const int nx = a.nx, ny = a.ny, nz = a.nz;
-  const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
-  const int zb = a.zOutBegin + blockIdx.z * a.zChunk;
-  const int ze = min(zb + a.zChunk, a.zOutEnd);
-  const std::size_t plane = static_cast<std::size_t>(nx) * ny;
-  const bool withHist = a.hist != nullptr;
-  if (withHist)
-  {
-    clearHistogram(sHist, tid);
-  }
-  buildPositionTable<R>(sPos, x0, y0, nx, ny, tid); // read after the first barrier
+  const BlockPlace bp(a, sHist);
+  const int tid = bp.tid, nz = a.nz, zb = bp.zb;
+  const std::size_t plane = bp.plane;
+  buildPositionTable<R>(sPos, bp.x0, bp.y0, a.nx, a.ny, tid); // read after the first barrier
 
   int inOff[S::LOADS];
-  inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
+  inputOffsets<R>(inOff, tid, bp.x0, bp.y0, a.nx, a.ny);
   float win[2][NS][6];
   clearWindow<NS>(win);
-  const int gxOwn = x0 + lane, gyOwn = y0 + 2 * warp;
-  const int ownOffset = gxOwn < nx && gyOwn < ny ? gyOwn * nx + gxOwn : 0;
-  const bool ownInside[2] = { gxOwn < nx && gyOwn < ny, gxOwn < nx && gyOwn + 1 < ny };
+  const OwnVoxels own(bp, a.nx, a.ny);
 
   // The z pass, the response and its output for the two voxels of this thread at slice z,
   // the window's newest slot being P.
@@ -832,13 +839,13 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       float m[6];
       zSmooth<W, true, P, NS>(m, win, rr, a);
       const float response = harrisResponse(m, a);
-      if (ownInside[rr])
+      if (own.inside[rr])
       {
-        outSlice[ownOffset + rr * nx] = response;
+        outSlice[own.offset + rr * a.nx] = response;
       }
-      if (withHist)
+      if (bp.withHist)
       {
-        countCandidate(sHist, response, ownInside[rr], a.histMode, lane);
+        countCandidate(sHist, response, own.inside[rr], a.histMode, bp.lane);
       }
     }
   };
@@ -847,7 +854,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   // q % 4; before the products of new slices up to c it holds c - 1 .. c + 1 (clamped) and,
   // when c is the second of a pair, c - 2 too; the products' last reads of it are behind
   // the first barrier, so slices up to c + 3 are stored then (at most two per round).
-  const int svBegin = zb - R, svEnd = ze + R;
+  const int svBegin = zb - R, svEnd = bp.ze + R;
   const int czFirst = clampi(svBegin, 0, nz - 1);
   const int czLast = clampi(svEnd - 1, 0, nz - 1);
   const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
@@ -881,7 +888,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       const int first = fresh0 ? cz0 : cz1;
       const bool two = fresh0 && fresh1;
       const int last = two ? cz1 : first;
-      gradientProductsPair<R>(sProd, sIn, sPos, first, two, a, tid);
+      gradientProductsTable<R, 4, true>(sProd, sIn, sPos, first, a, tid, two);
       __syncthreads();
       const int stores = max(min(last + 3, qLast) - nextLoad + 1, 0); // 0, 1 or 2
       if (stores > 0)
@@ -920,7 +927,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
     // the x-smoothed slices: the first new one in sXb, the second after it
     if (fresh0)
     {
-      yPassStore<R, true, 2 * P, NS>(win, sXb, a, warp, lane);
+      yPassStore<R, true, 2 * P, NS>(win, sXb, a, bp.warp, bp.lane);
     }
     else
     {
@@ -934,7 +941,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
     {
       if (fresh1)
       {
-        yPassStore<R, true, 2 * P + 1, NS>(win, sXb + (fresh0 ? S::XbFloats : 0), a, warp, lane);
+        yPassStore<R, true, 2 * P + 1, NS>(win, sXb + (fresh0 ? S::XbFloats : 0), a, bp.warp, bp.lane);
       }
       else
       {
@@ -951,7 +958,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
     forPairs<0, NS>(round, sv, svEnd);
   }
 
-  if (withHist)
+  if (bp.withHist)
   {
     __syncthreads();
     flushHistogram(a.hist, sHist, tid);
