@@ -802,7 +802,8 @@ __device__ __forceinline__ void forPairs(F& f, int sv, int svEnd)
 // barriers, the table reads and the per-slice index work are paid once per two slices. The
 // shared tiles hold two product and two x-smoothed slices and a ring of four input slices
 // (89 KB at width 5, still two blocks per SM); the z window is a register ring of W + 1
-// slots, two slots per round. Same operations in the same order as harrisKernel.
+// slots, two slots per round. Same operations in the same order as harrisKernel. Slower
+// than variant 5 on an H200 (docs/benchmarks.md, section 2), so not the default.
 template <typename T, int R>
 __global__ void __launch_bounds__(kHarrisThreads, 2)
   harrisKernelPairs(const T* __restrict__ in, const HarrisKernelArgs a)
