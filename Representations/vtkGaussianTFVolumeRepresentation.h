@@ -159,11 +159,13 @@ public:
    * left out add less than 1e-6 opacity per unit length to a sample (the picture is the
    * same within 1/255 on the brain). SKIPPING_OFF: every widget at every sample (the
    * un-culled loop). SKIPPING_ON: always the bricks. SKIPPING_AUTOMATIC (default): the
-   * bricks only with the exact evaluation and where they leave out at least a quarter of
-   * the widgets (AutomaticSkippingShare): on Mesa llvmpipe the brick look-up at every sample
-   * costs more than it saves when every reached brick lists (nearly) every widget, as
-   * with 1 and 8 widgets seeded on the brain, and saves about a quarter of the frame with
-   * 64 (docs/benchmarks.md section 20). Volumes of one piece per process only.
+   * bricks only with the exact evaluation and where a sample of a reached brick evaluates
+   * at most AutomaticSkippingShare of the widgets on average: on Mesa llvmpipe the brick
+   * look-up at every sample costs more than it saves when every reached brick lists every
+   * widget (1 and 8 widgets seeded on the brain), saves about a quarter of the frame where
+   * the bricks list 59 % of 64 widgets (the 7.1 M-voxel brain) and is as likely to cost
+   * as to save at 64 % (its 1 M-voxel block): docs/benchmarks.md section 20. Volumes of
+   * one piece per process only.
    */
   enum EmptySpaceSkippingType
   {
@@ -179,7 +181,7 @@ public:
    * SKIPPING_AUTOMATIC uses the bricks when a sample of a reached brick evaluates at most
    * this share of the widgets on average (GetMeanWidgetsPerBrick over the widget count).
    */
-  static constexpr double AutomaticSkippingShare = 0.75;
+  static constexpr double AutomaticSkippingShare = 0.6;
 
   /**
    * Whether the last render's shader used the widget table (EmptySpaceSkipping on, or

@@ -27,9 +27,11 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
-        [--reduced brain_reduced.vti] [--skipping]
+        [--reduced brain_reduced.vti] [--skipping] [--exact-only]
 
---skipping adds the exact evaluation with EmptySpaceSkipping; --sigma-scale S multiplies
+--skipping adds the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
+its brick statistics, its picture against the exact one and what Automatic (the
+default) picks; --exact-only leaves out the table and per voxel; --sigma-scale S multiplies
 every seeded sigma by S (wider widgets: a coarser table).
 
 The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
@@ -243,7 +245,16 @@ def turn(mce, view, reduction, args):
                 empty = int(displays["exact, skipping"].GetPropertyValue("GaussianTFEmptyBricks"))
                 listed = float(displays["exact, skipping"].GetPropertyValue(
                     "GaussianTFWidgetsPerBrick"))
-                bricks = (total, empty, listed) + differences["exact, skipping"]
+                # What EmptySpaceSkipping's default (Automatic) picks for these widgets.
+                for other in modes:
+                    displays[other].Visibility = 1 if other == "exact, skipping" else 0
+                displays["exact, skipping"].EmptySpaceSkipping = "Automatic"
+                simple.Render(view)
+                displays["exact, skipping"].UpdatePropertyInformation()
+                automatic = int(displays["exact, skipping"].GetPropertyValue(
+                    "GaussianTFSkippingUsed"))
+                displays["exact, skipping"].EmptySpaceSkipping = "On"
+                bricks = (total, empty, listed) + differences["exact, skipping"] + (automatic,)
             # A handle move (widget 1's centre by a tenth of its sigma): the table is baked
             # again; the representation's preparation is that bake and the uniforms.
             # With skipping, the widget table is rebuilt too: its preparation is measured alike.
@@ -261,7 +272,7 @@ def turn(mce, view, reduction, args):
                     bake = rebuild[m]
                     used = str(displays[m].GetPropertyValue("GaussianTFEvaluationUsed"))
             if bricks:
-                bricks += (rebuild["exact, skipping"],)
+                bricks += (rebuild["exact, skipping"],)  # index 6
             med = {m: statistics.median(times[m]) for m in modes}
             rate = statistics.median(samples) / med["plain"]
             rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas), largest, share,
@@ -276,8 +287,8 @@ def turn(mce, view, reduction, args):
                   + ("; bricks %d, %d empty, %.2f widgets per reached brick; skipping vs exact "
                      "picture: largest %d/255, %.3f %% of pixels > 2/255"
                      % (bricks[:3] + (bricks[3], 100 * bricks[4])) if bricks else "")
-                  + ("; skipping's preparation after a move %.1f ms" % (1e3 * bricks[5])
-                     if bricks else ""))
+                  + ("; skipping's preparation after a move %.1f ms; Automatic uses the bricks: %s"
+                     % (1e3 * bricks[6], "yes" if bricks[5] else "no") if bricks else ""))
             sys.stdout.flush()
         for m in modes:
             simple.Delete(displays[m])
@@ -289,8 +300,9 @@ def turn(mce, view, reduction, args):
           + " | ".join("%s (x plain)" % m for m in modes[1:])
           + " | table, bake | table vs exact picture |"
           + (" empty bricks, widgets per reached brick, rebuild | skipping vs exact picture |"
+             " Automatic draws |"
              if args.skipping else ""))
-    print("|---" * (len(modes) + 4 + (2 if args.skipping else 0)) + "|")
+    print("|---" * (len(modes) + 4 + (3 if args.skipping else 0)) + "|")
     for voxels, count, visible, med, used, bake, rate, sigma, largest, share, bricks in rows:
         p = med["plain"]
         print("| %.1f M | %d (%d visible) | %.0f ms (%.0f M/s) | " % (voxels / 1e6, count, visible,
@@ -298,9 +310,9 @@ def turn(mce, view, reduction, args):
               + " | ".join("%.0f ms (x%.2f)" % (1e3 * med[m], med[m] / p) for m in modes[1:])
               + " | %s, %.0f ms | %d/255, %.2f %% > 2/255 |"
               % (used.replace("table ", ""), 1e3 * bake, largest, 100 * share)
-              + (" %.0f %%, %.1f, %.0f ms | %d/255, %.2f %% > 2/255 |"
-                 % (100.0 * bricks[1] / max(bricks[0], 1), bricks[2], 1e3 * bricks[5], bricks[3],
-                    100 * bricks[4])
+              + (" %.0f %%, %.1f, %.0f ms | %d/255, %.2f %% > 2/255 | %s |"
+                 % (100.0 * bricks[1] / max(bricks[0], 1), bricks[2], 1e3 * bricks[6], bricks[3],
+                    100 * bricks[4], "skipping" if bricks[5] else "exact")
                  if bricks else ""))
     sys.stdout.flush()
 
