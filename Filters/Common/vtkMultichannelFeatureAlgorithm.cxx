@@ -2,6 +2,7 @@
 
 #include "FeatureVectors.h"
 #include "ImageGrid.h"
+#include "mcvPrintMembers.h"
 #include "vtkImageData.h"
 
 #include <cmath>
@@ -46,13 +47,7 @@ bool vtkMultichannelFeatureAlgorithm::CheckFeatureCount(int featureCount)
 void vtkMultichannelFeatureAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "Intensity: " << this->Intensity << "\n";
-  os << indent << "Gradient: " << this->Gradient << "\n";
-  os << indent << "GradientMagnitude: " << this->GradientMagnitude << "\n";
-  os << indent << "Laplacian: " << this->Laplacian << "\n";
-  os << indent << "LocalMean: " << this->LocalMean << "\n";
-  os << indent << "LocalVariance: " << this->LocalVariance << "\n";
-  os << indent << "Normalization: " << this->Normalization << "\n";
-  os << indent << "MaskBackground: " << this->MaskBackground << "\n";
-  os << indent << "BackgroundThreshold: " << this->BackgroundThreshold << "\n";
+  mcvPrintMembersMacro(os, indent, this->Intensity, this->Gradient, this->GradientMagnitude,
+    this->Laplacian, this->LocalMean, this->LocalVariance, this->Normalization,
+    this->MaskBackground, this->BackgroundThreshold);
 }

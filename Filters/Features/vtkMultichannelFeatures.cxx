@@ -20,6 +20,7 @@
 
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
+#include "../Common/mcvPrintMembers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -249,7 +250,6 @@ bool vtkMultichannelFeatures::ComputeForegroundMask(const mcv::vtkhelpers::Chann
 void vtkMultichannelFeatures::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "FeatureSet: " << this->FeatureSet << "\n";
-  os << indent << "NumberOfFeatures: " << this->NumberOfFeatures << "\n";
-  os << indent << "NumberOfBackgroundVoxels: " << this->NumberOfBackgroundVoxels << "\n";
+  mcvPrintMembersMacro(
+    os, indent, this->FeatureSet, this->NumberOfFeatures, this->NumberOfBackgroundVoxels);
 }

@@ -26,7 +26,8 @@
 #ifndef vtkCheckedMetaImageReader_h
 #define vtkCheckedMetaImageReader_h
 
-#include "mcvIOVolPackModule.h" // for export macro
+#include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
+#include "mcvIOVolPackModule.h"      // for export macro
 #include "vtkMetaImageReader.h"
 
 #include <string> // for std::string
@@ -41,10 +42,8 @@ protected:
   vtkCheckedMetaImageReader() = default;
   ~vtkCheckedMetaImageReader() override = default;
 
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
+  // The checks before reading (mcvCheckedReaderMacros.h); Describe(): "MetaImage file '<name>'".
+  mcvCheckedReaderMembersMacro();
 
 private:
   vtkCheckedMetaImageReader(const vtkCheckedMetaImageReader&) = delete;
@@ -52,10 +51,6 @@ private:
 
   // "" when the header and its data files agree; else what is wrong, in one sentence.
   std::string CheckHeaderAgainstFile();
-  // "MetaImage file '<name>'", the start of every error.
-  std::string Describe();
-
-  bool Refused = false;
 };
 
 #endif

@@ -27,7 +27,8 @@
 #ifndef vtkCheckedNIFTIImageReader_h
 #define vtkCheckedNIFTIImageReader_h
 
-#include "mcvIOVolPackModule.h" // for export macro
+#include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
+#include "mcvIOVolPackModule.h"      // for export macro
 #include "vtkNIFTIImageReader.h"
 
 #include <string> // for std::string
@@ -42,10 +43,8 @@ protected:
   vtkCheckedNIFTIImageReader() = default;
   ~vtkCheckedNIFTIImageReader() override = default;
 
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
+  // The checks before reading (mcvCheckedReaderMacros.h); Describe(): "NIfTI file '<name>'".
+  mcvCheckedReaderMembersMacro();
 
 private:
   vtkCheckedNIFTIImageReader(const vtkCheckedNIFTIImageReader&) = delete;
@@ -53,10 +52,6 @@ private:
 
   // "" when the header and the file agree; else what is wrong, in one sentence.
   std::string CheckHeaderAgainstFile();
-  // "NIfTI file '<name>'", the start of every error.
-  std::string Describe();
-
-  bool Refused = false;
 };
 
 #endif

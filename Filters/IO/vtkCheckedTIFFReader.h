@@ -37,7 +37,8 @@
 #ifndef vtkCheckedTIFFReader_h
 #define vtkCheckedTIFFReader_h
 
-#include "mcvIOVolPackModule.h" // for export macro
+#include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
+#include "mcvIOVolPackModule.h"      // for export macro
 #include "vtkTIFFReader.h"
 
 #include <string> // for std::string
@@ -68,10 +69,8 @@ protected:
   vtkCheckedTIFFReader();
   ~vtkCheckedTIFFReader() override;
 
-  int RequestInformation(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
-  int RequestData(vtkInformation* request, vtkInformationVector** inputVector,
-    vtkInformationVector* outputVector) override;
+  // The checks before reading (mcvCheckedReaderMacros.h); Describe(): "TIFF file '<name>'" or "TIFF stack of N files".
+  mcvCheckedReaderMembersMacro();
 
 private:
   vtkCheckedTIFFReader(const vtkCheckedTIFFReader&) = delete;
@@ -81,14 +80,11 @@ private:
   std::vector<std::string> Files();
   // "" when every file holds what its directories promise; else what is wrong.
   std::string CheckFiles();
-  // "TIFF file '<name>'" or "TIFF stack of N files", the start of every error.
-  std::string Describe();
   // RequestInformation and RequestData of a file read through its plane map.
   std::string PlaneMapInformation(vtkInformation* outInfo);
   int ReadPlanes(vtkInformation* outInfo);
 
   std::vector<std::string> Stack;
-  bool Refused = false;
   class vtkInternals;
   vtkInternals* Internals;
 };

@@ -151,13 +151,6 @@ int vtkVolPackDenReader::CanReadFile(const char* fileName)
 }
 
 //------------------------------------------------------------------------------
-int vtkVolPackDenReader::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkImageData");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 bool vtkVolPackDenReader::CheckSpacing()
 {
   // The format stores no spacing: a bad one can only come from the property.

@@ -64,7 +64,6 @@ protected:
   vtkVolPackDenReader();
   ~vtkVolPackDenReader() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 

@@ -24,6 +24,7 @@
 
 #include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Common/mcvInternalArrays.h"   // vtkGhostType, vtkValidPointMask
+#include "../Common/mcvPrintMembers.h"
 #include "../Common/mcvVoxelCloud.h"       // vertices, copied tuples, VoxelId
 
 #include <algorithm>
@@ -221,11 +222,8 @@ vtkPolyData* vtkReducedDomain::GetOutput(int port)
 void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "SampleSize: " << this->SampleSize << "\n";
-  os << indent << "RandomSeed: " << this->RandomSeed << "\n";
-  os << indent << "SeedWidgetCount: " << this->SeedWidgetCount << "\n";
-  os << indent << "SeedWidgetOpacity: " << this->SeedWidgetOpacity << "\n";
-  os << indent << "SkipLargestCluster: " << this->SkipLargestCluster << "\n";
+  mcvPrintMembersMacro(os, indent, this->SampleSize, this->RandomSeed, this->SeedWidgetCount,
+    this->SeedWidgetOpacity, this->SkipLargestCluster);
 }
 
 //------------------------------------------------------------------------------

@@ -31,6 +31,7 @@
 // VTK arrays -> core channels, shared with the other filters of the suite.
 #include "../Common/mcvChannelArrays.h"
 #include "../Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
+#include "../Common/mcvPrintMembers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -719,15 +720,7 @@ vtkPolyData* vtkBestViewpoint::GetOutput(int port)
 void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
-  os << indent << "OpacityFunction: " << this->OpacityFunction << "\n";
-  os << indent << "NumberOfInterestPoints: " << this->NumberOfInterestPoints << "\n";
-  os << indent << "GaussianSigma: " << this->GaussianSigma << "\n";
-  os << indent << "KernelWidth: " << this->KernelWidth << "\n";
-  os << indent << "HarrisK: " << this->HarrisK << "\n";
-  os << indent << "Method: " << this->Method << "\n";
-  os << indent << "EntropySamples: " << this->EntropySamples << "\n";
-  os << indent << "EntropyImageSize: " << this->EntropyImageSize << "\n";
-  os << indent << "BestViewDirection: " << this->BestViewDirection[0] << " "
-     << this->BestViewDirection[1] << " " << this->BestViewDirection[2] << "\n";
-  os << indent << "ViewValid: " << this->ViewValid << "\n";
+  mcvPrintMembersMacro(os, indent, this->OpacityFunction, this->NumberOfInterestPoints,
+    this->GaussianSigma, this->KernelWidth, this->HarrisK, this->Method, this->EntropySamples,
+    this->EntropyImageSize, this->BestViewDirection, this->ViewValid);
 }

@@ -70,25 +70,34 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   this->RowsLayout->setSpacing(2);
   layout->addLayout(this->RowsLayout);
 
-  auto newButton = [this](const char* name, const QString& text, const QString& tip) {
+  // A button that runs `slot` when clicked.
+  using Self = pqGaussianWidgetsPropertyWidget;
+  auto newButton = [this](const char* name, const QString& text, const QString& tip,
+                     void (Self::*slot)()) {
     auto* button = new QPushButton(text, this);
     button->setObjectName(name);
     button->setToolTip(tip);
+    QObject::connect(button, &QPushButton::clicked, this, slot);
     return button;
   };
-  this->AddButton = newButton("addWidget", "Add", "Add a widget at the centre of the domain");
-  this->DuplicateButton =
-    newButton("duplicateWidget", "Duplicate", "Add a copy of the selected widget");
-  this->RemoveButton = newButton("removeWidget", "Remove", "Remove the selected widget");
+  this->AddButton =
+    newButton("addWidget", "Add", "Add a widget at the centre of the domain", &Self::addWidget);
+  this->DuplicateButton = newButton("duplicateWidget", "Duplicate",
+    "Add a copy of the selected widget", &Self::duplicateWidget);
+  this->RemoveButton =
+    newButton("removeWidget", "Remove", "Remove the selected widget", &Self::removeWidget);
   this->SeedButton = newButton("seedWidgets", "Seed from clusters",
     "Replace the widgets by widgets at the k-means clusters of the reduced domain "
-    "(multichannel_explorer.auto_widgets, as the toolbar's Seed Gaussian Widgets)");
+    "(multichannel_explorer.auto_widgets, as the toolbar's Seed Gaussian Widgets)",
+    &Self::seedWidgets);
   this->SaveButton = newButton("saveTransferFunction", "Save...",
     "Save these widgets and the reduction model they live in to a transfer-function file "
-    "(.mcvtf; the model beside it as .mcvmodel unless the reduction applies one)");
+    "(.mcvtf; the model beside it as .mcvmodel unless the reduction applies one)",
+    &Self::saveTransferFunction);
   this->LoadButton = newButton("loadTransferFunction", "Load...",
     "Load a transfer-function file (.mcvtf): its reduction model becomes this display's "
-    "reduction's ModelFile, then its widgets replace these (one undo step)");
+    "reduction's ModelFile, then its widgets replace these (one undo step)",
+    &Self::loadTransferFunction);
   this->SeedCount = new QSpinBox(this);
   this->SeedCount->setObjectName("seedCount");
   this->SeedCount->setRange(1, 64);
@@ -104,19 +113,6 @@ pqGaussianWidgetsPropertyWidget::pqGaussianWidgetsPropertyWidget(
   buttons->addWidget(this->SaveButton, 2, 0);
   buttons->addWidget(this->LoadButton, 2, 1);
   layout->addLayout(buttons);
-
-  QObject::connect(this->AddButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::addWidget);
-  QObject::connect(this->DuplicateButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::duplicateWidget);
-  QObject::connect(this->RemoveButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::removeWidget);
-  QObject::connect(this->SeedButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::seedWidgets);
-  QObject::connect(this->SaveButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::saveTransferFunction);
-  QObject::connect(this->LoadButton, &QPushButton::clicked, this,
-    &pqGaussianWidgetsPropertyWidget::loadTransferFunction);
 
   // Any change of the properties, whoever made it, is shown.
   this->Connections->Connect(

@@ -2,6 +2,7 @@
 // same neighbours (and so the same coordinates, bit for bit) as a plain full scan, on random
 // data (6D, 24D), on data full of exact distance ties, and on the real brain features.
 #include "BrainFeatures.h"
+#include "OutOfSampleData.h"
 #include "ExactKnn.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
@@ -68,16 +69,7 @@ Placed place(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& refY, const std
   return p;
 }
 
-mcv::RowMatrixF randomMatrix(std::size_t rows, int cols, std::mt19937& rng)
-{
-  std::normal_distribution<float> g(0.f, 1.f);
-  mcv::RowMatrixF m(static_cast<Eigen::Index>(rows), cols);
-  for (Eigen::Index i = 0; i < m.size(); ++i)
-  {
-    m.data()[i] = g(rng);
-  }
-  return m;
-}
+using mt::randomMatrix;
 
 // Both backends against the naive scan; coordinates equal bit for bit between backends.
 void expectSameAsNaive(const mcv::RowMatrixF& refX, const mcv::RowMatrixF& refY, const std::vector<float>& rows,
@@ -169,37 +161,11 @@ TEST(OutOfSample, ExactTiesBreakByIndexOnEveryBackend)
   // Points of the integer lattice {0,1,2}^6: distances are small integers, so most queries
   // have many references at exactly the same distance; the float candidates cannot settle
   // those and the radius scan must.
-  std::mt19937 rng(2);
-  std::uniform_int_distribution<int> v(0, 2);
-  std::vector<float> all(729 * 6);
-  for (int i = 0; i < 729; ++i)
-  {
-    int x = i;
-    for (int c = 0; c < 6; ++c, x /= 3)
-    {
-      all[i * 6 + c] = static_cast<float>(x % 3);
-    }
-  }
-  // Distinct references: a shuffled half of the lattice.
-  std::vector<int> perm(729);
-  std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), rng);
-  mcv::RowMatrixF refX(360, 6);
-  for (int r = 0; r < 360; ++r)
-  {
-    for (int c = 0; c < 6; ++c)
-    {
-      refX(r, c) = all[perm[r] * 6 + c];
-    }
-  }
-  const mcv::RowMatrixF refY = randomMatrix(360, 2, rng);
-  std::vector<float> rows(2000 * 6);
-  for (float& x : rows)
-  {
-    x = static_cast<float>(v(rng)) * 0.5f; // half-integers too: more ties
-  }
+  // Distinct references: a shuffled half of the lattice; queries on the half-integer
+  // lattice (0, 0.5, 1): more ties.
+  const mt::LatticeTies ties = mt::latticeTies(3, 360, 2000, 2, 2);
   std::size_t scans = 0;
-  expectSameAsNaive(refX, refY, rows, true, &scans);
+  expectSameAsNaive(ties.refX, ties.refY, ties.rows, true, &scans);
   EXPECT_GT(scans, 100u) << "the tie case should exercise the radius scan";
 }
 
@@ -253,16 +219,9 @@ TEST(OutOfSample, BruteForceAndKdTreeAgreeOnBrainFeatures)
     ASSERT_TRUE(f.result.ok()) << f.result.error;
     const int D = f.cols;
     SCOPED_TRACE("D = " + std::to_string(D));
-    mcv::ReferenceSampleOptions so;
-    so.size = 3000;
-    const auto refRows = mcv::drawReferenceSample(f.values.data(), f.rows, D, {}, {}, so);
-    mcv::RowMatrixF refX(static_cast<Eigen::Index>(refRows.size()), D);
-    for (std::size_t r = 0; r < refRows.size(); ++r)
-    {
-      std::copy(f.values.begin() + refRows[r] * D, f.values.begin() + (refRows[r] + 1) * D, refX.row(r).data());
-    }
+    const mcv::RowMatrixF refX = mt::referenceSampleRows(f, 3000);
     std::mt19937 rng(4);
-    const mcv::RowMatrixF refY = randomMatrix(refRows.size(), 3, rng);
+    const mcv::RowMatrixF refY = randomMatrix(static_cast<std::size_t>(refX.rows()), 3, rng);
     // Every 97th voxel (4 quarters of the box and its background).
     std::vector<float> rows;
     for (std::size_t i = 0; i < f.rows; i += 97)

@@ -3,6 +3,7 @@
 // chosen device with a chosen device budget, and the coordinate comparison.
 #pragma once
 
+#include "BrainFeatures.h"
 #include "DimensionReduction.h"
 #include "FeatureBricks.h"
 #include "TestVolumes.h"
@@ -19,6 +20,24 @@ namespace mcv
 {
 namespace testing
 {
+
+// The piece of the real brain that the fused tests compare the CPU with (brainPiece, float
+// channels as the loader gives them) and its grid.
+struct BrainPieceChannels
+{
+  std::vector<Volume> volumes;
+  ImageGrid grid;
+
+  std::vector<ChannelView> views() const { return floatViews(this->volumes); }
+};
+
+inline BrainPieceChannels loadBrainPiece()
+{
+  BrainPieceChannels b;
+  b.volumes = brainPiece();
+  b.grid = b.volumes[0].grid;
+  return b;
+}
 
 // Channels in the types a user's volume has; views() for FeatureBricks.
 struct TypedChannels

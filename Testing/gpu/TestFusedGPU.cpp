@@ -121,12 +121,12 @@ TEST(FusedGPU, RealBrainManySlabsMatchesTheCpu)
   MCV_REQUIRE_GPU();
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::brainPiece();
-  const std::vector<mcv::ChannelView> views = mt::floatViews(brain);
-  const mcv::ImageGrid& grid = brain[0].grid;
-  const mt::FusedRun cpu = mt::runFused(views, grid, mt::isomapOptions(2000, Device::CPU), 0);
-  const std::size_t budget = mt::budgetForSlices(grid, 3, 24, 2000, 3, 4);
-  const mt::FusedRun gpu = mt::runFused(views, grid, mt::isomapOptions(2000, Device::GPU), budget);
+  const mt::BrainPieceChannels brain = mt::loadBrainPiece();
+  const mt::FusedRun cpu =
+    mt::runFused(brain.views(), brain.grid, mt::isomapOptions(2000, Device::CPU), 0);
+  const std::size_t budget = mt::budgetForSlices(brain.grid, 3, 24, 2000, 3, 4);
+  const mt::FusedRun gpu =
+    mt::runFused(brain.views(), brain.grid, mt::isomapOptions(2000, Device::GPU), budget);
   EXPECT_GE(gpu.stats.slabs, 8u);
   expectSameCoordinates(cpu, gpu);
 }

@@ -67,8 +67,8 @@ TEST(FusedPassesGPU, StatisticsAgreeWithTheCpu)
   expectSameStatistics(t.views(), t.grid);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::brainPiece();
-  expectSameStatistics(mt::floatViews(brain), brain[0].grid);
+  const mt::BrainPieceChannels brain = mt::loadBrainPiece();
+  expectSameStatistics(brain.views(), brain.grid);
 }
 
 // The reference of the column check: DimensionReduction.cpp's exact sums, from the CPU blocks.
@@ -185,8 +185,8 @@ TEST(FusedPassesGPU, ColumnSumsAndStrataAreTheCpus)
   expectSameColumnSumsAndStrata(t.views(), t.grid);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::brainPiece();
-  expectSameColumnSumsAndStrata(mt::floatViews(brain), brain[0].grid);
+  const mt::BrainPieceChannels brain = mt::loadBrainPiece();
+  expectSameColumnSumsAndStrata(brain.views(), brain.grid);
 }
 
 // Every pass on the GPU against every pass on the CPU.
@@ -215,8 +215,8 @@ TEST(FusedPassesGPU, WholeChainOnTheGpuMatchesTheCpu)
   expectSameChain(t.views(), t.grid, 600);
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::brainPiece();
-  expectSameChain(mt::floatViews(brain), brain[0].grid, 2000);
+  const mt::BrainPieceChannels brain = mt::loadBrainPiece();
+  expectSameChain(brain.views(), brain.grid, 2000);
 }
 
 // The channels kept on the device from the statistics pass to the placement (a budget with
@@ -228,9 +228,9 @@ TEST(FusedPassesGPU, ResidentChannelsGiveTheStreamedResult)
   MCV_REQUIRE_GPU();
   if (!mt::haveBrain())
     GTEST_SKIP() << "brain volumes not in " << mt::dataDir() << " (scripts/fetch-data.sh)";
-  const std::vector<mt::Volume> brain = mt::brainPiece();
-  const std::vector<mcv::ChannelView> views = mt::floatViews(brain);
-  const mcv::ImageGrid& grid = brain[0].grid;
+  const mt::BrainPieceChannels brain = mt::loadBrainPiece();
+  const std::vector<mcv::ChannelView> views = brain.views();
+  const mcv::ImageGrid& grid = brain.grid;
   const std::size_t channelBytes = grid.voxelCount() * 3 * sizeof(float);
   // The thickest slabs whose budget leaves no room for the channels (they fit in half of it).
   int slices = 4;

@@ -7,6 +7,7 @@
 // reference scanned: the same neighbours and the same coordinates, bit for bit, with fewer
 // tiles scanned.
 #include "BrainFeatures.h"
+#include "OutOfSampleData.h"
 #include "ExactKnn.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
@@ -26,14 +27,7 @@ namespace
 {
 namespace mt = mcv::testing;
 
-mcv::RowMatrixF randomMatrix(std::size_t rows, int cols, std::mt19937& rng)
-{
-  std::normal_distribution<float> g(0.f, 1.f);
-  mcv::RowMatrixF m(static_cast<Eigen::Index>(rows), cols);
-  for (Eigen::Index i = 0; i < m.size(); ++i)
-    m.data()[i] = g(rng);
-  return m;
-}
+using mt::randomMatrix;
 
 struct Placed
 {
@@ -227,29 +221,14 @@ TEST(OutOfSampleGPU, ExactTiesBreakByIndexLikeTheCpu)
   MCV_REQUIRE_GPU();
   // The integer lattice {0,1,2}^6 (see TestOutOfSample.cpp): many references at exactly the
   // same distance; the bound cannot settle them and the exact scan kernel must.
-  std::mt19937 rng(2);
-  std::vector<int> perm(729);
-  std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), rng);
-  mcv::RowMatrixF refX(360, 6);
-  for (int r = 0; r < 360; ++r)
-  {
-    int x = perm[r];
-    for (int c = 0; c < 6; ++c, x /= 3)
-      refX(r, c) = static_cast<float>(x % 3);
-  }
-  const mcv::RowMatrixF refY = randomMatrix(360, 2, rng);
-  std::uniform_int_distribution<int> v(0, 4);
-  std::vector<float> rows(20000 * 6);
-  for (float& x : rows)
-    x = static_cast<float>(v(rng)) * 0.5f;
-  const Placed gpu = place(refX, refY, rows.data(), 20000, 6, {}, mcv::Device::GPU);
+  const mt::LatticeTies ties = mt::latticeTies(3, 360, 20000, 4, 2);
+  const Placed gpu = place(ties.refX, ties.refY, ties.rows.data(), 20000, 6, {}, mcv::Device::GPU);
   EXPECT_GT(gpu.report.radiusScans, 1000u);
   // Seen on an H100 (2026-11-22): all 20000 rows have the same neighbours, but 38 of them
   // (0.19 %) had coordinates off by up to 0.045 (range 3.45), although a CPU emulation of the
   // GPU's Cholesky solve matches the CPU's LDLT on every row. Not explained yet: the
   // "[ differs ]" lines print those rows. Random and real-brain rows agree on every row.
-  expectGpuMatchesCpu(refX, refY, rows.data(), 20000, 6, {}, 1, 0.995);
+  expectGpuMatchesCpu(ties.refX, ties.refY, ties.rows.data(), 20000, 6, {}, 1, 0.995);
 }
 
 TEST(OutOfSampleGPU, TilePruningKeepsExactTiesByIndex)
@@ -259,23 +238,8 @@ TEST(OutOfSampleGPU, TilePruningKeepsExactTiesByIndex)
   // half-integer lattice: many references at exactly the same float distance, in different
   // tiles visited in a different order than the index order; candidates are kept by
   // (distance, index), so pruning must change nothing, ties and exact scans included.
-  std::mt19937 rng(3);
-  std::vector<int> perm(4096);
-  std::iota(perm.begin(), perm.end(), 0);
-  std::shuffle(perm.begin(), perm.end(), rng);
-  mcv::RowMatrixF refX(2000, 6);
-  for (int r = 0; r < 2000; ++r)
-  {
-    int x = perm[r];
-    for (int c = 0; c < 6; ++c, x /= 4)
-      refX(r, c) = static_cast<float>(x % 4);
-  }
-  const mcv::RowMatrixF refY = randomMatrix(2000, 2, rng);
-  std::uniform_int_distribution<int> v(0, 7);
-  std::vector<float> rows(50000 * 6);
-  for (float& x : rows)
-    x = static_cast<float>(v(rng)) * 0.5f;
-  expectPruningChangesNothing(refX, refY, rows.data(), 50000, 6, {});
+  const mt::LatticeTies ties = mt::latticeTies(4, 2000, 50000, 7, 3);
+  expectPruningChangesNothing(ties.refX, ties.refY, ties.rows.data(), 50000, 6, {});
 }
 
 TEST(OutOfSampleGPU, MatchesCpuOnTheWholeBrain)
@@ -290,14 +254,9 @@ TEST(OutOfSampleGPU, MatchesCpuOnTheWholeBrain)
     ASSERT_TRUE(f.result.ok()) << f.result.error;
     const int D = f.cols;
     SCOPED_TRACE("D = " + std::to_string(D));
-    mcv::ReferenceSampleOptions so;
-    so.size = 10000;
-    const auto refRows = mcv::drawReferenceSample(f.values.data(), f.rows, D, {}, {}, so);
-    mcv::RowMatrixF refX(static_cast<Eigen::Index>(refRows.size()), D);
-    for (std::size_t r = 0; r < refRows.size(); ++r)
-      std::copy(f.values.begin() + refRows[r] * D, f.values.begin() + (refRows[r] + 1) * D, refX.row(r).data());
+    const mcv::RowMatrixF refX = mt::referenceSampleRows(f, 10000);
     std::mt19937 rng(4);
-    const mcv::RowMatrixF refY = randomMatrix(refRows.size(), 3, rng);
+    const mcv::RowMatrixF refY = randomMatrix(static_cast<std::size_t>(refX.rows()), 3, rng);
     // All 7.1 M voxels on the GPU, every 16th on the CPU; with a column selection (the
     // reduction drops constant columns this way) on 24D: the first column left out.
     std::vector<int> columns;

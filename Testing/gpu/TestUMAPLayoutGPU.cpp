@@ -19,6 +19,7 @@
 #include "cuda/FaultInjection.h"
 
 #include "BrainFeatures.h"
+#include "OutOfSampleData.h"
 #include "DimensionReduction.h"
 #include "LayoutComparison.h"
 #include "OutOfSample.h"
@@ -126,15 +127,7 @@ RowMatrixF brainSample(mcv::FeaturePreset preset, std::size_t size)
   static const auto ch = mt::cropBrain(mt::loadBrain(), { 40, 50, 60 }, { 140, 150, 110 });
   const auto f = mt::brainFeatures(ch, preset, Device::CPU);
   EXPECT_TRUE(f.result.ok()) << f.result.error;
-  mcv::ReferenceSampleOptions so;
-  so.size = size;
-  const auto rows = mcv::drawReferenceSample(f.values.data(), f.rows, f.cols, {}, {}, so);
-  RowMatrixF X(static_cast<Eigen::Index>(rows.size()), f.cols);
-  for (std::size_t r = 0; r < rows.size(); ++r)
-  {
-    std::copy(f.values.begin() + rows[r] * f.cols, f.values.begin() + (rows[r] + 1) * f.cols, X.row(r).data());
-  }
-  return X;
+  return mt::referenceSampleRows(f, size);
 }
 
 TEST(UMAPLayoutGPU, TwoBlobsAgreeWithCpuAndStaySeparated)

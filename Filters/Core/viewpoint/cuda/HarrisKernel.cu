@@ -3,6 +3,7 @@
 #include <cfloat>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 
 namespace mcv
 {
@@ -18,15 +19,21 @@ __device__ __forceinline__ int clampi(int v, int lo, int hi)
   return min(max(v, lo), hi);
 }
 
+// An input value as loaded, kept in a register until it is stored to shared memory: the
+// conversion to float waits for the load, so it is done at the store, a slice later, not
+// right after the load (where it would stall the warp for the load's whole latency).
+template <typename T>
+using RawInput = std::conditional_t<std::is_same_v<T, float>, float, unsigned>;
+
 // Input value as float. uint8: exact via the float bit pattern of 2^23 + v (an OR and a
 // full-rate add instead of the quarter-rate integer-to-float conversion).
 __device__ __forceinline__ float toFloat(float v)
 {
   return v;
 }
-__device__ __forceinline__ float toFloat(std::uint8_t v)
+__device__ __forceinline__ float toFloat(unsigned v)
 {
-  return __uint_as_float(0x4B000000u | static_cast<unsigned>(v)) - 8388608.0f;
+  return __uint_as_float(0x4B000000u | v) - 8388608.0f;
 }
 
 // Shared-memory layout of one block for radius R (all sizes in floats).
@@ -44,10 +51,11 @@ struct TileShape
   static constexpr int ProdFloats = 6 * PH * PW;         // [6][PH][PW]
   static constexpr int XbFloats = 6 * PH * kHarrisTileX; // [6][PH][TX] x-smoothed
   static constexpr int InFloats = 3 * IS;                // ring of 3 input slices
-  static std::size_t smemBytes(bool hist)
+  static constexpr int Positions = PH * PWa;              // product positions of a slice
+  static std::size_t smemBytes(bool hist, bool table)
   {
     return static_cast<std::size_t>(ProdFloats + XbFloats + InFloats) * sizeof(float) +
-      (hist ? kLevel1Bins * sizeof(unsigned) : 0);
+      (table ? Positions * sizeof(unsigned) : 0) + (hist ? kLevel1Bins * sizeof(unsigned) : 0);
   }
 };
 
@@ -100,21 +108,23 @@ __device__ __forceinline__ void inputOffsets(
 // This thread's elements of input slice q into registers (the next slice, loaded ahead of
 // its use).
 template <int R, typename T>
-__device__ __forceinline__ void loadSlice(float (&pre)[TileShape<R>::LOADS], const T* in, int q,
+__device__ __forceinline__ void loadSlice(RawInput<T> (&pre)[TileShape<R>::LOADS], const T* in, int q,
   std::size_t plane, const int (&inOff)[TileShape<R>::LOADS])
 {
   const T* src = in + static_cast<std::size_t>(q) * plane;
 #pragma unroll
   for (int i = 0; i < TileShape<R>::LOADS; ++i)
   {
-    pre[i] = inOff[i] >= 0 ? toFloat(__ldg(src + inOff[i])) : 0.f;
+    // Only the last round can run past the tile (inOff -1); the others need no test.
+    const bool whole = (i + 1) * kHarrisThreads <= TileShape<R>::IS;
+    pre[i] = whole || inOff[i] >= 0 ? static_cast<RawInput<T>>(__ldg(src + inOff[i])) : 0;
   }
 }
 
-// The loaded slice q into its slot of the ring of three input slices.
-template <int R>
+// The loaded slice q, as floats, into its slot of the ring of three input slices.
+template <int R, typename Raw>
 __device__ __forceinline__ void storeSlice(
-  float* sIn, int q, const float (&pre)[TileShape<R>::LOADS], int tid)
+  float* sIn, int q, const Raw (&pre)[TileShape<R>::LOADS], int tid)
 {
   using S = TileShape<R>;
   float* dst = sIn + (q % 3) * S::IS;
@@ -122,11 +132,29 @@ __device__ __forceinline__ void storeSlice(
   for (int i = 0; i < S::LOADS; ++i)
   {
     const int e = tid + i * kHarrisThreads;
-    if (e < S::IS)
+    if ((i + 1) * kHarrisThreads <= S::IS || e < S::IS)
     {
-      dst[e] = pre[i];
+      dst[e] = toFloat(pre[i]);
     }
   }
+}
+
+// The six gradient products of input-tile element c of slice sc (neighbour slices sm, sp)
+// into d[0], d[CS], ..., d[5 CS].
+template <int R>
+__device__ __forceinline__ void productsAt(float* d, const float* sc, const float* sm,
+  const float* sp, int c, float scaleX, float scaleY, float scaleZ)
+{
+  constexpr int IW = TileShape<R>::IW, CS = TileShape<R>::PH * TileShape<R>::PW;
+  const float gx = (sc[c + 1] - sc[c - 1]) * scaleX;
+  const float gy = (sc[c + IW] - sc[c - IW]) * scaleY;
+  const float gz = (sp[c] - sm[c]) * scaleZ;
+  d[0] = gx * gx;
+  d[CS] = gx * gy;
+  d[2 * CS] = gx * gz;
+  d[3 * CS] = gy * gy;
+  d[4 * CS] = gy * gz;
+  d[5 * CS] = gz * gz;
 }
 
 // Six gradient products of slice cz on the product tile. A product position outside the
@@ -138,22 +166,12 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
 {
   using S = TileShape<R>;
   constexpr int IW = S::IW, IS = S::IS, PWa = S::PWa, PW = S::PW, PH = S::PH;
-  constexpr int CS = PH * PW; // channel stride of the product tile
   const int nx = a.nx, ny = a.ny, nz = a.nz;
   const float* sc = sIn + (cz % 3) * IS;
   const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
   const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
   auto at = [&](int c, int py, int px) {
-    const float gx = (sc[c + 1] - sc[c - 1]) * a.scaleX;
-    const float gy = (sc[c + IW] - sc[c - IW]) * a.scaleY;
-    const float gz = (sp[c] - sm[c]) * a.scaleZ;
-    float* d = sProd + py * PW + px;
-    d[0] = gx * gx;
-    d[CS] = gx * gy;
-    d[2 * CS] = gx * gz;
-    d[3 * CS] = gy * gy;
-    d[4 * CS] = gy * gz;
-    d[5 * CS] = gz * gz;
+    productsAt<R>(sProd + py * PW + px, sc, sm, sp, c, a.scaleX, a.scaleY, a.scaleZ);
   };
   if (interior)
   {
@@ -175,6 +193,53 @@ __device__ __forceinline__ void gradientProducts(float* sProd, const float* sIn,
   }
 }
 
+// The product positions of a slice as a table built once per block: entry p (position
+// py = p / PWa, px = p % PWa) holds the input-tile offset of the voxel it reads (clamped at
+// the grid's border, so interior and border blocks share one loop) in its low 16 bits and
+// the product-tile offset py * PW + px in its high 16 bits.
+template <int R>
+__device__ __forceinline__ void buildPositionTable(
+  unsigned* sPos, int x0, int y0, int nx, int ny, int tid)
+{
+  using S = TileShape<R>;
+  static_assert(S::IS < 65536 && S::PH * S::PW < 65536, "offsets fit in 16 bits");
+  for (int p = tid; p < S::Positions; p += kHarrisThreads)
+  {
+    const int py = p / S::PWa, px = p - py * S::PWa;
+    const int cx = clampi(x0 - R + px, 0, nx - 1) - (x0 - R - 1);
+    const int cy = clampi(y0 - R + py, 0, ny - 1) - (y0 - R - 1);
+    sPos[p] = static_cast<unsigned>(cy * S::IW + cx) |
+      (static_cast<unsigned>(py * S::PW + px) << 16);
+  }
+}
+
+// gradientProducts from the position table: the same values, one table read instead of
+// the position's index arithmetic, rounds unrolled (only the last one tests its bound).
+template <int R>
+__device__ __forceinline__ void gradientProductsTable(
+  float* sProd, const float* sIn, const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid)
+{
+  using S = TileShape<R>;
+  constexpr int IS = S::IS, N = S::Positions;
+  constexpr int ROUNDS = (N + kHarrisThreads - 1) / kHarrisThreads;
+  const int nz = a.nz;
+  const float* sc = sIn + (cz % 3) * IS;
+  const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
+  const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+  const float scaleX = a.scaleX, scaleY = a.scaleY, scaleZ = a.scaleZ;
+#pragma unroll
+  for (int k = 0; k < ROUNDS; ++k)
+  {
+    const int p = tid + k * kHarrisThreads;
+    if ((k + 1) * kHarrisThreads <= N || p < N)
+    {
+      const unsigned e = sPos[p];
+      productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX, scaleY,
+        scaleZ);
+    }
+  }
+}
+
 // x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
 template <int R>
 __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const HarrisKernelArgs& a, int tid)
@@ -182,8 +247,15 @@ __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const Harr
   using S = TileShape<R>;
   constexpr int W = S::W, PW = S::PW, PH = S::PH, TX = kHarrisTileX;
   constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
-  for (int t = tid; t < TASKS; t += kHarrisThreads)
+  constexpr int ROUNDS = (TASKS + kHarrisThreads - 1) / kHarrisThreads;
+#pragma unroll
+  for (int k = 0; k < ROUNDS; ++k)
   {
+    const int t = tid + k * kHarrisThreads;
+    if ((k + 1) * kHarrisThreads > TASKS && t >= TASKS)
+    {
+      break; // only the last round can run past the tasks
+    }
     const int row = t / XG; // channel * PH + row
     const int g = t - row * XG;
     const float4* src = reinterpret_cast<const float4*>(sProd + row * PW) + g;
@@ -378,12 +450,16 @@ __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const u
 }
 
 // V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
-// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2.
+// compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
+// bit 2: the product positions from a table built once per block (buildPositionTable), the
+// output offsets of the thread's two voxels computed once, and two barriers per slice
+// instead of three (the next input slice stored between the products and the y pass).
 template <typename T, int R, int V>
 __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
 {
   constexpr bool UNROLL = (V & 1) != 0;
+  constexpr bool TABLE = (V & 4) != 0;
   using S = TileShape<R>;
   constexpr int W = S::W;
   constexpr int TX = kHarrisTileX;
@@ -392,7 +468,8 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   float* sProd = reinterpret_cast<float*>(smem4);
   float* sXb = sProd + S::ProdFloats;
   float* sIn = sXb + S::XbFloats;
-  unsigned* sHist = reinterpret_cast<unsigned*>(sIn + S::InFloats);
+  unsigned* sPos = reinterpret_cast<unsigned*>(sIn + S::InFloats);
+  unsigned* sHist = sPos + (TABLE ? S::Positions : 0);
 
   const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
   const int nx = a.nx, ny = a.ny, nz = a.nz;
@@ -405,31 +482,56 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   {
     clearHistogram(sHist, tid);
   }
+  if constexpr (TABLE)
+  {
+    buildPositionTable<R>(sPos, x0, y0, nx, ny, tid); // read after the first barrier
+  }
 
   int inOff[S::LOADS];
   inputOffsets<R>(inOff, tid, x0, y0, nx, ny);
-  float pre[S::LOADS]; // the next input slice, loaded ahead of its use
+  RawInput<T> pre[S::LOADS]; // the next input slice, loaded ahead of its use
   const bool interior = x0 - R >= 0 && x0 + TX + R <= nx && y0 - R >= 0 &&
     y0 + kHarrisTileY + R <= ny;
   float win[2][W][6];
   clearWindow<W>(win);
+  // The thread's two voxels: in-plane offset of the first (the second is one row on).
+  const int gxOwn = x0 + lane, gyOwn = y0 + 2 * warp;
+  const int ownOffset = gxOwn < nx && gyOwn < ny ? gyOwn * nx + gxOwn : 0;
+  const bool ownInside[2] = { gxOwn < nx && gyOwn < ny, gxOwn < nx && gyOwn + 1 < ny };
 
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
     constexpr int P = decltype(phase)::value;
+    [[maybe_unused]] float* outSlice = nullptr;
+    if constexpr (TABLE)
+    {
+      outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
+    }
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
     {
       float m[6];
       zSmooth<W, UNROLL, P>(m, win, rr, a);
       const float response = harrisResponse(m, a);
-      const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
-      const bool inside = gx < nx && gy < ny;
-      if (inside)
+      bool inside;
+      if constexpr (TABLE)
       {
-        a.response[static_cast<std::size_t>(z - a.zOutBegin) * plane +
-          static_cast<std::size_t>(gy) * nx + gx] =
-          response;
+        inside = ownInside[rr];
+        if (inside)
+        {
+          outSlice[ownOffset + rr * nx] = response;
+        }
+      }
+      else
+      {
+        const int gx = x0 + lane, gy = y0 + 2 * warp + rr;
+        inside = gx < nx && gy < ny;
+        if (inside)
+        {
+          a.response[static_cast<std::size_t>(z - a.zOutBegin) * plane +
+            static_cast<std::size_t>(gy) * nx + gx] =
+            response;
+        }
       }
       if (withHist)
       {
@@ -455,24 +557,48 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     loadSlice<R>(pre, in, nextLoad, plane, inOff);
   }
   int lastCz = -1;
+  if constexpr (TABLE)
+  {
+    __syncthreads(); // the first input slices, the position table
+  }
   auto step = [&](auto phase, int sv) {
     constexpr int P = decltype(phase)::value;
     const int cz = clampi(sv, 0, nz - 1);
     if (cz != lastCz)
     {
-      if (lastCz >= 0 && nextLoad <= qLast)
+      if constexpr (TABLE)
       {
-        // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
-        storeSlice<R>(sIn, nextLoad, pre, tid);
-        ++nextLoad;
+        // Two barriers per slice: the next input slice (nextLoad == cz + 2) is stored after
+        // the products of cz, into the slot of cz - 1 that they were the last to read, and
+        // is visible from the barrier before the y pass on, ahead of the products of cz + 1.
+        gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
+        __syncthreads();
         if (nextLoad <= qLast)
         {
-          loadSlice<R>(pre, in, nextLoad, plane, inOff);
+          storeSlice<R>(sIn, nextLoad, pre, tid);
+          ++nextLoad;
+          if (nextLoad <= qLast)
+          {
+            loadSlice<R>(pre, in, nextLoad, plane, inOff);
+          }
         }
       }
-      __syncthreads();
-      gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
-      __syncthreads();
+      else
+      {
+        if (lastCz >= 0 && nextLoad <= qLast)
+        {
+          // nextLoad == cz + 1: its slot held cz - 2, last read before two barriers ago.
+          storeSlice<R>(sIn, nextLoad, pre, tid);
+          ++nextLoad;
+          if (nextLoad <= qLast)
+          {
+            loadSlice<R>(pre, in, nextLoad, plane, inOff);
+          }
+        }
+        __syncthreads();
+        gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
+        __syncthreads();
+      }
       xPass<R>(sXb, sProd, a, tid);
       __syncthreads();
       yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
@@ -539,7 +665,7 @@ cudaError_t launchRadius(
   const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
 {
   using S = TileShape<R>;
-  const std::size_t smem = S::smemBytes(args.hist != nullptr);
+  const std::size_t smem = S::smemBytes(args.hist != nullptr, (V & 4) != 0);
   auto kernel = harrisKernel<T, R, V>;
   cudaError_t err =
     cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(smem));
@@ -587,6 +713,17 @@ cudaError_t launchRadius(
   return cudaGetLastError();
 }
 
+// Width 5 with kernel variant `variant` (one of V...).
+template <typename T, int... V>
+cudaError_t launchVariant(int variant, const T* input, const HarrisKernelArgs& args, int zChunk,
+  cudaStream_t stream, int* used, std::integer_sequence<int, V...>)
+{
+  cudaError_t err = cudaErrorInvalidValue;
+  (void)((variant == V && ((err = launchRadius<T, 2, V>(input, args, zChunk, stream, used)), true)) ||
+    ...);
+  return err;
+}
+
 } // namespace
 
 template <typename T>
@@ -602,19 +739,8 @@ cudaError_t launchHarris(const T* input, HarrisKernelArgs args, int radius, int 
       return launchRadius<T, 1, D>(input, args, zChunk, stream, usedZChunk);
     case 2:
       // The default width: every variant is built (the benchmark compares them).
-      switch (variant < 0 ? D : variant)
-      {
-        case 0:
-          return launchRadius<T, 2, 0>(input, args, zChunk, stream, usedZChunk);
-        case 1:
-          return launchRadius<T, 2, 1>(input, args, zChunk, stream, usedZChunk);
-        case 2:
-          return launchRadius<T, 2, 2>(input, args, zChunk, stream, usedZChunk);
-        case 3:
-          return launchRadius<T, 2, 3>(input, args, zChunk, stream, usedZChunk);
-        default:
-          return cudaErrorInvalidValue;
-      }
+      return launchVariant<T>(variant < 0 ? D : variant, input, args, zChunk, stream,
+        usedZChunk, std::make_integer_sequence<int, kHarrisVariants>());
     case 3:
       return launchRadius<T, 3, D>(input, args, zChunk, stream, usedZChunk);
     default:

@@ -27,10 +27,11 @@ constexpr int kHarrisTileY = 16;
 constexpr int kHarrisThreads = 256; // 32 x 8, each thread owns two rows of the tile
 constexpr int kHarrisMaxRadius = 3; // kernel widths 1, 3, 5, 7 run on the GPU
 constexpr int kLevel1Bins = 2048;   // top 11 bits of a positive float
-// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM);
-// all four are built for width 5, the default variant for the other widths.
-constexpr int kHarrisVariants = 4;
-constexpr int kHarrisDefaultVariant = 1; // the fastest measured (mcvBenchmarkGPU --variants)
+// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM;
+// bit 2: product positions from a per-block table); all eight are built for width 5, the
+// default variant for the other widths.
+constexpr int kHarrisVariants = 8;
+constexpr int kHarrisDefaultVariant = 5; // the fastest measured (mcvBenchmarkGPU --variants)
 
 struct HarrisKernelArgs
 {

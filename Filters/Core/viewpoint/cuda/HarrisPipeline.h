@@ -46,9 +46,10 @@ public:
 
   // Output slices per block of the Harris kernel; 0 (default) picks it from the occupancy.
   void setZChunk(int zChunk);
-  // Harris kernel variant for width 5 (benchmark/tests): -1 default (1), 0..3 (bit 0: z
-  // loop unrolled into a register ring, bit 1: 3 blocks per SM); histogram mode 0: warp-
-  // aggregated shared atomics, 1 (default): plain shared atomics.
+  // Harris kernel variant for width 5 (benchmark/tests): -1 default (5), 0..7 (bit 0: z
+  // loop unrolled into a register ring, bit 1: 3 blocks per SM, bit 2: product positions
+  // from a per-block table and two barriers per slice); histogram mode 0: warp-aggregated
+  // shared atomics, 1 (default): plain shared atomics.
   void setKernelVariant(int variant, int histogramMode);
   // Variants built for width 5 (0 .. count - 1).
   static int kernelVariantCount();
