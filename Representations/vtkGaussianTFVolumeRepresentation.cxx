@@ -743,8 +743,9 @@ void vtkGaussianTFVolumeRepresentation::SetJittering(bool jittering)
   this->Jittering = jittering; // read at every render
 }
 
-void vtkGaussianTFVolumeRepresentation::SetEmptySpaceSkipping(bool skipping)
+void vtkGaussianTFVolumeRepresentation::SetEmptySpaceSkipping(int skipping)
 {
+  skipping = skipping == SKIPPING_OFF || skipping == SKIPPING_ON ? skipping : SKIPPING_AUTOMATIC;
   if (skipping != this->EmptySpaceSkipping)
   {
     this->EmptySpaceSkipping = skipping;
@@ -1142,19 +1143,31 @@ bool vtkGaussianTFVolumeRepresentation::UpdatePerSample()
 
   // The widget table: which widgets reach each brick (a widget edit rebuilds it: a pass
   // over the bricks, not the voxels).
-  internals.UseBricks = this->EmptySpaceSkipping && mapper && internals.Bricks.Count() > 0;
+  // Automatic: only with the exact evaluation (the baked table costs one fetch whatever
+  // the widgets), and only where the lists leave enough out (SKIPPING_AUTOMATIC).
+  const bool tryBricks = mapper && internals.Bricks.Count() > 0 &&
+    (this->EmptySpaceSkipping == SKIPPING_ON ||
+      (this->EmptySpaceSkipping == SKIPPING_AUTOMATIC && !internals.UseTable && !packed.empty()));
+  internals.UseBricks = false;
   this->NumberOfBricks = this->NumberOfEmptyBricks = 0;
   this->MeanWidgetsPerBrick = 0;
-  if (internals.UseBricks)
+  std::vector<float> widgetTable;
+  int height = 0;
+  if (tryBricks)
   {
-    int height = 0;
     long long listed = 0;
-    const std::vector<float> table = mcv::bricks::buildWidgetTable(
+    widgetTable = mcv::bricks::buildWidgetTable(
       internals.Bricks, packed, minimum, extent, height, this->NumberOfEmptyBricks, listed);
-    mapper->SetWidgetTable(table, height);
     this->NumberOfBricks = internals.Bricks.Count();
     const int reached = this->NumberOfBricks - this->NumberOfEmptyBricks;
     this->MeanWidgetsPerBrick = reached > 0 ? double(listed) / reached : 0.0;
+    internals.UseBricks = this->EmptySpaceSkipping == SKIPPING_ON ||
+      this->MeanWidgetsPerBrick <= AutomaticSkippingShare * static_cast<double>(packed.size());
+  }
+  this->SkippingUsed = internals.UseBricks;
+  if (internals.UseBricks)
+  {
+    mapper->SetWidgetTable(widgetTable, height);
     const float volume[3] = { float(internals.Bricks.volume[0]), float(internals.Bricks.volume[1]),
       float(internals.Bricks.volume[2]) };
     const float grid[3] = { float(internals.Bricks.grid[0]), float(internals.Bricks.grid[1]),

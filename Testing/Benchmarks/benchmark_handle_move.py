@@ -27,9 +27,11 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
-        [--reduced brain_reduced.vti] [--skipping]
+        [--reduced brain_reduced.vti] [--skipping] [--exact-only]
 
---skipping adds the exact evaluation with EmptySpaceSkipping; --sigma-scale S multiplies
+--skipping adds the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
+its brick statistics, its picture against the exact one and what Automatic (the
+default) picks; --exact-only leaves out the table and per voxel; --sigma-scale S multiplies
 every seeded sigma by S (wider widgets: a coarser table).
 
 The whole brain is reduced once (the chain above) and resampled (ResampleToImage) to each
@@ -157,8 +159,8 @@ def turn(mce, view, reduction, args):
                 "exact": ("Per sample", "Exact", 0),
                 "exact, skipping": ("Per sample", "Exact", 1),
                 "per voxel": ("Per voxel", "Baked table", 0)}
-    modes = ["plain", "table", "exact"] + (["exact, skipping"] if args.skipping else []) + \
-        ["per voxel"]
+    modes = ["plain"] + ([] if args.exact_only else ["table"]) + ["exact"] + \
+        (["exact, skipping"] if args.skipping else []) + ([] if args.exact_only else ["per voxel"])
     rows = []
     for text in args.grids.split(","):
         dims = parse_size(text)
@@ -193,7 +195,7 @@ def turn(mce, view, reduction, args):
             d.EmptySpaceSkipping = skipping
             displays[m] = d
         for count in counts:
-            widgets = [float(v) for v in mce.auto_widgets(displays["table"], count, seed=0)]
+            widgets = [float(v) for v in mce.auto_widgets(displays["exact"], count, seed=0)]
             for i in range(len(widgets) // 8):
                 if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
                     widgets[8 * i + 7] = 0.05
@@ -222,37 +224,71 @@ def turn(mce, view, reduction, args):
             # The last angle's pictures, through the table and exact: the largest channel
             # difference and the share of pixels more than 2/255 apart.
             shots = {}
-            for m in ("table", "exact"):
+            compared = [m for m in ("table", "exact, skipping") if m in modes]
+            for m in compared + ["exact"]:
                 for other in modes:
                     displays[other].Visibility = 1 if other == m else 0
                 simple.Render(view)
                 path = os.path.join(args.pictures, "turn_%.1fM_%dw_%s.png"
-                                    % (voxels / 1e6, count, m.replace(" ", "_")))
+                                    % (voxels / 1e6, count, m.replace(" ", "_").replace(",", "")))
                 simple.SaveScreenshot(path, view, ImageResolution=list(args.size))
                 shots[m] = picture(path)
-            diff = abs(shots["table"] - shots["exact"]).max(axis=2)
-            largest, share = int(diff.max()), float((diff > 2).mean())
+            differences = {}
+            for m in compared:
+                diff = abs(shots[m] - shots["exact"]).max(axis=2)
+                differences[m] = (int(diff.max()), float((diff > 2).mean()))
+            largest, share = differences.get("table", (-1, 0.0))
+            bricks = None
+            if "exact, skipping" in modes:
+                displays["exact, skipping"].UpdatePropertyInformation()
+                total = int(displays["exact, skipping"].GetPropertyValue("GaussianTFBricks"))
+                empty = int(displays["exact, skipping"].GetPropertyValue("GaussianTFEmptyBricks"))
+                listed = float(displays["exact, skipping"].GetPropertyValue(
+                    "GaussianTFWidgetsPerBrick"))
+                # What EmptySpaceSkipping's default (Automatic) picks for these widgets.
+                for other in modes:
+                    displays[other].Visibility = 1 if other == "exact, skipping" else 0
+                displays["exact, skipping"].EmptySpaceSkipping = "Automatic"
+                simple.Render(view)
+                displays["exact, skipping"].UpdatePropertyInformation()
+                automatic = int(displays["exact, skipping"].GetPropertyValue(
+                    "GaussianTFSkippingUsed"))
+                displays["exact, skipping"].EmptySpaceSkipping = "On"
+                bricks = (total, empty, listed) + differences["exact, skipping"] + (automatic,)
             # A handle move (widget 1's centre by a tenth of its sigma): the table is baked
             # again; the representation's preparation is that bake and the uniforms.
-            for other in modes:
-                displays[other].Visibility = 1 if other == "table" else 0
-            moved = list(widgets)
-            moved[0] += 0.1 * widgets[3]
-            displays["table"].GaussianWidgets = moved
-            simple.Render(view)
-            displays["table"].UpdatePropertyInformation()
-            bake = float(displays["table"].GetPropertyValue("GaussianTFPreparationSeconds"))
-            used = str(displays["table"].GetPropertyValue("GaussianTFEvaluationUsed"))
+            # With skipping, the widget table is rebuilt too: its preparation is measured alike.
+            bake, used, rebuild = 0.0, "no table", {}
+            for m in [m for m in ("table", "exact, skipping") if m in modes]:
+                for other in modes:
+                    displays[other].Visibility = 1 if other == m else 0
+                moved = list(widgets)
+                moved[0] += 0.1 * widgets[3]
+                displays[m].GaussianWidgets = moved
+                simple.Render(view)
+                displays[m].UpdatePropertyInformation()
+                rebuild[m] = float(displays[m].GetPropertyValue("GaussianTFPreparationSeconds"))
+                if m == "table":
+                    bake = rebuild[m]
+                    used = str(displays[m].GetPropertyValue("GaussianTFEvaluationUsed"))
+            if bricks:
+                bricks += (rebuild["exact, skipping"],)  # index 6
             med = {m: statistics.median(times[m]) for m in modes}
             rate = statistics.median(samples) / med["plain"]
-            rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas), largest, share))
+            rows.append((voxels, count, visible, med, used, bake, rate, min(sigmas), largest, share,
+                         bricks))
             print("%.1f M voxels (%s), %d widgets (%d visible, narrowest sigma %.3g): "
                   % (voxels / 1e6, channel, count, visible, min(sigmas))
                   + ", ".join("%s %.0f ms" % (m, 1e3 * med[m]) for m in modes)
                   + "; %s, baked in %.1f ms; plain: %.3g M box samples per frame, %.1f M/s"
                   % (used, 1e3 * bake, statistics.median(samples) / 1e6, rate / 1e6)
                   + "; table vs exact picture: largest %d/255, %.3f %% of pixels > 2/255"
-                  % (largest, 100 * share))
+                  % (largest, 100 * share)
+                  + ("; bricks %d, %d empty, %.2f widgets per reached brick; skipping vs exact "
+                     "picture: largest %d/255, %.3f %% of pixels > 2/255"
+                     % (bricks[:3] + (bricks[3], 100 * bricks[4])) if bricks else "")
+                  + ("; skipping's preparation after a move %.1f ms; Automatic uses the bricks: %s"
+                     % (1e3 * bricks[6], "yes" if bricks[5] else "no") if bricks else ""))
             sys.stdout.flush()
         for m in modes:
             simple.Delete(displays[m])
@@ -262,15 +298,22 @@ def turn(mce, view, reduction, args):
 
     print("\n| voxels | widgets | plain Volume (box samples/s) | "
           + " | ".join("%s (x plain)" % m for m in modes[1:])
-          + " | table, bake | table vs exact picture |")
-    print("|---" * (len(modes) + 4) + "|")
-    for voxels, count, visible, med, used, bake, rate, sigma, largest, share in rows:
+          + " | table, bake | table vs exact picture |"
+          + (" empty bricks, widgets per reached brick, rebuild | skipping vs exact picture |"
+             " Automatic draws |"
+             if args.skipping else ""))
+    print("|---" * (len(modes) + 4 + (3 if args.skipping else 0)) + "|")
+    for voxels, count, visible, med, used, bake, rate, sigma, largest, share, bricks in rows:
         p = med["plain"]
         print("| %.1f M | %d (%d visible) | %.0f ms (%.0f M/s) | " % (voxels / 1e6, count, visible,
                                                                    1e3 * p, rate / 1e6)
               + " | ".join("%.0f ms (x%.2f)" % (1e3 * med[m], med[m] / p) for m in modes[1:])
               + " | %s, %.0f ms | %d/255, %.2f %% > 2/255 |"
-              % (used.replace("table ", ""), 1e3 * bake, largest, 100 * share))
+              % (used.replace("table ", ""), 1e3 * bake, largest, 100 * share)
+              + (" %.0f %%, %.1f, %.0f ms | %d/255, %.2f %% > 2/255 | %s |"
+                 % (100.0 * bricks[1] / max(bricks[0], 1), bricks[2], 1e3 * bricks[6], bricks[3],
+                    100 * bricks[4], "skipping" if bricks[5] else "exact")
+                 if bricks else ""))
     sys.stdout.flush()
 
 
@@ -287,6 +330,8 @@ def main():
                         help="--turn: folder of the table's and the exact pictures")
     parser.add_argument("--sigma-scale", type=float, default=1.0,
                         help="--turn: every seeded widget's sigma times this")
+    parser.add_argument("--exact-only", action="store_true",
+                        help="--turn: leave out the baked table and per voxel")
     parser.add_argument("--skipping", action="store_true",
                         help="--turn: also the exact evaluation with EmptySpaceSkipping")
     parser.add_argument("--reduced", default="",

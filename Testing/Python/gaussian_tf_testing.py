@@ -115,7 +115,8 @@ def difference(a, b, brightness=False):
 def skipping_unchanged(checker, view, display, label, path_stem, maximum_intensity=False):
     """Renders `display` with EmptySpaceSkipping on and off and checks that the pictures
     agree (no channel more than 8/255 apart, at most 0.1 % of the pixels more than 2/255);
-    returns the information of the render with skipping; leaves skipping off. With `maximum_intensity`, the
+    returns the information of the render with skipping; leaves skipping off (the
+    un-culled loop). With `maximum_intensity`, the
     brightness of each pixel is compared instead of its channels: a ray whose two most
     opaque samples (of different widgets) tie within 1e-6 takes either one's colour."""
     from paraview import simple
@@ -148,6 +149,7 @@ def info(display):
         "device": str(display.GetPropertyValue("GaussianTFDeviceUsed")),
         "texture_builds": int(display.GetPropertyValue("GaussianTFTextureBuilds")),
         "preparation_s": float(display.GetPropertyValue("GaussianTFPreparationSeconds")),
+        "skipping_used": int(display.GetPropertyValue("GaussianTFSkippingUsed")),
         "bricks": (int(display.GetPropertyValue("GaussianTFBricks")),
                    int(display.GetPropertyValue("GaussianTFEmptyBricks")),
                    float(display.GetPropertyValue("GaussianTFWidgetsPerBrick"))),

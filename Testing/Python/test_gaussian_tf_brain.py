@@ -157,7 +157,14 @@ for blend, name in (("Maximum Intensity", "gaussian_tf_brain_mip.png"),
 
 # Empty space skipping leaves the picture as it is without it: both blends, the front
 # view and an oblique one (rays across brick faces at every angle).
-C.check(display.EmptySpaceSkipping == 0, "EmptySpaceSkipping is off by default")
+C.check(display.EmptySpaceSkipping == "Automatic", "EmptySpaceSkipping is Automatic by default")
+default_bricks = G.info(display)
+visible_widgets = sum(1 for i in range(len(display.GaussianWidgets) // 8)
+                      if display.GaussianWidgets[8 * i + 7] > 0)
+C.check(default_bricks["bricks"][0] > 0 and default_bricks["skipping_used"] ==
+        (default_bricks["bricks"][2] <= 0.6 * visible_widgets),
+        "Automatic: the bricks exactly when a reached brick lists at most 60 %% of the widgets "
+        "(%s)" % (default_bricks,))
 for blend, turn, stem in (("Composite", False, "gaussian_tf_brain_composite"),
                           ("Maximum Intensity", False, "gaussian_tf_brain_mip"),
                           ("Composite", True, "gaussian_tf_brain_oblique")):

@@ -58,7 +58,7 @@ C.check(display.CoordinateArray == "ReducedCoordinates" and list(display.Gaussia
 C.check(display.Classification == "Per sample" and display.Jittering == 1 and
         display.MaskArray == "Foreground",
         "defaults: Classification Per sample, Jittering on, MaskArray Foreground")
-C.check(display.EmptySpaceSkipping == 0, "default: EmptySpaceSkipping off")
+C.check(display.EmptySpaceSkipping == "Automatic", "default: EmptySpaceSkipping Automatic")
 display.Classification = CLASSIFICATION
 C.check(sorted(display.GetProperty("GaussianBlendMode").Available) ==
         ["Composite", "Maximum Intensity"], "blend modes: Composite, Maximum Intensity")
@@ -92,6 +92,16 @@ def check_two_colours(label, s, red_channel=0, green_channel=1, min_value=100):
     return red, green
 
 
+def automatic_choice():
+    """The information of a render with EmptySpaceSkipping Automatic; leaves it Off."""
+    display.EmptySpaceSkipping = "Automatic"
+    simple.Render(view)
+    state = G.info(display)
+    display.EmptySpaceSkipping = "Off"
+    simple.Render(view)
+    return state
+
+
 # --- composite and maximum intensity --------------------------------------------
 first = G.info(display)
 print("info after the first render: %s" % first)
@@ -105,9 +115,13 @@ if PER_SAMPLE:
     # 0.42 = 5.3 sigma (where their opacity falls to 1e-6): no brick is empty, and a brick
     # that one of the two reaches evaluates both (a list pays below a third of them).
     state = G.skipping_unchanged(C, view, display, "composite", "gaussian_tf_composite")
-    C.check(state["bricks"] == (64, 0, 2.0),
+    C.check(state["bricks"] == (64, 0, 2.0) and state["skipping_used"] == 1,
             "widget table: 64 bricks, none empty, both widgets everywhere (%s)"
             % (state["bricks"],))
+    # Automatic leaves out a table that lists every widget everywhere: the loop over all.
+    automatic = automatic_choice()
+    C.check(automatic["skipping_used"] == 0 and automatic["bricks"] == (64, 0, 2.0),
+            "Automatic: no bricks where both widgets reach every brick (%s)" % (automatic,))
     # 16 narrow widgets on a 4 x 4 grid in the plane z = 0.5 (sigma 0.02, reach 0.105):
     # each reaches the two middle z-bricks of its own x, y column (and at most a
     # neighbour's), so 32 bricks are empty and the other 32 list one or two widgets each.
@@ -121,6 +135,20 @@ if PER_SAMPLE:
     C.check(state["bricks"][:2] == (64, 32) and 1.0 <= state["bricks"][2] <= 2.0,
             "16 widgets: 32 empty bricks, 1 to 2 listed widgets per other brick (%s)"
             % (state["bricks"],))
+    # Automatic takes these bricks (at most 2 of 16 widgets per sample), and draws what
+    # the un-culled loop draws.
+    automatic = automatic_choice()
+    C.check(automatic["skipping_used"] == 1,
+            "Automatic: the bricks with 16 narrow widgets (%s)" % (automatic,))
+    off_shot = G.Shot(view, G.output_path("gaussian_tf_grid16_no_skipping.png"))
+    display.EmptySpaceSkipping = "Automatic"
+    simple.Render(view)
+    auto_shot = G.Shot(view, G.output_path("gaussian_tf_grid16_automatic.png"))
+    largest, share = G.difference(auto_shot, off_shot)
+    C.check(auto_shot.max_channel() > 30 and largest <= 8 and share <= 0.001,
+            "Automatic vs Off, 16 widgets: largest difference %d/255, %.4f %% of pixels "
+            "> 2/255" % (largest, 100 * share))
+    display.EmptySpaceSkipping = "Off"
     display.GaussianWidgets = RED + GREEN
     simple.Render(view)
 

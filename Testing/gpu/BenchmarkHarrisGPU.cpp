@@ -371,7 +371,7 @@ int main(int argc, char** argv)
           }
           std::printf("  v%d%s %.3f", v, hm ? "a" : "m", median(hs));
         }
-      std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM, bit2 position table + 2 barriers; m: match_any, a: plain atomics)\n");
+      std::printf("  (v: bit0 unrolled, bit1 3 blocks/SM, bit2 position table + 2 barriers; v8: v5 with two slices per round; m: match_any, a: plain atomics)\n");
       pipeline.setKernelVariant(cfg.variant, 1);
     }
     std::printf("  H2D uint8: pinned %.3f ms, pageable %.3f ms\n", row.h2dPinned, row.h2dPageable);

@@ -375,33 +375,50 @@ TEST(HarrisGPU, ZChunksGiveIdenticalResults)
   }
 }
 
+// Every width-5 variant, both histogram modes and z chunks of odd and even length (the
+// two-slice variant's last round may hold one slice) give the default's bits and top-N; a
+// volume thinner than the kernel repeats its border slices in every round. Float and uint8
+// input (each variant's uint8 path keeps the loaded bytes its own way).
 TEST(HarrisGPU, KernelVariantsGiveIdenticalResults)
 {
   MCV_REQUIRE_GPU();
-  const mt::Volume v = smoothRandomVolume(mt::makeGrid(77, 45, 41, { 1.0, 0.8, 1.2 }), 51);
-  const HarrisParameters p;
-  mcv::cuda::HarrisPipeline pipeline;
-  std::string error;
-  ASSERT_TRUE(pipeline.uploadVolume(v.values.data(), v.grid, &error)) << error;
-  std::vector<float> reference(v.values.size()), other(v.values.size());
-  ASSERT_TRUE(pipeline.response(p, reference.data(), &error)) << error;
-  InterestPoints top0;
-  ASSERT_TRUE(pipeline.topN(p, kN, top0, &error)) << error;
-  for (int variant = 0; variant < mcv::cuda::HarrisPipeline::kernelVariantCount(); ++variant)
-    for (int histMode = 0; histMode < 2; ++histMode)
-      for (int chunk : { 0, 3 })
-      {
-        SCOPED_TRACE("variant " + std::to_string(variant) + ", histogram mode " +
-          std::to_string(histMode) + ", zChunk " + std::to_string(chunk));
-        pipeline.setKernelVariant(variant, histMode);
-        pipeline.setZChunk(chunk);
-        ASSERT_TRUE(pipeline.response(p, other.data(), &error)) << error;
-        EXPECT_TRUE(reference == other);
-        InterestPoints top;
-        ASSERT_TRUE(pipeline.topN(p, kN, top, &error)) << error;
-        EXPECT_EQ(top.indices, top0.indices);
-        EXPECT_EQ(top.scores, top0.scores);
-      }
+  for (const std::array<int, 3>& dims : { std::array<int, 3>{ 77, 45, 41 }, std::array<int, 3>{ 40, 21, 3 } })
+    for (const bool bytes : { false, true })
+  {
+    const mt::Volume v = smoothRandomVolume(mt::makeGrid(dims[0], dims[1], dims[2], { 1.0, 0.8, 1.2 }), 51);
+    const auto [lo, hi] = std::minmax_element(v.values.begin(), v.values.end());
+    std::vector<std::uint8_t> b(v.values.size());
+    for (std::size_t i = 0; i < b.size(); ++i)
+    {
+      b[i] = static_cast<std::uint8_t>(std::lround((v.values[i] - *lo) / (*hi - *lo) * 255.0f));
+    }
+    const HarrisParameters p;
+    mcv::cuda::HarrisPipeline pipeline;
+    std::string error;
+    ASSERT_TRUE(bytes ? pipeline.uploadVolume(b.data(), v.grid, &error)
+                      : pipeline.uploadVolume(v.values.data(), v.grid, &error))
+      << error;
+    std::vector<float> reference(v.values.size()), other(v.values.size());
+    ASSERT_TRUE(pipeline.response(p, reference.data(), &error)) << error;
+    InterestPoints top0;
+    ASSERT_TRUE(pipeline.topN(p, kN, top0, &error)) << error;
+    for (int variant = 0; variant < mcv::cuda::HarrisPipeline::kernelVariantCount(); ++variant)
+      for (int histMode = 0; histMode < 2; ++histMode)
+        for (int chunk : { 0, 1, 2, 3 })
+        {
+          SCOPED_TRACE("nz " + std::to_string(dims[2]) + (bytes ? " uint8" : " float") +
+            ", variant " + std::to_string(variant) +
+            ", histogram mode " + std::to_string(histMode) + ", zChunk " + std::to_string(chunk));
+          pipeline.setKernelVariant(variant, histMode);
+          pipeline.setZChunk(chunk);
+          ASSERT_TRUE(pipeline.response(p, other.data(), &error)) << error;
+          EXPECT_TRUE(reference == other);
+          InterestPoints top;
+          ASSERT_TRUE(pipeline.topN(p, kN, top, &error)) << error;
+          EXPECT_EQ(top.indices, top0.indices);
+          EXPECT_EQ(top.scores, top0.scores);
+        }
+  }
 }
 
 TEST(HarrisGPU, Uint8VolumeRanksLikeFloat)

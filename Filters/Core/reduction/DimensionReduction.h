@@ -58,9 +58,11 @@ struct ReductionOptions
   // ---- The reference sample, where it runs, progress -------------------------------------
   std::size_t referenceSampleSize = 10000; // M; >= the voxels (of all processes) fits on all
   std::uint64_t randomSeed = 0;         // same seed, same result
-  Device device = Device::Auto;         // the out-of-sample step (touches every voxel) and
-                                        // UMAP's layout (the SGD epochs of its fit); a GPU
-                                        // that fails falls back to the CPU with a warning
+  Device device = Device::Auto;         // the out-of-sample step (touches every voxel),
+                                        // Isomap's fit (graph search, shortest paths, MDS
+                                        // spectrum) and UMAP's layout (the SGD epochs of its
+                                        // fit); a GPU that fails falls back to the CPU with a
+                                        // warning
   int trustworthinessNeighbors = 10;    // k of the trustworthiness measure
   std::size_t trustworthinessSample = 2000; // points it is measured on (from the reference)
   // Optional progress: stage name and overall fraction in [0,1].

@@ -2,6 +2,10 @@
 
 #include "ExactKnn.h"
 
+#ifdef MCV_HAS_CUDA
+#include "cuda/KnnCandidatesCuda.h"
+#endif
+
 #include <nanoflann.hpp>
 
 #include <algorithm>
@@ -132,9 +136,10 @@ std::size_t KnnIndex::query(const float* q, std::size_t k, std::uint32_t* indice
   return impl_->query(q, k, indices, squaredDistances);
 }
 
-KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, double* referenceRadius)
+KnnGraph buildReferenceGraph(
+  const float* data, std::size_t n, int dim, int k, double* referenceRadius, Device device, std::string* deviceError)
 {
-  KnnGraph g = buildKnnGraph(data, n, dim, k);
+  KnnGraph g = buildKnnGraph(data, n, dim, k, device, deviceError);
   if (g.largestFourthSquaredDistance >= 0.0)
   {
     *referenceRadius = std::sqrt(g.largestFourthSquaredDistance);
@@ -142,7 +147,42 @@ KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, d
   return g;
 }
 
-KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
+namespace
+{
+
+// Every point's kp float candidates from the GPU (cuda/KnnCandidatesCuda.h); empty where
+// there is no GPU, the problem is larger than it takes, or it fails (*error says why).
+void deviceCandidates(const float* data, std::size_t n, int dim, int kp, Device device, std::vector<std::uint32_t>& idx,
+  std::vector<float>& f, std::string* error)
+{
+#ifdef MCV_HAS_CUDA
+  if (device != Device::GPU || kp > cuda::kMaxKnnCandidatesOnDevice || static_cast<std::size_t>(kp) > n ||
+    dim > cuda::kMaxKnnCandidateDimension || n > cuda::knnCandidatesMaxPoints())
+  {
+    return;
+  }
+  idx.resize(n * static_cast<std::size_t>(kp));
+  f.resize(idx.size());
+  if (!cuda::knnCandidates(data, n, dim, kp, idx.data(), f.data(), error))
+  {
+    idx.clear();
+    f.clear();
+  }
+#else
+  (void)data;
+  (void)n;
+  (void)dim;
+  (void)kp;
+  (void)device;
+  (void)idx;
+  (void)f;
+  (void)error;
+#endif
+}
+
+} // namespace
+
+KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k, Device device, std::string* deviceError)
 {
   KnnGraph g;
   g.n = n;
@@ -161,6 +201,16 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
   const bool bruteForce = chooseKnnMethod(dim, k1) == KnnMethod::BruteForce;
   std::unique_ptr<ExactKnn> tiled(bruteForce ? new ExactKnn(data, n, dim, KnnMethod::BruteForce) : nullptr);
   std::unique_ptr<KnnIndex> tree(bruteForce ? nullptr : new KnnIndex(data, n, dim));
+  // The GPU's candidates, resolved here by the rule ExactKnn::query applies to TiledKnn's
+  // (rows the bound does not settle take query()'s radius scan): the same neighbours.
+  const int kp = std::min(k1 + kKnnCandidateMargin, kMaxKnnCandidates);
+  std::vector<std::uint32_t> candidateIdx;
+  std::vector<float> candidateF;
+  if (tiled && k1 + kKnnCandidateMargin <= kMaxKnnCandidates)
+  {
+    deviceCandidates(data, n, dim, kp, device, candidateIdx, candidateF, deviceError);
+  }
+  const bool fromDevice = !candidateIdx.empty();
   const long long blocks = static_cast<long long>((n + kKnnQueryBlock - 1) / kKnnQueryBlock);
   const bool fourthKnown = tiled && k1 >= 4;
   double largestFourth = 0.0;
@@ -174,7 +224,20 @@ KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k)
     {
       const std::size_t first = static_cast<std::size_t>(b) * kKnnQueryBlock;
       const std::size_t count = std::min(kKnnQueryBlock, n - first);
-      if (tiled)
+      if (fromDevice)
+      {
+        for (std::size_t r = 0; r < count; ++r)
+        {
+          const std::size_t i = first + r;
+          const float* q = data + i * static_cast<std::size_t>(dim);
+          if (!resolveCandidates(q, data, n, dim, candidateIdx.data() + i * kp, candidateF.data() + i * kp, kp, k1,
+                idx.data() + r * k1, d2.data() + r * k1))
+          {
+            tiled->query(q, 1, k1, idx.data() + r * k1, d2.data() + r * k1);
+          }
+        }
+      }
+      else if (tiled)
       {
         tiled->query(data + first * static_cast<std::size_t>(dim), count, k1, idx.data(), d2.data());
       }

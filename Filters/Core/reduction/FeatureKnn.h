@@ -2,9 +2,12 @@
 // The one place the reduction code talks to nanoflann, so the other files see plain arrays.
 #pragma once
 
+#include "Device.h"
+
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace mcv
@@ -38,7 +41,10 @@ private:
 // The kNN graph of n points: for every point its k nearest OTHER points (self excluded),
 // nearest first (the kd-tree in low dimension; ExactKnn's tiled brute force in high, where
 // a kd-tree visits most of its leaves). neighbors[i*k + j], distances (Euclidean, not
-// squared) likewise. k must be < n. OpenMP over blocks of points.
+// squared) likewise. k must be < n. OpenMP over blocks of points. With device GPU the brute
+// force's float candidates come from the GPU (cuda/KnnCandidatesCuda.h) and the host applies
+// the same canonical rule to them: the same graph (the CPU search where the GPU is missing,
+// the graph is too large for it, or it fails; *deviceError, if given, then says why it failed).
 struct KnnGraph
 {
   std::size_t n = 0;
@@ -51,11 +57,13 @@ struct KnnGraph
   // k >= 3. -1 when not known (the kd-tree's float distances, or k < 3).
   double largestFourthSquaredDistance = -1.0;
 };
-KnnGraph buildKnnGraph(const float* data, std::size_t n, int dim, int k);
+KnnGraph buildKnnGraph(
+  const float* data, std::size_t n, int dim, int k, Device device = Device::CPU, std::string* deviceError = nullptr);
 // buildKnnGraph of a fit's reference points that also sets *referenceRadius (ModelDistance.h)
 // to the root of largestFourthSquaredDistance when the search found it, so that the fit need
 // not search every reference's neighbours a second time; else *referenceRadius is unchanged.
-KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, double* referenceRadius);
+KnnGraph buildReferenceGraph(const float* data, std::size_t n, int dim, int k, double* referenceRadius,
+  Device device = Device::CPU, std::string* deviceError = nullptr);
 
 // An edge between two points, Euclidean length.
 struct GraphEdge

@@ -3,6 +3,10 @@
 #include "FeatureKnn.h"
 #include "ReferenceSample.h"
 
+#ifdef MCV_HAS_CUDA
+#include "cuda/GeodesicsCuda.h"
+#endif
+
 #include <Eigen/Eigenvalues>
 #include <Spectra/MatOp/DenseSymMatProd.h>
 #include <Spectra/SymEigsSolver.h>
@@ -171,22 +175,82 @@ void dijkstra(const GeodesicGraph& g, std::uint32_t source, double* dist)
       .distance_inf(std::numeric_limits<double>::infinity()));
 }
 
+// The geodesic distances from every landmark (rows of dist, L x n) on the GPU: the same bits
+// as Dijkstra (cuda/GeodesicsCuda.h). False, to run Dijkstra on the host, off the GPU, for a
+// graph larger than the device's shared memory holds, or on a failure (with a warning).
+bool geodesicsOnDevice(Device device, const Graph& g, const std::vector<std::uint32_t>& landmarks, double* dist,
+  std::vector<std::string>& warnings)
+{
+#ifdef MCV_HAS_CUDA
+  const std::size_t n = g.start.size() - 1;
+  if (device != Device::GPU || n > cuda::geodesicMaxVertices())
+  {
+    return false;
+  }
+  std::string error;
+  if (cuda::geodesicDistances(n, g.start.data(), g.to.data(), g.weight.data(), landmarks.data(),
+        static_cast<int>(landmarks.size()), dist, &error))
+  {
+    return true;
+  }
+  warnings.push_back("Isomap: the shortest paths on the GPU failed (" + error + "); they ran on the CPU.");
+  return false;
+#else
+  (void)device;
+  (void)g;
+  (void)landmarks;
+  (void)dist;
+  (void)warnings;
+  return false;
+#endif
+}
+
+// Every eigenvalue of the symmetric B, descending, values only: on the GPU by cuSOLVER (the
+// one O(L^3) step of the fit, ~100 ms on one host thread at L = 500; the same values to
+// rounding), else, or if that fails, by Eigen.
+bool allEigenvalues(const Eigen::MatrixXd& B, Device device, Eigen::VectorXd& values, std::vector<std::string>& warnings)
+{
+#ifdef MCV_HAS_CUDA
+  if (device == Device::GPU)
+  {
+    Eigen::VectorXd ascending(B.rows());
+    std::string error;
+    if (cuda::symmetricEigenvalues(B.data(), static_cast<int>(B.rows()), ascending.data(), &error))
+    {
+      values = ascending.reverse();
+      return true;
+    }
+    warnings.push_back("Isomap: the landmark MDS eigenvalues on the GPU failed (" + error + "); they were computed on the CPU.");
+  }
+#else
+  (void)device;
+  (void)warnings;
+#endif
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> all(B, Eigen::EigenvaluesOnly);
+  if (all.info() != Eigen::Success)
+  {
+    return false;
+  }
+  values = all.eigenvalues().reverse();
+  return true;
+}
+
 // Every eigenvalue of the symmetric B (descending; the spectrum and the variance retained
-// need them all) and the eigenvectors of the top d. Only d vectors are used, so they come
-// from Lanczos (Spectra) and the full spectrum from a values-only solve: 6x faster than the
-// full decomposition at L = 500, 60x at L = 2000 (measured on the dev machine).
-bool topEigenpairs(const Eigen::MatrixXd& B, int d, Eigen::VectorXd& values, Eigen::MatrixXd& vectors)
+// need them all) and the eigenvectors of the top d (with their values). Only d vectors are
+// used, so they come from Lanczos (Spectra) and the full spectrum from a values-only solve:
+// 6x faster than the full decomposition at L = 500, 60x at L = 2000 (measured on the dev
+// machine).
+bool topEigenpairs(const Eigen::MatrixXd& B, int d, Device device, Eigen::VectorXd& values, Eigen::MatrixXd& vectors,
+  std::vector<std::string>& warnings)
 {
   const Eigen::Index L = B.rows();
   constexpr Eigen::Index kSmallForLanczos = 64;
   if (L > kSmallForLanczos)
   {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> all(B, Eigen::EigenvaluesOnly);
-    if (all.info() != Eigen::Success)
+    if (!allEigenvalues(B, device, values, warnings))
     {
       return false;
     }
-    values = all.eigenvalues().reverse();
     Spectra::DenseSymMatProd<double> op(B);
     Spectra::SymEigsSolver<Spectra::DenseSymMatProd<double>> top(op, d, std::min<Eigen::Index>(L, std::max(2 * d + 1, 20)));
     top.init();
@@ -195,6 +259,10 @@ bool topEigenpairs(const Eigen::MatrixXd& B, int d, Eigen::VectorXd& values, Eig
       (top.eigenvalues() - values.head(d)).cwiseAbs().maxCoeff() <= 1e-8 * std::max(1.0, std::abs(values[0]));
     if (agrees)
     {
+      // The top d values with their vectors from the same solve: the embedding then depends
+      // only on Lanczos on the host, so the GPU's spectrum (equal to rounding) leaves the
+      // coordinates the CPU's, bit for bit.
+      values.head(d) = top.eigenvalues();
       vectors = top.eigenvectors(); // descending, as values
       return true;
     }
@@ -232,7 +300,13 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   }
 
   report("Isomap: neighbour graph", 0.0);
-  const KnnGraph knn = buildReferenceGraph(X.data(), n, static_cast<int>(X.cols()), K, &e.referenceRadius);
+  std::string graphError;
+  const KnnGraph knn =
+    buildReferenceGraph(X.data(), n, static_cast<int>(X.cols()), K, &e.referenceRadius, options.device, &graphError);
+  if (!graphError.empty())
+  {
+    e.warnings.push_back("Isomap: the neighbour search on the GPU failed (" + graphError + "); it ran on the CPU.");
+  }
   report("Isomap: neighbour graph", 0.15);
   std::size_t components = 1;
   const std::vector<GraphEdge> joins = joinKnnComponents(X.data(), n, static_cast<int>(X.cols()), knn, &components);
@@ -255,18 +329,22 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
 
   // Geodesic distances from every landmark: L x n, row-major.
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> geo(L, static_cast<Eigen::Index>(n));
-  std::atomic<int> doneCount{ 0 };
-  const GeodesicGraph geodesic = geodesicGraph(graph);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (int l = 0; l < L; ++l)
+  report("Isomap: shortest paths", 0.2);
+  if (!geodesicsOnDevice(options.device, graph, landmarks, geo.data(), e.warnings))
   {
-    dijkstra(geodesic, landmarks[static_cast<std::size_t>(l)], geo.row(l).data());
-    const int done = ++doneCount;
-#ifdef _OPENMP
-    if (omp_get_thread_num() == 0)
-#endif
+    std::atomic<int> doneCount{ 0 };
+    const GeodesicGraph geodesic = geodesicGraph(graph);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int l = 0; l < L; ++l)
     {
-      report("Isomap: shortest paths", 0.2 + 0.7 * done / L);
+      dijkstra(geodesic, landmarks[static_cast<std::size_t>(l)], geo.row(l).data());
+      const int done = ++doneCount;
+#ifdef _OPENMP
+      if (omp_get_thread_num() == 0)
+#endif
+      {
+        report("Isomap: shortest paths", 0.2 + 0.7 * done / L);
+      }
     }
   }
   if (!geo.allFinite())
@@ -295,7 +373,7 @@ Embedding fitIsomap(const RowMatrixF& X, const IsomapOptions& options)
   B *= -0.5;
   Eigen::VectorXd values;
   Eigen::MatrixXd vectors;
-  if (!topEigenpairs(B, d, values, vectors))
+  if (!topEigenpairs(B, d, options.device, values, vectors, e.warnings))
   {
     e.error = "Isomap: the landmark MDS eigen-decomposition failed.";
     return e;

@@ -1,18 +1,21 @@
 // Landmark Isomap (Tenenbaum et al. 2000; de Silva & Tenenbaum 2003, "Global versus local
 // methods in nonlinear dimensionality reduction"):
-//  1. kNN graph (K neighbours, Euclidean edge lengths, made symmetric);
+//  1. kNN graph (K neighbours, Euclidean edge lengths, made symmetric; on the GPU with device
+//     GPU, the same graph: FeatureKnn.h);
 //  2. a disconnected graph is joined: each component is linked to its nearest other one by
 //     the closest pair of points (Boruvka rounds) and a warning says how many there were;
 //  3. L landmarks drawn uniformly with the seed (see uniformLandmarks for why not MaxMin);
 //  4. Dijkstra from every landmark (OpenMP over landmarks, 4-ary heap with decrease-key):
-//     the L x n geodesic distances;
+//     the L x n geodesic distances; on the GPU (device GPU) one block per landmark finds the
+//     same distances, bit for bit (cuda/GeodesicsCuda.h);
 //  5. landmark MDS: classical MDS of the L x L squared geodesics, then every point placed by
 //     distance-based triangulation y = -1/2 L# (delta_i - delta_mean); finally the result is
 //     centred and rotated to its principal axes (de Silva & Tenenbaum's last step).
-// Eigenvalues: those of the landmark MDS Gram matrix, descending (all of them, values only;
-// the top d eigenvectors by Lanczos).
+// Eigenvalues: those of the landmark MDS Gram matrix, descending (all of them, values only,
+// by cuSOLVER on the GPU; the top d eigenvectors by Lanczos on the host either way).
 #pragma once
 
+#include "Device.h"
 #include "Embedding.h"
 
 #include <cstdint>
@@ -26,6 +29,8 @@ struct IsomapOptions
   int numberOfNeighbors = 50;
   int numberOfLandmarks = 500; // clamped to [d+1, n]
   std::uint64_t seed = 0;
+  Device device = Device::CPU; // GPU: the graph's search, shortest paths and MDS eigenvalues on the
+                               // device (each on the CPU if it fails)
   StageProgress progress;
 };
 

@@ -32,6 +32,7 @@ Embedding fitIsomapMethod(const RowMatrixF& x, const ReductionOptions& o, const 
 {
   IsomapOptions io = graphMethodOptions<IsomapOptions>(o, progress);
   io.numberOfLandmarks = o.numberOfLandmarks;
+  io.device = resolveDevice(o.device); // reduceDimension warns once if the GPU is missing
   return fitIsomap(x, io);
 }
 

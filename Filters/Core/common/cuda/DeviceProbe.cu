@@ -73,5 +73,17 @@ bool deviceUsable(std::string* reason)
   return true;
 }
 
+std::size_t sharedMemoryPerBlockOptin()
+{
+  int device = 0, optin = 0;
+  if (cudaGetDevice(&device) != cudaSuccess ||
+    cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, device) != cudaSuccess)
+  {
+    (void)cudaGetLastError();
+    return 0;
+  }
+  return optin > 0 ? static_cast<std::size_t>(optin) : 0;
+}
+
 } // namespace cuda
 } // namespace mcv

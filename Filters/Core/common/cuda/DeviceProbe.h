@@ -3,6 +3,7 @@
 // MCV_ENABLE_CUDA is on (the core then defines MCV_HAS_CUDA).
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace mcv
@@ -18,6 +19,11 @@ bool deviceUsable(std::string* reason = nullptr);
 // True once a sticky CUDA error (illegal address, launch failure, ...) has left this
 // process's GPU context unusable; `reason` says which. Every later CUDA call would fail.
 bool contextLost(std::string* reason = nullptr);
+
+// The shared memory one block may opt in to on the current device, in bytes (what kernels
+// that keep a whole row or graph in shared memory are sized by); 0 where there is no usable
+// device.
+std::size_t sharedMemoryPerBlockOptin();
 
 } // namespace cuda
 } // namespace mcv

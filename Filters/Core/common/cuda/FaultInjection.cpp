@@ -33,7 +33,7 @@ static_assert(classifyCudaCall("cudaEventRecord(e, stream)") == CudaCall::Other,
 namespace
 {
 
-const char* const kStages[] = { "harris", "features", "gaussiantf", "outofsample", "umaplayout", "fused", "fusedpasses", "samplekeys" };
+const char* const kStages[] = { "harris", "features", "gaussiantf", "outofsample", "umaplayout", "fused", "fusedpasses", "samplekeys", "isomapfit" };
 
 struct InjectionState
 {

@@ -12,6 +12,7 @@
 //   fused        the fused reduction's slabs: features + placement (FusedPlacementCuda.h)
 //   fusedpasses  its statistics, column-sum and strata passes (FusedPassesCuda.h)
 //   samplekeys   the reference sample's key scans (SampleKeysCuda.h)
+//   isomapfit    Isomap's shortest paths and MDS eigenvalues (GeodesicsCuda.h)
 // The kinds of call (from the checked expression's text, at compile time):
 //   alloc   cudaMalloc*                     copy  cudaMemcpy*, cudaMemset*
 //   launch  the check after a kernel launch, CUB calls, launch helpers

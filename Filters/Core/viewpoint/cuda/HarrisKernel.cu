@@ -57,6 +57,12 @@ struct TileShape
     return static_cast<std::size_t>(ProdFloats + XbFloats + InFloats) * sizeof(float) +
       (table ? Positions * sizeof(unsigned) : 0) + (hist ? kLevel1Bins * sizeof(unsigned) : 0);
   }
+  // harrisKernelPairs: two product and two x-smoothed slices, a ring of four input slices.
+  static std::size_t smemBytesPairs(bool hist)
+  {
+    return static_cast<std::size_t>(2 * ProdFloats + 2 * XbFloats + 4 * IS) * sizeof(float) +
+      Positions * sizeof(unsigned) + (hist ? kLevel1Bins * sizeof(unsigned) : 0);
+  }
 };
 
 // Phases 0..W-1 of the unrolled z loop, each with its compile-time window slot.
@@ -121,13 +127,13 @@ __device__ __forceinline__ void loadSlice(RawInput<T> (&pre)[TileShape<R>::LOADS
   }
 }
 
-// The loaded slice q, as floats, into its slot of the ring of three input slices.
-template <int R, typename Raw>
+// The loaded slice q, as floats, into its slot of the ring of RING input slices.
+template <int R, typename Raw, int RING = 3>
 __device__ __forceinline__ void storeSlice(
   float* sIn, int q, const Raw (&pre)[TileShape<R>::LOADS], int tid)
 {
   using S = TileShape<R>;
-  float* dst = sIn + (q % 3) * S::IS;
+  float* dst = sIn + (q % RING) * S::IS;
 #pragma unroll
   for (int i = 0; i < S::LOADS; ++i)
   {
@@ -215,17 +221,20 @@ __device__ __forceinline__ void buildPositionTable(
 
 // gradientProducts from the position table: the same values, one table read instead of
 // the position's index arithmetic, rounds unrolled (only the last one tests its bound).
-template <int R>
-__device__ __forceinline__ void gradientProductsTable(
-  float* sProd, const float* sIn, const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid)
+// Input slices sit in a ring of RING slots. PAIR: when `two`, slice cz + 1 (< nz) too,
+// into the product tile after cz's, from the same table reads.
+template <int R, int RING = 3, bool PAIR = false>
+__device__ __forceinline__ void gradientProductsTable(float* sProd, const float* sIn,
+  const unsigned* sPos, int cz, const HarrisKernelArgs& a, int tid, bool two = false)
 {
   using S = TileShape<R>;
   constexpr int IS = S::IS, N = S::Positions;
   constexpr int ROUNDS = (N + kHarrisThreads - 1) / kHarrisThreads;
   const int nz = a.nz;
-  const float* sc = sIn + (cz % 3) * IS;
-  const float* sm = sIn + (max(cz - 1, 0) % 3) * IS;
-  const float* sp = sIn + (min(cz + 1, nz - 1) % 3) * IS;
+  const float* sc = sIn + (cz % RING) * IS;
+  const float* sm = sIn + (max(cz - 1, 0) % RING) * IS;
+  const float* sp = sIn + (min(cz + 1, nz - 1) % RING) * IS;
+  [[maybe_unused]] const float* spp = PAIR ? sIn + (min(cz + 2, nz - 1) % RING) * IS : nullptr;
   const float scaleX = a.scaleX, scaleY = a.scaleY, scaleZ = a.scaleZ;
 #pragma unroll
   for (int k = 0; k < ROUNDS; ++k)
@@ -234,19 +243,34 @@ __device__ __forceinline__ void gradientProductsTable(
     if ((k + 1) * kHarrisThreads <= N || p < N)
     {
       const unsigned e = sPos[p];
-      productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX, scaleY,
-        scaleZ);
+      if constexpr (PAIR)
+      {
+        const int c = static_cast<int>(e & 0xffffu);
+        float* d = sProd + (e >> 16);
+        productsAt<R>(d, sc, sm, sp, c, scaleX, scaleY, scaleZ);
+        if (two)
+        {
+          // slice cz + 1: its lower neighbour is cz, its upper one cz + 2 (clamped)
+          productsAt<R>(d + S::ProdFloats, sp, sc, spp, c, scaleX, scaleY, scaleZ);
+        }
+      }
+      else
+      {
+        productsAt<R>(sProd + (e >> 16), sc, sm, sp, static_cast<int>(e & 0xffffu), scaleX,
+          scaleY, scaleZ);
+      }
     }
   }
 }
 
-// x pass: each task smooths 4 consecutive outputs of one row of one channel (float4).
-template <int R>
+// x pass: each task smooths 4 consecutive outputs of one row of one channel (float4), over
+// SLICES consecutive product slices (their tiles follow each other, as do the outputs').
+template <int R, int SLICES = 1>
 __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const HarrisKernelArgs& a, int tid)
 {
   using S = TileShape<R>;
   constexpr int W = S::W, PW = S::PW, PH = S::PH, TX = kHarrisTileX;
-  constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = 6 * PH * XG;
+  constexpr int XG = TX / 4, NV = (4 + 2 * R + 3) / 4, TASKS = SLICES * 6 * PH * XG;
   constexpr int ROUNDS = (TASKS + kHarrisThreads - 1) / kHarrisThreads;
 #pragma unroll
   for (int k = 0; k < ROUNDS; ++k)
@@ -286,17 +310,18 @@ __device__ __forceinline__ void xPass(float* sXb, const float* sProd, const Harr
 }
 
 // The z window of xy-smoothed tensors for the two voxels (rows 2*warp, 2*warp+1) of a
-// thread: win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of slots).
-template <int W>
-using ZWindow = float[2][W][6];
+// thread: win[row][t][channel], t = 0 the oldest slice (or, unrolled, a ring of N slots,
+// N = W, or W + 1 when two slices enter per round).
+template <int N>
+using ZWindow = float[2][N][6];
 
-template <int W>
-__device__ __forceinline__ void clearWindow(ZWindow<W>& win)
+template <int N>
+__device__ __forceinline__ void clearWindow(ZWindow<N>& win)
 {
 #pragma unroll
   for (int r = 0; r < 2; ++r)
 #pragma unroll
-    for (int t = 0; t < W; ++t)
+    for (int t = 0; t < N; ++t)
 #pragma unroll
       for (int c = 0; c < 6; ++c)
         win[r][t][c] = 0.f;
@@ -304,9 +329,9 @@ __device__ __forceinline__ void clearWindow(ZWindow<W>& win)
 
 // y pass for the two voxels of this thread -> the newest z-window slot (slot P of the ring
 // when unrolled, else the window shifts by one).
-template <int R, bool UNROLL, int P>
+template <int R, bool UNROLL, int P, int N = 2 * R + 1>
 __device__ __forceinline__ void yPassStore(
-  ZWindow<2 * R + 1>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
+  ZWindow<N>& win, const float* sXb, const HarrisKernelArgs& a, int warp, int lane)
 {
   using S = TileShape<R>;
   constexpr int W = S::W, PH = S::PH, TX = kHarrisTileX;
@@ -347,16 +372,16 @@ __device__ __forceinline__ void yPassStore(
 }
 
 // The clamped slice repeats (z border): the newest slice enters the window again.
-template <int W, bool UNROLL, int P>
-__device__ __forceinline__ void repeatStore(ZWindow<W>& win)
+template <int W, bool UNROLL, int P, int N = W>
+__device__ __forceinline__ void repeatStore(ZWindow<N>& win)
 {
 #pragma unroll
   for (int c = 0; c < 6; ++c)
   {
     if constexpr (UNROLL)
     {
-      win[0][P][c] = win[0][(P + W - 1) % W][c];
-      win[1][P][c] = win[1][(P + W - 1) % W][c];
+      win[0][P][c] = win[0][(P + N - 1) % N][c];
+      win[1][P][c] = win[1][(P + N - 1) % N][c];
     }
     else
     {
@@ -372,9 +397,9 @@ __device__ __forceinline__ void repeatStore(ZWindow<W>& win)
 
 // z pass of voxel rr of this thread after phase P: the smoothed structure tensor
 // m = (xx, xy, xz, yy, yz, zz).
-template <int W, bool UNROLL, int P>
+template <int W, bool UNROLL, int P, int N = W>
 __device__ __forceinline__ void zSmooth(
-  float (&m)[6], const ZWindow<W>& win, int rr, const HarrisKernelArgs& a)
+  float (&m)[6], const ZWindow<N>& win, int rr, const HarrisKernelArgs& a)
 {
 #pragma unroll
   for (int c = 0; c < 6; ++c)
@@ -383,8 +408,8 @@ __device__ __forceinline__ void zSmooth(
 #pragma unroll
     for (int t = 0; t < W; ++t)
     {
-      // slot of the t-th oldest slice: a ring after phase P, else the shifted window
-      s = fmaf(a.taps[t], win[rr][UNROLL ? (P + 1 + t) % W : t][c], s);
+      // slot of the t-th oldest slice: a ring whose newest slot is P, else the shifted window
+      s = fmaf(a.taps[t], win[rr][UNROLL ? (P + N - W + 1 + t) % N : t][c], s);
     }
     m[c] = s;
   }
@@ -449,6 +474,50 @@ __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const u
   }
 }
 
+// A block's place in the grid and its thread's: the xy tile's origin and the output slices
+// [zb, ze). Clears the block's histogram when there is one.
+struct BlockPlace
+{
+  int tid, lane, warp;
+  int x0, y0; // tile origin
+  int zb, ze; // output slices
+  std::size_t plane;
+  bool withHist; // the level-1 histogram is counted
+
+  __device__ __forceinline__ BlockPlace(const HarrisKernelArgs& a, unsigned* sHist)
+  {
+    tid = threadIdx.x;
+    lane = tid & 31;
+    warp = tid >> 5;
+    x0 = blockIdx.x * kHarrisTileX;
+    y0 = blockIdx.y * kHarrisTileY;
+    zb = a.zOutBegin + blockIdx.z * a.zChunk;
+    ze = min(zb + a.zChunk, a.zOutEnd);
+    plane = static_cast<std::size_t>(a.nx) * a.ny;
+    withHist = a.hist != nullptr;
+    if (withHist)
+    {
+      clearHistogram(sHist, tid);
+    }
+  }
+};
+
+// The thread's two voxels: the in-plane offset of the first (the second is one row on) and
+// which of the two are inside the grid.
+struct OwnVoxels
+{
+  int offset;
+  bool inside[2];
+
+  __device__ __forceinline__ OwnVoxels(const BlockPlace& bp, int nx, int ny)
+  {
+    const int gx = bp.x0 + bp.lane, gy = bp.y0 + 2 * bp.warp;
+    offset = gx < nx && gy < ny ? gx + gy * nx : 0;
+    inside[0] = gx < nx && gy < ny;
+    inside[1] = gx < nx && gy + 1 < ny;
+  }
+};
+
 // V (variant) bit 0: z loop unrolled by the kernel width, the z window a register ring with
 // compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
 // bit 2: the product positions from a table built once per block (buildPositionTable), the
@@ -471,17 +540,12 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   unsigned* sPos = reinterpret_cast<unsigned*>(sIn + S::InFloats);
   unsigned* sHist = sPos + (TABLE ? S::Positions : 0);
 
-  const int tid = threadIdx.x, lane = tid & 31, warp = tid >> 5;
+  const BlockPlace bp(a, sHist);
+  const int tid = bp.tid, lane = bp.lane, warp = bp.warp;
   const int nx = a.nx, ny = a.ny, nz = a.nz;
-  const int x0 = blockIdx.x * TX, y0 = blockIdx.y * kHarrisTileY;
-  const int zb = a.zOutBegin + blockIdx.z * a.zChunk;
-  const int ze = min(zb + a.zChunk, a.zOutEnd);
-  const std::size_t plane = static_cast<std::size_t>(nx) * ny;
-  const bool withHist = a.hist != nullptr;
-  if (withHist)
-  {
-    clearHistogram(sHist, tid);
-  }
+  const int x0 = bp.x0, y0 = bp.y0, zb = bp.zb, ze = bp.ze;
+  const std::size_t plane = bp.plane;
+  const bool withHist = bp.withHist;
   if constexpr (TABLE)
   {
     buildPositionTable<R>(sPos, x0, y0, nx, ny, tid); // read after the first barrier
@@ -494,10 +558,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     y0 + kHarrisTileY + R <= ny;
   float win[2][W][6];
   clearWindow<W>(win);
-  // The thread's two voxels: in-plane offset of the first (the second is one row on).
-  const int gxOwn = x0 + lane, gyOwn = y0 + 2 * warp;
-  const int ownOffset = gxOwn < nx && gyOwn < ny ? gyOwn * nx + gxOwn : 0;
-  const bool ownInside[2] = { gxOwn < nx && gyOwn < ny, gxOwn < nx && gyOwn + 1 < ny };
+  const OwnVoxels own(bp, nx, ny);
 
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
@@ -516,10 +577,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       bool inside;
       if constexpr (TABLE)
       {
-        inside = ownInside[rr];
+        inside = own.inside[rr];
         if (inside)
         {
-          outSlice[ownOffset + rr * nx] = response;
+          outSlice[own.offset + rr * nx] = response;
         }
       }
       else
@@ -635,6 +696,276 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   }
 }
 
+// The next two input slices of harrisKernelPairs as loaded (slices q and q + 1 of the
+// thread's input-tile elements). uint8: both bytes of an element in one register (q in
+// bits 0-7, q + 1 in bits 8-15), which keeps the kernel within the 128 registers of two
+// blocks per SM without spills; float: two registers.
+template <typename T, int R>
+struct NextSlices
+{
+  static constexpr int L = TileShape<R>::LOADS;
+  static constexpr bool PACKED = !std::is_same_v<T, float>;
+  RawInput<T> a[L];
+  RawInput<T> b[PACKED ? 1 : L];
+
+  // Slice q as the first (the second is cleared when packed).
+  __device__ __forceinline__ void loadFirst(const T* in, int q, std::size_t plane, const int (&inOff)[L])
+  {
+    loadSlice<R>(a, in, q, plane, inOff);
+  }
+  __device__ __forceinline__ void loadSecond(const T* in, int q, std::size_t plane, const int (&inOff)[L])
+  {
+    if constexpr (PACKED)
+    {
+      RawInput<T> t[L];
+      loadSlice<R>(t, in, q, plane, inOff);
+#pragma unroll
+      for (int i = 0; i < L; ++i)
+      {
+        a[i] = (a[i] & 0xffu) | (t[i] << 8);
+      }
+    }
+    else
+    {
+      loadSlice<R>(b, in, q, plane, inOff);
+    }
+  }
+  // The first (second) slice into its slot q of the ring of four input slices.
+  __device__ __forceinline__ void storeFirst(float* sIn, int q, int tid) const
+  {
+    if constexpr (PACKED)
+    {
+      RawInput<T> t[L];
+#pragma unroll
+      for (int i = 0; i < L; ++i)
+      {
+        t[i] = a[i] & 0xffu;
+      }
+      storeSlice<R, RawInput<T>, 4>(sIn, q, t, tid);
+    }
+    else
+    {
+      storeSlice<R, RawInput<T>, 4>(sIn, q, a, tid);
+    }
+  }
+  __device__ __forceinline__ void storeSecond(float* sIn, int q, int tid) const
+  {
+    if constexpr (PACKED)
+    {
+      RawInput<T> t[L];
+#pragma unroll
+      for (int i = 0; i < L; ++i)
+      {
+        t[i] = a[i] >> 8;
+      }
+      storeSlice<R, RawInput<T>, 4>(sIn, q, t, tid);
+    }
+    else
+    {
+      storeSlice<R, RawInput<T>, 4>(sIn, q, b, tid);
+    }
+  }
+  // The second slice becomes the first.
+  __device__ __forceinline__ void shift()
+  {
+#pragma unroll
+    for (int i = 0; i < L; ++i)
+    {
+      if constexpr (PACKED)
+      {
+        a[i] >>= 8;
+      }
+      else
+      {
+        a[i] = b[i];
+      }
+    }
+  }
+};
+
+// Rounds of two virtual slices (sv, sv + 1), phases 0..N/2-1 of the unrolled z loop.
+template <int P, int N, typename F>
+__device__ __forceinline__ void forPairs(F& f, int sv, int svEnd)
+{
+  if constexpr (2 * P < N)
+  {
+    if (sv + 2 * P < svEnd)
+    {
+      f(std::integral_constant<int, P>{}, sv + 2 * P);
+      forPairs<P + 1, N>(f, sv, svEnd);
+    }
+  }
+}
+
+// The two-slice form of harrisKernel's table variant (variant 8): each round of two barriers
+// forms the products, x pass and y pass of two input slices (where both are new), so the
+// barriers, the table reads and the per-slice index work are paid once per two slices. The
+// shared tiles hold two product and two x-smoothed slices and a ring of four input slices
+// (89 KB at width 5, still two blocks per SM); the z window is a register ring of W + 1
+// slots, two slots per round. Same operations in the same order as harrisKernel. Slower
+// than variant 5 on an H200 (docs/benchmarks.md, section 2), so not the default.
+template <typename T, int R>
+__global__ void __launch_bounds__(kHarrisThreads, 2)
+  harrisKernelPairs(const T* __restrict__ in, const HarrisKernelArgs a)
+{
+  using S = TileShape<R>;
+  constexpr int W = S::W, NS = W + 1; // window slots: W + 1 is even, two per round
+
+  extern __shared__ float4 smem4[];
+  float* sProd = reinterpret_cast<float*>(smem4);
+  float* sXb = sProd + 2 * S::ProdFloats;
+  float* sIn = sXb + 2 * S::XbFloats;
+  unsigned* sPos = reinterpret_cast<unsigned*>(sIn + 4 * S::IS);
+  unsigned* sHist = sPos + S::Positions;
+
+  const BlockPlace bp(a, sHist);
+  const int tid = bp.tid, nz = a.nz, zb = bp.zb;
+  const std::size_t plane = bp.plane;
+  buildPositionTable<R>(sPos, bp.x0, bp.y0, a.nx, a.ny, tid); // read after the first barrier
+
+  int inOff[S::LOADS];
+  inputOffsets<R>(inOff, tid, bp.x0, bp.y0, a.nx, a.ny);
+  float win[2][NS][6];
+  clearWindow<NS>(win);
+  const OwnVoxels own(bp, a.nx, a.ny);
+
+  // The z pass, the response and its output for the two voxels of this thread at slice z,
+  // the window's newest slot being P.
+  auto emit = [&](auto slot, int z) {
+    constexpr int P = decltype(slot)::value;
+    float* outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
+#pragma unroll
+    for (int rr = 0; rr < 2; ++rr)
+    {
+      float m[6];
+      zSmooth<W, true, P, NS>(m, win, rr, a);
+      const float response = harrisResponse(m, a);
+      if (own.inside[rr])
+      {
+        outSlice[own.offset + rr * a.nx] = response;
+      }
+      if (bp.withHist)
+      {
+        countCandidate(sHist, response, own.inside[rr], a.histMode, bp.lane);
+      }
+    }
+  };
+
+  // Virtual slices sv = zb-R .. ze+R-1 as in harrisKernel. The input ring holds slices
+  // q % 4; before the products of new slices up to c it holds c - 1 .. c + 1 (clamped) and,
+  // when c is the second of a pair, c - 2 too; the products' last reads of it are behind
+  // the first barrier, so slices up to c + 3 are stored then (at most two per round).
+  const int svBegin = zb - R, svEnd = bp.ze + R;
+  const int czFirst = clampi(svBegin, 0, nz - 1);
+  const int czLast = clampi(svEnd - 1, 0, nz - 1);
+  const int qLast = min(czLast + 1, nz - 1); // last input slice this block reads
+  const int qFill = min(czFirst + 2, qLast);
+  for (int q = max(czFirst - 1, 0); q <= qFill; ++q)
+  {
+    RawInput<T> raw[S::LOADS];
+    loadSlice<R>(raw, in, q, plane, inOff);
+    storeSlice<R, RawInput<T>, 4>(sIn, q, raw, tid);
+  }
+  NextSlices<T, R> pre; // input slices nextLoad and nextLoad + 1
+  int nextLoad = qFill + 1;
+  if (nextLoad <= qLast)
+  {
+    pre.loadFirst(in, nextLoad, plane, inOff);
+  }
+  if (nextLoad + 1 <= qLast)
+  {
+    pre.loadSecond(in, nextLoad + 1, plane, inOff);
+  }
+  int lastCz = -1;
+  __syncthreads(); // the first input slices, the position table
+
+  auto round = [&](auto phase, int sv) {
+    constexpr int P = decltype(phase)::value;
+    const bool has1 = sv + 1 < svEnd;
+    const int cz0 = clampi(sv, 0, nz - 1), cz1 = clampi(sv + 1, 0, nz - 1);
+    const bool fresh0 = cz0 != lastCz, fresh1 = has1 && cz1 != cz0;
+    if (fresh0 || fresh1)
+    {
+      const int first = fresh0 ? cz0 : cz1;
+      const bool two = fresh0 && fresh1;
+      const int last = two ? cz1 : first;
+      gradientProductsTable<R, 4, true>(sProd, sIn, sPos, first, a, tid, two);
+      __syncthreads();
+      const int stores = max(min(last + 3, qLast) - nextLoad + 1, 0); // 0, 1 or 2
+      if (stores > 0)
+      {
+        pre.storeFirst(sIn, nextLoad, tid);
+        if (stores > 1)
+        {
+          pre.storeSecond(sIn, nextLoad + 1, tid);
+          nextLoad += 2;
+          if (nextLoad <= qLast)
+          {
+            pre.loadFirst(in, nextLoad, plane, inOff);
+          }
+        }
+        else
+        {
+          ++nextLoad;
+          pre.shift();
+        }
+        if (nextLoad + 1 <= qLast)
+        {
+          pre.loadSecond(in, nextLoad + 1, plane, inOff);
+        }
+      }
+      if (two)
+      {
+        xPass<R, 2>(sXb, sProd, a, tid);
+      }
+      else
+      {
+        xPass<R, 1>(sXb, sProd, a, tid);
+      }
+      __syncthreads();
+      lastCz = last;
+    }
+    // the x-smoothed slices: the first new one in sXb, the second after it
+    if (fresh0)
+    {
+      yPassStore<R, true, 2 * P, NS>(win, sXb, a, bp.warp, bp.lane);
+    }
+    else
+    {
+      repeatStore<W, true, 2 * P, NS>(win);
+    }
+    if (sv >= zb + R)
+    {
+      emit(std::integral_constant<int, 2 * P>{}, sv - R);
+    }
+    if (has1)
+    {
+      if (fresh1)
+      {
+        yPassStore<R, true, 2 * P + 1, NS>(win, sXb + (fresh0 ? S::XbFloats : 0), a, bp.warp, bp.lane);
+      }
+      else
+      {
+        repeatStore<W, true, 2 * P + 1, NS>(win);
+      }
+      if (sv + 1 >= zb + R)
+      {
+        emit(std::integral_constant<int, 2 * P + 1>{}, sv + 1 - R);
+      }
+    }
+  };
+  for (int sv = svBegin; sv < svEnd; sv += NS)
+  {
+    forPairs<0, NS>(round, sv, svEnd);
+  }
+
+  if (bp.withHist)
+  {
+    __syncthreads();
+    flushHistogram(a.hist, sHist, tid);
+  }
+}
+
 int chooseZChunk(int tiles, int nz, int resident, int radius)
 {
   // Model: time ~ waves * (slices per block + 2 radius halo slices); the largest chunk
@@ -665,8 +996,18 @@ cudaError_t launchRadius(
   const T* input, const HarrisKernelArgs& args, int zChunk, cudaStream_t stream, int* used)
 {
   using S = TileShape<R>;
-  const std::size_t smem = S::smemBytes(args.hist != nullptr, (V & 4) != 0);
-  auto kernel = harrisKernel<T, R, V>;
+  constexpr bool PAIRS = V == kHarrisPairsVariant;
+  const bool hist = args.hist != nullptr;
+  const std::size_t smem = PAIRS ? S::smemBytesPairs(hist) : S::smemBytes(hist, (V & 4) != 0);
+  void (*kernel)(const T*, HarrisKernelArgs) = nullptr;
+  if constexpr (PAIRS)
+  {
+    kernel = harrisKernelPairs<T, R>;
+  }
+  else
+  {
+    kernel = harrisKernel<T, R, V>;
+  }
   cudaError_t err =
     cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, static_cast<int>(smem));
   if (err != cudaSuccess)

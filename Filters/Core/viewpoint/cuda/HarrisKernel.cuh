@@ -27,10 +27,12 @@ constexpr int kHarrisTileY = 16;
 constexpr int kHarrisThreads = 256; // 32 x 8, each thread owns two rows of the tile
 constexpr int kHarrisMaxRadius = 3; // kernel widths 1, 3, 5, 7 run on the GPU
 constexpr int kLevel1Bins = 2048;   // top 11 bits of a positive float
-// Kernel variants (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM;
-// bit 2: product positions from a per-block table); all eight are built for width 5, the
-// default variant for the other widths.
-constexpr int kHarrisVariants = 8;
+// Kernel variants 0-7 (bit 0: z loop unrolled into a register ring; bit 1: 3 blocks per SM;
+// bit 2: product positions from a per-block table) and 8 (variant 5's form with two input
+// slices per round of barriers); all nine are built for width 5, the default variant for
+// the other widths.
+constexpr int kHarrisVariants = 9;
+constexpr int kHarrisPairsVariant = 8;
 constexpr int kHarrisDefaultVariant = 5; // the fastest measured (mcvBenchmarkGPU --variants)
 
 struct HarrisKernelArgs
