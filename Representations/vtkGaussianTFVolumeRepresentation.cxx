@@ -20,6 +20,8 @@
 #include "vtkCellData.h"
 #include "vtkCoordinate.h"
 #include "vtkPVRenderView.h"
+#include "vtkPVSession.h"
+#include "vtkProcessModule.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkRenderer.h"
@@ -304,6 +306,9 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   vtkNew<vtkPolyData> Swatch;       // the legend's colour square
   std::vector<vtkSmartPointer<vtkPolyData>> Swatches; // one per row, in its colour
   vtkWeakPointer<vtkRenderer> LegendRenderer;
+  // This process is the client of a pvserver (no data-server role): the volume is
+  // classified and drawn where the data is, the legend is drawn here.
+  bool ClientOfServer = false;
   bool HadWidgets = false;          // the last list checked had widgets
   bool RenderModeReported = false; // the error about a render mode without the GPU ray caster
 
@@ -472,6 +477,14 @@ bool vtkGaussianTFVolumeRepresentation::AddToView(vtkView* view)
     vtkRenderer* renderer = rview->GetRenderer(vtkPVRenderView::NON_COMPOSITED_RENDERER);
     renderer->AddActor2D(this->Internals->Legend);
     this->Internals->LegendRenderer = renderer;
+    // In client-server, the server renders the volume and sends its image; the client
+    // draws the non-composited (annotation) renderer over it, as it does ParaView's text
+    // and scalar bar annotations. The server's own legend is never seen there.
+    vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
+    auto session = pm ? vtkPVSession::SafeDownCast(pm->GetActiveSession()) : nullptr;
+    this->Internals->ClientOfServer = session &&
+      session->HasProcessRole(vtkPVSession::CLIENT) &&
+      !session->HasProcessRole(vtkPVSession::DATA_SERVER);
   }
   return this->Superclass::AddToView(view);
 }
@@ -626,9 +639,14 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     shown.push_back(&moreSwatch);
     key << rows.back() << '\n';
   }
-  // Only with the volume it explains: not for a volume drawn as nothing (an error).
-  const bool visible =
-    this->ShowWidgetLegend && !rows.empty() && this->GetVisibility() && internals.Valid;
+  // Only with the volume it explains: not for a volume drawn as nothing (an error). A
+  // client whose volume stays on the server (nothing delivered here: it renders remotely)
+  // classifies nothing itself, so it has no such error to go by; it shows the legend from
+  // the widget list it holds (names and colours; the shares need the voxels). A client
+  // rendering locally gets the volume delivered and classifies it like a built-in session.
+  const bool drawnElsewhere = internals.ClientOfServer && pieces.empty();
+  const bool visible = this->ShowWidgetLegend && !rows.empty() && this->GetVisibility() &&
+    (internals.Valid || drawnElsewhere);
   key << visible;
   if (key.str() == internals.LegendKey)
   {

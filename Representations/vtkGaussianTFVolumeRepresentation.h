@@ -101,8 +101,8 @@ public:
    * selects, i.e. of the drawn voxels (mask non-zero, finite coordinates) within its
    * half maximum (|x - mu| <= sigma sqrt(2 ln 2), where alpha_i >= a_i / 2), counted on
    * at most 10^6 voxels evenly spread over the volume. The share is counted where the
-   * volume is delivered; a process that holds no voxels (the client of a remote render
-   * server) shows names and colours only.
+   * volume is delivered; the client of a pvserver that renders remotely holds no voxels
+   * and draws the legend over the server's image with names and colours only.
    */
   void SetShowWidgetLegend(bool show);
   vtkGetMacro(ShowWidgetLegend, bool);

@@ -18,6 +18,8 @@
 #include <QMouseEvent>
 #include <QWidget>
 
+#include <algorithm>
+
 //-----------------------------------------------------------------------------
 pqMultichannelProbe::pqMultichannelProbe(QActionGroup* group)
   : Superclass(group)
@@ -81,6 +83,11 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
 {
   // Never consumes the event: a drag still turns the camera, a click also probes.
   QWidget* widget = qobject_cast<QWidget*>(watched);
+  if (widget && event->type() == QEvent::Resize && this->Label &&
+    widget == this->Label->parentWidget())
+  {
+    this->placeLabel();
+  }
   if (widget && this->Watched.contains(widget) &&
     (event->type() == QEvent::MouseButtonPress || event->type() == QEvent::MouseButtonRelease))
   {
@@ -168,6 +175,7 @@ void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
     this->Label->setStyleSheet("QLabel { background: rgba(20, 20, 20, 200); color: white; "
                                "padding: 6px; font-family: monospace; }");
     this->Label->setAttribute(Qt::WA_TransparentForMouseEvents);
+    viewWidget->installEventFilter(this); // its resizes move the label (placeLabel)
     // The label's "Widget N added" goes when that widget is undone.
     if (pqUndoStack* stack = pqApplicationCore::instance()->getUndoStack())
     {
@@ -187,7 +195,19 @@ void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
   }
   this->Label->setText(text);
   this->Label->adjustSize();
-  this->Label->move(8, 8);
+  this->placeLabel();
   this->Label->show();
   this->Label->raise();
+}
+
+//-----------------------------------------------------------------------------
+void pqMultichannelProbe::placeLabel()
+{
+  // The widget legend (vtkGaussianTFVolumeRepresentation) hangs 10 pixels below the
+  // view's top right corner and is at most half the view tall: it ends above the middle
+  // + 10 pixels. The label sits 8 pixels above the bottom left corner and never higher
+  // than the middle + 12 pixels, so the two never overlap; a label taller than the lower
+  // half (a view under about twice its height) is cut at the view's bottom edge.
+  const int height = this->Label->parentWidget()->height();
+  this->Label->move(8, std::max(height / 2 + 12, height - this->Label->height() - 8));
 }

@@ -21,9 +21,10 @@ class pqView;
  *   camera still turns on a drag) in a render view probes the pixel: in the volume view
  *   probe_at_pixel (the voxel seen there through the "Gaussian TF Volume" display), in
  *   the domain view probe_domain_at_pixel (the voxel of the cloud point there); the voxel
- *   is marked in both views. Its values appear in a small label over the view (top
- *   left, object name "MultichannelProbeLabel") until the next probe or the toggle goes
- *   off; the hourglass cursor shows while the helper works, and the views are rendered
+ *   is marked in both views. Its values appear in a small label over the view (bottom
+ *   left, in the view's lower half, so the widget legend, which keeps to the upper half
+ *   from the top right corner, is never under it; object name "MultichannelProbeLabel")
+ *   until the next probe or the toggle goes off; the hourglass cursor shows while the helper works, and the views are rendered
  *   with the markers once the label is up. The click also makes the view active
  *   (ParaView's own handling of the press).
  * - "Add Widget Here": add_widget_at the last probed voxel's reduced coordinates (a
@@ -58,6 +59,8 @@ private:
   // multichannel_explorer._gui.text (empty when Python is missing).
   QString runPython(const QString& code);
   void showText(QWidget* viewWidget, const QString& text);
+  // Bottom left of its view, below the view's middle (again at every resize of the view).
+  void placeLabel();
 
   QAction* ProbeAction;
   QAction* AddWidgetAction;

@@ -209,8 +209,9 @@ def run(mce, out, reference, previous=None):
     answers["best_view"] = [float(v) for v in best.direction]
     stage("picture")
     picture = os.path.join(out, "picture.png" if reference else "picture_compare.png")
-    # The volume is compared; the widget legend is drawn where the data is, so a client of a
-    # remote render server shows none (a known gap, docs/client-server.md).
+    # The volume is compared; the widget legend's rows differ (a client of a remote render
+    # server has no voxels to count the shares on, docs/client-server.md): it is checked by
+    # client_server_legend_check.py.
     display.ShowWidgetLegend = 0
     simple.Render(view)
     simple.SaveScreenshot(picture, view, ImageResolution=VIEW_SIZE)

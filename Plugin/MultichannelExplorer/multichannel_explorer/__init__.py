@@ -42,9 +42,9 @@ The package, one module per capability (every public name is also here, at the t
                         apply_transfer_function, read_transfer_function (Gaussian
                         widgets kept as a .mcvtf file with the model they live in)
     dual_domain         reduced_domain_filter, show_dual_domain
-    seeding             auto_widgets, widget_names (opacities that let inner structures
-                        show, the background-sized class hidden, names from what each
-                        widget selects)
+    seeding             auto_widgets, widget_names, label_channels (opacities that let
+                        inner structures show, the background-sized class hidden, names
+                        from what each widget selects, atlas channels told from images)
     exploration         explore_multichannel, exploration_name, show_spectrum (the GUI's
                         Explore Multichannel, Show Reduced Domain and Show Spectrum)
     probing             probe, add_widget_at, presentable_opacity, palette_color,
@@ -72,7 +72,7 @@ from .models import MODEL_FORMAT_VERSION, read_model, save_model
 from .picking import pixel_ray, probe_at_pixel, probe_domain_at_pixel
 from .probing import PROBE_MARKER, add_widget_at, palette_color, presentable_opacity, probe
 from .reduction import reduce_multichannel
-from .seeding import auto_widgets, widget_names
+from .seeding import auto_widgets, label_channels, widget_names
 from .states import check_state_file, load_state, save_state, state_plugin_lines
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
                                 show_gaussian_tf)
@@ -117,6 +117,7 @@ __all__ = [
     "exploration_name",
     "show_spectrum",
     "widget_names",
+    "label_channels",
     "presentable_opacity",
     "check_widget_values",
     "check_state_file",

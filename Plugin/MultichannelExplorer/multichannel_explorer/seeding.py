@@ -12,14 +12,27 @@ from .transfer_function import _coordinates_name, _source_and_display, check_wid
 
 __all__ = [
     "auto_widgets",
+    "label_channels",
     "widget_names",
 ]
 
 # A label names a widget when at least this fraction of the widget's voxels carry it.
 LABEL_SHARE = 0.25
-# A channel without a label table whose sample holds at most this many distinct integers
-# is an atlas too (its values are labels, not intensities).
+# A channel without a label table is an atlas (its values are labels, not intensities)
+# when its values are integers and the volume is piecewise constant in it: of the sampled
+# voxels whose value or next voxel's value (along x) is not 0, at least this fraction
+# have the same value as that neighbour. The number of distinct values does not tell: AAL
+# has 116 labels and the 8-bit Colin27 T1 (ch2) 249 integers. Neighbours do: measured on
+# the whole volumes (181 x 217 x 181, along x, y and z) ch2 keeps its neighbour's value at
+# 9-10 % of such voxel pairs (noise and smooth grey levels), AAL at 89-92 % and Brodmann
+# at 89-90 % (regions thousands of voxels large): 0.5 lies far from both.
+LABEL_SAME_NEIGHBOUR = 0.5
+# Without neighbour values (widget_names called on a sample alone), a channel without a
+# table is an atlas when its sample holds at most this many distinct integers (Brodmann's
+# 42 values are; AAL's 116 are not: give its neighbours, or its label table).
 LABEL_VALUES = 64
+# At most this many of the sample's voxels have their neighbour read (one server round trip).
+NEIGHBOUR_SAMPLE = 4000
 
 
 def _cloud_columns(cloud):
@@ -39,16 +52,86 @@ def _median(values):
     return ordered[len(ordered) // 2] if ordered else 0.0
 
 
-def widget_names(columns, count, tables):
+def _channel_candidates(columns):
+    """The one-component channels of a sample's columns (not SeededWidget, VoxelId...)."""
+    return [c for c, v in columns.items()
+            if c not in _NOT_CHANNELS and v and len(v[0]) == 1
+            and c not in ("SeededWidget", "WidgetOpacity", "VoxelId")]
+
+
+def label_channels(columns, tables, neighbours=None):
+    """The atlas (label) channels among a sample's one-component channels: those with a
+    label table, and those whose values are all integers and that are piecewise constant:
+    at least LABEL_SAME_NEIGHBOUR of the points whose value or neighbour's value is not 0
+    have the same value as their neighbour. `columns`: {array: per-point tuples} (the
+    ReducedDomain sample); `tables`: {channel: {value: label}} (label_tables);
+    `neighbours`: {channel: per-point value of the next voxel along x, None where not
+    read} (auto_widgets reads them). Without `neighbours`, a channel without a table is an
+    atlas when its sample holds at most LABEL_VALUES distinct integers. Returns a list."""
+    atlases = []
+    for channel in _channel_candidates(columns):
+        values = [v[0] for v in columns[channel]]
+        if channel in tables:
+            atlases.append(channel)
+            continue
+        if not all(float(v).is_integer() for v in values):
+            continue
+        if neighbours is None or channel not in neighbours:
+            if len(set(values)) <= LABEL_VALUES:
+                atlases.append(channel)
+            continue
+        pairs = [(v, n) for v, n in zip(values, neighbours[channel])
+                 if n is not None and (v != 0 or n != 0)]
+        same = sum(1 for v, n in pairs if v == n)
+        if pairs and same >= LABEL_SAME_NEIGHBOUR * len(pairs):
+            atlases.append(channel)
+    return atlases
+
+
+def _neighbour_values(source, columns):
+    """{channel: per-point value of the voxel after each sampled voxel along x (before it
+    for the last voxel of a row), None for the points not read} for label_channels: at
+    most NEIGHBOUR_SAMPLE points, evenly spread, read with one ExtractVoxels by global
+    voxel id (right on every process count)."""
+    ids = columns.get("VoxelId")
+    if not ids:
+        return None
+    extent = [int(v) for v in source.GetDataInformation().GetExtent()]
+    nx = extent[1] - extent[0] + 1
+    if nx < 2:
+        return None
+    step = max(1, len(ids) // NEIGHBOUR_SAMPLE)
+    wanted = {}
+    for p in range(0, len(ids), step):
+        voxel = int(ids[p][0])
+        wanted[p] = voxel + 1 if voxel % nx < nx - 1 else voxel - 1
+    voxels = _fetch_voxels(source, sorted(set(wanted.values())))
+    pd = voxels.GetPointData()
+    found = pd.GetArray("VoxelId")
+    row = {int(found.GetValue(r)): r for r in range(found.GetNumberOfTuples())} if found else {}
+    neighbours = {}
+    for channel in _channel_candidates(columns):
+        array = pd.GetArray(channel)
+        if array is None:
+            continue
+        values = [None] * len(ids)
+        for p, voxel in wanted.items():
+            if voxel in row:
+                values[p] = array.GetTuple1(row[voxel])
+        neighbours[channel] = values
+    return neighbours
+
+
+def widget_names(columns, count, tables, neighbours=None):
     """Names for `count` seeded widgets from what their sampled voxels hold.
 
     `columns`: {array: per-point tuples} of the ReducedDomain sample, with SeededWidget
-    (the widget of each point); `tables`: {channel: {value: label}} (label_tables). For
-    each widget:
-    - an atlas label: the most frequent non-zero value of an atlas channel (one with a
-      label table, or whose sample holds at most LABEL_VALUES distinct integers), when
-      at least LABEL_SHARE of the widget's points carry it: its label ("Precentral_L"),
-      or "<channel> <value>" without a table ("brodmann 4");
+    (the widget of each point); `tables`: {channel: {value: label}} (label_tables);
+    `neighbours`: the next voxels' values that tell atlases without a table
+    (label_channels). For each widget:
+    - an atlas label: the most frequent non-zero value of an atlas channel
+      (label_channels), when at least LABEL_SHARE of the widget's points carry it: its
+      label ("Precentral_L"), or "<channel> <value>" without a table ("brodmann 4");
     - else the one-component channel, not an atlas, that sets the widget apart most:
       the largest (mean over the widget - mean over the sample)^2 / variance over the
       widget (a channel whose values the widget holds tight and away from the rest,
@@ -59,14 +142,8 @@ def widget_names(columns, count, tables):
     Widgets that get the same name are told apart by the median of that channel
     ("ch2 bright ~96", "ch2 bright ~131") or, for labels, a number. Returns the list."""
     labels = columns.get("SeededWidget")
-    candidates = [c for c, v in columns.items()
-                  if c not in _NOT_CHANNELS and v and len(v[0]) == 1
-                  and c not in ("SeededWidget", "WidgetOpacity", "VoxelId")]
-    # Label channels: those with a table, and those whose sample holds at most
-    # LABEL_VALUES distinct integers (an atlas without a label file, e.g. Brodmann's).
-    atlases = [c for c in candidates if c in tables or (
-        len(set(v[0] for v in columns[c])) <= LABEL_VALUES
-        and all(float(v[0]).is_integer() for v in columns[c]))]
+    candidates = _channel_candidates(columns)
+    atlases = label_channels(columns, tables, neighbours)
     named = []  # (name, channel or None, median)
     for w in range(count):
         rows = [p for p, v in enumerate(labels or ()) if int(v[0]) == w]
@@ -129,7 +206,8 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
     (the class around the others: scalp and skull around a brain) starts hidden: opacity
     0 in GaussianWidgets, its opacity kept in GaussianWidgetsHidden (the editor's check
     box shows it again). Each widget is named after what it selects (widget_names: an
-    atlas label, else the channel that sets it apart) in GaussianWidgetNames.
+    atlas label, else the channel that sets it apart; atlases are the channels with a
+    label table or piecewise constant in integers, label_channels) in GaussianWidgetNames.
     Voxels the volume's Foreground array (MultichannelFeatures' MaskBackground, on by
     default) marks as background are left out. Without such an array, `skip_background`
     (default) makes count + 1 clusters and leaves the largest, almost always the volume's
@@ -170,8 +248,9 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
     if display is not None:
         # The sample with each point's widget, fetched before the seeding is switched off
         # (later updates only recolour and drop SeededWidget).
-        names = widget_names(_cloud_columns(servermanager.Fetch(domain)), seeded,
-                             label_tables(_fetch_voxels(source, [0])))
+        columns = _cloud_columns(servermanager.Fetch(domain))
+        names = widget_names(columns, seeded, label_tables(_fetch_voxels(source, [0])),
+                             _neighbour_values(source, columns))
     domain.SeedWidgetCount = 0  # one suggestion; later updates only recolour
     hidden = [-1.0] * seeded
     drawn = list(widgets)
