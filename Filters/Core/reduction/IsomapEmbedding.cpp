@@ -205,12 +205,12 @@ bool geodesicsOnDevice(Device device, const Graph& g, const std::vector<std::uin
 #endif
 }
 
-// Every eigenvalue of the symmetric B, descending, values only: on the GPU by cuSOLVER (the
-// one O(L^3) step of the fit, ~100 ms on one host thread at L = 500; the same values to
-// rounding), else, or if that fails, by Eigen.
+// Every eigenvalue of the symmetric B, descending, values only: on the GPU by cuSOLVER where
+// the build links it (MCV_USE_CUSOLVER; the one O(L^3) step of the fit, ~100 ms on one host
+// thread at L = 500; the same values to rounding), else, or if that fails, by Eigen.
 bool allEigenvalues(const Eigen::MatrixXd& B, Device device, Eigen::VectorXd& values, std::vector<std::string>& warnings)
 {
-#ifdef MCV_HAS_CUDA
+#if defined(MCV_HAS_CUDA) && defined(MCV_HAS_CUSOLVER)
   if (device == Device::GPU)
   {
     Eigen::VectorXd ascending(B.rows());
