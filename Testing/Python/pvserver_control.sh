@@ -1,5 +1,5 @@
 # pvserver_control.sh: sourced by the client-server tests (test_client_server.sh,
-# test_gui_server.sh). Starts a pvserver under its own virtual X server on a free port and
+# test_client_server_legend.sh, test_gui_server.sh). Starts a pvserver under its own virtual X server on a free port and
 # stops it again by process id, also after a failure or an interrupt. N > 1 processes run
 # under mpiexec; N = 1 is a plain `pvserver`, as a user starts one without MPI.
 #   start_server N             0 when the server of N processes accepts connections;
@@ -11,6 +11,9 @@
 #   lost_display N             0 when the server of N processes stopped because it lost
 #                              its X server ("bad X server connection", seen now and then
 #                              on a loaded machine): a run worth retrying
+#   run_on_server N CLIENT     start a server of N processes, run the shell function
+#                              CLIENT (it reads $port), stop the server; once more when
+#                              the server lost its X server; CLIENT's status
 # Needs $mpiexec, $pvserver and $out (where the logs go). Installs an EXIT/INT/TERM trap
 # that stops the server.
 
@@ -151,4 +154,21 @@ lost_display() {  # lost_display PROCESSES: 0 when that server's log says its X 
 server_process() {  # one pvserver process of the running server
   _child=$(pgrep -P "$server_pid" | tail -n 1)
   echo "${_child:-$server_pid}"
+}
+
+run_on_server() {  # run_on_server PROCESSES CLIENT: CLIENT's status (see the list above)
+  for _server_try in 1 2; do
+    echo "== pvserver with $1 processes"
+    start_server_retrying "$1" || return 1
+    "$2"
+    _client_rc=$?
+    stop_server
+    # A server that lost its X server (not a failure of the client) is tried once more.
+    if [ $_client_rc -ne 0 ] && [ $_server_try -eq 1 ] && lost_display "$1"; then
+      echo "pvserver_control.sh: the pvserver lost its X server (bad X server connection): trying once more" >&2
+      continue
+    fi
+    break
+  done
+  return $_client_rc
 }

@@ -26,22 +26,14 @@ rc=$?
 
 . "$here/pvserver_control.sh"
 
+loop_client() {  # the loop in pvpython connected to the running server of $n processes
+  sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
+    --compare "$out" --connect "$port" --processes "$n"
+}
 failed=0
 for n in $counts; do
-  for attempt in 1 2; do
-    echo "== pvserver with $n processes"
-    start_server_retrying "$n" || exit 1
-    sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_loop_check.py" \
-      --compare "$out" --connect "$port" --processes "$n"
-    rc=$?
-    stop_server
-    # A server that lost its X server (not a failure of the loop) is tried once more.
-    if [ $rc -ne 0 ] && [ $attempt -eq 1 ] && lost_display "$n"; then
-      echo "test_client_server.sh: the pvserver lost its X server (bad X server connection): trying once more"
-      continue
-    fi
-    break
-  done
+  run_on_server "$n" loop_client
+  rc=$?
   [ $rc -eq 0 ] || failed=$rc
 done
 

@@ -24,18 +24,8 @@ rc=$?
 
 . "$here/pvserver_control.sh"
 
-for attempt in 1 2; do
-  echo "== pvserver with $n processes"
-  start_server_retrying "$n" || exit 1
+legend_client() {  # the check in pvpython connected to the running server
   sh "$here/run_pvbatch.sh" "$pvpython" "$here/client_server_legend_check.py" \
     --out "$out" --connect "$port"
-  rc=$?
-  stop_server
-  # A server that lost its X server (not a failure of the check) is tried once more.
-  if [ $rc -ne 0 ] && [ $attempt -eq 1 ] && lost_display "$n"; then
-    echo "test_client_server_legend.sh: the pvserver lost its X server: trying once more"
-    continue
-  fi
-  break
-done
-exit $rc
+}
+run_on_server "$n" legend_client
