@@ -54,7 +54,10 @@
 #include "vtkMultichannelAlgorithm.h" // for the DeviceType values the filters share
 
 #include <memory> // for std::unique_ptr
+#include <vector> // for the pieces whose shares are counted
 
+class vtkImageData;
+class vtkMultiProcessController;
 namespace mcv
 {
 struct WidgetList;
@@ -299,6 +302,15 @@ public:
   /** Name of the 16-bit coordinate texture array added to the delivered volume (per sample). */
   static const char* GetTextureArrayName() { return "GaussianTF_Coordinates"; }
 
+  /**
+   * On REQUEST_UPDATE (every process of the view, also one without voxels), counts the
+   * legend's shares on this process's piece and sums them over the processes of a split
+   * run (vtkMultiProcessController::GetGlobalController()), so that every process holds
+   * the whole volume's shares.
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
   ///@{
   /** The legend goes into the view's non-composited (annotation) renderer. */
   bool AddToView(vtkView* view) override;
@@ -324,8 +336,11 @@ private:
   bool UpdatePerSample();
   bool GPURayCasterRequested();
   void ReportWidgetWarnings(const mcv::WidgetList& widgets);
-  // Counts each widget's share of the delivered voxels and refills the legend.
-  void UpdateWidgetShares(const mcv::WidgetList& widgets);
+  // Each widget's share of the voxels of `pieces` (whole: the volume's whole extent, or
+  // empty), summed over the processes of `controller` when it is not null (a collective
+  // call: every process of it makes it).
+  void UpdateWidgetShares(const std::vector<vtkImageData*>& pieces, const int whole[6],
+    vtkMultiProcessController* controller);
   void UpdateLegend();
 
   bool ShowWidgetLegend = true;
