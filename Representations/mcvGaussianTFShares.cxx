@@ -2,8 +2,11 @@
 
 #include "../Filters/Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 
+#include "vtkCommunicator.h"
 #include "vtkDataArray.h"
 #include "vtkImageData.h"
+#include "vtkMultiProcessController.h"
+#include "vtkPVSession.h"
 
 #include <algorithm>
 #include <cmath>
@@ -105,6 +108,70 @@ ShareCounts countShares(
     }
   }
   return counts;
+}
+
+void sumOverSession(vtkPVSession* session, std::vector<double>& values)
+{
+  // vtkPVView::AllReduce does this for one number and is protected: the same exchange for
+  // a list, on tags ParaView's does not use.
+  constexpr int toClient = 41290;
+  constexpr int fromClient = 41291;
+  if (values.empty())
+  {
+    return;
+  }
+  const vtkIdType n = static_cast<vtkIdType>(values.size());
+  vtkMultiProcessController* parallel = vtkMultiProcessController::GetGlobalController();
+  if (parallel && parallel->GetNumberOfProcesses() <= 1)
+  {
+    parallel = nullptr;
+  }
+  if (parallel)
+  {
+    std::vector<double> sum(values.size(), 0.0);
+    parallel->Reduce(values.data(), sum.data(), n, vtkCommunicator::SUM_OP, 0);
+    values = sum;
+  }
+  if (session)
+  {
+    // The first server process: sends its sum to the client and takes the total back.
+    if (vtkMultiProcessController* client = session->GetController(vtkPVSession::CLIENT))
+    {
+      client->Send(values.data(), n, 1, toClient);
+      client->Receive(values.data(), n, 1, fromClient);
+    }
+    // The client: adds the servers' sums (a render server apart from the data server
+    // sends its own) and sends the total back.
+    vtkMultiProcessController* render = session->GetController(vtkPVSession::RENDER_SERVER_ROOT);
+    vtkMultiProcessController* data = session->GetController(vtkPVSession::DATA_SERVER_ROOT);
+    if (data == render)
+    {
+      data = nullptr;
+    }
+    std::vector<double> part(values.size());
+    for (vtkMultiProcessController* server : { render, data })
+    {
+      if (server)
+      {
+        server->Receive(part.data(), n, 1, toClient);
+        for (size_t i = 0; i < values.size(); ++i)
+        {
+          values[i] += part[i];
+        }
+      }
+    }
+    for (vtkMultiProcessController* server : { render, data })
+    {
+      if (server)
+      {
+        server->Send(values.data(), n, 1, fromClient);
+      }
+    }
+  }
+  if (parallel)
+  {
+    parallel->Broadcast(values.data(), n, 0);
+  }
 }
 
 std::vector<double> sharesOf(const ShareCounts& counts)

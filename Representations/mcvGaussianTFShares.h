@@ -15,6 +15,7 @@
 
 class vtkDataArray;
 class vtkImageData;
+class vtkPVSession;
 
 namespace mcv
 {
@@ -47,6 +48,15 @@ constexpr vtkIdType MaximumShareSamples = 1000000;
 // point index.
 ShareCounts countShares(
   const std::vector<SharePiece>& pieces, const int whole[6], const mcv::WidgetList& widgets);
+
+// Sums `values` (the same length on every process) over the processes of `session` in
+// place: the processes of a split run (vtkMultiProcessController::GetGlobalController())
+// and, in client-server, the client, through the session's client and server
+// controllers, in the order ParaView's own vtkPVView::AllReduce uses (reduce to the
+// first server process, which trades with the client, then broadcast), on tags of its
+// own. A collective call: every process of the session makes it at the same point (a
+// view update); null session: only the global controller's processes.
+void sumOverSession(vtkPVSession* session, std::vector<double>& values);
 
 // Shares from summed counts: one per widget, empty when no voxel was drawn.
 std::vector<double> sharesOf(const ShareCounts& counts);

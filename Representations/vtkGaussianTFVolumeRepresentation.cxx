@@ -17,8 +17,6 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkLegendBoxActor.h"
-#include "vtkCommunicator.h"
-#include "vtkMultiProcessController.h"
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCoordinate.h"
@@ -512,22 +510,23 @@ int vtkGaussianTFVolumeRepresentation::ProcessViewRequest(
     return 0;
   }
   // The legend's shares are counted where the data is, on this process's own piece (the
-  // representation's input), when the view updates: every process of a split run (MPI
-  // pvbatch, pvserver) updates its views together, also one that holds no voxels, so the
-  // counts are summed over them here. A client of a pvserver holds no piece; it counts
-  // what is delivered to it, when it renders (UpdateLegend).
-  if (request == vtkPVView::REQUEST_UPDATE() && !this->Internals->ClientOfServer)
+  // representation's input), when the view updates: every process of the session (the
+  // processes of a split run, MPI pvbatch or pvserver, and a pvserver's client) updates
+  // its views together, also one that holds no voxels, so the counts are summed over
+  // all of them here and every process, the client that draws the legend included,
+  // holds the whole volume's shares.
+  if (request == vtkPVView::REQUEST_UPDATE())
   {
-    vtkMultiProcessController* controller = vtkMultiProcessController::GetGlobalController();
+    vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
     this->UpdateWidgetShares(imagePieces(this->Cache), this->WholeExtent,
-      controller && controller->GetNumberOfProcesses() > 1 ? controller : nullptr);
+      pm ? vtkPVSession::SafeDownCast(pm->GetActiveSession()) : nullptr);
   }
   return 1;
 }
 
 //------------------------------------------------------------------------------
 void vtkGaussianTFVolumeRepresentation::UpdateWidgetShares(
-  const std::vector<vtkImageData*>& pieces, const int whole[6], vtkMultiProcessController* controller)
+  const std::vector<vtkImageData*>& pieces, const int whole[6], vtkPVSession* session)
 {
   vtkInternals& internals = *this->Internals;
   const mcv::WidgetList widgets =
@@ -565,11 +564,7 @@ void vtkGaussianTFVolumeRepresentation::UpdateWidgetShares(
     internals.ShareTime.Modified();
   }
   mcv::gaussiantf::ShareCounts total = internals.LocalCounts;
-  if (controller)
-  {
-    controller->AllReduce(internals.LocalCounts.Values.data(), total.Values.data(),
-      static_cast<vtkIdType>(values), vtkCommunicator::SUM_OP);
-  }
+  mcv::gaussiantf::sumOverSession(session, total.Values);
   internals.Shares = mcv::gaussiantf::sharesOf(total);
 }
 
@@ -582,13 +577,6 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
   const std::vector<vtkImageData*> pieces = imagePieces(
     this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
                                                            : nullptr);
-  if (internals.ClientOfServer)
-  {
-    // What was delivered here (the whole volume when this client renders); nothing when
-    // the server renders (the shares are then the server's).
-    const int noExtent[6] = { 0, -1, 0, -1, 0, -1 };
-    this->UpdateWidgetShares(pieces, noExtent, nullptr);
-  }
   // One row per drawn widget: colour, name, share.
   std::vector<std::string> rows;
   std::vector<const mcv::GaussianWidget*> shown;

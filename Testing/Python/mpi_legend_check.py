@@ -3,6 +3,11 @@ over MPI processes (each process counts its own piece; the counts are summed).
 
   pvbatch mpi_legend_check.py [--thin] [--out DIR]                     one process
   mpiexec -np R pvbatch --mpi mpi_legend_check.py [--thin] [--out DIR]  R processes
+  pvpython mpi_legend_check.py --connect PORT [--thin] [--out DIR]
+      a client of the (MPI) pvserver on localhost:PORT (the plugin loaded on both sides):
+      the server's processes count their pieces and render, the client holds no voxel
+      and draws the legend (GaussianWidgetLegend is read from the client's instance of
+      the representation): the same rows.
 
 The volume is synthetic (the shares are the point): a Wavelet grid of 50 x 20 x 10 points
 whose reduced coordinates are the voxel's position (x, y, z), shown as a "Gaussian TF
@@ -25,7 +30,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import mcv_testing as T  # noqa: E402
 
-from paraview import simple  # noqa: E402
+from paraview import servermanager, simple  # noqa: E402
 
 NAMES = ["A", "B", "C"]
 
@@ -63,9 +68,23 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--thin", action="store_true")
     parser.add_argument("--out")
+    parser.add_argument("--connect", type=int, metavar="PORT")
     args = parser.parse_args()
-    processes, C = T.parallel_checker("mpi_legend_check%s" % (" --thin" if args.thin else ""))
-    mce = T.load_plugin(globals())
+    if args.connect is not None:
+        if simple.Connect("localhost", args.connect) is None:
+            print("FAIL: could not connect to a pvserver on localhost:%d" % args.connect)
+            sys.stdout.flush()
+            os._exit(1)
+        simple.LoadPlugin(os.environ["MCV_PLUGIN"], remote=True)
+        simple.LoadPlugin(os.environ["MCV_PLUGIN"], remote=False)
+        import multichannel_explorer as mce
+        processes = servermanager.ActiveConnection.GetNumberOfDataPartitions()
+        C = T.Checker("mpi_legend_check%s (client of a pvserver of %d processes)"
+                      % (" --thin" if args.thin else "", processes))
+    else:
+        processes, C = T.parallel_checker("mpi_legend_check%s"
+                                          % (" --thin" if args.thin else ""))
+        mce = T.load_plugin(globals())
     out = args.out or os.path.join(T.output_dir(), "mpi_legend")
     os.makedirs(out, exist_ok=True)
 
@@ -85,12 +104,21 @@ def main():
                 "the pieces for %d voxels)" % (processes, points, whole))
 
     view = T.render_view((500, 300))
+    # A pvserver renders (a volume is always drawn where its voxels are); its client draws
+    # the legend over the server's image, from the counts the servers sent it.
+    view.RemoteRenderThreshold = 0
     display = mce.show_gaussian_tf(calc, view, widgets=widgets)
     display.GaussianWidgetNames = NAMES
     simple.ResetCamera(view)
-    simple.Render(view)
-    display.UpdatePropertyInformation()
-    shown = display.GetProperty("GaussianWidgetLegend").GetElement(0)
+    label = "%s%s%d" % ("client_" if args.connect is not None else "",
+                        "thin_" if args.thin else "", processes)
+
+    def legend():
+        simple.Render(view)
+        display.UpdatePropertyInformation()
+        return display.GetProperty("GaussianWidgetLegend").GetElement(0)
+
+    shown = legend()
     expected = expected_legend(dims, widgets, args.thin)
     C.check(shown == expected, "%d process(es): the legend shows the whole volume's shares "
             "(expected %r, shown %r)" % (processes, expected, shown))
@@ -99,16 +127,13 @@ def main():
     moved = list(widgets)
     moved[0] += 1.0  # A: x <= 12 (13 columns); --thin: the x = 1 voxels
     display.GaussianWidgets = moved
-    simple.Render(view)
-    display.UpdatePropertyInformation()
-    shown = display.GetProperty("GaussianWidgetLegend").GetElement(0)
+    shown = legend()
     expected = expected_legend(dims, moved, args.thin)
     C.check(shown == expected, "%d process(es): after moving widget A the legend shows "
             "%r (expected %r)" % (processes, shown, expected))
-    simple.SaveScreenshot(os.path.join(out, "legend_%s%d.png" % ("thin_" if args.thin else "",
-                                                                  processes)),
-                          view, ImageResolution=[500, 300])
-    if processes > 1:
+    simple.SaveScreenshot(os.path.join(out, "legend_%s.png" % label), view,
+                          ImageResolution=[500, 300])
+    if processes > 1 and args.connect is None:
         C.finish_parallel()
     else:
         C.finish()
