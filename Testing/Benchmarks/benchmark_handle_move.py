@@ -27,9 +27,12 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
-        [--reduced brain_reduced.vti] [--skipping] [--exact-only]
+        [--reduced brain_reduced.vti] [--skipping] [--exact-only] [--whole-box]
 
---skipping adds the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
+--whole-box adds the plain volume with its opacity per unit length divided by 1e6 (the
+same shader; no ray terminates early, so it takes every sample of the box): the plain
+ray caster's cost for as many samples as a transparent picture takes. --skipping adds
+the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
 its brick statistics, its picture against the exact one and what Automatic (the
 default) picks; --exact-only leaves out the table and per voxel; --sigma-scale S multiplies
 every seeded sigma by S (wider widgets: a coarser table).
@@ -159,7 +162,8 @@ def turn(mce, view, reduction, args):
                 "exact": ("Per sample", "Exact", 0),
                 "exact, skipping": ("Per sample", "Exact", 1),
                 "per voxel": ("Per voxel", "Baked table", 0)}
-    modes = ["plain"] + ([] if args.exact_only else ["table"]) + ["exact"] + \
+    modes = ["plain"] + (["plain, whole box"] if args.whole_box else []) + \
+        ([] if args.exact_only else ["table"]) + ["exact"] + \
         (["exact, skipping"] if args.skipping else []) + ([] if args.exact_only else ["per voxel"])
     rows = []
     for text in args.grids.split(","):
@@ -186,7 +190,16 @@ def turn(mce, view, reduction, args):
         simple.ColorBy(plain, ("POINTS", channel))
         plain.RescaleTransferFunctionToDataRange(True, False)
         displays["plain"] = plain
-        for m in modes[1:]:
+        if args.whole_box:
+            # The same shader and samples, with the opacity per unit length divided by 1e6:
+            # no ray reaches VTK's early termination, every sample of the box is taken.
+            whole = simple.Show(copies["plain, whole box"], view)
+            whole.SetRepresentationType("Volume")
+            simple.ColorBy(whole, ("POINTS", channel))
+            whole.ScalarOpacityUnitDistance = 1.0e6 * min(spacing)
+            displays["plain, whole box"] = whole
+        gaussian = [m for m in modes[1:] if m in settings]
+        for m in gaussian:
             classification, evaluation, skipping = settings[m]
             d = mce.show_gaussian_tf(copies[m], view, classification=classification)
             d.Device = "CPU"
@@ -200,7 +213,7 @@ def turn(mce, view, reduction, args):
                 if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
                     widgets[8 * i + 7] = 0.05
                 widgets[8 * i + 3] *= args.sigma_scale
-            for m in modes[1:]:
+            for m in gaussian:
                 displays[m].GaussianWidgets = widgets
             visible = sum(1 for i in range(len(widgets) // 8) if widgets[8 * i + 7] > 0)
             sigmas = [widgets[8 * i + 3] for i in range(len(widgets) // 8)
@@ -334,6 +347,8 @@ def main():
                         help="--turn: leave out the baked table and per voxel")
     parser.add_argument("--skipping", action="store_true",
                         help="--turn: also the exact evaluation with EmptySpaceSkipping")
+    parser.add_argument("--whole-box", action="store_true",
+                        help="--turn: also the plain volume with no early ray termination")
     parser.add_argument("--reduced", default="",
                         help="--turn: a .vti of the reduced brain, written by the first run "
                              "and read by the next ones")
