@@ -24,7 +24,10 @@ fetch's and the loop's. Variants:
 - u8x4 + 1 widget: the same arithmetic on an 8-bit RGBA texture;
 - u16x4 + table u8 / u16 (nearest, linear) at N^3: the fetch followed by a second,
   dependent fetch in an RGBA table (the baked table's path).
-Prints each median frame time and its ratio to the plain volume and to the trivial u8x1.
+Prints each median frame time, its time per box sample (the frame over the samples of
+every ray's chord through the box: an upper bound of the samples the plain volume takes,
+the count the others take), its ratio to the plain volume and to the trivial u8x1, and
+its mean pixel (0: nothing drawn).
 """
 import argparse
 import os
@@ -82,6 +85,34 @@ TABLE = """
       }
     }
 """
+
+
+def box_samples(camera, size, bounds):
+    """Ray samples of a frame through the box `bounds` at a sample distance of 1 (the
+    spacing), without early termination: the sum over the pixels of each ray's chord in
+    the box (perspective camera), as benchmark_handle_move.py counts them."""
+    width, height = size
+    eye = np.array(camera.GetPosition())
+    forward = np.array(camera.GetFocalPoint()) - eye
+    forward /= np.linalg.norm(forward)
+    up = np.array(camera.GetViewUp())
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    half = np.tan(np.radians(camera.GetViewAngle()) / 2.0)
+    ys, xs = np.mgrid[0:height, 0:width]
+    u = ((xs + 0.5) / width * 2 - 1) * half * width / height
+    v = ((ys + 0.5) / height * 2 - 1) * half
+    dirs = forward[None, None, :] + u[..., None] * right + v[..., None] * up
+    dirs /= np.linalg.norm(dirs, axis=2)[..., None]
+    lo = np.array(bounds[0::2]) - eye
+    hi = np.array(bounds[1::2]) - eye
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0 = np.where(dirs != 0, lo / dirs, -np.inf)
+        t1 = np.where(dirs != 0, hi / dirs, np.inf)
+    near = np.maximum(np.minimum(t0, t1).max(axis=2), 0)
+    far = np.maximum(t0, t1).min(axis=2)
+    return float(np.clip(far - near, 0, None).sum())
 
 
 def parse_dims(text):
@@ -231,6 +262,7 @@ def main():
     camera = renderer.GetActiveCamera()
     times = {name: [] for name, _ in variants}
     drawn = {}
+    samples = []
     for name, volume in variants:
         renderer.AddVolume(volume)
     renderer.ResetCamera()  # every volume visible: one box
@@ -264,17 +296,22 @@ def main():
                 tex.Deactivate()
             if r > 0:
                 times[name].append(elapsed)
+        if r > 0:
+            samples.append(box_samples(camera, args.size, variants[0][1].GetBounds()))
         camera.Azimuth(360.0 / args.frames)
     med = {name: statistics.median(t) for name, t in times.items()}
     plain = med["plain u8x1 (VTK)"]
     base = med.get("u8x1 trivial", plain)
-    print("dims %s, view %dx%d, %d rounds" % ("x".join(map(str, dims)), args.size[0], args.size[1],
-                                            args.frames))
-    print("| variant | frame (median) | x plain (VTK, ch2) | x trivial u8x1 | mean pixel |")
-    print("|---|---|---|---|---|")
+    box = statistics.median(samples)
+    print("dims %s, view %dx%d, %d rounds, %.2f M box samples per frame"
+          % ("x".join(map(str, dims)), args.size[0], args.size[1], args.frames, box / 1e6))
+    print("| variant | frame (median) | ns per box sample | x plain (VTK, ch2) | x trivial u8x1 "
+          "| mean pixel |")
+    print("|---|---|---|---|---|---|")
     for name, _ in variants:
-        print("| %s | %.0f ms | x%.2f | x%.2f | %.1f |" % (name, 1e3 * med[name], med[name] / plain,
-                                                          med[name] / base, drawn[name]))
+        print("| %s | %.0f ms | %.0f | x%.2f | x%.2f | %.1f |"
+              % (name, 1e3 * med[name], 1e9 * med[name] / box, med[name] / plain,
+                 med[name] / base, drawn[name]))
     sys.stdout.flush()
     os._exit(0)
 
