@@ -29,9 +29,9 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
         [--reduced brain_reduced.vti] [--skipping] [--exact-only] [--whole-box]
 
---whole-box adds the plain volume with its opacity per unit length divided by 1e6 (the
-same shader; no ray terminates early, so it takes every sample of the box): the plain
-ray caster's cost for as many samples as a transparent picture takes. --skipping adds
+--whole-box adds the plain volume and the exact evaluation with their opacity per unit
+length divided by 1e6 (the same shaders; no ray terminates early, so both take every
+sample of the box): the cost of a sample of each at the same sample count. --skipping adds
 the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
 its brick statistics, its picture against the exact one and what Automatic (the
 default) picks; --exact-only leaves out the table and per voxel; --sigma-scale S multiplies
@@ -161,9 +161,11 @@ def turn(mce, view, reduction, args):
     settings = {"table": ("Per sample", "Baked table", 0),
                 "exact": ("Per sample", "Exact", 0),
                 "exact, skipping": ("Per sample", "Exact", 1),
+                "exact, whole box": ("Per sample", "Exact", 0),
                 "per voxel": ("Per voxel", "Baked table", 0)}
     modes = ["plain"] + (["plain, whole box"] if args.whole_box else []) + \
         ([] if args.exact_only else ["table"]) + ["exact"] + \
+        (["exact, whole box"] if args.whole_box else []) + \
         (["exact, skipping"] if args.skipping else []) + ([] if args.exact_only else ["per voxel"])
     rows = []
     for text in args.grids.split(","):
@@ -206,6 +208,8 @@ def turn(mce, view, reduction, args):
             d.ShowWidgetLegend = 0
             d.PerSampleEvaluation = evaluation
             d.EmptySpaceSkipping = skipping
+            if m.endswith("whole box"):
+                d.ScalarOpacityUnitDistance = 1.0e6 * min(spacing)  # as the plain one's
             displays[m] = d
         for count in counts:
             widgets = [float(v) for v in mce.auto_widgets(displays["exact"], count, seed=0)]
