@@ -50,7 +50,6 @@ the sample distance VTK picks, the smallest spacing, before early ray terminatio
 second of its frame time.
 """
 import argparse
-import math
 import os
 import statistics
 import sys
@@ -59,6 +58,8 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import mcv_testing as T  # noqa: E402
 import gaussian_tf_testing as G  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ray_samples  # noqa: E402
 
 from paraview import simple  # noqa: E402
 
@@ -121,35 +122,9 @@ def picture(path):
 
 
 def box_samples(view, bounds, spacing):
-    """Ray samples of a frame through the box `bounds` at a sample distance of the smallest
-    spacing (VTK's automatic sample distance), without early termination: the sum over the
-    view's pixels of each ray's chord in the box over that distance (perspective camera)."""
-    import numpy as np
-
-    camera = view.GetActiveCamera()
-    width, height = [int(v) for v in view.ViewSize]
-    eye = np.array(camera.GetPosition())
-    forward = np.array(camera.GetFocalPoint()) - eye
-    forward /= np.linalg.norm(forward)
-    up = np.array(camera.GetViewUp())
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    half = math.tan(math.radians(camera.GetViewAngle()) / 2.0)  # vertical half-angle
-    ys, xs = np.mgrid[0:height, 0:width]
-    u = ((xs + 0.5) / width * 2 - 1) * half * width / height
-    v = ((ys + 0.5) / height * 2 - 1) * half
-    dirs = forward[None, None, :] + u[..., None] * right + v[..., None] * up
-    dirs /= np.linalg.norm(dirs, axis=2)[..., None]
-    lo = np.array(bounds[0::2]) - eye
-    hi = np.array(bounds[1::2]) - eye
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t0 = np.where(dirs != 0, lo / dirs, -np.inf)
-        t1 = np.where(dirs != 0, hi / dirs, np.inf)
-    near = np.maximum(np.minimum(t0, t1).max(axis=2), 0)
-    far = np.maximum(t0, t1).min(axis=2)
-    chord = np.clip(far - near, 0, None)
-    return float(chord.sum() / min(spacing))
+    """Ray samples of a frame of `view` through the box `bounds` at a sample distance of the
+    smallest spacing (VTK's automatic sample distance), without early termination."""
+    return ray_samples.box_samples(view.GetActiveCamera(), view.ViewSize, bounds, min(spacing))
 
 
 def turn(mce, view, reduction, args):
@@ -242,7 +217,9 @@ def turn(mce, view, reduction, args):
             # difference and the share of pixels more than 2/255 apart.
             shots = {}
             compared = [m for m in ("table", "exact, skipping") if m in modes]
-            for m in compared + ["exact"]:
+            # With --whole-box the plain volume's too: how opaque its picture is (how early
+            # its rays stop) beside the Gaussian TF Volume's.
+            for m in compared + ["exact"] + (["plain"] if args.whole_box else []):
                 for other in modes:
                     displays[other].Visibility = 1 if other == m else 0
                 simple.Render(view)

@@ -36,6 +36,8 @@ import sys
 import time
 
 import numpy as np
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ray_samples import box_samples  # noqa: E402
 from vtkmodules.util import numpy_support
 from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
@@ -44,9 +46,7 @@ from vtkmodules.vtkRenderingCore import (vtkColorTransferFunction, vtkRenderer, 
                                          vtkVolume, vtkVolumeProperty)
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
-from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLShaderProperty, vtkTextureObject, vtkOpenGLRenderWindow  # noqa: F401
-import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (factory overrides)
-import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLShaderProperty, vtkTextureObject
 
 TRIVIAL = """
     if (!g_skip)
@@ -85,34 +85,6 @@ TABLE = """
       }
     }
 """
-
-
-def box_samples(camera, size, bounds):
-    """Ray samples of a frame through the box `bounds` at a sample distance of 1 (the
-    spacing), without early termination: the sum over the pixels of each ray's chord in
-    the box (perspective camera), as benchmark_handle_move.py counts them."""
-    width, height = size
-    eye = np.array(camera.GetPosition())
-    forward = np.array(camera.GetFocalPoint()) - eye
-    forward /= np.linalg.norm(forward)
-    up = np.array(camera.GetViewUp())
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    half = np.tan(np.radians(camera.GetViewAngle()) / 2.0)
-    ys, xs = np.mgrid[0:height, 0:width]
-    u = ((xs + 0.5) / width * 2 - 1) * half * width / height
-    v = ((ys + 0.5) / height * 2 - 1) * half
-    dirs = forward[None, None, :] + u[..., None] * right + v[..., None] * up
-    dirs /= np.linalg.norm(dirs, axis=2)[..., None]
-    lo = np.array(bounds[0::2]) - eye
-    hi = np.array(bounds[1::2]) - eye
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t0 = np.where(dirs != 0, lo / dirs, -np.inf)
-        t1 = np.where(dirs != 0, hi / dirs, np.inf)
-    near = np.maximum(np.minimum(t0, t1).max(axis=2), 0)
-    far = np.maximum(t0, t1).min(axis=2)
-    return float(np.clip(far - near, 0, None).sum())
 
 
 def parse_dims(text):
@@ -297,7 +269,7 @@ def main():
             if r > 0:
                 times[name].append(elapsed)
         if r > 0:
-            samples.append(box_samples(camera, args.size, variants[0][1].GetBounds()))
+            samples.append(box_samples(camera, args.size, variants[0][1].GetBounds(), 1.0))
         camera.Azimuth(360.0 / args.frames)
     med = {name: statistics.median(t) for name, t in times.items()}
     plain = med["plain u8x1 (VTK)"]
