@@ -238,6 +238,9 @@ def main():
     for name, volume in variants:
         renderer.AddVolume(volume)
     renderer.ResetCamera()  # every volume visible: one box
+    # This first render builds every shader; the table variants' samplers read unit 0
+    # before their tables exist, which VTK reports once per table variant as an OpenGL
+    # error after glDrawElements (not timed; from the next render on the table is there).
     camera.Elevation(20.0)
     window.Render()
     for name in tables:
