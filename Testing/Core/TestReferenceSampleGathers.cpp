@@ -2,6 +2,7 @@
 // used features of the rows it gathered), and the vectors it returns are the source's rows,
 // bit for bit, in the used columns.
 #include "FeatureRows.h"
+#include "ForwardingRows.h"
 #include "ReferenceSample.h"
 
 #include <gtest/gtest.h>
@@ -14,18 +15,13 @@
 namespace
 {
 // The rows of a matrix, counting how often each row is gathered.
-class CountingRows final : public mcv::FeatureRows
+class CountingRows final : public mcv::testing::ForwardingRows
 {
 public:
-  CountingRows(const std::vector<float>& data, int cols)
-    : rows_(data.data(), data.size() / static_cast<std::size_t>(cols), cols)
+  explicit CountingRows(mcv::FeatureRows& rows)
+    : ForwardingRows(rows)
   {
   }
-  std::size_t rows() const override { return rows_.rows(); }
-  int cols() const override { return rows_.cols(); }
-  std::size_t blockCount() const override { return rows_.blockCount(); }
-  std::size_t blockBegin(std::size_t b) const override { return rows_.blockBegin(b); }
-  const float* block(std::size_t b) override { return rows_.block(b); }
   void gather(const std::size_t* index, std::size_t n, float* out) override
   {
     for (std::size_t i = 0; i < n; ++i)
@@ -33,13 +29,10 @@ public:
       ++gathered[index[i]];
     }
     ++calls;
-    rows_.gather(index, n, out);
+    ForwardingRows::gather(index, n, out);
   }
   std::map<std::size_t, int> gathered;
   int calls = 0;
-
-private:
-  mcv::MatrixRows rows_;
 };
 } // namespace
 
@@ -69,7 +62,8 @@ TEST(ReferenceSampleGathers, EachRowOnceAndTheSourcesValues)
   mcv::ReferenceSampleOptions options;
   options.size = 20000;
   options.seed = 7;
-  CountingRows source(data, cols);
+  mcv::MatrixRows matrix(data.data(), n, cols);
+  CountingRows source(matrix);
   const mcv::ReferenceSample sample =
     mcv::drawReferenceSample(source, mcv::RowLayout::plain(n), used, center, options, nullptr);
   ASSERT_TRUE(sample.error.empty()) << sample.error;
