@@ -145,6 +145,22 @@ __device__ __forceinline__ void storeSlice(
   }
 }
 
+// Whether any of this thread's loaded elements of an input slice is non-zero (a NaN
+// counts as non-zero). Each element is a plain value, so -0 and +0 are both zero here: a
+// tile of zeros of either sign gives +0 gradients' products (x - y of two zeros is a zero,
+// and every sum below starts from +0), the same as a skipped slice's.
+template <int R, typename Raw>
+__device__ __forceinline__ bool anyNonZero(const Raw (&pre)[TileShape<R>::LOADS])
+{
+  bool any = false;
+#pragma unroll
+  for (int i = 0; i < TileShape<R>::LOADS; ++i)
+  {
+    any |= pre[i] != 0; // elements past the tile were loaded as 0
+  }
+  return any;
+}
+
 // The six gradient products of input-tile element c of slice sc (neighbour slices sm, sp)
 // into d[0], d[CS], ..., d[5 CS].
 template <int R>
@@ -395,6 +411,33 @@ __device__ __forceinline__ void repeatStore(ZWindow<N>& win)
   }
 }
 
+// A slice whose products are all zero enters the z window as zeros (what the y pass of a
+// zero product tile gives: every tap times +0 summed from +0).
+template <int W, bool UNROLL, int P, int N = W>
+__device__ __forceinline__ void zeroStore(ZWindow<N>& win)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = 0.f;
+      win[1][P][c] = 0.f;
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+      win[0][W - 1][c] = 0.f;
+      win[1][W - 1][c] = 0.f;
+    }
+  }
+}
+
 // z pass of voxel rr of this thread after phase P: the smoothed structure tensor
 // m = (xx, xy, xz, yy, yz, zz).
 template <int W, bool UNROLL, int P, int N = W>
@@ -461,6 +504,29 @@ __device__ __forceinline__ void countCandidate(
   }
 }
 
+// The row maximum of this warp's row gy (of the block's 32-wide segment) in output slice z:
+// the largest candidate's bit pattern (positive floats order like their bits), 0 without
+// one. Called by all lanes of the warp.
+__device__ __forceinline__ void storeRowMax(
+  const HarrisKernelArgs& a, float response, bool inside, int z, int gy, int lane)
+{
+  const bool cand = inside && response > 0.f && response <= FLT_MAX;
+  const unsigned key = cand ? __float_as_uint(response) : 0u;
+#if __CUDA_ARCH__ >= 800
+  const unsigned m = __reduce_max_sync(0xffffffffu, key);
+#else
+  unsigned m = key;
+  for (int o = 16; o > 0; o >>= 1)
+  {
+    m = max(m, __shfl_xor_sync(0xffffffffu, m, o));
+  }
+#endif
+  if (lane == 0 && gy < a.ny)
+  {
+    a.rowMax[(static_cast<std::size_t>(z - a.zOutBegin) * a.ny + gy) * gridDim.x + blockIdx.x] = m;
+  }
+}
+
 // The block's histogram added to the global one.
 __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
 {
@@ -522,7 +588,14 @@ struct OwnVoxels
 // compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
 // bit 2: the product positions from a table built once per block (buildPositionTable), the
 // output offsets of the thread's two voxels computed once, and two barriers per slice
-// instead of three (the next input slice stored between the products and the y pass).
+// instead of three (the next input slice stored between the products and the y pass); and
+// empty space skipped exactly: a slice whose input slices (itself and its two neighbours,
+// the whole input tile with its halo) are all zero has all-zero products, so its products,
+// x pass and y pass are not computed and it enters the z window as zeros; an output slice
+// whose whole z window is such slices has the response +0 everywhere (det - k tr^3 of the
+// zero tensor), stored without the z pass. Whether a loaded input slice is all zero is
+// decided by the barrier that publishes it (__syncthreads_or), so every decision is the
+// same for the whole block and the results are bit for bit those of the full arithmetic.
 template <typename T, int R, int V>
 __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
@@ -560,6 +633,13 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   clearWindow<W>(win);
   const OwnVoxels own(bp, nx, ny);
 
+  // Empty-space skipping (TABLE): bit i of nzBits tells whether input slice nzTop - i has
+  // a non-zero element in the block's input tile; zeroRun counts the newest window slots in
+  // a row that hold zero slices.
+  [[maybe_unused]] unsigned nzBits = 0;
+  [[maybe_unused]] int nzTop = -1;
+  [[maybe_unused]] int zeroRun = 0;
+
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
     constexpr int P = decltype(phase)::value;
@@ -567,6 +647,24 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     if constexpr (TABLE)
     {
       outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
+      if (zeroRun >= W)
+      {
+        // The whole window is zero: the response is +0, never a candidate.
+#pragma unroll
+        for (int rr = 0; rr < 2; ++rr)
+        {
+          if (own.inside[rr])
+          {
+            outSlice[own.offset + rr * nx] = 0.f;
+          }
+          const int gy = y0 + 2 * warp + rr;
+          if (a.rowMax && lane == 0 && gy < ny)
+          {
+            a.rowMax[(static_cast<std::size_t>(z - a.zOutBegin) * ny + gy) * gridDim.x + blockIdx.x] = 0u;
+          }
+        }
+        return;
+      }
     }
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
@@ -598,6 +696,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       {
         countCandidate(sHist, response, inside, a.histMode, lane);
       }
+      if (a.rowMax)
+      {
+        storeRowMax(a, response, inside, z, y0 + 2 * warp + rr, lane);
+      }
     }
   };
 
@@ -611,6 +713,12 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   {
     loadSlice<R>(pre, in, q, plane, inOff);
     storeSlice<R>(sIn, q, pre, tid);
+    if constexpr (TABLE)
+    {
+      // the barrier that publishes slice q (and, the first time, the position table)
+      nzBits = (nzBits << 1) | (__syncthreads_or(anyNonZero<R>(pre)) ? 1u : 0u);
+      nzTop = q;
+    }
   }
   int nextLoad = min(czFirst + 1, nz - 1) + 1;
   if (nextLoad <= qLast)
@@ -618,10 +726,6 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     loadSlice<R>(pre, in, nextLoad, plane, inOff);
   }
   int lastCz = -1;
-  if constexpr (TABLE)
-  {
-    __syncthreads(); // the first input slices, the position table
-  }
   auto step = [&](auto phase, int sv) {
     constexpr int P = decltype(phase)::value;
     const int cz = clampi(sv, 0, nz - 1);
@@ -632,17 +736,54 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         // Two barriers per slice: the next input slice (nextLoad == cz + 2) is stored after
         // the products of cz, into the slot of cz - 1 that they were the last to read, and
         // is visible from the barrier before the y pass on, ahead of the products of cz + 1.
-        gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
-        __syncthreads();
+        // The products of cz read input slices lo..hi, whose flags are known (hi <= nzTop).
+        const int lo = max(cz - 1, 0), hi = min(cz + 1, nz - 1);
+        const bool empty = ((nzBits >> (nzTop - hi)) & ((2u << (hi - lo)) - 1u)) == 0u;
+        if (!empty)
+        {
+          gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
+          __syncthreads();
+        }
+        // An empty slice reads no input slice, so the slot of cz - 1 is free without the
+        // barrier; sProd and sXb are not touched until the next computed slice's barrier.
+        bool stored = false, storedNonZero = false;
         if (nextLoad <= qLast)
         {
           storeSlice<R>(sIn, nextLoad, pre, tid);
+          storedNonZero = anyNonZero<R>(pre);
+          stored = true;
           ++nextLoad;
           if (nextLoad <= qLast)
           {
             loadSlice<R>(pre, in, nextLoad, plane, inOff);
           }
         }
+        if (!empty)
+        {
+          xPass<R>(sXb, sProd, a, tid);
+        }
+        const bool anyStored = __syncthreads_or(storedNonZero) != 0;
+        if (stored)
+        {
+          nzBits = (nzBits << 1) | (anyStored ? 1u : 0u);
+          ++nzTop;
+        }
+        if (empty)
+        {
+          zeroStore<W, UNROLL, P>(win);
+          ++zeroRun;
+        }
+        else
+        {
+          yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
+          zeroRun = 0;
+        }
+        lastCz = cz;
+        if (sv >= zb + R)
+        {
+          emit(phase, sv - R);
+        }
+        return;
       }
       else
       {
@@ -668,6 +809,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     else
     {
       repeatStore<W, UNROLL, P>(win);
+      if constexpr (TABLE)
+      {
+        zeroRun = zeroRun > 0 ? zeroRun + 1 : 0; // the repeated slot is zero if its source is
+      }
     }
     if (sv >= zb + R)
     {
@@ -847,6 +992,10 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       if (bp.withHist)
       {
         countCandidate(sHist, response, own.inside[rr], a.histMode, bp.lane);
+      }
+      if (a.rowMax)
+      {
+        storeRowMax(a, response, own.inside[rr], z, bp.y0 + 2 * bp.warp + rr, bp.lane);
       }
     }
   };

@@ -50,6 +50,10 @@ struct HarrisKernelArgs
   float* response = nullptr;
   unsigned long long* hist = nullptr; // level-1 histogram (kLevel1Bins) or null
   int histMode = 1; // 0: warp-aggregated shared atomics (__match_any_sync); 1: plain (faster)
+  // Row maxima for the top-N compaction (or null): for output row y of slice z and the
+  // kHarrisTileX-wide segment t of it (x in [32 t, 32 t + 32)), the largest candidate's bit
+  // pattern (R > 0 and finite; 0: none) at ((z - zOutBegin) * ny + y) * tilesX + t.
+  unsigned* rowMax = nullptr;
 };
 
 // Launches the kernel for input type T (float or uint8) and radius `radius` (0..3);

@@ -250,6 +250,84 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __
   }
 }
 
+// compactKernel from the row maxima: the same list (in another order), reading only the
+// row segments whose maximum is >= low. Each lane takes one segment; a lane whose segment
+// holds one reads its (at most 32) scores, so a warp's hits are read together.
+__global__ void __launch_bounds__(kCompactThreads) compactRowsKernel(const float* __restrict__ scores,
+  const unsigned* __restrict__ rowMax, long long segments, int nx, int segmentsPerRow,
+  const SelectState* __restrict__ state, ListEntry* __restrict__ list, long long cap,
+  unsigned long long* __restrict__ count)
+{
+  const unsigned low = state->low;
+  if (low == 0xFFFFFFFFu)
+  {
+    return; // the list would not fit: the host runs the slow path
+  }
+  const int lane = threadIdx.x & 31;
+  const long long stride = static_cast<long long>(gridDim.x) * blockDim.x;
+  for (long long base = static_cast<long long>(blockIdx.x) * blockDim.x; base < segments; base += stride)
+  {
+    const long long seg = base + threadIdx.x; // warps iterate together (collectives below)
+    const bool hit = seg < segments && __ldg(rowMax + seg) >= low;
+    if (!__any_sync(0xffffffffu, hit))
+    {
+      continue;
+    }
+    long long first = 0;
+    int len = 0;
+    unsigned b[32];
+    unsigned c = 0;
+    if (hit)
+    {
+      const long long row = seg / segmentsPerRow;
+      const int x0 = static_cast<int>(seg - row * segmentsPerRow) * 32;
+      first = row * nx + x0;
+      len = min(32, nx - x0);
+#pragma unroll
+      for (int j = 0; j < 32; ++j)
+      {
+        b[j] = j < len ? __float_as_uint(__ldg(scores + first + j)) : 0u;
+      }
+#pragma unroll
+      for (int j = 0; j < 32; ++j)
+      {
+        c += b[j] >= low && b[j] <= kMaxFiniteBits;
+      }
+    }
+    unsigned incl = c;
+#pragma unroll
+    for (int o = 1; o < 32; o <<= 1)
+    {
+      const unsigned y = __shfl_up_sync(0xffffffffu, incl, o);
+      if (lane >= o)
+      {
+        incl += y;
+      }
+    }
+    unsigned long long pos = 0;
+    if (lane == 31 && incl > 0)
+    {
+      pos = atomicAdd(count, static_cast<unsigned long long>(incl));
+    }
+    pos = __shfl_sync(0xffffffffu, pos, 31) + (incl - c);
+    if (c)
+    {
+#pragma unroll
+      for (int j = 0; j < 32; ++j)
+      {
+        if (b[j] >= low && b[j] <= kMaxFiniteBits)
+        {
+          if (pos < static_cast<unsigned long long>(cap))
+          {
+            list[pos] = ListEntry{ b[j], 0u, first + j };
+          }
+          ++pos;
+        }
+      }
+    }
+  }
+}
+
 // "a ranks before b": higher score first, then lower index.
 __device__ __forceinline__ bool ranksBefore(unsigned ka, long long ia, unsigned kb, long long ib)
 {
@@ -748,7 +826,8 @@ bool TopNSelector::histogramLevel1(
 }
 
 bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_t stream,
-  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload)
+  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload,
+  const RowMaxima* rows)
 {
   out.indices.clear();
   out.scores.clear();
@@ -791,8 +870,20 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   const long long items = static_cast<long long>(n);
   const int compactBlocks = static_cast<int>(std::max(1ll,
     std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
-  compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
-    kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  if (rows && rows->max && rows->nx > 0 && items % rows->nx == 0)
+  {
+    const long long segments = items / rows->nx * rows->segmentsPerRow;
+    const int rowBlocks = static_cast<int>(std::max(1ll, std::min<long long>(
+      (segments + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
+    compactRowsKernel<<<rowBlocks, kCompactThreads, 0, stream>>>(scores, rows->max, segments,
+      rows->nx, rows->segmentsPerRow, State, FastList, kFastListCapacity,
+      reinterpret_cast<unsigned long long*>(Counts));
+  }
+  else
+  {
+    compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
+      kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  }
   MCV_CUDA_TRY(cudaGetLastError());
   finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
   MCV_CUDA_TRY(cudaGetLastError());
