@@ -445,7 +445,7 @@ int main(int argc, char** argv)
     if (cfg.sweep)
     {
       std::printf("  z-chunk sweep (harris ms, median of %d):", cfg.runs);
-      for (int zc : { 4, 8, 16, 32, 64, 128 })
+      for (int zc : { 4, 8, 16, 32, 64, 128, 256, 512 })
       {
         if (zc > n)
           continue;

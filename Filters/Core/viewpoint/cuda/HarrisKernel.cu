@@ -1,5 +1,6 @@
 #include "HarrisKernel.cuh"
 
+#include <algorithm>
 #include <cfloat>
 #include <cstdint>
 #include <type_traits>
@@ -152,13 +153,27 @@ __device__ __forceinline__ void storeSlice(
 template <int R, typename Raw>
 __device__ __forceinline__ bool anyNonZero(const Raw (&pre)[TileShape<R>::LOADS])
 {
-  bool any = false;
-#pragma unroll
-  for (int i = 0; i < TileShape<R>::LOADS; ++i)
+  // elements past the tile were loaded as 0
+  if constexpr (std::is_same_v<Raw, unsigned>)
   {
-    any |= pre[i] != 0; // elements past the tile were loaded as 0
+    unsigned any = 0;
+#pragma unroll
+    for (int i = 0; i < TileShape<R>::LOADS; ++i)
+    {
+      any |= pre[i];
+    }
+    return any != 0;
   }
-  return any;
+  else
+  {
+    bool any = false;
+#pragma unroll
+    for (int i = 0; i < TileShape<R>::LOADS; ++i)
+    {
+      any |= pre[i] != 0;
+    }
+    return any;
+  }
 }
 
 // The six gradient products of input-tile element c of slice sc (neighbour slices sm, sp)
@@ -633,12 +648,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   clearWindow<W>(win);
   const OwnVoxels own(bp, nx, ny);
 
-  // Empty-space skipping (TABLE): bit i of nzBits tells whether input slice nzTop - i has
-  // a non-zero element in the block's input tile; zeroRun counts the newest window slots in
-  // a row that hold zero slices.
+  // Empty-space skipping (TABLE): bit i of nzBits tells whether input slice nextLoad - 1 - i
+  // (the newest stored one, and older) has a non-zero element in the block's input tile;
+  // slices before the first one stored count as zero, and none of them is ever needed.
   [[maybe_unused]] unsigned nzBits = 0;
-  [[maybe_unused]] int nzTop = -1;
-  [[maybe_unused]] int zeroRun = 0;
 
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
@@ -647,7 +660,11 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     if constexpr (TABLE)
     {
       outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
-      if (zeroRun >= W)
+      // The response of slice z reads input slices z - R - 1 .. z + R + 1 (clamped). When
+      // it is emitted, the newest stored slice is at most z + R + 2 (and at least z + R + 1
+      // or the last one), so the 2 R + 4 newest flags cover them (and one more, which only
+      // makes the test stricter).
+      if ((nzBits & ((1u << (2 * R + 4)) - 1u)) == 0u)
       {
         // The whole window is zero: the response is +0, never a candidate.
 #pragma unroll
@@ -717,7 +734,6 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     {
       // the barrier that publishes slice q (and, the first time, the position table)
       nzBits = (nzBits << 1) | (__syncthreads_or(anyNonZero<R>(pre)) ? 1u : 0u);
-      nzTop = q;
     }
   }
   int nextLoad = min(czFirst + 1, nz - 1) + 1;
@@ -736,9 +752,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         // Two barriers per slice: the next input slice (nextLoad == cz + 2) is stored after
         // the products of cz, into the slot of cz - 1 that they were the last to read, and
         // is visible from the barrier before the y pass on, ahead of the products of cz + 1.
-        // The products of cz read input slices lo..hi, whose flags are known (hi <= nzTop).
-        const int lo = max(cz - 1, 0), hi = min(cz + 1, nz - 1);
-        const bool empty = ((nzBits >> (nzTop - hi)) & ((2u << (hi - lo)) - 1u)) == 0u;
+        // The products of cz read input slices cz - 1 .. cz + 1 (clamped); the newest stored
+        // slice is cz + 1, or cz when cz is the last one (then the three newest flags are
+        // those of cz - 2 .. cz, a stricter test).
+        const bool empty = (nzBits & 7u) == 0u;
         if (!empty)
         {
           gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
@@ -751,7 +768,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         {
           storeSlice<R>(sIn, nextLoad, pre, tid);
           storedNonZero = anyNonZero<R>(pre);
-          stored = true;
+          stored = true; // the same for the whole block
           ++nextLoad;
           if (nextLoad <= qLast)
           {
@@ -766,17 +783,14 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         if (stored)
         {
           nzBits = (nzBits << 1) | (anyStored ? 1u : 0u);
-          ++nzTop;
         }
         if (empty)
         {
           zeroStore<W, UNROLL, P>(win);
-          ++zeroRun;
         }
         else
         {
           yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
-          zeroRun = 0;
         }
         lastCz = cz;
         if (sv >= zb + R)
@@ -809,10 +823,6 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     else
     {
       repeatStore<W, UNROLL, P>(win);
-      if constexpr (TABLE)
-      {
-        zeroRun = zeroRun > 0 ? zeroRun + 1 : 0; // the repeated slot is zero if its source is
-      }
     }
     if (sv >= zb + R)
     {
@@ -1115,26 +1125,43 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   }
 }
 
-int chooseZChunk(int tiles, int nz, int resident, int radius)
+// Model: time ~ waves * (slices per block + 2 radius halo slices) for a volume without
+// empty space; the largest chunk wins ties (less halo work). `balance` (a kernel that skips
+// empty space): the smallest chunk within 5 % of that cost. Blocks then take very
+// different times (an empty one is cheap), and with more blocks than resident places the
+// ones that finish early take over the remaining ones, where one wave of long blocks would
+// last as long as its fullest block.
+int chooseZChunk(int tiles, int nz, int resident, int radius, bool balance)
 {
-  // Model: time ~ waves * (slices per block + 2 radius halo slices); the largest chunk
-  // wins ties (less halo work).
   if (resident < 1)
   {
     resident = 1;
   }
+  auto cost = [&](int zc) {
+    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
+    const long long waves = (blocks + resident - 1) / resident;
+    return static_cast<double>(waves) * (zc + 2 * radius);
+  };
   double best = 1e300;
   int bestChunk = nz;
   for (int chunks = 1; chunks <= nz; ++chunks)
   {
     const int zc = (nz + chunks - 1) / chunks;
-    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
-    const long long waves = (blocks + resident - 1) / resident;
-    const double cost = static_cast<double>(waves) * (zc + 2 * radius);
-    if (cost < best)
+    if (cost(zc) < best)
     {
-      best = cost;
+      best = cost(zc);
       bestChunk = zc;
+    }
+  }
+  if (balance)
+  {
+    for (int chunks = 1; chunks <= nz; ++chunks)
+    {
+      const int zc = (nz + chunks - 1) / chunks;
+      if (cost(zc) <= 1.05 * best)
+      {
+        bestChunk = std::min(bestChunk, zc);
+      }
     }
   }
   return bestChunk;
@@ -1186,7 +1213,7 @@ cudaError_t launchRadius(
     {
       return err;
     }
-    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R);
+    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R, !PAIRS && (V & 4) != 0);
   }
   zChunk = min(max(zChunk, 1), outSlices);
   a.zChunk = zChunk;
