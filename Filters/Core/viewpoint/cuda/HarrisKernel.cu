@@ -519,28 +519,55 @@ __device__ __forceinline__ void countCandidate(
   }
 }
 
-// The row maximum of this warp's row gy (of the block's 32-wide segment) in output slice z:
-// the largest candidate's bit pattern (positive floats order like their bits), 0 without
-// one. Called by all lanes of the warp.
-__device__ __forceinline__ void storeRowMax(
-  const HarrisKernelArgs& a, float response, bool inside, int z, int gy, int lane)
+// The row maxima (HarrisKernelArgs::rowMax) of a warp's two rows 2 warp, 2 warp + 1 of the
+// tile (a row pair): lane 0 stores, per output slice, the largest candidate's bit pattern
+// over the pair's two 32-wide row segments (positive floats order like their bits), 0
+// without one. The place is computed once per thread; offer() is called for row 0, then
+// row 1, by all lanes of the warp.
+struct RowMaxOut
 {
-  const bool cand = inside && response > 0.f && response <= FLT_MAX;
-  const unsigned key = cand ? __float_as_uint(response) : 0u;
+  unsigned* base = nullptr; // this warp's pair, output slice zOutBegin
+  std::size_t plane = 0;    // entries per output slice
+  bool writer = false;
+  unsigned key = 0;         // row 0's candidate, until row 1 is offered
+
+  __device__ __forceinline__ RowMaxOut(const HarrisKernelArgs& a, int y0, int warp, int lane)
+  {
+    if (a.rowMax)
+    {
+      const int pair = y0 / 2 + warp;
+      plane = static_cast<std::size_t>((a.ny + 1) / 2) * gridDim.x;
+      base = a.rowMax + static_cast<std::size_t>(pair) * gridDim.x + blockIdx.x;
+      writer = lane == 0 && 2 * pair < a.ny;
+    }
+  }
+
+  // Row rr of output slice zOut (counted from zOutBegin).
+  __device__ __forceinline__ void offer(int zOut, int rr, float response, bool inside)
+  {
+    const bool cand = inside && response > 0.f && response <= FLT_MAX;
+    const unsigned k = cand ? __float_as_uint(response) : 0u;
+    if (rr == 0)
+    {
+      key = k;
+      return;
+    }
+    const unsigned both = max(key, k);
 #if __CUDA_ARCH__ >= 800
-  const unsigned m = __reduce_max_sync(0xffffffffu, key);
+    const unsigned m = __reduce_max_sync(0xffffffffu, both);
 #else
-  unsigned m = key;
-  for (int o = 16; o > 0; o >>= 1)
-  {
-    m = max(m, __shfl_xor_sync(0xffffffffu, m, o));
-  }
+    unsigned m = both;
+    for (int o = 16; o > 0; o >>= 1)
+    {
+      m = max(m, __shfl_xor_sync(0xffffffffu, m, o));
+    }
 #endif
-  if (lane == 0 && gy < a.ny)
-  {
-    a.rowMax[(static_cast<std::size_t>(z - a.zOutBegin) * a.ny + gy) * gridDim.x + blockIdx.x] = m;
+    if (writer)
+    {
+      base[static_cast<std::size_t>(zOut) * plane] = m;
+    }
   }
-}
+};
 
 // The block's histogram added to the global one.
 __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
@@ -647,6 +674,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   float win[2][W][6];
   clearWindow<W>(win);
   const OwnVoxels own(bp, nx, ny);
+  RowMaxOut rowMaxOut(a, y0, warp, lane);
 
   // Empty-space skipping (TABLE): bit i of nzBits tells whether input slice nextLoad - 1 - i
   // (the newest stored one, and older) has a non-zero element in the block's input tile;
@@ -660,34 +688,20 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     if constexpr (TABLE)
     {
       outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
-      // The response of slice z reads input slices z - R - 1 .. z + R + 1 (clamped). When
-      // it is emitted, the newest stored slice is at most z + R + 2 (and at least z + R + 1
-      // or the last one), so the 2 R + 4 newest flags cover them (and one more, which only
-      // makes the test stricter).
-      if ((nzBits & ((1u << (2 * R + 4)) - 1u)) == 0u)
-      {
-        // The whole window is zero: the response is +0, never a candidate.
-#pragma unroll
-        for (int rr = 0; rr < 2; ++rr)
-        {
-          if (own.inside[rr])
-          {
-            outSlice[own.offset + rr * nx] = 0.f;
-          }
-          const int gy = y0 + 2 * warp + rr;
-          if (a.rowMax && lane == 0 && gy < ny)
-          {
-            a.rowMax[(static_cast<std::size_t>(z - a.zOutBegin) * ny + gy) * gridDim.x + blockIdx.x] = 0u;
-          }
-        }
-        return;
-      }
     }
+    // The response of slice z reads input slices z - R - 1 .. z + R + 1 (clamped). When it
+    // is emitted, the newest stored slice is at most z + R + 2 (and at least z + R + 1 or
+    // the last one), so the 2 R + 4 newest flags cover them (and one more, which only makes
+    // the test stricter). All zero: the window holds only zeros, the z pass gives zeros.
+    [[maybe_unused]] const bool zeroWindow = TABLE && (nzBits & ((1u << (2 * R + 4)) - 1u)) == 0u;
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
     {
-      float m[6];
-      zSmooth<W, UNROLL, P>(m, win, rr, a);
+      float m[6] = {};
+      if (!zeroWindow)
+      {
+        zSmooth<W, UNROLL, P>(m, win, rr, a);
+      }
       const float response = harrisResponse(m, a);
       bool inside;
       if constexpr (TABLE)
@@ -715,7 +729,7 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       }
       if (a.rowMax)
       {
-        storeRowMax(a, response, inside, z, y0 + 2 * warp + rr, lane);
+        rowMaxOut.offer(z - a.zOutBegin, rr, response, inside);
       }
     }
   };
@@ -792,12 +806,6 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         {
           yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
         }
-        lastCz = cz;
-        if (sv >= zb + R)
-        {
-          emit(phase, sv - R);
-        }
-        return;
       }
       else
       {
@@ -814,10 +822,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         __syncthreads();
         gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
         __syncthreads();
+        xPass<R>(sXb, sProd, a, tid);
+        __syncthreads();
+        yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       }
-      xPass<R>(sXb, sProd, a, tid);
-      __syncthreads();
-      yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       lastCz = cz;
     }
     else
@@ -983,6 +991,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   float win[2][NS][6];
   clearWindow<NS>(win);
   const OwnVoxels own(bp, a.nx, a.ny);
+  RowMaxOut rowMaxOut(a, bp.y0, bp.warp, bp.lane);
 
   // The z pass, the response and its output for the two voxels of this thread at slice z,
   // the window's newest slot being P.
@@ -1005,7 +1014,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       }
       if (a.rowMax)
       {
-        storeRowMax(a, response, own.inside[rr], z, bp.y0 + 2 * bp.warp + rr, bp.lane);
+        rowMaxOut.offer(z - a.zOutBegin, rr, response, own.inside[rr]);
       }
     }
   };

@@ -50,9 +50,10 @@ struct HarrisKernelArgs
   float* response = nullptr;
   unsigned long long* hist = nullptr; // level-1 histogram (kLevel1Bins) or null
   int histMode = 1; // 0: warp-aggregated shared atomics (__match_any_sync); 1: plain (faster)
-  // Row maxima for the top-N compaction (or null): for output row y of slice z and the
-  // kHarrisTileX-wide segment t of it (x in [32 t, 32 t + 32)), the largest candidate's bit
-  // pattern (R > 0 and finite; 0: none) at ((z - zOutBegin) * ny + y) * tilesX + t.
+  // Row maxima for the top-N compaction (or null): for output rows 2 p, 2 p + 1 of slice z
+  // and their kHarrisTileX-wide segments t (x in [32 t, 32 t + 32)), the largest
+  // candidate's bit pattern (R > 0 and finite; 0: none) at
+  // ((z - zOutBegin) * ((ny + 1) / 2) + p) * tilesX + t.
   unsigned* rowMax = nullptr;
 };
 

@@ -263,11 +263,11 @@ struct HarrisPipeline::Impl
     rows = detail::RowMaxima{};
     if (withHistogram)
     {
-      // One maximum per 32-wide segment of each x row of the kernel's grid.
+      // One maximum per 32-wide segment of each pair of x rows of the kernel's grid.
       const int segments = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
       void* m = rowMax;
       const bool ok = ensure(m, rowMaxCap,
-        static_cast<std::size_t>(a.ny) * a.nz * segments * sizeof(unsigned), error);
+        static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments * sizeof(unsigned), error);
       rowMax = static_cast<unsigned*>(m);
       if (!ok)
       {
@@ -276,6 +276,7 @@ struct HarrisPipeline::Impl
       a.rowMax = rowMax;
       rows.max = rowMax;
       rows.nx = a.nx;
+      rows.ny = a.ny;
       rows.segmentsPerRow = segments;
     }
     const int radius = params.kernelWidth / 2;
