@@ -27,9 +27,12 @@ evaluation of every widget) and per voxel, on the same grid, view and sample dis
 
     xvfb-run -a pvbatch Testing/Benchmarks/benchmark_handle_move.py --turn \
         [--widgets 1,8,64] [--grids 100,181x217x181,318] [--frames 7] [--size 800 600]
-        [--reduced brain_reduced.vti] [--skipping] [--exact-only]
+        [--reduced brain_reduced.vti] [--skipping] [--exact-only] [--whole-box]
 
---skipping adds the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
+--whole-box adds the plain volume and the exact evaluation with their opacity per unit
+length divided by 1e6 (the same shaders; no ray terminates early, so both take every
+sample of the box): the cost of a sample of each at the same sample count. --skipping adds
+the exact evaluation with EmptySpaceSkipping On (the other columns: Off),
 its brick statistics, its picture against the exact one and what Automatic (the
 default) picks; --exact-only leaves out the table and per voxel; --sigma-scale S multiplies
 every seeded sigma by S (wider widgets: a coarser table).
@@ -47,7 +50,6 @@ the sample distance VTK picks, the smallest spacing, before early ray terminatio
 second of its frame time.
 """
 import argparse
-import math
 import os
 import statistics
 import sys
@@ -56,6 +58,8 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Python"))
 import mcv_testing as T  # noqa: E402
 import gaussian_tf_testing as G  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ray_samples  # noqa: E402
 
 from paraview import simple  # noqa: E402
 
@@ -118,35 +122,9 @@ def picture(path):
 
 
 def box_samples(view, bounds, spacing):
-    """Ray samples of a frame through the box `bounds` at a sample distance of the smallest
-    spacing (VTK's automatic sample distance), without early termination: the sum over the
-    view's pixels of each ray's chord in the box over that distance (perspective camera)."""
-    import numpy as np
-
-    camera = view.GetActiveCamera()
-    width, height = [int(v) for v in view.ViewSize]
-    eye = np.array(camera.GetPosition())
-    forward = np.array(camera.GetFocalPoint()) - eye
-    forward /= np.linalg.norm(forward)
-    up = np.array(camera.GetViewUp())
-    right = np.cross(forward, up)
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    half = math.tan(math.radians(camera.GetViewAngle()) / 2.0)  # vertical half-angle
-    ys, xs = np.mgrid[0:height, 0:width]
-    u = ((xs + 0.5) / width * 2 - 1) * half * width / height
-    v = ((ys + 0.5) / height * 2 - 1) * half
-    dirs = forward[None, None, :] + u[..., None] * right + v[..., None] * up
-    dirs /= np.linalg.norm(dirs, axis=2)[..., None]
-    lo = np.array(bounds[0::2]) - eye
-    hi = np.array(bounds[1::2]) - eye
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t0 = np.where(dirs != 0, lo / dirs, -np.inf)
-        t1 = np.where(dirs != 0, hi / dirs, np.inf)
-    near = np.maximum(np.minimum(t0, t1).max(axis=2), 0)
-    far = np.maximum(t0, t1).min(axis=2)
-    chord = np.clip(far - near, 0, None)
-    return float(chord.sum() / min(spacing))
+    """Ray samples of a frame of `view` through the box `bounds` at a sample distance of the
+    smallest spacing (VTK's automatic sample distance), without early termination."""
+    return ray_samples.box_samples(view.GetActiveCamera(), view.ViewSize, bounds, min(spacing))
 
 
 def turn(mce, view, reduction, args):
@@ -158,8 +136,11 @@ def turn(mce, view, reduction, args):
     settings = {"table": ("Per sample", "Baked table", 0),
                 "exact": ("Per sample", "Exact", 0),
                 "exact, skipping": ("Per sample", "Exact", 1),
+                "exact, whole box": ("Per sample", "Exact", 0),
                 "per voxel": ("Per voxel", "Baked table", 0)}
-    modes = ["plain"] + ([] if args.exact_only else ["table"]) + ["exact"] + \
+    modes = ["plain"] + (["plain, whole box"] if args.whole_box else []) + \
+        ([] if args.exact_only else ["table"]) + ["exact"] + \
+        (["exact, whole box"] if args.whole_box else []) + \
         (["exact, skipping"] if args.skipping else []) + ([] if args.exact_only else ["per voxel"])
     rows = []
     for text in args.grids.split(","):
@@ -186,13 +167,24 @@ def turn(mce, view, reduction, args):
         simple.ColorBy(plain, ("POINTS", channel))
         plain.RescaleTransferFunctionToDataRange(True, False)
         displays["plain"] = plain
-        for m in modes[1:]:
+        if args.whole_box:
+            # The same shader and samples, with the opacity per unit length divided by 1e6:
+            # no ray reaches VTK's early termination, every sample of the box is taken.
+            whole = simple.Show(copies["plain, whole box"], view)
+            whole.SetRepresentationType("Volume")
+            simple.ColorBy(whole, ("POINTS", channel))
+            whole.ScalarOpacityUnitDistance = 1.0e6 * min(spacing)
+            displays["plain, whole box"] = whole
+        gaussian = [m for m in modes[1:] if m in settings]
+        for m in gaussian:
             classification, evaluation, skipping = settings[m]
             d = mce.show_gaussian_tf(copies[m], view, classification=classification)
             d.Device = "CPU"
             d.ShowWidgetLegend = 0
             d.PerSampleEvaluation = evaluation
             d.EmptySpaceSkipping = skipping
+            if m.endswith("whole box"):
+                d.ScalarOpacityUnitDistance = 1.0e6 * min(spacing)  # as the plain one's
             displays[m] = d
         for count in counts:
             widgets = [float(v) for v in mce.auto_widgets(displays["exact"], count, seed=0)]
@@ -200,7 +192,7 @@ def turn(mce, view, reduction, args):
                 if widgets[8 * i + 7] <= 0:  # the seeding hides a cluster of most voxels
                     widgets[8 * i + 7] = 0.05
                 widgets[8 * i + 3] *= args.sigma_scale
-            for m in modes[1:]:
+            for m in gaussian:
                 displays[m].GaussianWidgets = widgets
             visible = sum(1 for i in range(len(widgets) // 8) if widgets[8 * i + 7] > 0)
             sigmas = [widgets[8 * i + 3] for i in range(len(widgets) // 8)
@@ -225,7 +217,9 @@ def turn(mce, view, reduction, args):
             # difference and the share of pixels more than 2/255 apart.
             shots = {}
             compared = [m for m in ("table", "exact, skipping") if m in modes]
-            for m in compared + ["exact"]:
+            # With --whole-box the plain volume's too: how opaque its picture is (how early
+            # its rays stop) beside the Gaussian TF Volume's.
+            for m in compared + ["exact"] + (["plain"] if args.whole_box else []):
                 for other in modes:
                     displays[other].Visibility = 1 if other == m else 0
                 simple.Render(view)
@@ -334,6 +328,8 @@ def main():
                         help="--turn: leave out the baked table and per voxel")
     parser.add_argument("--skipping", action="store_true",
                         help="--turn: also the exact evaluation with EmptySpaceSkipping")
+    parser.add_argument("--whole-box", action="store_true",
+                        help="--turn: also the plain volume with no early ray termination")
     parser.add_argument("--reduced", default="",
                         help="--turn: a .vti of the reduced brain, written by the first run "
                              "and read by the next ones")
