@@ -1,5 +1,7 @@
 // The fused 3D Harris kernel (gradient, six products, separable Gaussian, response, and
-// optionally the level-1 histogram of the top-N radix select) and its launcher.
+// optionally the level-1 histogram of the top-N radix select and the row maxima that its
+// compaction reads) and its launcher. The default kernel skips empty space exactly: slices
+// whose input tile is all zero are not computed (see harrisKernel in HarrisKernel.cu).
 //
 // Each block owns a 32x16 xy tile of outputs and a run of z slices. It streams along z:
 // the input slices sit in a ring of three shared-memory tiles (with a 1+radius halo),
