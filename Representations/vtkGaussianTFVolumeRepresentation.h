@@ -49,6 +49,7 @@
 #ifndef vtkGaussianTFVolumeRepresentation_h
 #define vtkGaussianTFVolumeRepresentation_h
 
+#include "mcvGaussianWidgetValuesMacro.h"       // for mcvGaussianWidgetValuesMacro
 #include "mcvRepresentationsGaussianTFModule.h" // for export macro
 #include "vtkImageVolumeRepresentation.h"
 #include "vtkMultichannelAlgorithm.h" // for the DeviceType values the filters share
@@ -68,18 +69,11 @@ public:
   vtkTypeMacro(vtkGaussianTFVolumeRepresentation, vtkImageVolumeRepresentation);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  ///@{
   /**
-   * The widgets as a flat list, 8 values per widget: cx, cy, cz, sigma, r, g, b, opacity
-   * (the ParaView property `GaussianWidgets`; set element by element after
-   * SetNumberOfGaussianWidgetValues, as ParaView's repeatable properties do). The list is
-   * checked at the next render.
+   * The widgets, the ParaView property `GaussianWidgets` (mcvGaussianWidgetValuesMacro.h).
+   * A change is seen at the next render, which checks the list; it does not re-execute.
    */
-  void SetNumberOfGaussianWidgetValues(int count);
-  void SetGaussianWidgetValue(int index, double value);
-  int GetNumberOfGaussianWidgetValues();
-  double GetGaussianWidgetValue(int index);
-  ///@}
+  mcvGaussianWidgetValuesMacro();
 
   ///@{
   /**

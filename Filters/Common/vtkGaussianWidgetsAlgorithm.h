@@ -6,13 +6,15 @@
  * cloud) read the same flat widget list as the "Gaussian TF Volume" representation's
  * `GaussianWidgets` property: 8 values per widget (cx, cy, cz, sigma, r, g, b, opacity).
  * ParaView sets a variable-length double property element by element
- * (set_number_command + use_index); the four methods doing so are defined here once.
+ * (set_number_command + use_index); the four methods doing so are defined here once
+ * (declared by mcvGaussianWidgetValuesMacro.h, as the representation's are).
  */
 
 #ifndef vtkGaussianWidgetsAlgorithm_h
 #define vtkGaussianWidgetsAlgorithm_h
 
-#include "mcvFiltersCommonModule.h" // for export macro
+#include "mcvFiltersCommonModule.h"       // for export macro
+#include "mcvGaussianWidgetValuesMacro.h" // for mcvGaussianWidgetValuesMacro
 #include "vtkMultichannelAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -30,13 +32,8 @@ public:
   vtkTypeMacro(vtkGaussianWidgetsAlgorithm, vtkMultichannelAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  ///@{
-  /** Gaussian widgets: 8 values per widget (cx, cy, cz, sigma, r, g, b, opacity). */
-  void SetNumberOfGaussianWidgetValues(int count);
-  void SetGaussianWidgetValue(int index, double value);
-  int GetNumberOfGaussianWidgetValues();
-  double GetGaussianWidgetValue(int index);
-  ///@}
+  /** The `GaussianWidgets` property (mcvGaussianWidgetValuesMacro.h); a change is Modified(). */
+  mcvGaussianWidgetValuesMacro();
 
 protected:
   vtkGaussianWidgetsAlgorithm();

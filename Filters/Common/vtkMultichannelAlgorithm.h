@@ -29,6 +29,7 @@
 #ifndef vtkMultichannelAlgorithm_h
 #define vtkMultichannelAlgorithm_h
 
+#include "mcvEnumPropertyMacro.h"   // for mcvEnumPropertyMacro
 #include "mcvFiltersCommonModule.h" // for export macro
 #include "vtkImageAlgorithm.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
@@ -84,8 +85,7 @@ public:
 
   ///@{
   /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (falls back to the CPU, warning). */
-  vtkSetClampMacro(Device, int, DEVICE_AUTO, DEVICE_GPU);
-  vtkGetMacro(Device, int);
+  mcvEnumPropertyMacro(Device, DEVICE_AUTO, DEVICE_GPU);
   ///@}
 
   /** "CPU" or "GPU": where the last execution ran ("CPU" before the first one). */

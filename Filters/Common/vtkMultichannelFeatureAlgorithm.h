@@ -19,6 +19,7 @@
 #ifndef vtkMultichannelFeatureAlgorithm_h
 #define vtkMultichannelFeatureAlgorithm_h
 
+#include "mcvEnumPropertyMacro.h"   // for mcvEnumPropertyMacro
 #include "mcvFiltersCommonModule.h" // for export macro
 #include "vtkMultichannelAlgorithm.h"
 
@@ -68,8 +69,7 @@ public:
 
   ///@{
   /** Normalisation of the computed features: ZSCORE (default), MINMAX or NONE. */
-  vtkSetClampMacro(Normalization, int, ZSCORE, NONE);
-  vtkGetMacro(Normalization, int);
+  mcvEnumPropertyMacro(Normalization, ZSCORE, NONE);
   ///@}
 
   ///@{

@@ -43,6 +43,7 @@
 #ifndef vtkMultichannelFeatures_h
 #define vtkMultichannelFeatures_h
 
+#include "mcvEnumPropertyMacro.h"      // for mcvEnumPropertyMacro
 #include "mcvFiltersFeaturesModule.h" // for export macro
 #include "vtkMultichannelFeatureAlgorithm.h"
 #include "vtkSmartPointer.h" // for vtkSmartPointer
@@ -59,8 +60,7 @@ public:
 
   ///@{
   /** FEATURES_6D (default), FEATURES_24D or FEATURES_CUSTOM (the toggles of the base). */
-  vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_CUSTOM);
-  vtkGetMacro(FeatureSet, int);
+  mcvEnumPropertyMacro(FeatureSet, FEATURES_6D, FEATURES_CUSTOM);
   ///@}
 
   ///@{

@@ -9,6 +9,13 @@
  * - RequestData reads nothing from a refused file (checkedRequestData),
  * - Describe() is how every error starts ("NIfTI file '<name>'"),
  * - Refused says whether the last RequestInformation refused the file.
+ *
+ * The readers that check one file's header against that file and nothing else
+ * (vtkCheckedNIFTIImageReader, vtkCheckedMetaImageReader) have the same class body past
+ * New and vtkTypeMacro: defaulted construction, these members, no copies, and
+ * CheckHeaderAgainstFile(), "" when the header and its data agree, else what is wrong in
+ * one sentence. mcvCheckedHeaderReaderMacro(thisClass) declares that body once, last in
+ * the class (it leaves the class in its private section).
  */
 #ifndef mcvCheckedReaderMacros_h
 #define mcvCheckedReaderMacros_h
@@ -25,5 +32,16 @@ class vtkInformationVector;
     vtkInformationVector* outputVector) override;                                              \
   std::string Describe();                                                                      \
   bool Refused = false
+
+#define mcvCheckedHeaderReaderMacro(thisClass)                                                 \
+protected:                                                                                     \
+  thisClass() = default;                                                                       \
+  ~thisClass() override = default;                                                             \
+  mcvCheckedReaderMembersMacro();                                                              \
+                                                                                               \
+private:                                                                                       \
+  thisClass(const thisClass&) = delete;                                                        \
+  void operator=(const thisClass&) = delete;                                                   \
+  std::string CheckHeaderAgainstFile()
 
 #endif

@@ -26,7 +26,7 @@
 #ifndef vtkCheckedMetaImageReader_h
 #define vtkCheckedMetaImageReader_h
 
-#include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
+#include "mcvCheckedReaderMacros.h" // for mcvCheckedHeaderReaderMacro
 #include "mcvIOVolPackModule.h"      // for export macro
 #include "vtkMetaImageReader.h"
 
@@ -38,19 +38,9 @@ public:
   static vtkCheckedMetaImageReader* New();
   vtkTypeMacro(vtkCheckedMetaImageReader, vtkMetaImageReader);
 
-protected:
-  vtkCheckedMetaImageReader() = default;
-  ~vtkCheckedMetaImageReader() override = default;
-
-  // The checks before reading (mcvCheckedReaderMacros.h); Describe(): "MetaImage file '<name>'".
-  mcvCheckedReaderMembersMacro();
-
-private:
-  vtkCheckedMetaImageReader(const vtkCheckedMetaImageReader&) = delete;
-  void operator=(const vtkCheckedMetaImageReader&) = delete;
-
-  // "" when the header and its data files agree; else what is wrong, in one sentence.
-  std::string CheckHeaderAgainstFile();
+  // The checks before reading and the header check (mcvCheckedReaderMacros.h); Describe():
+  // "MetaImage file '<name>'".
+  mcvCheckedHeaderReaderMacro(vtkCheckedMetaImageReader);
 };
 
 #endif

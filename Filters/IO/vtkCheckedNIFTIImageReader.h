@@ -27,7 +27,7 @@
 #ifndef vtkCheckedNIFTIImageReader_h
 #define vtkCheckedNIFTIImageReader_h
 
-#include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
+#include "mcvCheckedReaderMacros.h" // for mcvCheckedHeaderReaderMacro
 #include "mcvIOVolPackModule.h"      // for export macro
 #include "vtkNIFTIImageReader.h"
 
@@ -39,19 +39,9 @@ public:
   static vtkCheckedNIFTIImageReader* New();
   vtkTypeMacro(vtkCheckedNIFTIImageReader, vtkNIFTIImageReader);
 
-protected:
-  vtkCheckedNIFTIImageReader() = default;
-  ~vtkCheckedNIFTIImageReader() override = default;
-
-  // The checks before reading (mcvCheckedReaderMacros.h); Describe(): "NIfTI file '<name>'".
-  mcvCheckedReaderMembersMacro();
-
-private:
-  vtkCheckedNIFTIImageReader(const vtkCheckedNIFTIImageReader&) = delete;
-  void operator=(const vtkCheckedNIFTIImageReader&) = delete;
-
-  // "" when the header and the file agree; else what is wrong, in one sentence.
-  std::string CheckHeaderAgainstFile();
+  // The checks before reading and the header check (mcvCheckedReaderMacros.h); Describe():
+  // "NIfTI file '<name>'".
+  mcvCheckedHeaderReaderMacro(vtkCheckedNIFTIImageReader);
 };
 
 #endif

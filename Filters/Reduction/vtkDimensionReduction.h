@@ -66,6 +66,7 @@
 #ifndef vtkDimensionReduction_h
 #define vtkDimensionReduction_h
 
+#include "mcvEnumPropertyMacro.h"      // for mcvEnumPropertyMacro
 #include "mcvFiltersReductionModule.h" // for export macro
 #include "vtkMultichannelFeatureAlgorithm.h"
 
@@ -122,8 +123,7 @@ public:
    * or a set computed from the channels (FEATURES_6D, FEATURES_24D, FEATURES_CUSTOM, with
    * the base's toggles, Normalization and background mask, as in MultichannelFeatures).
    */
-  vtkSetClampMacro(FeatureSet, int, FEATURES_6D, FEATURES_AUTOMATIC);
-  vtkGetMacro(FeatureSet, int);
+  mcvEnumPropertyMacro(FeatureSet, FEATURES_6D, FEATURES_AUTOMATIC);
   ///@}
 
   enum MethodType
@@ -136,8 +136,7 @@ public:
 
   ///@{
   /** PCA (default), ISOMAP (landmark Isomap), LLE or UMAP. */
-  vtkSetClampMacro(Method, int, PCA, UMAP);
-  vtkGetMacro(Method, int);
+  mcvEnumPropertyMacro(Method, PCA, UMAP);
   ///@}
 
   enum CoordinatePrecisionType
@@ -156,8 +155,7 @@ public:
    * the maxima of the decoded values of this piece), since the array's own range is that
    * of the bits.
    */
-  vtkSetClampMacro(CoordinatePrecision, int, FLOAT32, FLOAT16);
-  vtkGetMacro(CoordinatePrecision, int);
+  mcvEnumPropertyMacro(CoordinatePrecision, FLOAT32, FLOAT16);
   ///@}
 
   ///@{

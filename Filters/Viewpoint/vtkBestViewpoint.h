@@ -38,6 +38,7 @@
 #ifndef vtkBestViewpoint_h
 #define vtkBestViewpoint_h
 
+#include "mcvEnumPropertyMacro.h"      // for mcvEnumPropertyMacro
 #include "mcvFiltersViewpointModule.h" // for export macro
 #include "vtkGaussianWidgetsAlgorithm.h"
 
@@ -100,8 +101,7 @@ public:
    * opacity the "Gaussian TF Volume" representation renders; 0 where the input's uint8
    * point array `Foreground` (MultichannelFeatures' background mask) is 0.
    */
-  vtkSetClampMacro(OpacitySource, int, OPACITY_CHANNELS, OPACITY_GAUSSIAN_WIDGETS);
-  vtkGetMacro(OpacitySource, int);
+  mcvEnumPropertyMacro(OpacitySource, OPACITY_CHANNELS, OPACITY_GAUSSIAN_WIDGETS);
   ///@}
 
   ///@{
@@ -136,8 +136,7 @@ public:
 
   ///@{
   /** HARRIS_PCA (default), AREA_MAXIMIZING or VIEWPOINT_ENTROPY. */
-  vtkSetClampMacro(Method, int, HARRIS_PCA, VIEWPOINT_ENTROPY);
-  vtkGetMacro(Method, int);
+  mcvEnumPropertyMacro(Method, HARRIS_PCA, VIEWPOINT_ENTROPY);
   ///@}
 
   ///@{

@@ -19,6 +19,7 @@
 #include "DimensionReduction.h"
 #include "ExactKnn.h"
 #include "FeatureBricks.h"
+#include "ForwardingRows.h"
 #include "OutOfSample.h"
 #include "ReferenceSample.h"
 
@@ -101,43 +102,20 @@ ChainResult runChain(const mt::BrainFeatureMatrix& f, mcv::Device device, std::s
 
 // The fused path's rows with the time of their single-voxel gathers (the reference
 // sample's features) counted: what of the sample's stage is feature work on the host.
-class TimedRows final : public mcv::FeatureRows
+class TimedRows final : public mt::ForwardingRows
 {
 public:
-  explicit TimedRows(mcv::FeatureRows& rows)
-    : rows_(rows)
-  {
-  }
-  std::size_t rows() const override { return rows_.rows(); }
-  int cols() const override { return rows_.cols(); }
-  std::size_t blockCount() const override { return rows_.blockCount(); }
-  std::size_t blockBegin(std::size_t b) const override { return rows_.blockBegin(b); }
-  const float* block(std::size_t b) override { return rows_.block(b); }
+  using ForwardingRows::ForwardingRows;
   void gather(const std::size_t* index, std::size_t n, float* out) override
   {
     const auto t = Clock::now();
-    rows_.gather(index, n, out);
+    ForwardingRows::gather(index, n, out);
     gatherMs += msSince(t);
     ++gathers;
     gatheredRows += n;
   }
-  mcv::DevicePlacementReport placeOnDevice(const mcv::DevicePlacement& request) override
-  {
-    return rows_.placeOnDevice(request);
-  }
-  mcv::DeviceColumnSums columnSumsOnDevice(const std::function<void(double)>& progress) override
-  {
-    return rows_.columnSumsOnDevice(progress);
-  }
-  mcv::DevicePassReport strataOnDevice(const mcv::DeviceStrata& request) override
-  {
-    return rows_.strataOnDevice(request);
-  }
   double gatherMs = 0;
   std::size_t gathers = 0, gatheredRows = 0;
-
-private:
-  mcv::FeatureRows& rows_;
 };
 
 // The fused path: FeatureBricks' statistics pass (prepare) is the "features" stage, the

@@ -2,11 +2,15 @@
 // against the CPU: the statistics of the normalisation agree to rounding (the sums are added
 // in another order); the column check's exact sums and extremes and the sample's strata are
 // the CPU's, bit for bit; the whole chain with every pass on the GPU gives the CPU's reference
-// sample and coordinates within 1e-5 of their range. Random 3-channel volumes of mixed scalar
+// sample and coordinates within 1e-5 of their range; the pinned staging handed from pass to
+// pass keeps its size. Random 3-channel volumes of mixed scalar
 // types with NaN voxels and the real Colin27 brain (a 40-slice piece). Skips without a GPU.
 #include "FusedRuns.h"
 #include "BrainFeatures.h"
 #include "RequireGpu.h"
+#include "cuda/FusedPlacementCuda.h"
+
+#include <cuda_runtime.h>
 
 #include <gtest/gtest.h>
 
@@ -258,3 +262,24 @@ TEST(FusedPassesGPU, ResidentChannelsGiveTheStreamedResult)
 }
 
 } // namespace
+
+// The pinned staging the passes over a resident volume hand on to each other keeps its whole
+// size: the strata pass borrows the statistics pass's channel staging for its one byte per
+// voxel, and the placement must then still find it large enough for its coordinates (it
+// pinned them again when the buffer came back recorded at the strata's size).
+TEST(FusedPassesGPU, KeptPinnedBuffersKeepTheirCapacity)
+{
+  MCV_REQUIRE_GPU();
+  mcv::cuda::ResidentChannels resident;
+  void* staging = nullptr;
+  ASSERT_EQ(cudaMallocHost(&staging, 1000), cudaSuccess);
+  resident.keepPinned(staging, 1000); // freed with `resident`
+  std::size_t capacity = 0;
+  EXPECT_EQ(resident.takePinned(2000, &capacity), nullptr);
+  ASSERT_EQ(resident.takePinned(10, &capacity), staging); // the strata's few bytes
+  EXPECT_EQ(capacity, 1000u);
+  resident.keepPinned(staging, capacity);
+  ASSERT_EQ(resident.takePinned(900, &capacity), staging); // then the coordinates
+  EXPECT_EQ(capacity, 1000u);
+  resident.keepPinned(staging, capacity);
+}

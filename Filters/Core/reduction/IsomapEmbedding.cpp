@@ -2,6 +2,7 @@
 
 #include "FeatureKnn.h"
 #include "ReferenceSample.h"
+#include "SymmetricEigenvalues.h"
 
 #ifdef MCV_HAS_CUDA
 #include "cuda/GeodesicsCuda.h"
@@ -207,7 +208,8 @@ bool geodesicsOnDevice(Device device, const Graph& g, const std::vector<std::uin
 
 // Every eigenvalue of the symmetric B, descending, values only: on the GPU by cuSOLVER where
 // the build links it (MCV_USE_CUSOLVER; the one O(L^3) step of the fit, ~100 ms on one host
-// thread at L = 500; the same values to rounding), else, or if that fails, by Eigen.
+// thread at L = 500; the same values to rounding), else, or if that fails, on the host's
+// threads (SymmetricEigenvalues.h).
 bool allEigenvalues(const Eigen::MatrixXd& B, Device device, Eigen::VectorXd& values, std::vector<std::string>& warnings)
 {
 #if defined(MCV_HAS_CUDA) && defined(MCV_HAS_CUSOLVER)
@@ -226,12 +228,12 @@ bool allEigenvalues(const Eigen::MatrixXd& B, Device device, Eigen::VectorXd& va
   (void)device;
   (void)warnings;
 #endif
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> all(B, Eigen::EigenvaluesOnly);
-  if (all.info() != Eigen::Success)
+  Eigen::VectorXd ascending;
+  if (!symmetricEigenvalues(B, ascending))
   {
     return false;
   }
-  values = all.eigenvalues().reverse();
+  values = ascending.reverse();
   return true;
 }
 

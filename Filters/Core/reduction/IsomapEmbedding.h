@@ -12,7 +12,8 @@
 //     distance-based triangulation y = -1/2 L# (delta_i - delta_mean); finally the result is
 //     centred and rotated to its principal axes (de Silva & Tenenbaum's last step).
 // Eigenvalues: those of the landmark MDS Gram matrix, descending (all of them, values only,
-// by cuSOLVER on the GPU where the build links it (MCV_USE_CUSOLVER), else by Eigen on the host; the top d eigenvectors by Lanczos on the host either way).
+// by cuSOLVER on the GPU where the build links it (MCV_USE_CUSOLVER), else on the host's
+// threads (SymmetricEigenvalues.h); the top d eigenvectors by Lanczos on the host either way).
 #pragma once
 
 #include "Device.h"

@@ -59,10 +59,13 @@ public:
   // Pinned host buffers the passes over this volume hand on to each other: pinning costs
   // about as much as the copy it serves (the 85 MB staging of the 7.1 M-voxel brain ~45 ms
   // on the H200 host), so the placement reuses the statistics pass's staging. takePinned:
-  // the smallest kept buffer of at least `bytes` (it leaves the cache), or null when none
-  // is (the caller pins one); keepPinned: `p` (cudaMallocHost, `bytes` long) for a later
-  // pass. The kept buffers are freed with the channels (release, destructor).
-  void* takePinned(std::size_t bytes);
+  // the smallest kept buffer of at least `bytes` (it leaves the cache; *capacity: its whole
+  // size, which the caller gives back with it), or null when none is (the caller pins one);
+  // keepPinned: `p` (cudaMallocHost, `bytes` long) for a later pass. The strata pass's
+  // 7 MB of strata thus borrow the statistics pass's 86 MB staging without shrinking it for
+  // the placement's 85 MB of coordinates. The kept buffers are freed with the channels
+  // (release, destructor).
+  void* takePinned(std::size_t bytes, std::size_t* capacity);
   void keepPinned(void* p, std::size_t bytes);
 
 private:

@@ -86,7 +86,7 @@ ResidentChannels::~ResidentChannels()
   release();
 }
 
-void* ResidentChannels::takePinned(std::size_t bytes)
+void* ResidentChannels::takePinned(std::size_t bytes, std::size_t* capacity)
 {
   std::size_t best = pinned_.size();
   for (std::size_t i = 0; i < pinned_.size(); ++i)
@@ -101,6 +101,7 @@ void* ResidentChannels::takePinned(std::size_t bytes)
     return nullptr;
   }
   void* p = pinned_[best].first;
+  *capacity = pinned_[best].second;
   pinned_.erase(pinned_.begin() + static_cast<std::ptrdiff_t>(best));
   return p;
 }
@@ -194,8 +195,8 @@ void SlabStream::release()
     // Staging of a resident volume's pass goes back to its cache for the next pass.
     if (setup_.resident)
     {
-      setup_.resident->keepPinned(stageIn_[i], stageInBytes_);
-      setup_.resident->keepPinned(passPinned_[i], passPinnedBytes_);
+      setup_.resident->keepPinned(stageIn_[i], stageInBytes_[i]);
+      setup_.resident->keepPinned(passPinned_[i], passPinnedBytes_[i]);
     }
     else
     {
@@ -208,6 +209,7 @@ void SlabStream::release()
     }
     channels_[i] = features_[i] = stageIn_[i] = nullptr;
     passPinned_[i] = nullptr;
+    stageInBytes_[i] = passPinnedBytes_[i] = 0;
     streams_[i] = nullptr;
   }
   cudaFree(columnParams_);
@@ -283,10 +285,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     MCV_CUDA_TRY(cudaMalloc(&features_[i], rows * static_cast<std::size_t>(F) * sizeof(float)));
     if (!setup.resident || !setup.resident->filled)
     {
-      stageInBytes_ = C * plane_ * sizeof(float);
-      if (!(setup.resident && (stageIn_[i] = static_cast<float*>(setup.resident->takePinned(stageInBytes_)))))
+      stageInBytes_[i] = C * plane_ * sizeof(float);
+      if (!(setup.resident &&
+            (stageIn_[i] = static_cast<float*>(setup.resident->takePinned(stageInBytes_[i], &stageInBytes_[i])))))
       {
-        MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], stageInBytes_));
+        MCV_CUDA_TRY(cudaMallocHost(&stageIn_[i], stageInBytes_[i]));
       }
     }
     if (setup.resident && !setup.resident->filled)
@@ -295,10 +298,11 @@ bool SlabStream::open(const SlabStreamSetup& setup, std::string* error)
     }
     if (setup.pass.perRowPinned > 0)
     {
-      passPinnedBytes_ = rows * setup.pass.perRowPinned;
-      if (!(setup.resident && (passPinned_[i] = static_cast<unsigned char*>(setup.resident->takePinned(passPinnedBytes_)))))
+      passPinnedBytes_[i] = rows * setup.pass.perRowPinned;
+      if (!(setup.resident && (passPinned_[i] = static_cast<unsigned char*>(
+                                 setup.resident->takePinned(passPinnedBytes_[i], &passPinnedBytes_[i])))))
       {
-        MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], passPinnedBytes_));
+        MCV_CUDA_TRY(cudaMallocHost(&passPinned_[i], passPinnedBytes_[i]));
       }
     }
   }

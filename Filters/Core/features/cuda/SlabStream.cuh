@@ -137,7 +137,9 @@ private:
   float* features_[kSlabSlots] = { nullptr, nullptr };      // device, slab rows x F
   float* stageIn_[kSlabSlots] = { nullptr, nullptr };       // pinned host, C x plane
   unsigned char* passPinned_[kSlabSlots] = { nullptr, nullptr };
-  std::size_t stageInBytes_ = 0, passPinnedBytes_ = 0; // per slot (what a kept buffer holds)
+  // Per slot: the capacity of each pinned buffer (a buffer taken from the resident cache may
+  // be larger than asked for, and goes back with its whole size for a later, larger need).
+  std::size_t stageInBytes_[kSlabSlots] = { 0, 0 }, passPinnedBytes_[kSlabSlots] = { 0, 0 };
   double* columnParams_ = nullptr;                          // device, offset then scale
   SlabStreamStats stats_;
   int uploadedEnd_ = 0;                     // filling the resident copy: slices [0, uploadedEnd_) are up
