@@ -213,12 +213,6 @@ vtkReducedDomain::vtkReducedDomain()
 vtkReducedDomain::~vtkReducedDomain() = default;
 
 //------------------------------------------------------------------------------
-vtkPolyData* vtkReducedDomain::GetOutput(int port)
-{
-  return vtkPolyData::SafeDownCast(this->GetOutputDataObject(port));
-}
-
-//------------------------------------------------------------------------------
 void vtkReducedDomain::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

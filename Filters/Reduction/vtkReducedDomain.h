@@ -46,6 +46,7 @@
 #define vtkReducedDomain_h
 
 #include "mcvFiltersReductionModule.h" // for export macro
+#include "mcvPolyDataOutputMacro.h" // for mcvPolyDataOutputMacro
 #include "vtkGaussianWidgetsAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -55,8 +56,6 @@ class vtkDataArray;
 class vtkDataSet;
 class vtkDoubleArray;
 class vtkPointData;
-
-class vtkPolyData;
 
 #ifndef __VTK_WRAP__
 namespace mcv
@@ -73,11 +72,8 @@ public:
   vtkTypeMacro(vtkReducedDomain, vtkGaussianWidgetsAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  ///@{
-  /** The output is polydata (the base's GetOutput would cast it to image data). */
-  vtkPolyData* GetOutput() { return this->GetOutput(0); }
-  vtkPolyData* GetOutput(int port);
-  ///@}
+  /** The output is polydata (mcvPolyDataOutputMacro.h). */
+  mcvPolyDataOutputMacro();
 
   ///@{
   /**

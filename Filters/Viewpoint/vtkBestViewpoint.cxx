@@ -711,12 +711,6 @@ void vtkBestViewpoint::WriteOutput(vtkInformationVector* outputVector,
 }
 
 //------------------------------------------------------------------------------
-vtkPolyData* vtkBestViewpoint::GetOutput(int port)
-{
-  return vtkPolyData::SafeDownCast(this->GetOutputDataObject(port));
-}
-
-//------------------------------------------------------------------------------
 void vtkBestViewpoint::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -40,6 +40,7 @@
 
 #include "mcvEnumPropertyMacro.h"      // for mcvEnumPropertyMacro
 #include "mcvFiltersViewpointModule.h" // for export macro
+#include "mcvPolyDataOutputMacro.h" // for mcvPolyDataOutputMacro
 #include "vtkGaussianWidgetsAlgorithm.h"
 
 #include <string> // for std::string
@@ -55,8 +56,6 @@ struct GridPiece;
 struct ImageGrid;
 }
 
-class vtkPolyData;
-
 class MCVFILTERSVIEWPOINT_EXPORT vtkBestViewpoint : public vtkGaussianWidgetsAlgorithm
 {
 public:
@@ -64,11 +63,8 @@ public:
   vtkTypeMacro(vtkBestViewpoint, vtkGaussianWidgetsAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  ///@{
-  /** The output is polydata (the base's GetOutput would cast it to image data). */
-  vtkPolyData* GetOutput() { return this->GetOutput(0); }
-  vtkPolyData* GetOutput(int port);
-  ///@}
+  /** The output is polydata (mcvPolyDataOutputMacro.h). */
+  mcvPolyDataOutputMacro();
 
   enum MethodType
   {

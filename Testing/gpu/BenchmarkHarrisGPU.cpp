@@ -4,7 +4,7 @@
 //
 //   mcvBenchmarkGPU [--sizes 64,128,256,384,512] [--runs R] [--cpu-runs R] [--cpu-max N]
 //                   [--sweep] [--variants] [--variant V] [--no-float] [--profile]
-//                   [--slabs] [--slab-budget-mib M] [--slab-runs R] [--large N]
+//                   [--slabs] [--slab-budget-mib M] [--slab-runs R] [--large N] [--dense]
 //
 // Per size: GPU stage times (CUDA events, median of R runs, volume resident on the GPU):
 // harris (fused kernel + level-1 histogram), select (radix select + compaction + sort, with
@@ -24,9 +24,14 @@
 // points, and prints its stages and the ratio slabs / whole (volume resident, and with the
 // whole volume's pageable upload). --large N streams an N^3 uint8 volume (tiles of the
 // structured volume) whose whole-volume buffers exceed the device, under the default budget.
+// Per size it prints the share of the Harris kernel's (tile, slice) steps that empty-space
+// skipping leaves out on the volume. --dense raises every voxel by 1 (saturating at 255):
+// no voxel is zero, nothing can be skipped (the skipping's worst case), and the CPU
+// compares against the same raised values.
 #include "cuda/DeviceProbe.h"
 #include "cuda/HarrisCuda.h"
 #include "cuda/HarrisPipeline.h"
+#include "cuda/HarrisKernel.cuh"
 #include "cuda/HarrisSlabStream.h"
 
 #include "HarrisResponse.h"
@@ -72,6 +77,7 @@ struct Config
   std::size_t slabBudgetMiB = 0; // 0: a quarter of the whole-volume need
   int slabRuns = 3;
   int large = 0;
+  bool dense = false; // every voxel + 1: no empty space
 };
 
 struct SlabRow
@@ -181,6 +187,54 @@ SlabRow runSlabs(mcv::cuda::HarrisSlabStream& stream, const std::vector<T>& valu
   return row;
 }
 
+// The share of the Harris kernel's work that empty-space skipping leaves out on an n^3
+// uint8 volume (width 5, radius 2), over all (xy tile, slice) pairs of the grid: `products`
+// the slices whose three input slices (z - 1, z, z + 1, clamped) are zero over the tile's
+// input tile (the tile with a halo of 3, clamped), whose gradient products, x and y passes
+// are not computed; `outputs` the slices whose five window slices (z - 2 .. z + 2, clamped)
+// are all such, whose z pass and response are not computed. The kernel decides the same
+// per block (a block's z chunk also reads a halo of slices that a neighbour owns).
+struct EmptyShare
+{
+  double products = 0, outputs = 0;
+};
+
+EmptyShare emptyShare(const std::vector<std::uint8_t>& b, int n)
+{
+  constexpr int TX = mcv::cuda::detail::kHarrisTileX, TY = mcv::cuda::detail::kHarrisTileY, R = 2;
+  const int tilesX = (n + TX - 1) / TX, tilesY = (n + TY - 1) / TY;
+  long long skippedProducts = 0, skippedOutputs = 0;
+  auto clampN = [n](int v) { return std::min(std::max(v, 0), n - 1); };
+#pragma omp parallel for schedule(dynamic) reduction(+ : skippedProducts, skippedOutputs)
+  for (int t = 0; t < tilesX * tilesY; ++t)
+  {
+    const int x0 = (t % tilesX) * TX, y0 = (t / tilesX) * TY;
+    std::vector<char> nonZero(n), zeroProducts(n);
+    for (int z = 0; z < n; ++z)
+    {
+      bool any = false;
+      for (int y = y0 - R - 1; y < y0 + TY + R + 1 && !any; ++y)
+        for (int x = x0 - R - 1; x < x0 + TX + R + 1 && !any; ++x)
+          any = b[(static_cast<std::size_t>(z) * n + clampN(y)) * n + clampN(x)] != 0;
+      nonZero[z] = any;
+    }
+    for (int z = 0; z < n; ++z)
+    {
+      zeroProducts[z] = !nonZero[clampN(z - 1)] && !nonZero[z] && !nonZero[clampN(z + 1)];
+      skippedProducts += zeroProducts[z];
+    }
+    for (int z = 0; z < n; ++z)
+    {
+      bool all = true;
+      for (int d = -R; d <= R; ++d)
+        all = all && zeroProducts[clampN(z + d)];
+      skippedOutputs += all;
+    }
+  }
+  const double pairs = static_cast<double>(tilesX) * tilesY * n;
+  return { skippedProducts / pairs, skippedOutputs / pairs };
+}
+
 void printSlabRow(const char* kind, const SlabRow& r, double wholeDevice, double wholeWithUpload,
   bool compared)
 {
@@ -232,6 +286,8 @@ int main(int argc, char** argv)
       cfg.slabRuns = std::max(1, std::atoi(next()));
     else if (a == "--large")
       cfg.large = std::atoi(next());
+    else if (a == "--dense")
+      cfg.dense = true;
     else
       die("unknown argument " + a);
   }
@@ -267,13 +323,23 @@ int main(int argc, char** argv)
     Row row;
     row.n = n;
     const auto t0 = Clock::now();
-    const mt::Volume vol = mt::structuredVolume(n);
+    mt::Volume vol = mt::structuredVolume(n);
     std::vector<std::uint8_t> bytes(vol.values.size());
     for (std::size_t i = 0; i < bytes.size(); ++i)
     {
       bytes[i] = static_cast<std::uint8_t>(std::lround(vol.values[i] * 255.0f));
+      if (cfg.dense)
+      {
+        bytes[i] = static_cast<std::uint8_t>(std::min(bytes[i] + 1, 255));
+        vol.values[i] = static_cast<float>(bytes[i]) / 255.0f;
+      }
     }
-    std::printf("== %d^3 (%zu voxels; volume made in %.0f ms)\n", n, bytes.size(), msSince(t0));
+    const EmptyShare empty = emptyShare(bytes, n);
+    std::printf("== %d^3%s (%zu voxels; volume made in %.0f ms); empty-space skipping leaves out "
+                "%.1f %% of the (tile, slice) gradient/x/y steps and %.1f %% of the z pass + "
+                "response steps\n",
+      n, cfg.dense ? " dense (+1)" : "", bytes.size(), msSince(t0), 100.0 * empty.products,
+      100.0 * empty.outputs);
 
     // Upload, pageable then pinned (the same bytes).
     std::vector<double> up;
@@ -379,7 +445,7 @@ int main(int argc, char** argv)
     if (cfg.sweep)
     {
       std::printf("  z-chunk sweep (harris ms, median of %d):", cfg.runs);
-      for (int zc : { 4, 8, 16, 32, 64, 128 })
+      for (int zc : { 4, 8, 16, 32, 64, 128, 256, 512 })
       {
         if (zc > n)
           continue;

@@ -351,6 +351,116 @@ TEST(HarrisGPU, ResponseBitsEqualTheCpu)
   }
 }
 
+// A volume of zeros with the given non-zero voxels (x, y, z, value), values integral so
+// that its float and uint8 forms are the same numbers.
+mt::Volume sparseVolume(const ImageGrid& grid, const std::vector<std::array<int, 4>>& voxels)
+{
+  mt::Volume v;
+  v.grid = grid;
+  v.values.assign(grid.voxelCount(), 0.0f);
+  for (const auto& p : voxels)
+  {
+    v.values[(static_cast<std::size_t>(p[2]) * grid.dims[1] + p[1]) * grid.dims[0] + p[0]] =
+      static_cast<float>(p[3]);
+  }
+  return v;
+}
+
+// Empty-space skipping (a slice whose input tile is all zero is not computed, an output
+// slice whose whole z window is such slices is stored as zeros) keeps the CPU's bits and
+// top-N: every width-5 kernel variant, float and uint8 input, z chunks 0 (automatic) to 5,
+// on volumes that are zero except (a) a small blob and a far-corner voxel, (b) single
+// voxels at the outer edge of a block's input tile in x and y (the support of a voxel is 3
+// voxels each way: a voxel at x = 34 reaches output x = 31 of the first 32-wide tile, one at
+// x = 29 output x = 32 of the second; the same in y for the 16-high tiles) and at every z
+// distance from the chunk boundaries of chunks 1, 2, 3 and 5, and (c) nothing. An
+// off-by-one in the halo or in the z window makes the response 0 where the CPU's is not.
+TEST(HarrisGPU, EmptySpaceSkippingKeepsTheCpuBits)
+{
+  MCV_REQUIRE_GPU();
+  const ImageGrid grid = mt::makeGrid(77, 45, 41, { 0.8, 1.3, 1.1 });
+  std::vector<std::array<int, 4>> blob;
+  for (int z = 18; z <= 22; ++z)
+    for (int y = 20; y <= 24; ++y)
+      for (int x = 38; x <= 42; ++x)
+      {
+        const int d2 = (x - 40) * (x - 40) + (y - 22) * (y - 22) + (z - 20) * (z - 20);
+        if (d2 <= 5)
+          blob.push_back({ x, y, z, 200 - 30 * d2 });
+      }
+  blob.push_back({ 76, 44, 40, 255 });
+  const std::vector<std::array<int, 4>> edges = { { 34, 7, 4, 255 }, { 29, 30, 9, 180 },
+    { 50, 18, 15, 120 }, { 60, 13, 21, 255 }, { 66, 34, 26, 90 }, { 0, 0, 0, 255 },
+    { 76, 0, 33, 200 }, { 10, 44, 40, 255 }, { 45, 29, 37, 77 } };
+  struct Case
+  {
+    std::string name;
+    mt::Volume volume;
+  };
+  const Case cases[] = { { "blob and corner", sparseVolume(grid, blob) },
+    { "tile and chunk edges", sparseVolume(grid, edges) }, { "all zero", sparseVolume(grid, {}) } };
+  const HarrisParameters p;
+  for (const Case& c : cases)
+  {
+    const mt::Volume& v = c.volume;
+    const std::vector<float> rc = cpuResponse(v, p);
+    const InterestPoints topCpu = mcv::selectTopResponsesCPU(rc.data(), rc.size(), kN);
+    std::size_t nonZero = 0;
+    for (float r : rc)
+    {
+      nonZero += r != 0.f;
+    }
+    if (c.name == "all zero")
+    {
+      EXPECT_EQ(nonZero, 0u);
+    }
+    else
+    {
+      // the isolated voxels' supports: each reaches 7^3 voxels around it
+      EXPECT_GT(nonZero, 7u * 7u * 7u) << c.name;
+      EXPECT_GT(topCpu.size(), 0u) << c.name;
+    }
+    std::vector<std::uint8_t> bytes(v.values.size());
+    for (std::size_t i = 0; i < bytes.size(); ++i)
+    {
+      bytes[i] = static_cast<std::uint8_t>(v.values[i]);
+    }
+    for (const bool asBytes : { false, true })
+    {
+      mcv::cuda::HarrisPipeline pipeline;
+      std::string error;
+      ASSERT_TRUE(asBytes ? pipeline.uploadVolume(bytes.data(), v.grid, &error)
+                          : pipeline.uploadVolume(v.values.data(), v.grid, &error))
+        << error;
+      std::vector<float> rg(v.values.size());
+      for (int variant = 0; variant < mcv::cuda::HarrisPipeline::kernelVariantCount(); ++variant)
+        for (int chunk : { 0, 1, 2, 3, 5 })
+        {
+          SCOPED_TRACE(c.name + (asBytes ? ", uint8" : ", float") + ", variant " +
+            std::to_string(variant) + ", zChunk " + std::to_string(chunk));
+          pipeline.setKernelVariant(variant, 1);
+          pipeline.setZChunk(chunk);
+          std::fill(rg.begin(), rg.end(), std::numeric_limits<float>::quiet_NaN());
+          ASSERT_TRUE(pipeline.response(p, rg.data(), &error)) << error;
+          std::size_t differ = 0, first = rg.size();
+          for (std::size_t i = 0; i < rg.size(); ++i)
+          {
+            if (std::memcmp(&rg[i], &rc[i], sizeof(float)) != 0)
+            {
+              first = std::min(first, i);
+              ++differ;
+            }
+          }
+          EXPECT_EQ(differ, 0u) << "first differing voxel " << first;
+          InterestPoints top;
+          ASSERT_TRUE(pipeline.topN(p, kN, top, &error)) << error;
+          EXPECT_EQ(top.indices, topCpu.indices);
+          EXPECT_EQ(top.scores, topCpu.scores);
+        }
+    }
+  }
+}
+
 TEST(HarrisGPU, ZChunksGiveIdenticalResults)
 {
   MCV_REQUIRE_GPU();

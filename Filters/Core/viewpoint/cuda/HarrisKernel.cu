@@ -1,5 +1,6 @@
 #include "HarrisKernel.cuh"
 
+#include <algorithm>
 #include <cfloat>
 #include <cstdint>
 #include <type_traits>
@@ -142,6 +143,36 @@ __device__ __forceinline__ void storeSlice(
     {
       dst[e] = toFloat(pre[i]);
     }
+  }
+}
+
+// Whether any of this thread's loaded elements of an input slice is non-zero (a NaN
+// counts as non-zero). Each element is a plain value, so -0 and +0 are both zero here: a
+// tile of zeros of either sign gives +0 gradients' products (x - y of two zeros is a zero,
+// and every sum below starts from +0), the same as a skipped slice's.
+template <int R, typename Raw>
+__device__ __forceinline__ bool anyNonZero(const Raw (&pre)[TileShape<R>::LOADS])
+{
+  // elements past the tile were loaded as 0
+  if constexpr (std::is_same_v<Raw, unsigned>)
+  {
+    unsigned any = 0;
+#pragma unroll
+    for (int i = 0; i < TileShape<R>::LOADS; ++i)
+    {
+      any |= pre[i];
+    }
+    return any != 0;
+  }
+  else
+  {
+    bool any = false;
+#pragma unroll
+    for (int i = 0; i < TileShape<R>::LOADS; ++i)
+    {
+      any |= pre[i] != 0;
+    }
+    return any;
   }
 }
 
@@ -395,6 +426,33 @@ __device__ __forceinline__ void repeatStore(ZWindow<N>& win)
   }
 }
 
+// A slice whose products are all zero enters the z window as zeros (what the y pass of a
+// zero product tile gives: every tap times +0 summed from +0).
+template <int W, bool UNROLL, int P, int N = W>
+__device__ __forceinline__ void zeroStore(ZWindow<N>& win)
+{
+#pragma unroll
+  for (int c = 0; c < 6; ++c)
+  {
+    if constexpr (UNROLL)
+    {
+      win[0][P][c] = 0.f;
+      win[1][P][c] = 0.f;
+    }
+    else
+    {
+#pragma unroll
+      for (int t = 0; t + 1 < W; ++t)
+      {
+        win[0][t][c] = win[0][t + 1][c];
+        win[1][t][c] = win[1][t + 1][c];
+      }
+      win[0][W - 1][c] = 0.f;
+      win[1][W - 1][c] = 0.f;
+    }
+  }
+}
+
 // z pass of voxel rr of this thread after phase P: the smoothed structure tensor
 // m = (xx, xy, xz, yy, yz, zz).
 template <int W, bool UNROLL, int P, int N = W>
@@ -461,6 +519,56 @@ __device__ __forceinline__ void countCandidate(
   }
 }
 
+// The row maxima (HarrisKernelArgs::rowMax) of a warp's two rows 2 warp, 2 warp + 1 of the
+// tile (a row pair): lane 0 stores, per output slice, the largest candidate's bit pattern
+// over the pair's two 32-wide row segments (positive floats order like their bits), 0
+// without one. The place is computed once per thread; offer() is called for row 0, then
+// row 1, by all lanes of the warp.
+struct RowMaxOut
+{
+  unsigned* base = nullptr; // this warp's pair, output slice zOutBegin
+  std::size_t plane = 0;    // entries per output slice
+  bool writer = false;
+  unsigned key = 0;         // row 0's candidate, until row 1 is offered
+
+  __device__ __forceinline__ RowMaxOut(const HarrisKernelArgs& a, int y0, int warp, int lane)
+  {
+    if (a.rowMax)
+    {
+      const int pair = y0 / 2 + warp;
+      plane = static_cast<std::size_t>((a.ny + 1) / 2) * gridDim.x;
+      base = a.rowMax + static_cast<std::size_t>(pair) * gridDim.x + blockIdx.x;
+      writer = lane == 0 && 2 * pair < a.ny;
+    }
+  }
+
+  // Row rr of output slice zOut (counted from zOutBegin).
+  __device__ __forceinline__ void offer(int zOut, int rr, float response, bool inside)
+  {
+    const bool cand = inside && response > 0.f && response <= FLT_MAX;
+    const unsigned k = cand ? __float_as_uint(response) : 0u;
+    if (rr == 0)
+    {
+      key = k;
+      return;
+    }
+    const unsigned both = max(key, k);
+#if __CUDA_ARCH__ >= 800
+    const unsigned m = __reduce_max_sync(0xffffffffu, both);
+#else
+    unsigned m = both;
+    for (int o = 16; o > 0; o >>= 1)
+    {
+      m = max(m, __shfl_xor_sync(0xffffffffu, m, o));
+    }
+#endif
+    if (writer)
+    {
+      base[static_cast<std::size_t>(zOut) * plane] = m;
+    }
+  }
+};
+
 // The block's histogram added to the global one.
 __device__ __forceinline__ void flushHistogram(unsigned long long* hist, const unsigned* sHist, int tid)
 {
@@ -522,7 +630,14 @@ struct OwnVoxels
 // compile-time slots (no shifts); bit 1: 3 blocks per SM (register cap 85) instead of 2;
 // bit 2: the product positions from a table built once per block (buildPositionTable), the
 // output offsets of the thread's two voxels computed once, and two barriers per slice
-// instead of three (the next input slice stored between the products and the y pass).
+// instead of three (the next input slice stored between the products and the y pass); and
+// empty space skipped exactly: a slice whose input slices (itself and its two neighbours,
+// the whole input tile with its halo) are all zero has all-zero products, so its products,
+// x pass and y pass are not computed and it enters the z window as zeros; an output slice
+// whose whole z window is such slices has the response +0 everywhere (det - k tr^3 of the
+// zero tensor), stored without the z pass. Whether a loaded input slice is all zero is
+// decided by the barrier that publishes it (__syncthreads_or), so every decision is the
+// same for the whole block and the results are bit for bit those of the full arithmetic.
 template <typename T, int R, int V>
 __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   harrisKernel(const T* __restrict__ in, const HarrisKernelArgs a)
@@ -559,6 +674,12 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   float win[2][W][6];
   clearWindow<W>(win);
   const OwnVoxels own(bp, nx, ny);
+  RowMaxOut rowMaxOut(a, y0, warp, lane);
+
+  // Empty-space skipping (TABLE): bit i of nzBits tells whether input slice nextLoad - 1 - i
+  // (the newest stored one, and older) has a non-zero element in the block's input tile;
+  // slices before the first one stored count as zero, and none of them is ever needed.
+  [[maybe_unused]] unsigned nzBits = 0;
 
   // The z pass, the response and its output for the two voxels of this thread at slice z.
   auto emit = [&](auto phase, int z) {
@@ -568,11 +689,19 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     {
       outSlice = a.response + static_cast<std::size_t>(z - a.zOutBegin) * plane;
     }
+    // The response of slice z reads input slices z - R - 1 .. z + R + 1 (clamped). When it
+    // is emitted, the newest stored slice is at most z + R + 2 (and at least z + R + 1 or
+    // the last one), so the 2 R + 4 newest flags cover them (and one more, which only makes
+    // the test stricter). All zero: the window holds only zeros, the z pass gives zeros.
+    [[maybe_unused]] const bool zeroWindow = TABLE && (nzBits & ((1u << (2 * R + 4)) - 1u)) == 0u;
 #pragma unroll
     for (int rr = 0; rr < 2; ++rr)
     {
-      float m[6];
-      zSmooth<W, UNROLL, P>(m, win, rr, a);
+      float m[6] = {};
+      if (!zeroWindow)
+      {
+        zSmooth<W, UNROLL, P>(m, win, rr, a);
+      }
       const float response = harrisResponse(m, a);
       bool inside;
       if constexpr (TABLE)
@@ -598,6 +727,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
       {
         countCandidate(sHist, response, inside, a.histMode, lane);
       }
+      if (a.rowMax)
+      {
+        rowMaxOut.offer(z - a.zOutBegin, rr, response, inside);
+      }
     }
   };
 
@@ -611,6 +744,11 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   {
     loadSlice<R>(pre, in, q, plane, inOff);
     storeSlice<R>(sIn, q, pre, tid);
+    if constexpr (TABLE)
+    {
+      // the barrier that publishes slice q (and, the first time, the position table)
+      nzBits = (nzBits << 1) | (__syncthreads_or(anyNonZero<R>(pre)) ? 1u : 0u);
+    }
   }
   int nextLoad = min(czFirst + 1, nz - 1) + 1;
   if (nextLoad <= qLast)
@@ -618,10 +756,6 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
     loadSlice<R>(pre, in, nextLoad, plane, inOff);
   }
   int lastCz = -1;
-  if constexpr (TABLE)
-  {
-    __syncthreads(); // the first input slices, the position table
-  }
   auto step = [&](auto phase, int sv) {
     constexpr int P = decltype(phase)::value;
     const int cz = clampi(sv, 0, nz - 1);
@@ -632,16 +766,45 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         // Two barriers per slice: the next input slice (nextLoad == cz + 2) is stored after
         // the products of cz, into the slot of cz - 1 that they were the last to read, and
         // is visible from the barrier before the y pass on, ahead of the products of cz + 1.
-        gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
-        __syncthreads();
+        // The products of cz read input slices cz - 1 .. cz + 1 (clamped); the newest stored
+        // slice is cz + 1, or cz when cz is the last one (then the three newest flags are
+        // those of cz - 2 .. cz, a stricter test).
+        const bool empty = (nzBits & 7u) == 0u;
+        if (!empty)
+        {
+          gradientProductsTable<R>(sProd, sIn, sPos, cz, a, tid);
+          __syncthreads();
+        }
+        // An empty slice reads no input slice, so the slot of cz - 1 is free without the
+        // barrier; sProd and sXb are not touched until the next computed slice's barrier.
+        bool stored = false, storedNonZero = false;
         if (nextLoad <= qLast)
         {
           storeSlice<R>(sIn, nextLoad, pre, tid);
+          storedNonZero = anyNonZero<R>(pre);
+          stored = true; // the same for the whole block
           ++nextLoad;
           if (nextLoad <= qLast)
           {
             loadSlice<R>(pre, in, nextLoad, plane, inOff);
           }
+        }
+        if (!empty)
+        {
+          xPass<R>(sXb, sProd, a, tid);
+        }
+        const bool anyStored = __syncthreads_or(storedNonZero) != 0;
+        if (stored)
+        {
+          nzBits = (nzBits << 1) | (anyStored ? 1u : 0u);
+        }
+        if (empty)
+        {
+          zeroStore<W, UNROLL, P>(win);
+        }
+        else
+        {
+          yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
         }
       }
       else
@@ -659,10 +822,10 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
         __syncthreads();
         gradientProducts<R>(sProd, sIn, cz, interior, x0, y0, a, tid);
         __syncthreads();
+        xPass<R>(sXb, sProd, a, tid);
+        __syncthreads();
+        yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       }
-      xPass<R>(sXb, sProd, a, tid);
-      __syncthreads();
-      yPassStore<R, UNROLL, P>(win, sXb, a, warp, lane);
       lastCz = cz;
     }
     else
@@ -828,6 +991,7 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   float win[2][NS][6];
   clearWindow<NS>(win);
   const OwnVoxels own(bp, a.nx, a.ny);
+  RowMaxOut rowMaxOut(a, bp.y0, bp.warp, bp.lane);
 
   // The z pass, the response and its output for the two voxels of this thread at slice z,
   // the window's newest slot being P.
@@ -847,6 +1011,10 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
       if (bp.withHist)
       {
         countCandidate(sHist, response, own.inside[rr], a.histMode, bp.lane);
+      }
+      if (a.rowMax)
+      {
+        rowMaxOut.offer(z - a.zOutBegin, rr, response, own.inside[rr]);
       }
     }
   };
@@ -966,26 +1134,43 @@ __global__ void __launch_bounds__(kHarrisThreads, 2)
   }
 }
 
-int chooseZChunk(int tiles, int nz, int resident, int radius)
+// Model: time ~ waves * (slices per block + 2 radius halo slices) for a volume without
+// empty space; the largest chunk wins ties (less halo work). `balance` (a kernel that skips
+// empty space): the smallest chunk within 5 % of that cost. Blocks then take very
+// different times (an empty one is cheap), and with more blocks than resident places the
+// ones that finish early take over the remaining ones, where one wave of long blocks would
+// last as long as its fullest block.
+int chooseZChunk(int tiles, int nz, int resident, int radius, bool balance)
 {
-  // Model: time ~ waves * (slices per block + 2 radius halo slices); the largest chunk
-  // wins ties (less halo work).
   if (resident < 1)
   {
     resident = 1;
   }
+  auto cost = [&](int zc) {
+    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
+    const long long waves = (blocks + resident - 1) / resident;
+    return static_cast<double>(waves) * (zc + 2 * radius);
+  };
   double best = 1e300;
   int bestChunk = nz;
   for (int chunks = 1; chunks <= nz; ++chunks)
   {
     const int zc = (nz + chunks - 1) / chunks;
-    const long long blocks = static_cast<long long>(tiles) * ((nz + zc - 1) / zc);
-    const long long waves = (blocks + resident - 1) / resident;
-    const double cost = static_cast<double>(waves) * (zc + 2 * radius);
-    if (cost < best)
+    if (cost(zc) < best)
     {
-      best = cost;
+      best = cost(zc);
       bestChunk = zc;
+    }
+  }
+  if (balance)
+  {
+    for (int chunks = 1; chunks <= nz; ++chunks)
+    {
+      const int zc = (nz + chunks - 1) / chunks;
+      if (cost(zc) <= 1.05 * best)
+      {
+        bestChunk = std::min(bestChunk, zc);
+      }
     }
   }
   return bestChunk;
@@ -1037,7 +1222,7 @@ cudaError_t launchRadius(
     {
       return err;
     }
-    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R);
+    zChunk = chooseZChunk(tilesX * tilesY, outSlices, sms * perSM, R, !PAIRS && (V & 4) != 0);
   }
   zChunk = min(max(zChunk, 1), outSlices);
   a.zChunk = zChunk;

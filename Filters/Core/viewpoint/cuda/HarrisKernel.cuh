@@ -1,5 +1,7 @@
 // The fused 3D Harris kernel (gradient, six products, separable Gaussian, response, and
-// optionally the level-1 histogram of the top-N radix select) and its launcher.
+// optionally the level-1 histogram of the top-N radix select and the row maxima that its
+// compaction reads) and its launcher. The default kernel skips empty space exactly: slices
+// whose input tile is all zero are not computed (see harrisKernel in HarrisKernel.cu).
 //
 // Each block owns a 32x16 xy tile of outputs and a run of z slices. It streams along z:
 // the input slices sit in a ring of three shared-memory tiles (with a 1+radius halo),
@@ -50,6 +52,11 @@ struct HarrisKernelArgs
   float* response = nullptr;
   unsigned long long* hist = nullptr; // level-1 histogram (kLevel1Bins) or null
   int histMode = 1; // 0: warp-aggregated shared atomics (__match_any_sync); 1: plain (faster)
+  // Row maxima for the top-N compaction (or null): for output rows 2 p, 2 p + 1 of slice z
+  // and their kHarrisTileX-wide segments t (x in [32 t, 32 t + 32)), the largest
+  // candidate's bit pattern (R > 0 and finite; 0: none) at
+  // ((z - zOutBegin) * ((ny + 1) / 2) + p) * tilesX + t.
+  unsigned* rowMax = nullptr;
 };
 
 // Launches the kernel for input type T (float or uint8) and radius `radius` (0..3);

@@ -112,6 +112,9 @@ struct HarrisPipeline::Impl
   ImageGrid grid;
   float* scores = nullptr;
   std::size_t scoresCap = 0;
+  unsigned* rowMax = nullptr; // the row maxima of the last topN's Harris launch
+  std::size_t rowMaxCap = 0;
+  detail::RowMaxima rows;     // their layout (the kernel's x rows)
   detail::TopNSelector selector;
   int zChunk = 0, lastZChunk = 0;
   int variant = -1, histMode = 1;
@@ -149,9 +152,14 @@ struct HarrisPipeline::Impl
     {
       cudaFree(scores);
     }
+    if (rowMax)
+    {
+      cudaFree(rowMax);
+    }
     input = nullptr;
     scores = nullptr;
-    inputCap = scoresCap = 0;
+    rowMax = nullptr;
+    inputCap = scoresCap = rowMaxCap = 0;
     haveVolume = false;
   }
 
@@ -231,6 +239,8 @@ struct HarrisPipeline::Impl
     return true;
   }
 
+  // The Harris kernel on the volume; withHistogram: also the level-1 histogram and the row
+  // maxima for the selection that follows.
   bool harris(const HarrisParameters& params, bool withHistogram, std::string* error)
   {
     if (!haveVolume)
@@ -250,6 +260,25 @@ struct HarrisPipeline::Impl
     a.response = scores;
     a.hist = withHistogram ? selector.level1Histogram() : nullptr;
     a.histMode = histMode;
+    rows = detail::RowMaxima{};
+    if (withHistogram)
+    {
+      // One maximum per 32-wide segment of each pair of x rows of the kernel's grid.
+      const int segments = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
+      void* m = rowMax;
+      const bool ok = ensure(m, rowMaxCap,
+        static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments * sizeof(unsigned), error);
+      rowMax = static_cast<unsigned*>(m);
+      if (!ok)
+      {
+        return false;
+      }
+      a.rowMax = rowMax;
+      rows.max = rowMax;
+      rows.nx = a.nx;
+      rows.ny = a.ny;
+      rows.segmentsPerRow = segments;
+    }
     const int radius = params.kernelWidth / 2;
     const cudaError_t launchError = inputIsUint8
       ? detail::launchHarris(
@@ -297,7 +326,8 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
-  if (!p.selector.select(p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5]))
+  if (!p.selector.select(
+        p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.rows))
   {
     return false;
   }

@@ -1,7 +1,7 @@
 #include "TopNSelect.cuh"
 
 #include "cuda/CudaCheck.h"
-#include "HarrisKernel.cuh" // kLevel1Bins
+#include "HarrisKernel.cuh" // kLevel1Bins, kHarrisTileX
 
 #include <cub/block/block_scan.cuh>
 #include <cub/device/device_radix_sort.cuh>
@@ -168,6 +168,29 @@ __global__ void __launch_bounds__(kHistThreads) histogramLevel1Kernel(
 // exact threshold, gathers the survivors and sorts them (bitonic, in shared memory).
 // ---------------------------------------------------------------------------------------
 
+// The position in the list of the first of this lane's c entries: an inclusive scan of
+// the warp's counts and one atomic per warp that holds any. Called by all lanes.
+__device__ __forceinline__ unsigned long long warpListPosition(
+  unsigned long long* count, unsigned c, int lane)
+{
+  unsigned incl = c;
+#pragma unroll
+  for (int o = 1; o < 32; o <<= 1)
+  {
+    const unsigned y = __shfl_up_sync(0xffffffffu, incl, o);
+    if (lane >= o)
+    {
+      incl += y;
+    }
+  }
+  unsigned long long pos = 0;
+  if (lane == 31 && incl > 0)
+  {
+    pos = atomicAdd(count, static_cast<unsigned long long>(incl));
+  }
+  return __shfl_sync(0xffffffffu, pos, 31) + (incl - c);
+}
+
 constexpr int kCompactThreads = 256;
 
 // Candidates with bits >= state->low into list[0, count) in no particular order: float4
@@ -205,22 +228,7 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __
     }
     if (__any_sync(0xffffffffu, c != 0))
     {
-      unsigned incl = c;
-#pragma unroll
-      for (int o = 1; o < 32; o <<= 1)
-      {
-        const unsigned y = __shfl_up_sync(0xffffffffu, incl, o);
-        if (lane >= o)
-        {
-          incl += y;
-        }
-      }
-      unsigned long long pos = 0;
-      if (lane == 31)
-      {
-        pos = atomicAdd(count, static_cast<unsigned long long>(incl));
-      }
-      pos = __shfl_sync(0xffffffffu, pos, 31) + (incl - c);
+      unsigned long long pos = warpListPosition(count, c, lane);
 #pragma unroll
       for (int j = 0; j < 4; ++j)
       {
@@ -245,6 +253,75 @@ __global__ void __launch_bounds__(kCompactThreads) compactKernel(const float* __
       if (pos < static_cast<unsigned long long>(cap))
       {
         list[pos] = ListEntry{ bits, 0u, i };
+      }
+    }
+  }
+}
+
+// compactKernel from the row maxima: the same list (in another order), reading only the
+// segments (two rows of up to 32 scores) whose maximum is >= low. Each lane takes one
+// segment; a lane whose segment holds one reads its scores, so a warp's hits are read
+// together.
+__global__ void __launch_bounds__(kCompactThreads) compactRowsKernel(const float* __restrict__ scores,
+  const RowMaxima rows, long long segments, const SelectState* __restrict__ state,
+  ListEntry* __restrict__ list, long long cap, unsigned long long* __restrict__ count)
+{
+  const unsigned low = state->low;
+  if (low == 0xFFFFFFFFu)
+  {
+    return; // the list would not fit: the host runs the slow path
+  }
+  static_assert(kHarrisTileX == 32, "a segment's row is one score per lane");
+  const int lane = threadIdx.x & 31;
+  const int nx = rows.nx, ny = rows.ny, tilesX = rows.segmentsPerRow;
+  const long long pairsY = (ny + 1) / 2;
+  const long long stride = static_cast<long long>(gridDim.x) * blockDim.x;
+  for (long long base = static_cast<long long>(blockIdx.x) * blockDim.x; base < segments; base += stride)
+  {
+    const long long seg = base + threadIdx.x; // warps iterate together (collectives below)
+    const bool hit = seg < segments && __ldg(rows.max + seg) >= low;
+    if (!__any_sync(0xffffffffu, hit))
+    {
+      continue;
+    }
+    long long first = 0; // index of the segment's first score; the second row is nx on
+    unsigned b[64];      // row 0 in 0..31, row 1 in 32..63 (0 past the grid)
+    unsigned c = 0;
+    if (hit)
+    {
+      const long long zp = seg / tilesX; // slice * pairsY + pair
+      const int x0 = static_cast<int>(seg - zp * tilesX) * kHarrisTileX;
+      const long long z = zp / pairsY;
+      const int y = 2 * static_cast<int>(zp - z * pairsY);
+      const int len = min(32, nx - x0);
+      const bool second = y + 1 < ny;
+      first = (z * ny + y) * nx + x0;
+#pragma unroll
+      for (int j = 0; j < 32; ++j)
+      {
+        b[j] = j < len ? __float_as_uint(__ldg(scores + first + j)) : 0u;
+        b[32 + j] = second && j < len ? __float_as_uint(__ldg(scores + first + nx + j)) : 0u;
+      }
+#pragma unroll
+      for (int j = 0; j < 64; ++j)
+      {
+        c += b[j] >= low && b[j] <= kMaxFiniteBits;
+      }
+    }
+    unsigned long long pos = warpListPosition(count, c, lane);
+    if (c)
+    {
+#pragma unroll
+      for (int j = 0; j < 64; ++j)
+      {
+        if (b[j] >= low && b[j] <= kMaxFiniteBits)
+        {
+          if (pos < static_cast<unsigned long long>(cap))
+          {
+            list[pos] = ListEntry{ b[j], 0u, first + (j < 32 ? j : nx + j - 32) };
+          }
+          ++pos;
+        }
       }
     }
   }
@@ -748,7 +825,8 @@ bool TopNSelector::histogramLevel1(
 }
 
 bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_t stream,
-  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload)
+  InterestPoints& out, std::string* error, cudaEvent_t beforeDownload, cudaEvent_t afterDownload,
+  const RowMaxima* rows)
 {
   out.indices.clear();
   out.scores.clear();
@@ -791,8 +869,20 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   const long long items = static_cast<long long>(n);
   const int compactBlocks = static_cast<int>(std::max(1ll,
     std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
-  compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
-    kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  const long long plane = rows ? static_cast<long long>(rows->nx) * rows->ny : 0;
+  if (rows && rows->max && plane > 0 && items % plane == 0)
+  {
+    const long long segments = items / plane * ((rows->ny + 1) / 2) * rows->segmentsPerRow;
+    const int rowBlocks = static_cast<int>(std::max(1ll, std::min<long long>(
+      (segments + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
+    compactRowsKernel<<<rowBlocks, kCompactThreads, 0, stream>>>(scores, *rows, segments, State,
+      FastList, kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  }
+  else
+  {
+    compactKernel<<<compactBlocks, kCompactThreads, 0, stream>>>(scores, items, State, FastList,
+      kFastListCapacity, reinterpret_cast<unsigned long long*>(Counts));
+  }
   MCV_CUDA_TRY(cudaGetLastError());
   finishKernel<<<1, kScanThreads, 0, stream>>>(FastList, Counts, State, N, KeysIn, ValsIn);
   MCV_CUDA_TRY(cudaGetLastError());

@@ -14,7 +14,9 @@
 //            a stable radix sort of them by score descending.
 // Fast path (N <= 2048; no host synchronisation until the N results come back): the
 // compaction is a bandwidth-bound kernel (float4 loads, one atomic per warp holding a
-// candidate) into a list of at most kFastListCapacity entries, in no particular order;
+// candidate) into a list of at most kFastListCapacity entries, in no particular order
+// (given the row maxima of the Harris kernel, it reads those and only the segments of two
+// rows of 32 whose maximum reaches the level-1 bin: a few times N of the volume's rows);
 // one block then runs levels 2 and 3 and gathers the survivors (if more ties == T exist
 // than places, it bitonic-sorts the ties by index); N / 16 blocks then put each survivor at
 // its rank by (score desc, index asc), counted against all the others.
@@ -62,6 +64,17 @@ struct ListEntry // one candidate of the compacted list
 
 constexpr long long kFastListCapacity = 1 << 16;
 
+// The row maxima of a score volume of slices of nx x ny (HarrisKernelArgs::rowMax): for
+// each pair of rows (2 p, 2 p + 1) of a slice, segmentsPerRow segments of 32 columns (the
+// last one may be narrower), each with the largest candidate's bit pattern in it (0: none),
+// at (slice * ((ny + 1) / 2) + p) * segmentsPerRow + segment.
+struct RowMaxima
+{
+  const unsigned* max = nullptr;
+  int nx = 0, ny = 0;
+  int segmentsPerRow = 0;
+};
+
 class TopNSelector : NonCopyable
 {
 public:
@@ -76,9 +89,12 @@ public:
   // Level-1 histogram of a score volume already on the device (when it was not fused).
   bool histogramLevel1(const float* scores, std::size_t n, cudaStream_t stream, std::string* error);
   // Selection from `n` device scores whose level-1 histogram is complete. `beforeDownload`
-  // and `afterDownload` (optional) are recorded around the copy of the N results.
+  // and `afterDownload` (optional) are recorded around the copy of the N results. `rows`
+  // (optional): the scores' row maxima, complete (n a multiple of rows->nx * rows->ny),
+  // which the fast path's compaction reads instead of every score.
   bool select(const float* scores, std::size_t n, int N, cudaStream_t stream, InterestPoints& out,
-    std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr);
+    std::string* error, cudaEvent_t beforeDownload = nullptr, cudaEvent_t afterDownload = nullptr,
+    const RowMaxima* rows = nullptr);
   void release();
 
   // Entries of the last selection's compacted list and whether it took the slow path.
