@@ -6,6 +6,7 @@
 #include "../Filters/Common/mcvCoordinateArrays.h" // float32 or float16 coordinates
 #include "../Filters/Common/mcvWidgetValues.h" // the GaussianWidgets flat list
 #include "mcvGaussianTFBricks.h"
+#include "mcvGaussianTFShares.h"
 #include "mcvGaussianTFShader.h"
 #include "mcvGaussianTFTable.h"
 #include "vtkGaussianTFVolumeMapper.h"
@@ -297,6 +298,7 @@ struct vtkGaussianTFVolumeRepresentation::vtkInternals
   std::string ShaderKey;                          // blend mode and jitter of the replacements
   std::vector<std::string> Names;   // GaussianWidgetNames
   std::vector<double> Shares;       // each widget's share of the drawn voxels
+  mcv::gaussiantf::ShareCounts LocalCounts; // their counts on this process's voxels
   InputStamp ShareInputs;           // what the shares were counted on
   vtkTimeStamp ShareTime;           // when they were
   std::string LegendKey;            // what the legend shows now
@@ -500,82 +502,70 @@ bool vtkGaussianTFVolumeRepresentation::RemoveFromView(vtkView* view)
 }
 
 //------------------------------------------------------------------------------
-void vtkGaussianTFVolumeRepresentation::UpdateWidgetShares(const mcv::WidgetList& widgets)
+int vtkGaussianTFVolumeRepresentation::ProcessViewRequest(
+  vtkInformationRequestKey* request, vtkInformation* inInfo, vtkInformation* outInfo)
+{
+  if (!this->Superclass::ProcessViewRequest(request, inInfo, outInfo))
+  {
+    return 0;
+  }
+  // The legend's shares are counted where the data is, on this process's own piece (the
+  // representation's input), when the view updates: every process of the session (the
+  // processes of a split run, MPI pvbatch or pvserver, and a pvserver's client) updates
+  // its views together, also one that holds no voxels, so the counts are summed over
+  // all of them here and every process, the client that draws the legend included,
+  // holds the whole volume's shares.
+  if (request == vtkPVView::REQUEST_UPDATE())
+  {
+    vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
+    this->UpdateWidgetShares(imagePieces(this->Cache), this->WholeExtent,
+      pm ? vtkPVSession::SafeDownCast(pm->GetActiveSession()) : nullptr);
+  }
+  return 1;
+}
+
+//------------------------------------------------------------------------------
+void vtkGaussianTFVolumeRepresentation::UpdateWidgetShares(
+  const std::vector<vtkImageData*>& pieces, const int whole[6], vtkPVSession* session)
 {
   vtkInternals& internals = *this->Internals;
-  const std::vector<vtkImageData*> pieces = imagePieces(
-    this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
-                                                           : nullptr);
-  internals.Shares.clear();
-  vtkIdType points = 0;
-  for (vtkImageData* piece : pieces)
+  const mcv::WidgetList widgets =
+    mcv::parseGaussianWidgets(internals.WidgetValues.Data(), internals.WidgetValues.Size());
+  // The same list on every process (its properties are): they all take the same branch.
+  if (!widgets.ok() || widgets.widgets.empty())
   {
-    points += piece->GetNumberOfPoints();
-  }
-  if (points == 0 || widgets.widgets.empty())
-  {
+    internals.Shares.clear();
     return;
   }
-  // At most ~10^6 voxels, evenly spread: the share to a fraction of a percent, in a few
-  // milliseconds per widget edit.
-  const vtkIdType stride = std::max<vtkIdType>(1, points / 1000000);
-  const size_t count = widgets.widgets.size();
-  std::vector<double> limit(count);
-  for (size_t w = 0; w < count; ++w)
+  const size_t values = widgets.widgets.size() + 1;
+  if (internals.SettingsTime > internals.ShareTime || internals.LocalCounts.Values.size() != values ||
+    internals.ShareInputs.Changed(pieces, internals.CoordinateArray, internals.MaskArray))
   {
-    // Half maximum: exp(-d^2 / (2 sigma^2)) >= 1/2  <=>  d^2 <= 2 ln 2 sigma^2.
-    limit[w] = 2.0 * std::log(2.0) * widgets.widgets[w].sigma * widgets.widgets[w].sigma;
-  }
-  std::vector<vtkIdType> selected(count, 0);
-  vtkIdType drawn = 0;
-  for (vtkImageData* piece : pieces)
-  {
-    std::string error;
-    vtkDataArray* coords = coordinatesOf(piece, internals.CoordinateArray, error);
-    if (!coords)
+    std::vector<mcv::gaussiantf::SharePiece> counted;
+    bool usable = true;
+    for (vtkImageData* piece : pieces)
     {
-      return; // said by the classification
+      if (piece->GetNumberOfPoints() == 0)
+      {
+        continue; // an empty piece (a process without voxels) often has no arrays either
+      }
+      std::string error;
+      vtkDataArray* coords = coordinatesOf(piece, internals.CoordinateArray, error);
+      usable = usable && coords != nullptr; // the classification says what is wrong
+      counted.push_back({ piece, coords, maskOf(piece, internals.MaskArray) });
     }
-    vtkDataArray* mask = maskOf(piece, internals.MaskArray);
-    const int dims = coords->GetNumberOfComponents();
-    const vtkIdType n = coords->GetNumberOfTuples();
-    for (vtkIdType t = 0; t < n; t += stride)
-    {
-      if (mask && mask->GetComponent(t, 0) == 0)
-      {
-        continue;
-      }
-      double x[3] = { 0, 0, 0 };
-      bool finite = true;
-      for (int c = 0; c < dims; ++c)
-      {
-        x[c] = mcv::vtkhelpers::coordinateComponent(coords, t, c);
-        finite = finite && std::isfinite(x[c]);
-      }
-      if (!finite)
-      {
-        continue;
-      }
-      ++drawn;
-      for (size_t w = 0; w < count; ++w)
-      {
-        double d2 = 0;
-        for (int c = 0; c < dims; ++c)
-        {
-          const double d = x[c] - widgets.widgets[w].center[c];
-          d2 += d * d;
-        }
-        selected[w] += d2 <= limit[w] ? 1 : 0;
-      }
-    }
+    internals.LocalCounts = usable ? mcv::gaussiantf::countShares(counted, whole, widgets)
+                                   : mcv::gaussiantf::ShareCounts();
+    // A process that cannot count says so with a negative drawn count, so that the sum
+    // is unusable everywhere (the processes must still make the same collective call).
+    internals.LocalCounts.Values.resize(values, 0.0);
+    internals.LocalCounts.Values[0] = usable ? internals.LocalCounts.Values[0] : -1e300;
+    internals.ShareInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
+    internals.ShareTime.Modified();
   }
-  if (drawn > 0)
-  {
-    for (size_t w = 0; w < count; ++w)
-    {
-      internals.Shares.push_back(static_cast<double>(selected[w]) / static_cast<double>(drawn));
-    }
-  }
+  mcv::gaussiantf::ShareCounts total = internals.LocalCounts;
+  mcv::gaussiantf::sumOverSession(session, total.Values);
+  internals.Shares = mcv::gaussiantf::sharesOf(total);
 }
 
 //------------------------------------------------------------------------------
@@ -587,14 +577,6 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
   const std::vector<vtkImageData*> pieces = imagePieces(
     this->VolumeMapper->GetNumberOfInputConnections(0) > 0 ? this->VolumeMapper->GetInputDataObject(0, 0)
                                                            : nullptr);
-  if (widgets.ok() &&
-    (internals.SettingsTime > internals.ShareTime ||
-      internals.ShareInputs.Changed(pieces, internals.CoordinateArray, internals.MaskArray)))
-  {
-    this->UpdateWidgetShares(widgets);
-    internals.ShareInputs.Record(pieces, internals.CoordinateArray, internals.MaskArray);
-    internals.ShareTime.Modified();
-  }
   // One row per drawn widget: colour, name, share.
   std::vector<std::string> rows;
   std::vector<const mcv::GaussianWidget*> shown;

@@ -55,7 +55,10 @@
 #include "vtkMultichannelAlgorithm.h" // for the DeviceType values the filters share
 
 #include <memory> // for std::unique_ptr
+#include <vector> // for the pieces whose shares are counted
 
+class vtkImageData;
+class vtkPVSession;
 namespace mcv
 {
 struct WidgetList;
@@ -94,9 +97,10 @@ public:
    * (peak opacity above 0): its colour, its name and the share of the voxels it
    * selects, i.e. of the drawn voxels (mask non-zero, finite coordinates) within its
    * half maximum (|x - mu| <= sigma sqrt(2 ln 2), where alpha_i >= a_i / 2), counted on
-   * at most 10^6 voxels evenly spread over the volume. The share is counted where the
-   * volume is delivered; the client of a pvserver that renders remotely holds no voxels
-   * and draws the legend over the server's image with names and colours only.
+   * at most 10^6 voxels evenly spread over the volume. Each process counts its own piece
+   * and the counts are summed over the session's processes (ProcessViewRequest), so a
+   * split run and the client of a pvserver (which holds no voxels and draws the legend
+   * over the server's image) show the whole volume's shares.
    */
   void SetShowWidgetLegend(bool show);
   vtkGetMacro(ShowWidgetLegend, bool);
@@ -104,7 +108,7 @@ public:
 
   /**
    * The share of the voxels each widget selects (see SetShowWidgetLegend), from the last
-   * render that counted it; empty before it, or when this process holds no voxels.
+   * view update that counted it; empty before it, or when no process holds a voxel.
    */
   int GetNumberOfWidgetShares();
   double GetWidgetShare(int index);
@@ -293,6 +297,15 @@ public:
   /** Name of the 16-bit coordinate texture array added to the delivered volume (per sample). */
   static const char* GetTextureArrayName() { return "GaussianTF_Coordinates"; }
 
+  /**
+   * On REQUEST_UPDATE (every process of the view's session, also one without voxels),
+   * counts the legend's shares on this process's piece and sums them over the session's
+   * processes (those of a split run and a pvserver's client), so that every process,
+   * the one that draws the legend included, holds the whole volume's shares.
+   */
+  int ProcessViewRequest(vtkInformationRequestKey* request, vtkInformation* inInfo,
+    vtkInformation* outInfo) override;
+
   ///@{
   /** The legend goes into the view's non-composited (annotation) renderer. */
   bool AddToView(vtkView* view) override;
@@ -318,8 +331,11 @@ private:
   bool UpdatePerSample();
   bool GPURayCasterRequested();
   void ReportWidgetWarnings(const mcv::WidgetList& widgets);
-  // Counts each widget's share of the delivered voxels and refills the legend.
-  void UpdateWidgetShares(const mcv::WidgetList& widgets);
+  // Each widget's share of the voxels of `pieces` (whole: the volume's whole extent, or
+  // empty), summed over the processes of `session` (a collective call: every process of
+  // it makes it; see mcv::gaussiantf::sumOverSession).
+  void UpdateWidgetShares(
+    const std::vector<vtkImageData*>& pieces, const int whole[6], vtkPVSession* session);
   void UpdateLegend();
 
   bool ShowWidgetLegend = true;

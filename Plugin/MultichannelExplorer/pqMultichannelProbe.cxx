@@ -203,11 +203,22 @@ void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
 //-----------------------------------------------------------------------------
 void pqMultichannelProbe::placeLabel()
 {
-  // The widget legend (vtkGaussianTFVolumeRepresentation) hangs 10 pixels below the
-  // view's top right corner and is at most half the view tall: it ends above the middle
-  // + 10 pixels. The label sits 8 pixels above the bottom left corner and never higher
-  // than the middle + 12 pixels, so the two never overlap; a label taller than the lower
-  // half (a view under about twice its height) is cut at the view's bottom edge.
-  const int height = this->Label->parentWidget()->height();
-  this->Label->move(8, std::max(height / 2 + 12, height - this->Label->height() - 8));
+  // Three things share the view's corners: ParaView's orientation axes (shown by default)
+  // are a square a quarter of the view's height tall at the bottom left corner
+  // (vtkPVAxesWidget keeps its viewport square); the widget legend
+  // (vtkGaussianTFVolumeRepresentation) hangs 10 pixels below the top right corner and is
+  // at most half the view tall, so it ends above the middle + 10 pixels. The label sits 8
+  // pixels above the bottom edge, right of where the axes are (whether or not they are on
+  // now, so that switching them on never puts them under it), and never higher than the
+  // middle + 12 pixels. A view too narrow for the label right of the axes gets it as far
+  // right as it fits (over the axes rather than cut); a label taller than the lower half
+  // (a view under about twice its height) is cut at the view's bottom edge.
+  const QWidget* view = this->Label->parentWidget();
+  const int width = view->width();
+  const int height = view->height();
+  const int besideAxes = height / 4 + 8;
+  const int x = besideAxes + this->Label->width() + 8 <= width
+    ? besideAxes
+    : std::max(8, width - this->Label->width() - 8);
+  this->Label->move(x, std::max(height / 2 + 12, height - this->Label->height() - 8));
 }

@@ -21,9 +21,10 @@ class pqView;
  *   camera still turns on a drag) in a render view probes the pixel: in the volume view
  *   probe_at_pixel (the voxel seen there through the "Gaussian TF Volume" display), in
  *   the domain view probe_domain_at_pixel (the voxel of the cloud point there); the voxel
- *   is marked in both views. Its values appear in a small label over the view (bottom
- *   left, in the view's lower half, so the widget legend, which keeps to the upper half
- *   from the top right corner, is never under it; object name "MultichannelProbeLabel")
+ *   is marked in both views. Its values appear in a small label over the view (at the
+ *   bottom, right of the orientation axes' corner, in the view's lower half, so neither
+ *   the axes nor the widget legend, which keeps to the upper half from the top right
+ *   corner, is under it; object name "MultichannelProbeLabel")
  *   until the next probe or the toggle goes off; the hourglass cursor shows while the helper works, and the views are rendered
  *   with the markers once the label is up. The click also makes the view active
  *   (ParaView's own handling of the press).

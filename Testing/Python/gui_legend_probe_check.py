@@ -1,16 +1,22 @@
-"""GUI test: the probe's label and the widget legend never overlap, part 3 (run by
-test_gui.sh with the state file and paraview's exit status). In the window's screenshot
-(read through ImageMagick's convert as RGB bytes), the label's box is the pixels of colour
-(71, 16, 71) and the legend's box those of (102, 13, 102) (each within 6): both are
-there (the probe answered, the legend is drawn), and their bounding boxes are apart, the
-label's below the legend's. Before the label moved to the bottom left, it sat at the top
-left and the wide legend (a long widget name) ran under it."""
+"""GUI test: the probe's label covers neither the widget legend nor the orientation axes,
+part 3 (run by test_gui.sh with the state file and paraview's exit status). In the
+window's screenshot (read through ImageMagick's convert as RGB bytes), the label's box is
+the pixels of colour (71, 16, 71) and the legend's box those of (102, 13, 102) (each
+within 6): both are there (the probe answered, the legend is drawn), and their bounding
+boxes are apart, the label's below the legend's. The view is the box of the magenta
+background; ParaView's orientation axes take the square a quarter of the view's height
+tall at its bottom left corner (vtkPVAxesWidget keeps its viewport square): their red,
+yellow and green pixels (blue below 100, red or green above 120) are there, inside that
+square, and the label's box does not reach into it. Before the label moved, it sat at
+the top left and the wide legend (a long widget name) ran under it; then at the bottom
+left, over the axes."""
 import subprocess
 
 from gui_checks import arguments, check, finish, load_state
 
 LABEL = (71, 16, 71)
 LEGEND = (102, 13, 102)
+BACKGROUND = (255, 0, 255)
 TOLERANCE = 6
 
 path, rc = arguments()
@@ -34,19 +40,33 @@ def rgb(png):
     return width, height, data
 
 
-def box(width, height, pixels, colour):
-    """(pixel count, [x0, y0, x1, y1]) of the pixels of `colour` (None when there are none)."""
+def box(width, height, pixels, colour, within=None):
+    """(pixel count, [x0, y0, x1, y1]) of the pixels of `colour` (None when there are none),
+    or of those for which `colour(r, g, b)` is true; only inside the box `within` when given."""
+    if not callable(colour):
+        wanted = colour
+
+        def colour(r, g, b):
+            return (abs(r - wanted[0]) <= TOLERANCE and abs(g - wanted[1]) <= TOLERANCE and
+                    abs(b - wanted[2]) <= TOLERANCE)
+    x0, y0, x1, y1 = within or (0, 0, width - 1, height - 1)
     count, xs, ys = 0, [], []
-    for y in range(height):
+    for y in range(y0, y1 + 1):
         row = pixels[3 * width * y:3 * width * (y + 1)]
-        for x in range(width):
-            r, g, b = row[3 * x], row[3 * x + 1], row[3 * x + 2]
-            if (abs(r - colour[0]) <= TOLERANCE and abs(g - colour[1]) <= TOLERANCE and
-                    abs(b - colour[2]) <= TOLERANCE):
+        for x in range(x0, x1 + 1):
+            if colour(row[3 * x], row[3 * x + 1], row[3 * x + 2]):
                 count += 1
                 xs.append(x)
                 ys.append(y)
     return count, ([min(xs), min(ys), max(xs), max(ys)] if count else None)
+
+
+def apart(a, b):
+    return a[0] > b[2] or b[0] > a[2] or a[1] > b[3] or b[1] > a[3]
+
+
+def axes_colour(r, g, b):
+    return b < 100 and max(r, g) > 120
 
 
 try:
@@ -60,8 +80,18 @@ else:
     check(legends > 2000, "the widget legend is in the window: %d pixels, box %s"
           % (legends, legend))
     if label and legend:
-        apart = (label[0] > legend[2] or legend[0] > label[2] or
-                 label[1] > legend[3] or legend[1] > label[3])
-        check(apart and label[1] > legend[3],
+        check(apart(label, legend) and label[1] > legend[3],
               "the label %s and the legend %s do not overlap, the label below" % (label, legend))
+    _, view = box(width, height, pixels, BACKGROUND)
+    check(view is not None, "the view's magenta background is in the window: box %s" % view)
+    if view and label:
+        side = (view[3] - view[1] + 1) // 4
+        corner = [view[0], view[3] - side + 1, view[0] + side - 1, view[3]]
+        drawn, axes = box(width, height, pixels, axes_colour, within=view)
+        check(drawn > 30 and axes is not None and axes[0] >= corner[0] - 2 and
+              axes[1] >= corner[1] - 2 and axes[2] <= corner[2] + 2 and axes[3] <= corner[3] + 2,
+              "the orientation axes are drawn in the view's bottom left square %s: %d pixels, "
+              "box %s" % (corner, drawn, axes))
+        check(apart(label, corner),
+              "the label %s keeps off the orientation axes' square %s" % (label, corner))
 finish("gui_legend_probe")

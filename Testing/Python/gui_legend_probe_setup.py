@@ -1,12 +1,13 @@
-"""GUI test: the probe's label and the widget legend never overlap, part 1 (run by
-`paraview --script=` before gui_legend_probe_click.xml switches Probe on and clicks the
-middle of the volume view).
+"""GUI test: the probe's label covers neither the widget legend nor the orientation axes,
+part 1 (run by `paraview --script=` before gui_legend_probe_click.xml switches Probe on
+and clicks the middle of the volume view).
 
 A synthetic volume with known ReducedCoordinates (0.1 of the voxel position), small in the
 middle of a magenta view, is shown as a Gaussian TF Volume with one opaque widget whose
 long name makes the legend wide (as atlas region names do), in a view about 600 pixels
-wide. The probe's label is a dark box over the view, the legend a dark translucent box:
-over magenta they have colours no other part of the window has, (71, 16, 71) and
+wide, with ParaView's orientation axes at the bottom left (shown, as by default). The
+probe's label is a dark box over the view, the legend a dark translucent box: over
+magenta they have colours no other part of the window has, (71, 16, 71) and
 (102, 13, 102). probe_at_pixel is wrapped to record the probe, and a screenshot of the
 whole window is taken 2 s after it, once the label is shown: gui_legend_probe_window.png,
 which gui_legend_probe_check.py reads."""
@@ -26,7 +27,7 @@ coords = Calculator(Input=wavelet, ResultArrayName="ReducedCoordinates", ResultA
                     Function="0.1*coords")
 coords.UpdatePipeline()
 view = GetActiveViewOrCreate("RenderView")
-view.OrientationAxesVisibility = 0
+view.OrientationAxesVisibility = 1  # ParaView's default: the label must keep off them
 view.UseColorPaletteForBackground = 0
 view.Background = [1.0, 0.0, 1.0]
 # One opaque widget over the whole volume, cyan: far from the boxes' colours.
