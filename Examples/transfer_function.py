@@ -206,10 +206,23 @@ def whole_extent(proxy):
     return list(info.Get(key)) if info.Has(key) else None
 
 
+def header_arrays(proxy):
+    """The point arrays a reader announces in its pipeline information (its header: nothing
+    read), at least one."""
+    from vtkmodules.vtkCommonDataModel import vtkDataObject
+
+    info = proxy.GetClientSideObject().GetOutputInformation(0)
+    key = vtkDataObject.POINT_DATA_VECTOR()
+    return max(1, info.Get(key).GetNumberOfInformationObjects() if info.Has(key) else 1)
+
+
 def check_memory(readers):
-    """Refuses the job before anything is read when its estimated peak does not fit in what
-    this process may allocate (B.available_memory: MemAvailable, cgroup, ulimit -v)."""
-    voxels, channels = 0, 0
+    """Refuses the job when its estimated peak does not fit in what this process may
+    allocate (B.available_memory: MemAvailable, cgroup, ulimit -v): first from the readers'
+    headers alone (the arrays each announces), before anything is read, then with the arrays
+    they give (a reader's data information reads it: the few bytes per voxel of one read
+    may not fit under a tight ulimit -v, where VTK aborts on a failed allocation)."""
+    voxels = 0
     for reader in readers:
         extent = whole_extent(reader)
         if extent is None:
@@ -218,8 +231,14 @@ def check_memory(readers):
         for a in range(3):
             count *= max(1, extent[2 * a + 1] - extent[2 * a] + 1)
         voxels = max(voxels, count)
-        channels += max(1, len(reader.PointData.keys()) if hasattr(reader, "PointData")
-                        else 1)
+    refuse_unless_it_fits(voxels, sum(header_arrays(r) for r in readers))
+    refuse_unless_it_fits(voxels, sum(max(1, len(r.PointData.keys())) if hasattr(r, "PointData")
+                                      else 1 for r in readers))
+
+
+def refuse_unless_it_fits(voxels, channels):
+    """check_memory's estimate for `voxels` read and `channels`: a JobError when it does not
+    fit."""
     read_voxels, voxels = voxels, int(voxels * args.upsample ** 3)
     need = B.job_memory_bytes(read_voxels, voxels, channels, 24 if args.features == "24D" else 6,
                               args.chain == "features", args.float16_coordinates,
