@@ -39,11 +39,13 @@ run_gui "$out/builtin"
 rc_builtin=$?
 
 . "$here/pvserver_control.sh"
+connected_gui() {  # the GUI test against the running server (run_on_server's client)
+  grep -i "plugin" "$out/pvserver_$processes.log"
+  rm -f "$out/server/state.json"
+  run_gui "$out/server" --server-url="cs://localhost:$port"
+}
 echo "== connected to a pvserver of $processes processes"
-start_server_retrying "$processes" || exit 1
-grep -i "plugin" "$out/pvserver_$processes.log"
-run_gui "$out/server" --server-url="cs://localhost:$port"
+run_on_server "$processes" connected_gui
 rc_server=$?
-stop_server
 /usr/bin/python3 "$here/gui_server_check.py" "$out/builtin/state.json" "$rc_builtin" \
   "$out/server/state.json" "$rc_server" "$processes"
