@@ -515,7 +515,9 @@ int vtkGaussianTFVolumeRepresentation::ProcessViewRequest(
   // its views together, also one that holds no voxels, so the counts are summed over
   // all of them here and every process, the client that draws the legend included,
   // holds the whole volume's shares.
-  if (request == vtkPVView::REQUEST_UPDATE())
+  // Only while the legend is shown (a property, so the same on every process): otherwise
+  // no view update pays for the count and the exchange.
+  if (request == vtkPVView::REQUEST_UPDATE() && this->ShowWidgetLegend)
   {
     vtkProcessModule* pm = vtkProcessModule::GetProcessModule();
     this->UpdateWidgetShares(imagePieces(this->Cache), this->WholeExtent,
