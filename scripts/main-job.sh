@@ -34,4 +34,4 @@ if [ -n "${DISPLAY:-}" ]; then
   exec "${job[@]}"
 fi
 # A free display from a random number, not always from :99 (as Testing/Python/run_pvbatch.sh).
-exec xvfb-run -a -n $(( 100 + $(od -An -N2 -tu2 /dev/urandom) % 800 )) -s "-screen 0 1280x1024x24" "${job[@]}"
+exec xvfb-run -a -n $(( 100 + $(od -An -N2 -tu2 /dev/urandom) % 800 )) -s "-screen 0 1280x1024x24 -noreset" "${job[@]}"

@@ -32,7 +32,7 @@ trap 'rm -rf "$tmp"' EXIT
 PV_PLUGIN_PATH="$plugin" MCV_OUTPUT_DIR="$tmp" MCV_GUI_SCREENSHOT="$tmp/screen.png" \
   MCV_DATA_DIR="${MCV_DATA_DIR:-$repo/.cache/volumes}" \
   PYTHONPATH="$tests${PYTHONPATH:+:$PYTHONPATH}" \
-  xvfb-run -a -s "-screen 0 1600x1000x24" timeout 200 paraview --dr --test-directory="$tmp" \
+  xvfb-run -a -s "-screen 0 1600x1000x24 -noreset" timeout 200 paraview --dr --test-directory="$tmp" \
   --script="$tests/gui_${name}_setup.py" --test-script="$tests/gui_${name}_click.xml" --exit ||
   true
 [ -f "$tmp/screen.png" ] || { echo "no screenshot was taken" >&2; exit 1; }

@@ -10,7 +10,7 @@ plugin="$build/lib/paraview-5.11/plugins/MultichannelExplorer"
 [ -f "$plugin/MultichannelExplorer.so" ] || { echo "no plugin in $plugin: build first" >&2; exit 1; }
 # Xvfb picks a free display number itself (-displayfd) and reports it once it is ready.
 numfile=$(mktemp)
-Xvfb -displayfd 3 -screen 0 1600x1000x24 3>"$numfile" >/dev/null 2>&1 &
+Xvfb -displayfd 3 -screen 0 1600x1000x24 -noreset 3>"$numfile" >/dev/null 2>&1 &
 xvfb=$!
 pv=""
 trap 'kill $pv $xvfb 2>/dev/null || true; rm -f "$numfile"' EXIT

@@ -16,7 +16,7 @@ trap 'rm -f "$log"' EXIT
 for ranks in 1 2 4; do
   threads=$(( cores / ranks )); [ "$threads" -ge 1 ] || threads=1
   echo "== $ranks process(es) x $threads OpenMP thread(s)" >&2
-  OMP_NUM_THREADS=$threads xvfb-run -a -s "-screen 0 640x480x24" \
+  OMP_NUM_THREADS=$threads xvfb-run -a -s "-screen 0 640x480x24 -noreset" \
     mpiexec -np "$ranks" pvbatch --mpi "$repo/Testing/Benchmarks/benchmark_mpi.py" 2>&1 |
     grep '^MPI-BENCH ' | sed 's/^MPI-BENCH //' >> "$log"
 done

@@ -43,7 +43,7 @@ trap 'rm -rf "$out"' EXIT
 source_args=(--upsample "$upsample")
 if [ "$source" = pieces ]; then
   echo "== writing the channels (upsample $upsample) once, one process" >&2
-  OMP_NUM_THREADS=$cores xvfb-run -a -s "-screen 0 640x480x24" \
+  OMP_NUM_THREADS=$cores xvfb-run -a -s "-screen 0 640x480x24 -noreset" \
     pvbatch "$script" --upsample "$upsample" --write-volume "$out/brain.vti" 2>&1 \
     | grep -E '^wrote |ERR' >&2 || true
   [ -s "$out/brain.vti" ] || { echo "writing $out/brain.vti failed" >&2; exit 1; }
@@ -52,7 +52,7 @@ fi
 for ranks in $ranks_list; do
   threads=$(( cores / ranks )); [ "$threads" -ge 1 ] || threads=1
   echo "== $ranks process(es) x $threads OpenMP thread(s), upsample $upsample, source $source, $method" >&2
-  OMP_NUM_THREADS=$threads xvfb-run -a -s "-screen 0 640x480x24" \
+  OMP_NUM_THREADS=$threads xvfb-run -a -s "-screen 0 640x480x24 -noreset" \
     mpiexec -np "$ranks" pvbatch --mpi --symmetric "$script" \
     "${source_args[@]}" --method "$method" --output "$out/r$ranks" 2>&1 | grep -E '^rank |ERR' >&2 || true
 done

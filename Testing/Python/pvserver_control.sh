@@ -13,7 +13,8 @@
 #                              on a loaded machine): a run worth retrying
 #   run_on_server N CLIENT     start a server of N processes, run the shell function
 #                              CLIENT (it reads $port), stop the server; once more when
-#                              the server lost its X server; CLIENT's status
+#                              the server lost its X server; CLIENT's status; the
+#                              server's log tail when CLIENT failed
 # Needs $mpiexec, $pvserver and $out (where the logs go). Installs an EXIT/INT/TERM trap
 # that stops the server.
 
@@ -86,11 +87,16 @@ start_server() {  # start_server PROCESSES: 0 when the server accepts connection
   # draw on a display that test stops. Numbers from 500 up, never :0: with the X server on
   # :0, a server of 4 MPI processes reported no remote rendering (every process had
   # OpenGL; 1 and 2 processes rendered), so the client drew the view without the volume.
+  # -noreset: an X server resets when its last client leaves and hangs up on a connection
+  # made meanwhile; a pvserver process closes its OpenGL check's connection and opens its
+  # window's at once, so without it one process in a few got "bad X server connection"
+  # (remote rendering not available, or the process aborted; strace: POLLHUP right after
+  # the connection's first bytes).
   display=""
   first=$(( ($$ % 400) + 500 ))
   for candidate in $(seq "$first" $((first + 9))); do
     rm -f "$out/xvfb_$n.display"
-    Xvfb ":$candidate" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp \
+    Xvfb ":$candidate" -displayfd 3 -screen 0 1280x1024x24 -nolisten tcp -noreset \
       3>"$out/xvfb_$n.display" >"$out/xvfb_$n.log" 2>&1 &
     xvfb_pid=$!
     display=""
@@ -148,7 +154,16 @@ start_server_retrying() {  # start_server_retrying PROCESSES: 3 attempts
 }
 
 lost_display() {  # lost_display PROCESSES: 0 when that server's log says its X server went
-  grep -q "bad X server connection" "$out/pvserver_$1.log" 2>/dev/null
+  # VTK's message when the display cannot be opened, and Xlib's when an open one breaks.
+  grep -q -e "bad X server connection" -e "XIO: *fatal IO error" -e "X connection to .* broken" \
+    "$out/pvserver_$1.log" 2>/dev/null
+}
+
+server_log_tail() {  # server_log_tail PROCESSES: why a server went away, for the test's log
+  echo "pvserver_control.sh: the last lines of the server's log ($out/pvserver_$1.log):" >&2
+  tail -n 25 "$out/pvserver_$1.log" >&2 2>/dev/null
+  echo "pvserver_control.sh: the last lines of its X server's log:" >&2
+  tail -n 5 "$out/xvfb_$1.log" >&2 2>/dev/null
 }
 
 server_process() {  # one pvserver process of the running server
@@ -163,6 +178,7 @@ run_on_server() {  # run_on_server PROCESSES CLIENT: CLIENT's status (see the li
     "$2"
     _client_rc=$?
     stop_server
+    [ $_client_rc -ne 0 ] && server_log_tail "$1"
     # A server that lost its X server (not a failure of the client) is tried once more.
     if [ $_client_rc -ne 0 ] && [ $_server_try -eq 1 ] && lost_display "$1"; then
       echo "pvserver_control.sh: the pvserver lost its X server (bad X server connection): trying once more" >&2

@@ -143,7 +143,7 @@ class Job(object):
             command = ["sh", "-c", 'ulimit -v %d && exec "$@"' % (memory_limit // 1024),
                        "sh"] + list(command)
         display = 100 + int.from_bytes(os.urandom(2), "little") % 800
-        command = ["xvfb-run", "-a", "-n", str(display), "-s", "-screen 0 1280x1024x24"] + \
+        command = ["xvfb-run", "-a", "-n", str(display), "-s", "-screen 0 1280x1024x24 -noreset"] + \
             list(command)
         self.proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                      universal_newlines=True, start_new_session=True,

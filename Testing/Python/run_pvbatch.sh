@@ -16,9 +16,11 @@ trap 'rm -f "$log"' EXIT
 attempt=1
 while :; do
   # -a from a random display number, not always from :99: a server that has just exited
-  # on :99 (the previous test's) is then not the one the next run starts over.
+  # on :99 (the previous test's) is then not the one the next run starts over. -noreset:
+  # the X server stays up between pvbatch's OpenGL check and its first window (a server
+  # that resets when its last client leaves hangs up on a connection made meanwhile).
   xvfb-run -a -n $(( 100 + $(od -An -N2 -tu2 /dev/urandom) % 800 )) \
-    -s "-screen 0 1280x1024x24" "$pvbatch" "$@" >"$log" 2>&1
+    -s "-screen 0 1280x1024x24 -noreset" "$pvbatch" "$@" >"$log" 2>&1
   rc=$?
   if [ $rc -ne 0 ] && [ $attempt -lt 3 ] &&
      grep -q -E "bad X server connection|Xvfb failed to start|Can't open display|cannot open display" "$log"; then

@@ -24,7 +24,7 @@ echo "== ParaView's Volume representation (expected to hang; stopped after 90 s)
 # this one is stopped): the output is read while it hangs. A run whose X server failed
 # at start-up ("bad X server connection") is tried again, up to 3 times.
 for attempt in 1 2 3; do
-  timeout -k 10 90 xvfb-run -a -s "-screen 0 640x480x24" "$mpiexec" \
+  timeout -k 10 90 xvfb-run -a -s "-screen 0 640x480x24 -noreset" "$mpiexec" \
     -np 1 "$pvbatch" --mpi "$here/mpi_no_opengl_check.py" --paraview : \
     -np 1 env MESA_GL_VERSION_OVERRIDE=2.1 "$pvbatch" --mpi "$here/mpi_no_opengl_check.py" \
     --paraview >"$out/paraview.log" 2>&1
