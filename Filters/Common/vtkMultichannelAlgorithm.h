@@ -65,13 +65,6 @@ public:
   vtkTypeMacro(vtkMultichannelAlgorithm, vtkImageAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  enum DeviceType
-  {
-    DEVICE_AUTO = 0,
-    DEVICE_CPU = 1,
-    DEVICE_GPU = 2
-  };
-
   ///@{
   /**
    * Point arrays used as channels, in order (all components of each). None named: what
@@ -85,6 +78,12 @@ public:
 
   ///@{
   /** DEVICE_AUTO (default), DEVICE_CPU or DEVICE_GPU (falls back to the CPU, warning). */
+  enum DeviceType
+  {
+    DEVICE_AUTO = 0,
+    DEVICE_CPU = 1,
+    DEVICE_GPU = 2
+  };
   mcvEnumPropertyMacro(Device, DEVICE_AUTO, DEVICE_GPU);
   ///@}
 

@@ -44,13 +44,6 @@ public:
     FEATURES_CUSTOM = 2
   };
 
-  enum NormalizationType
-  {
-    ZSCORE = 0,
-    MINMAX = 1,
-    NONE = 2
-  };
-
   ///@{
   /** Features of FEATURES_CUSTOM (defaults: intensity and gradient magnitude). */
   vtkSetMacro(Intensity, bool);
@@ -69,6 +62,12 @@ public:
 
   ///@{
   /** Normalisation of the computed features: ZSCORE (default), MINMAX or NONE. */
+  enum NormalizationType
+  {
+    ZSCORE = 0,
+    MINMAX = 1,
+    NONE = 2
+  };
   mcvEnumPropertyMacro(Normalization, ZSCORE, NONE);
   ///@}
 

@@ -299,22 +299,27 @@ protected:
 
   int FeatureSet = FEATURES_AUTOMATIC;
 
+  // The method and its parameters (into the core's options by MethodOptions).
   int Method = PCA;
   int OutputDimension = 3;
-  int CoordinatePrecision = FLOAT32;
   int NumberOfNeighbors = 50;
   int NumberOfLandmarks = 500;
   double MinimumDistance = 0.1;
   int NumberOfEpochs = 0;
+  // The reference sample it is fitted on.
   vtkIdType ReferenceSampleSize = 10000;
   int RandomSeed = 0;
+  // Which fit the volume is placed with: a saved model, or the steps of a series it uses.
   char* ModelFile = nullptr;
   int FitTime = FIT_EACH_STEP;
   int FitTimeStep = -1;
-  int FittedTimeStep = -1;
-  vtkIdType NumberOfOutOfModelVoxels = 0;
+  // The output: precision of the coordinates, the spectrum beside them.
+  int CoordinatePrecision = FLOAT32;
   bool VarianceSpectrum = false;
 
+  // Results of the last update (information properties).
+  int FittedTimeStep = -1;
+  vtkIdType NumberOfOutOfModelVoxels = 0;
   double VarianceRetained = 0.0;
   double Trustworthiness = 0.0;
   int NumberOfFeaturesUsed = 0;

@@ -260,13 +260,6 @@ double vtkReducedDomain::ForegroundRayLength(vtkDataSet* input, double foregroun
 }
 
 //------------------------------------------------------------------------------
-int vtkReducedDomain::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 // What one execution samples: the coordinates, the points that may be drawn and the sample.
 struct vtkReducedDomain::Sample
 {

@@ -144,7 +144,6 @@ protected:
   vtkReducedDomain();
   ~vtkReducedDomain() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   // Not split (GetSplitGhostLayers): every process takes the whole volume, and piece 0
   // alone outputs the sample, drawn over the whole volume (global VoxelIds).
   int RequestMultichannelData(

@@ -195,13 +195,6 @@ vtkMTimeType vtkBestViewpoint::GetMTime()
 }
 
 //------------------------------------------------------------------------------
-int vtkBestViewpoint::FillOutputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkPolyData");
-  return 1;
-}
-
-//------------------------------------------------------------------------------
 int vtkBestViewpoint::GetSplitGhostLayers()
 {
   return this->Method == HARRIS_PCA ? 1 + std::max(0, this->KernelWidth / 2) : -1;

@@ -177,7 +177,6 @@ protected:
   vtkBestViewpoint();
   ~vtkBestViewpoint() override;
 
-  int FillOutputPortInformation(int port, vtkInformation* info) override;
   int RequestMultichannelData(
     vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   // Only HarrisPCA runs split: ghost layers for the gradient (1) and the Gaussian
