@@ -11,7 +11,7 @@
  *
  * FeatureSet says which: FEATURES_AUTOMATIC (default) reduces the input's `Features` array
  * when it has one, else computes the 24D set from the channels; FEATURES_INPUT_ARRAY always
- * the selected array (as before the fused path existed); FEATURES_6D, FEATURES_24D and
+ * the selected array (features computed upstream); FEATURES_6D, FEATURES_24D and
  * FEATURES_CUSTOM (with the Intensity ... LocalVariance toggles) compute that set from the
  * channels (the `Channels` property; none named: every numeric point array but
  * `Features`, `Foreground`, `ReducedCoordinates` and ParaView's own), with Normalization,
