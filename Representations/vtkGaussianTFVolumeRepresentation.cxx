@@ -667,8 +667,10 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     swatch->GetCellData()->SetScalars(colour);
     internals.Swatches.push_back(swatch);
     double unset[3] = { -1, -1, -1 };
-    legend->SetEntry(static_cast<int>(r), swatch.Get(), rows[r].c_str(), unset);
-    longest = std::max(longest, rows[r].size());
+    // vtkLegendBoxActor sets the text right against the swatch; a leading space is the gap.
+    const std::string entry = " " + rows[r];
+    legend->SetEntry(static_cast<int>(r), swatch.Get(), entry.c_str(), unset);
+    longest = std::max(longest, entry.size());
   }
   // Top right, a fixed size in pixels whatever the view's size (the legend box scales
   // its text to the box): 20 pixels a row (text of about 14 pixels), 8 pixels a character

@@ -205,6 +205,8 @@ def run(mce, out, reference, previous=None):
     stage("widgets and best view")
     display = mce.show_gaussian_tf(red, view)
     answers["widgets"] = [float(v) for v in mce.auto_widgets(display, 3, seed=1)]
+    # Named from the sample and its voxels' neighbours (ExtractVoxels on every process).
+    answers["widget_names"] = [str(n) for n in display.GaussianWidgetNames]
     best = mce.apply_best_viewpoint(red, view)
     answers["best_view"] = [float(v) for v in best.direction]
     stage("picture")
@@ -416,6 +418,8 @@ def compare(C, reference, answers, ref_picture, picture, processes):
     row("coordinate ranges", T.close(answers["coordinate_ranges"], reference["coordinate_ranges"],
                                    COORD_TOLERANCE))
     row("auto widgets", T.close(answers["widgets"], reference["widgets"], 1e-3))
+    row("widget names", answers["widget_names"] == reference["widget_names"],
+        str(answers["widget_names"]))
     row("best view", T.close(answers["best_view"], reference["best_view"], 1e-3),
         str(["%.4f" % v for v in answers["best_view"]]))
     diff = T.picture_difference(ref_picture, picture)

@@ -14,7 +14,10 @@ give. Colin27 T1 (ch2: uint8, 249 distinct integers), AAL (116 labels + 0) and B
   DimensionReduction (defaults) -> auto_widgets(5): the reduced domain's sample and its
   neighbours (what auto_widgets reads) give AAL and Brodmann as label channels and ch2 as
   an intensity; no widget is named after AAL or Brodmann as if they were intensities
-  ("aal mid ~0", "aal bright ~51" before).
+  ("aal mid ~0", "aal bright ~51" before);
+- the region borders auto_widgets reads (a sampled voxel with a face neighbour of another
+  label, read through ExtractVoxels) equal numpy's on the whole volume, and a widget named
+  "<atlas> boundaries" has at least BOUNDARY_SHARE of its sampled voxels on them.
 """
 import os
 import shutil
@@ -101,10 +104,11 @@ seen = {}
 names_of = seeding.widget_names
 
 
-def recording(columns, count, tables, neighbours=None):
+def recording(columns, count, tables, neighbours=None, boundaries=None):
     seen.update(tables=tables, atlases=seeding.label_channels(columns, tables, neighbours),
-                read=sum(1 for v in (neighbours or {}).get("aal", []) if v is not None))
-    return names_of(columns, count, tables, neighbours)
+                read=sum(1 for v in (neighbours or {}).get("aal", []) if v is not None),
+                columns=columns, boundaries=boundaries)
+    return names_of(columns, count, tables, neighbours, boundaries)
 
 
 seeding.widget_names = recording
@@ -118,5 +122,38 @@ C.check(seen.get("tables") == {} and seen.get("atlases") == ["aal", "brodmann"] 
 C.check(len(names) == 5 and all(names) and not any(
     n.startswith(("aal ", "brodmann ")) and n.split()[1] in ("mid", "bright", "dark")
     for n in names), "no widget named after an atlas as an intensity: %s" % names)
+
+# The region borders auto_widgets read (ExtractVoxels of the face neighbours) against numpy's
+# on the whole volume: a voxel is on a border when a face neighbour inside the grid holds
+# another value.
+def on_border(labels):
+    border = np.zeros(labels.shape, dtype=bool)
+    for axis in range(3):
+        ahead = [slice(None)] * 3
+        behind = [slice(None)] * 3
+        ahead[axis], behind[axis] = slice(1, None), slice(None, -1)
+        differ = labels[tuple(ahead)] != labels[tuple(behind)]
+        border[tuple(ahead)] |= differ
+        border[tuple(behind)] |= differ
+    return border.reshape(-1)
+
+
+sampled = [int(v[0]) for v in seen["columns"]["VoxelId"]]
+for name in ("aal", "brodmann"):
+    truth = on_border(brain[T.BRAIN.index(name)])
+    flags = seen["boundaries"][name]
+    read = [(p, f) for p, f in enumerate(flags) if f is not None]
+    wrong = sum(1 for p, f in read if f != bool(truth[sampled[p]]))
+    C.check(len(read) >= 1000 and wrong == 0,
+            "%s borders read at %d sampled voxels, %d differ from numpy's" % (name, len(read), wrong))
+widget_of = [int(v[0]) for v in seen["columns"]["SeededWidget"]]
+for w, n in enumerate(names):
+    if n.split()[-1] == "boundaries" or n.split()[-2:-1] == ["boundaries"]:
+        truth = on_border(brain[T.BRAIN.index(n.split()[0])])
+        mine = [truth[sampled[p]] for p, x in enumerate(widget_of) if x == w]
+        C.check(float(np.mean(mine)) >= seeding.BOUNDARY_SHARE,
+                "widget %d '%s': %.0f %% of its sampled voxels on the atlas's borders (numpy)"
+                % (w + 1, n, 100.0 * float(np.mean(mine))))
+print("names:", names)
 shutil.rmtree(folder, ignore_errors=True)  # the links only; the volumes stay
 C.finish()

@@ -41,9 +41,31 @@ columns = {
     "ch2": [(v,) for v in (10.5, 12.5, 11.5, 200.5, 210.5, 205.5, 100.5, 101.5, 190.5, 199.5)],
 }
 names = mce.widget_names(columns, 4, {"aal": {1: "Precentral_L"}})
-C.check(names == ["Precentral_L", "ch2 bright ~206", "ch2 mid", "ch2 bright ~200"],
-        "widget_names: an atlas label, a bright and a mid T1 class, twins told apart by "
-        "their medians: %s" % names)
+C.check(names == ["Precentral_L", "ch2 bright ~206", "outside aal", "ch2 bright ~200"],
+        "widget_names: an atlas label, a bright T1 class, a mid one all outside the atlas "
+        "(the sample 80 %%), twins told apart by their medians: %s" % names)
+without_atlas = {k: v for k, v in columns.items() if k != "aal"}
+names = mce.widget_names(without_atlas, 4, {})
+C.check(names[2] == "ch2 mid", "without the atlas the mid T1 class is 'ch2 mid': %s" % names)
+# Region borders: widget 0's six points all on a border of the atlas (a face neighbour
+# with another label), widget 1's on none; with 5 of widget 0's points read (MIN_READ) it
+# is named after the borders, with 4 (one more unread) after its T1.
+sample = {"SeededWidget": [(w,) for w in (0,) * 6 + (1,) * 6],
+          "aal": [(v,) for v in (1, 2, 3, 4, 6, 7, 5, 5, 5, 5, 5, 5)],
+          "ch2": [(v,) for v in (50.5, 52.5, 51.5, 49.5, 50.5, 51.5) + (150.5,) * 6]}
+border = [True] * 5 + [None] + [False] * 6
+names = mce.widget_names(sample, 2, {}, None, {"aal": border})
+C.check(names == ["aal boundaries", "aal 5"],
+        "widget_names with region borders read: 'aal boundaries', then a label: %s" % names)
+names = mce.widget_names(sample, 2, {}, None, {"aal": [None] + border[1:]})
+C.check(names == ["ch2 dark", "aal 5"],
+        "4 border points read are too few (MIN_READ 5): %s" % names)
+labels = {"SeededWidget": [(w,) for w in (0, 0, 1, 1, 2, 2)],
+          "aal": [(v,) for v in (1, 1, 2, 2, 1, 1)]}
+names = mce.widget_names(labels, 3, {"aal": {1: "Precentral_L"}})
+C.check(names == ["Precentral_L 1", "aal 2", "Precentral_L 2"],
+        "two widgets of one label numbered in order, a label without a table by its "
+        "value: %s" % names)
 
 # ---- the brain -----------------------------------------------------------------------------
 T.data_file("aal.nii.txt")  # the AAL labels beside aal.nii.gz (scripts/fetch-data.sh), else SKIP

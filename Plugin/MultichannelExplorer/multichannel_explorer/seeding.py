@@ -31,8 +31,18 @@ LABEL_SAME_NEIGHBOUR = 0.5
 # table is an atlas when its sample holds at most this many distinct integers (Brodmann's
 # 42 values are; AAL's 116 are not: give its neighbours, or its label table).
 LABEL_VALUES = 64
-# At most this many of the sample's voxels have their neighbour read (one server round trip).
+# At most this many of the sample's voxels have their neighbours read (one server round trip).
 NEIGHBOUR_SAMPLE = 4000
+# A widget draws an atlas's region borders when at least this share of its points whose
+# neighbours were read lie on one (a face neighbour with another label), twice the
+# sample's share at least, and at least MIN_READ of them were read. Measured on the main
+# job's brain (24D Isomap, 4 widgets): two small widgets had 100 % of their voxels on the
+# AAL, resp. Brodmann borders, the other two 5 % and 20 %; the sample 12-14 %.
+BOUNDARY_SHARE = 0.75
+MIN_READ = 5
+# A widget selects what lies around an atlas when at least this share of its points have
+# the atlas's 0 (main job: the hidden widget 94-96 %, the sample 65-68 %).
+OUTSIDE_SHARE = 0.75
 
 
 def _cloud_columns(cloud):
@@ -88,108 +98,188 @@ def label_channels(columns, tables, neighbours=None):
     return atlases
 
 
-def _neighbour_values(source, columns):
-    """{channel: per-point value of the voxel after each sampled voxel along x (before it
-    for the last voxel of a row), None for the points not read} for label_channels: at
-    most NEIGHBOUR_SAMPLE points, evenly spread, read with one ExtractVoxels by global
-    voxel id (right on every process count)."""
+def _neighbourhoods(source, columns):
+    """What the voxels around the sampled ones hold, for at most NEIGHBOUR_SAMPLE points of
+    the sample, evenly spread, read with one ExtractVoxels by global voxel id (right on
+    every process count). Returns (neighbours, boundaries), each {channel: per-point list,
+    None for the points not read}: neighbours, the value of the voxel after the point
+    along x (before it for the last voxel of a row), which tells atlases (label_channels);
+    boundaries, whether one of the point's face neighbours inside the grid (up to six)
+    holds another value: a voxel on the border between two regions of an atlas
+    (widget_names). (None, None) without VoxelId."""
     ids = columns.get("VoxelId")
     if not ids:
-        return None
+        return None, None
     extent = [int(v) for v in source.GetDataInformation().GetExtent()]
-    nx = extent[1] - extent[0] + 1
-    if nx < 2:
-        return None
+    size = [extent[2 * a + 1] - extent[2 * a] + 1 for a in range(3)]
+    strides = (1, size[0], size[0] * size[1])
     step = max(1, len(ids) // NEIGHBOUR_SAMPLE)
-    wanted = {}
+    around = {}  # point -> (the next voxel along x, its face neighbours)
     for p in range(0, len(ids), step):
         voxel = int(ids[p][0])
-        wanted[p] = voxel + 1 if voxel % nx < nx - 1 else voxel - 1
-    voxels = _fetch_voxels(source, sorted(set(wanted.values())))
+        ijk = (voxel % size[0], voxel // size[0] % size[1], voxel // strides[2])
+        faces = [voxel + d * strides[a] for a in range(3) for d in (-1, 1)
+                 if 0 <= ijk[a] + d < size[a]]
+        if not faces:
+            continue  # a single voxel
+        after = voxel + 1 if ijk[0] < size[0] - 1 else voxel - 1
+        around[p] = (after if size[0] > 1 else None, faces)
+    wanted = sorted({v for after, faces in around.values() for v in faces})
+    voxels = _fetch_voxels(source, wanted)
     pd = voxels.GetPointData()
     found = pd.GetArray("VoxelId")
     row = {int(found.GetValue(r)): r for r in range(found.GetNumberOfTuples())} if found else {}
-    neighbours = {}
+    neighbours, boundaries = {}, {}
     for channel in _channel_candidates(columns):
         array = pd.GetArray(channel)
         if array is None:
             continue
         values = [None] * len(ids)
-        for p, voxel in wanted.items():
-            if voxel in row:
-                values[p] = array.GetTuple1(row[voxel])
+        border = [None] * len(ids)
+        for p, (after, faces) in around.items():
+            if after is not None and after in row:
+                values[p] = array.GetTuple1(row[after])
+            read = [array.GetTuple1(row[v]) for v in faces if v in row]
+            if read:
+                border[p] = any(v != columns[channel][p][0] for v in read)
         neighbours[channel] = values
-    return neighbours
+        boundaries[channel] = border
+    return neighbours, boundaries
 
 
-def widget_names(columns, count, tables, neighbours=None):
+def _shares(flags, rows):
+    """(share of True among the read flags of `rows`, how many were read)."""
+    read = [flags[p] for p in rows if flags[p] is not None]
+    return (float(sum(read)) / len(read) if read else 0.0), len(read)
+
+
+def _boundary_name(rows, atlases, boundaries, everyone):
+    """'<atlas> boundaries' when most of the widget's read points lie on a border between
+    two regions of an atlas (BOUNDARY_SHARE) and at least twice the sample's share do:
+    the widget draws the atlas's region borders (the features' local statistics of a
+    label channel are large there). None otherwise."""
+    best = None
+    for channel in atlases:
+        flags = (boundaries or {}).get(channel)
+        if not flags:
+            continue
+        share, read = _shares(flags, rows)
+        overall, _ = _shares(flags, everyone)
+        if read >= MIN_READ and share >= BOUNDARY_SHARE and share >= 2.0 * overall and (
+                best is None or share > best[0]):
+            best = (share, "%s boundaries" % channel)
+    return best[1] if best else None
+
+
+def _label_name(rows, atlases, columns, tables):
+    """The most frequent non-zero label of an atlas that at least LABEL_SHARE of the
+    widget's points carry: its name in the table, else '<channel> <value>'; None."""
+    best = None
+    for channel in atlases:
+        values = Counter(int(round(columns[channel][p][0])) for p in rows)
+        values.pop(0, None)
+        if values:
+            value, hits = values.most_common(1)[0]
+            share = float(hits) / len(rows)
+            if share >= LABEL_SHARE and (best is None or share > best[0]):
+                best = (share, tables.get(channel, {}).get(value, "%s %d" % (channel, value)))
+    return best[1] if best else None
+
+
+def _outside_name(rows, atlases, columns):
+    """'outside <atlas>' when at least OUTSIDE_SHARE of the widget's points have the
+    atlas's 0 (no region) and its labelled share is at most half the sample's: the
+    widget selects what lies around the atlas (scalp and skull around a brain). None."""
+    best = None
+    everyone = len(next(iter(columns.values()), ()))
+    for channel in atlases:
+        zero = sum(1 for p in rows if columns[channel][p][0] == 0)
+        overall = sum(1 for v in columns[channel] if v[0] == 0)
+        share = float(zero) / len(rows)
+        if share >= OUTSIDE_SHARE and (1.0 - share) <= 0.5 * (1.0 - float(overall) / everyone) \
+                and (best is None or share > best[0]):
+            best = (share, "outside %s" % channel)
+    return best[1] if best else None
+
+
+def _intensity_name(rows, candidates, atlases, columns):
+    """(name, channel, median, z): the channel, not an atlas, that sets the widget apart
+    most (the largest (mean over the widget - mean over the sample)^2 / variance over the
+    widget), called '<channel> bright', 'dark' or 'mid' by z, the widget's mean against
+    the sample's in standard deviations of the sample (beyond +-0.5: bright, dark); None."""
+    apart = None
+    for channel in candidates:
+        if channel in atlases:
+            continue
+        values = columns[channel]
+        everything = [v[0] for v in values]
+        mean = sum(everything) / len(everything)
+        spread = (sum((v - mean) ** 2 for v in everything) / len(everything)) ** 0.5
+        if spread <= 0:
+            continue
+        inside = [values[p][0] for p in rows]
+        inner_mean = sum(inside) / len(inside)
+        inner_var = sum((v - inner_mean) ** 2 for v in inside) / len(inside)
+        score = (inner_mean - mean) ** 2 / max(inner_var, 1e-12 * spread * spread)
+        if apart is None or score > apart[0]:
+            apart = (score, channel, (inner_mean - mean) / spread, _median(inside))
+    if apart is None:
+        return None
+    _, channel, z, median = apart
+    level = "bright" if z > 0.5 else "dark" if z < -0.5 else "mid"
+    return "%s %s" % (channel, level), channel, median, z
+
+
+def widget_names(columns, count, tables, neighbours=None, boundaries=None):
     """Names for `count` seeded widgets from what their sampled voxels hold.
 
     `columns`: {array: per-point tuples} of the ReducedDomain sample, with SeededWidget
     (the widget of each point); `tables`: {channel: {value: label}} (label_tables);
     `neighbours`: the next voxels' values that tell atlases without a table
-    (label_channels). For each widget:
-    - an atlas label: the most frequent non-zero value of an atlas channel
-      (label_channels), when at least LABEL_SHARE of the widget's points carry it: its
-      label ("Precentral_L"), or "<channel> <value>" without a table ("brodmann 4");
-    - else the one-component channel, not an atlas, that sets the widget apart most:
-      the largest (mean over the widget - mean over the sample)^2 / variance over the
-      widget (a channel whose values the widget holds tight and away from the rest,
-      e.g. a T1 intensity; not an atlas whose labels vary inside it): "<channel> bright"
-      (its mean more than half a standard deviation of the sample above the sample's),
-      "<channel> dark" (below) or "<channel> mid";
-    - else "Widget N".
+    (label_channels); `boundaries`: {channel: per-point True where a face neighbour holds
+    another value, None where not read} (_neighbourhoods). For each widget, the first of:
+    - '<atlas> boundaries': most of its points on the borders between an atlas's regions
+      (BOUNDARY_SHARE, and twice the sample's share);
+    - an atlas label: the most frequent non-zero value of an atlas channel, when at least
+      LABEL_SHARE of the widget's points carry it: its label ("Precentral_L"), or
+      "<channel> <value>" without a table ("brodmann 4");
+    - the channel, not an atlas, that sets the widget apart most, when the widget is
+      bright or dark in it: "<channel> bright" (its mean more than half a standard
+      deviation of the sample above the sample's), "<channel> dark" (below);
+    - 'outside <atlas>': most of its points (OUTSIDE_SHARE) outside every region of an
+      atlas, at most half the sample's labelled share inside;
+    - "<channel> mid" for that channel; else "Widget N".
     Widgets that get the same name are told apart by the median of that channel
-    ("ch2 bright ~96", "ch2 bright ~131") or, for labels, a number. Returns the list."""
+    ("ch2 bright ~96", "ch2 bright ~131") or, for the others, a number. Returns the list."""
     labels = columns.get("SeededWidget")
     candidates = _channel_candidates(columns)
     atlases = label_channels(columns, tables, neighbours)
+    everyone = range(len(labels or ()))
     named = []  # (name, channel or None, median)
     for w in range(count):
         rows = [p for p, v in enumerate(labels or ()) if int(v[0]) == w]
-        best = None
-        for channel in atlases:
-            if not rows:
-                continue
-            values = Counter(int(round(columns[channel][p][0])) for p in rows)
-            values.pop(0, None)
-            if values:
-                value, hits = values.most_common(1)[0]
-                share = float(hits) / len(rows)
-                table = tables.get(channel, {})
-                if share >= LABEL_SHARE and (best is None or share > best[0]):
-                    best = (share, table.get(value, "%s %d" % (channel, value)))
-        if best is not None:
-            named.append((best[1], None, 0.0))
-            continue
-        apart = None
-        for channel in candidates:
-            values = columns[channel]
-            if not rows or channel in atlases:
-                continue
-            everything = [v[0] for v in values]
-            mean = sum(everything) / len(everything)
-            spread = (sum((v - mean) ** 2 for v in everything) / len(everything)) ** 0.5
-            inside = [values[p][0] for p in rows]
-            inner_mean = sum(inside) / len(inside)
-            inner_var = sum((v - inner_mean) ** 2 for v in inside) / len(inside)
-            if spread <= 0:
-                continue
-            score = (inner_mean - mean) ** 2 / max(inner_var, 1e-12 * spread * spread)
-            if apart is None or score > apart[0]:
-                apart = (score, channel, (inner_mean - mean) / spread, _median(inside))
-        if apart is None:
+        if not rows:
             named.append(("Widget %d" % (w + 1), None, 0.0))
             continue
-        _, channel, z, median = apart
-        named.append(("%s %s" % (channel, "bright" if z > 0.5 else "dark" if z < -0.5
-                                 else "mid"), channel, median))
+        name = (_boundary_name(rows, atlases, boundaries, everyone) or
+                _label_name(rows, atlases, columns, tables))
+        if name is not None:
+            named.append((name, None, 0.0))
+            continue
+        intensity = _intensity_name(rows, candidates, atlases, columns)
+        outside = _outside_name(rows, atlases, columns)
+        if intensity is not None and (abs(intensity[3]) > 0.5 or outside is None):
+            named.append(intensity[:3])
+        elif outside is not None:
+            named.append((outside, None, 0.0))
+        else:
+            named.append(("Widget %d" % (w + 1), None, 0.0))
     names = []
     for w, (name, channel, median) in enumerate(named):
-        twins = [n for n in named if n[0] == name]
-        if len(twins) > 1:
+        if sum(1 for n in named if n[0] == name) > 1:
+            before = sum(1 for n in named[:w] if n[0] == name)
             name = ("%s ~%.3g" % (name, median) if channel is not None
-                    else "%s %d" % (name, twins.index(named[w]) + 1))
+                    else "%s %d" % (name, before + 1))
         names.append(name)
     return names
 
@@ -249,8 +339,9 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
         # The sample with each point's widget, fetched before the seeding is switched off
         # (later updates only recolour and drop SeededWidget).
         columns = _cloud_columns(servermanager.Fetch(domain))
+        neighbours, boundaries = _neighbourhoods(source, columns)
         names = widget_names(columns, seeded, label_tables(_fetch_voxels(source, [0])),
-                             _neighbour_values(source, columns))
+                             neighbours, boundaries)
     domain.SeedWidgetCount = 0  # one suggestion; later updates only recolour
     hidden = [-1.0] * seeded
     drawn = list(widgets)
