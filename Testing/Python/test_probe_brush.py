@@ -237,6 +237,10 @@ brain_view = G.black_view((500, 400))
 bdisplay = mce.show_gaussian_tf(reduction, brain_view)
 mce.auto_widgets(bdisplay, 4)
 bdual = mce.show_dual_domain(bdisplay, brain_view, sample_size=20000)
+C.check(list(bdual.domain_view.Background) == list(brain_view.Background) == [0.0, 0.0, 0.0]
+        and bdual.domain_view.UseColorPaletteForBackground == 0,
+        "the domain view has the volume view's own background: %s"
+        % list(bdual.domain_view.Background))
 voxel = (bdims[0] // 2, bdims[1] // 2, bdims[2] // 2)
 vid = voxel[0] + bdims[0] * (voxel[1] + bdims[1] * voxel[2])
 hit = mce.probe(bdisplay, voxel)

@@ -31,6 +31,16 @@ def reduced_domain_filter(source, **props):
     return domain
 
 
+def _same_background(source_view, view):
+    """`view` gets `source_view`'s background (its own colours, or the palette's), so the
+    two halves of the dual domain look like one figure."""
+    for name in ("UseColorPaletteForBackground", "BackgroundColorMode", "Background",
+                 "Background2"):
+        have = source_view.GetProperty(name)
+        if have is not None and view.GetProperty(name) is not None:
+            view.SetPropertyWithName(name, have.GetData())
+
+
 def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
                      widget_opacity=0.35):
     """Shows the reduced domain beside the volume: splits the volume view's layout cell
@@ -54,6 +64,7 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
     domain = reduced_domain_filter(source, **props)
 
     domain_view = simple.CreateView("RenderView")
+    _same_background(volume_view, domain_view)
     layout = simple.GetLayout(volume_view)
     if layout is None:  # pvbatch: views are in no layout until given one
         layout = simple.CreateLayout("Multichannel transfer function")
