@@ -78,6 +78,7 @@ struct Config
   int slabRuns = 3;
   int large = 0;
   bool dense = false; // every voxel + 1: no empty space
+  bool pruneSweep = false; // pruning's z chunk and phase share (HarrisBound.cuh)
 };
 
 struct SlabRow
@@ -288,6 +289,8 @@ int main(int argc, char** argv)
       cfg.large = std::atoi(next());
     else if (a == "--dense")
       cfg.dense = true;
+    else if (a == "--prune-sweep")
+      cfg.pruneSweep = true;
     else
       die("unknown argument " + a);
   }
@@ -406,6 +409,53 @@ int main(int argc, char** argv)
                 "%.3f ms (wall %.3f ms), zChunk %d, %zu points, list %lld (%s path)\n",
       row.harris, row.select, row.download, row.device, row.wall, row.zChunk, row.points,
       row.listSize, row.slow ? "slow" : "fast");
+    {
+      // Exact pruning (HarrisBound.cuh) always against never, alternated
+      // run by run in this call, and whether both give the same points.
+      std::vector<double> on, off;
+      mcv::InterestPoints pruned, whole;
+      for (int r = 0; r < cfg.runs; ++r)
+      {
+        for (const bool prune : { true, false })
+        {
+          pipeline.setPruning(prune ? mcv::cuda::HarrisPipeline::Pruning::Always : mcv::cuda::HarrisPipeline::Pruning::Never);
+          mcv::cuda::GpuStageTimings t;
+          if (!pipeline.topN(params, N, prune ? pruned : whole, &error, &t))
+            die(error);
+          (prune ? on : off).push_back(t.harrisMs + t.selectMs + t.downloadMs);
+        }
+      }
+      pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Always);
+      if (!pipeline.topN(params, N, pruned, &error))
+        die(error);
+      const double share = pipeline.lastComputedBlockShare();
+      pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Automatic);
+      std::printf("  pruning: device total %.3f ms pruned, %.3f ms whole volume (x%.2f), %.1f %% "
+                  "of the blocks computed, same points and scores: %s\n",
+        median(on), median(off), median(off) / median(on), 100.0 * share,
+        pruned.indices == whole.indices && pruned.scores == whole.scores ? "yes" : "NO");
+      if (cfg.pruneSweep)
+      {
+        std::printf("  pruning sweep (device total ms, median of %d; computed blocks):", cfg.runs);
+        for (int zc : { 4, 8, 16 })
+          for (int share : { 16, 64, 256 })
+          {
+            pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Always, zc, share);
+            std::vector<double> ts;
+            for (int r = 0; r < cfg.runs; ++r)
+            {
+              mcv::cuda::GpuStageTimings t;
+              if (!pipeline.topN(params, N, pruned, &error, &t))
+                die(error);
+              ts.push_back(t.harrisMs + t.selectMs + t.downloadMs);
+            }
+            std::printf("  z%d/1:%d %.3f (%.1f %%)", zc, share, median(ts),
+              100.0 * pipeline.lastComputedBlockShare());
+          }
+        std::printf("\n");
+        pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Automatic);
+      }
+    }
     {
       double withHist = 0, without = 0;
       std::vector<double> a, b;

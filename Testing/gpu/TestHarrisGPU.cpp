@@ -531,6 +531,98 @@ TEST(HarrisGPU, KernelVariantsGiveIdenticalResults)
   }
 }
 
+// Exact pruning of topN (HarrisBound.cuh): with every z chunk of the pruned blocks and
+// share of phase A, float and uint8 input, the same points and scores as without it; on the
+// structured volume it leaves most blocks out (else the test of sameness would pass with a
+// gate that prunes nothing). A slow selection (forced) falls back to the whole volume; a
+// k of at least 1/27 has no candidate at all (R <= tr^3 (1/27 - k) <= 0).
+TEST(HarrisGPU, PruningGivesTheSameTopN)
+{
+  MCV_REQUIRE_GPU();
+  const mt::Volume structured = mt::structuredVolume(192);
+  const mt::Volume smooth = smoothRandomVolume(mt::makeGrid(77, 45, 41, { 1.0, 0.8, 1.2 }), 52);
+  const mt::Volume noise = mt::randomVolume(mt::makeGrid(50, 37, 29), 53);
+  for (const mt::Volume* v : { &structured, &smooth, &noise })
+    for (const bool bytes : { false, true })
+    {
+      const auto [lo, hi] = std::minmax_element(v->values.begin(), v->values.end());
+      std::vector<std::uint8_t> b(v->values.size());
+      for (std::size_t i = 0; i < b.size(); ++i)
+      {
+        b[i] = static_cast<std::uint8_t>(std::lround((v->values[i] - *lo) / (*hi - *lo) * 255.0f));
+      }
+      mcv::cuda::HarrisPipeline pipeline;
+      std::string error;
+      ASSERT_TRUE(bytes ? pipeline.uploadVolume(b.data(), v->grid, &error)
+                        : pipeline.uploadVolume(v->values.data(), v->grid, &error))
+        << error;
+      HarrisParameters p;
+      pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Never);
+      InterestPoints whole;
+      ASSERT_TRUE(pipeline.topN(p, kN, whole, &error)) << error;
+      ASSERT_GT(whole.size(), 0u);
+      for (const std::array<int, 2>& setting : { std::array<int, 2>{ 8, 64 },
+             std::array<int, 2>{ 1, 64 }, std::array<int, 2>{ 13, 1 }, std::array<int, 2>{ 4, 100000 } })
+      {
+        SCOPED_TRACE(v->name + (bytes ? " uint8" : " float") + ", z chunk " +
+          std::to_string(setting[0]) + ", phase share 1/" + std::to_string(setting[1]));
+        pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Always, setting[0], setting[1]);
+        InterestPoints pruned;
+        ASSERT_TRUE(pipeline.topN(p, kN, pruned, &error)) << error;
+        EXPECT_EQ(pruned.indices, whole.indices);
+        EXPECT_EQ(pruned.scores, whole.scores);
+        const double share = pipeline.lastComputedBlockShare();
+        std::printf("[ pruning ] %s%s z chunk %d, phase 1/%d: %.1f %% of the blocks computed\n",
+          v->name.c_str(), bytes ? " uint8" : " float", setting[0], setting[1], 100.0 * share);
+        EXPECT_GT(share, 0.0);
+        if (v == &structured && setting[0] == 1 && setting[1] == 64)
+        {
+          EXPECT_LT(share, 0.4);
+        }
+      }
+      pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Always);
+      pipeline.setForceSlowSelect(true);
+      InterestPoints slow;
+      ASSERT_TRUE(pipeline.topN(p, kN, slow, &error)) << error;
+      EXPECT_EQ(slow.indices, whole.indices);
+      EXPECT_DOUBLE_EQ(pipeline.lastComputedBlockShare(), 1.0); // fell back to every block
+      pipeline.setForceSlowSelect(false);
+      p.k = 0.05;
+      InterestPoints none;
+      ASSERT_TRUE(pipeline.topN(p, kN, none, &error)) << error;
+      EXPECT_EQ(none.size(), 0u);
+    }
+}
+
+// Fewer candidates than N (a single small blob): phase A finds fewer than N, so every block
+// with a non-zero bound is computed, and the points are those of the whole volume.
+TEST(HarrisGPU, PruningWithFewerCandidatesThanN)
+{
+  MCV_REQUIRE_GPU();
+  mt::Volume v;
+  v.grid = mt::makeGrid(64, 48, 40);
+  v.values.assign(v.grid.voxelCount(), 0.0f);
+  for (int z = 18; z < 22; ++z)
+    for (int y = 20; y < 25; ++y)
+      for (int x = 30; x < 33; ++x)
+      {
+        v.values[(static_cast<std::size_t>(z) * 48 + y) * 64 + x] = 1.0f;
+      }
+  mcv::cuda::HarrisPipeline pipeline;
+  std::string error;
+  ASSERT_TRUE(pipeline.uploadVolume(v.values.data(), v.grid, &error)) << error;
+  const HarrisParameters p;
+  pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Never);
+  InterestPoints whole, pruned;
+  ASSERT_TRUE(pipeline.topN(p, kN, whole, &error)) << error;
+  pipeline.setPruning(mcv::cuda::HarrisPipeline::Pruning::Always);
+  ASSERT_TRUE(pipeline.topN(p, kN, pruned, &error)) << error;
+  ASSERT_GT(whole.size(), 0u);
+  EXPECT_LT(whole.size(), static_cast<std::size_t>(kN));
+  EXPECT_EQ(pruned.indices, whole.indices);
+  EXPECT_EQ(pruned.scores, whole.scores);
+}
+
 TEST(HarrisGPU, Uint8VolumeRanksLikeFloat)
 {
   MCV_REQUIRE_GPU();

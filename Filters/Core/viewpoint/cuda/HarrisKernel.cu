@@ -647,6 +647,15 @@ __global__ void __launch_bounds__(kHarrisThreads, (V & 2) ? 3 : 2)
   using S = TileShape<R>;
   constexpr int W = S::W;
   constexpr int TX = kHarrisTileX;
+  if (a.blockBound)
+  {
+    // Pruned (HarrisBound.cuh): the whole block returns at once, before any barrier.
+    const float bound = a.blockBound[(blockIdx.z * gridDim.y + blockIdx.y) * gridDim.x + blockIdx.x];
+    if (!(bound >= a.gate[0]) || bound >= a.gate[1])
+    {
+      return;
+    }
+  }
 
   extern __shared__ float4 smem4[];
   float* sProd = reinterpret_cast<float*>(smem4);

@@ -57,6 +57,11 @@ struct HarrisKernelArgs
   // candidate's bit pattern (R > 0 and finite; 0: none) at
   // ((z - zOutBegin) * ((ny + 1) / 2) + p) * tilesX + t.
   unsigned* rowMax = nullptr;
+  // Pruning for the top N (HarrisBound.cuh), or null: a block computes (and writes) only
+  // when gate[0] <= blockBound[its id] and not gate[1] <= it (a NaN gate[1]: no upper
+  // limit); id = (blockIdx.z * tilesY + blockIdx.y) * tilesX + blockIdx.x. Variants 0-7.
+  const float* blockBound = nullptr;
+  const float* gate = nullptr;
 };
 
 // Launches the kernel for input type T (float or uint8) and radius `radius` (0..3);

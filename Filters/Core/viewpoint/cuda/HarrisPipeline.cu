@@ -3,10 +3,13 @@
 #include "cuda/CudaCheck.h"
 #include "cuda/DeviceBuffer.cuh"
 #include "HarrisArgs.cuh"
+#include "HarrisBound.cuh"
 #include "HarrisKernel.cuh"
 #include "TopNSelect.cuh"
 
+#include <algorithm>
 #include <climits>
+#include <vector>
 
 namespace mcv
 {
@@ -116,6 +119,15 @@ struct HarrisPipeline::Impl
   std::size_t rowMaxCap = 0;
   detail::RowMaxima rows;     // their layout (the kernel's x rows)
   detail::TopNSelector selector;
+  // Exact pruning of topN (HarrisBound.cuh): the bounds per (tile, slice) and per block,
+  // and the two phases' gates {lo, hi} (gates[0..1]: phase A, gates[2..3]: phase B).
+  Pruning pruning = Pruning::Automatic;
+  int pruneZChunk = 16, phaseShare = 64;
+  unsigned* sliceMax = nullptr;
+  float* blockBound = nullptr;
+  float* gates = nullptr;
+  std::size_t sliceMaxCap = 0, blockBoundCap = 0, gatesCap = 0;
+  int prunedBlocks = 0; // blocks of the last pruned launch (0: the last topN was not pruned)
   int zChunk = 0, lastZChunk = 0;
   int variant = -1, histMode = 1;
   double uploadMs = 0;
@@ -152,14 +164,22 @@ struct HarrisPipeline::Impl
     {
       cudaFree(scores);
     }
-    if (rowMax)
+    for (void* b : { static_cast<void*>(rowMax), static_cast<void*>(sliceMax),
+           static_cast<void*>(blockBound), static_cast<void*>(gates) })
     {
-      cudaFree(rowMax);
+      if (b)
+      {
+        cudaFree(b);
+      }
     }
     input = nullptr;
     scores = nullptr;
     rowMax = nullptr;
-    inputCap = scoresCap = rowMaxCap = 0;
+    sliceMax = nullptr;
+    blockBound = nullptr;
+    gates = nullptr;
+    inputCap = scoresCap = rowMaxCap = sliceMaxCap = blockBoundCap = gatesCap = 0;
+    prunedBlocks = 0;
     haveVolume = false;
   }
 
@@ -239,9 +259,101 @@ struct HarrisPipeline::Impl
     return true;
   }
 
+  template <typename B>
+  bool ensureTyped(B*& buffer, std::size_t& capacity, std::size_t count, std::string* error)
+  {
+    void* v = buffer;
+    const bool ok = ensure(v, capacity, count * sizeof(B), error);
+    buffer = static_cast<B*>(v);
+    return ok;
+  }
+
   // The Harris kernel on the volume; withHistogram: also the level-1 histogram and the row
   // maxima for the selection that follows.
   bool harris(const HarrisParameters& params, bool withHistogram, std::string* error)
+  {
+    detail::HarrisKernelArgs a;
+    if (!prepare(params, withHistogram, a, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(launch(a, params, zChunk)); // the name makes it a "launch" injection point
+    return true;
+  }
+
+  cudaError_t launch(const detail::HarrisKernelArgs& a, const HarrisParameters& params, int zc)
+  {
+    const int radius = params.kernelWidth / 2;
+    return inputIsUint8
+      ? detail::launchHarris(
+          static_cast<const std::uint8_t*>(input), a, radius, zc, stream, &lastZChunk, variant)
+      : detail::launchHarris(
+          static_cast<const float*>(input), a, radius, zc, stream, &lastZChunk, variant);
+  }
+
+  // Whether topN prunes (HarrisBound.cuh): as set (Automatic: a volume of at least
+  // pruneMinVoxels), on a 3D grid (the planar response has another bound), with the fast
+  // selection (N <= 2048) and a variant with the gate (not variant 8).
+  bool canPrune(const HarrisParameters& params, int N) const
+  {
+    const bool wanted = pruning == Pruning::Always ||
+      (pruning == Pruning::Automatic && grid.voxelCount() >= pruneMinVoxels);
+    return wanted && N > 0 && N <= 2048 && variant != detail::kHarrisPairsVariant &&
+      !kernelGrid(grid).planar && params.kernelWidth / 2 <= detail::kHarrisMaxRadius;
+  }
+
+  // The pruned Harris launches of topN (HarrisBound.cuh's steps 1-4); the level-1 histogram
+  // and the row maxima cover the computed blocks.
+  bool harrisPruned(const HarrisParameters& params, int N, std::string* error)
+  {
+    detail::HarrisKernelArgs a;
+    if (!prepare(params, true, a, error))
+    {
+      return false;
+    }
+    const int tilesX = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
+    const int tilesY = (a.ny + detail::kHarrisTileY - 1) / detail::kHarrisTileY;
+    const int zc = std::max(1, std::min(pruneZChunk, a.nz));
+    const int blocks = tilesX * tilesY * ((a.nz + zc - 1) / zc);
+    const std::size_t slices = static_cast<std::size_t>(tilesX) * tilesY * a.nz;
+    if (!ensureTyped(sliceMax, sliceMaxCap, slices, error) ||
+      !ensureTyped(blockBound, blockBoundCap, static_cast<std::size_t>(blocks), error) ||
+      !ensureTyped(gates, gatesCap, 4, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(cudaMemsetAsync(sliceMax, 0, slices * sizeof(unsigned), stream));
+    MCV_CUDA_TRY(cudaMemsetAsync(rowMax, 0, rowMaxBytes(a), stream));
+    const int radius = params.kernelWidth / 2;
+    MCV_CUDA_TRY(inputIsUint8
+        ? detail::launchTraceBound(static_cast<const std::uint8_t*>(input), a, radius, sliceMax, stream)
+        : detail::launchTraceBound(static_cast<const float*>(input), a, radius, sliceMax, stream));
+    MCV_CUDA_TRY(detail::launchBlockBounds(
+      sliceMax, tilesX, tilesY, a.nz, zc, radius, a.k, blockBound, stream));
+    // Phase A: 1 / phaseShare of the blocks, and at least 128 (a sweep at 256^3 and 512^3,
+    // docs/benchmarks.md section 2: the top N's voxels lie in a few hundred blocks).
+    const int wanted = std::min(blocks, std::max(blocks / std::max(1, phaseShare), 128));
+    MCV_CUDA_TRY(detail::launchPhaseGate(blockBound, blocks, wanted, gates, gates + 2, stream));
+    a.blockBound = blockBound;
+    a.gate = gates;
+    MCV_CUDA_TRY(launch(a, params, zc));
+    MCV_CUDA_TRY(detail::launchTauGate(selector.level1Histogram(), N, gates + 2, stream));
+    a.gate = gates + 2;
+    MCV_CUDA_TRY(launch(a, params, zc));
+    prunedBlocks = blocks;
+    return true;
+  }
+
+  static std::size_t rowMaxBytes(const detail::HarrisKernelArgs& a)
+  {
+    const int segments = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
+    return static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments * sizeof(unsigned);
+  }
+
+  // The kernel's arguments for the uploaded volume, its score buffer, and with
+  // withHistogram the level-1 histogram and the row maxima (rows) for the selection.
+  bool prepare(const HarrisParameters& params, bool withHistogram, detail::HarrisKernelArgs& out,
+    std::string* error)
   {
     if (!haveVolume)
     {
@@ -264,10 +376,8 @@ struct HarrisPipeline::Impl
     if (withHistogram)
     {
       // One maximum per 32-wide segment of each pair of x rows of the kernel's grid.
-      const int segments = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
       void* m = rowMax;
-      const bool ok = ensure(m, rowMaxCap,
-        static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments * sizeof(unsigned), error);
+      const bool ok = ensure(m, rowMaxCap, rowMaxBytes(a), error);
       rowMax = static_cast<unsigned*>(m);
       if (!ok)
       {
@@ -277,15 +387,9 @@ struct HarrisPipeline::Impl
       rows.max = rowMax;
       rows.nx = a.nx;
       rows.ny = a.ny;
-      rows.segmentsPerRow = segments;
+      rows.segmentsPerRow = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
     }
-    const int radius = params.kernelWidth / 2;
-    const cudaError_t launchError = inputIsUint8
-      ? detail::launchHarris(
-          static_cast<const std::uint8_t*>(input), a, radius, zChunk, stream, &lastZChunk, variant)
-      : detail::launchHarris(
-          static_cast<const float*>(input), a, radius, zChunk, stream, &lastZChunk, variant);
-    MCV_CUDA_TRY(launchError); // the name makes it a "launch" injection point
+    out = a;
     return true;
   }
 };
@@ -321,13 +425,31 @@ bool HarrisPipeline::topN(const HarrisParameters& params, int N, InterestPoints&
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[2], p.stream));
-  if (!p.selector.reset(N, p.stream, error) || !p.harris(params, true, error))
+  const bool prune = p.canPrune(params, N);
+  p.prunedBlocks = 0;
+  if (!p.selector.reset(N, p.stream, error) ||
+    !(prune ? p.harrisPruned(params, N, error) : p.harris(params, true, error)))
   {
     return false;
   }
   MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
-  if (!p.selector.select(
-        p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.rows))
+  p.selector.setScoresPartial(prune);
+  bool selected = p.selector.select(
+    p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.rows);
+  p.selector.setScoresPartial(false);
+  if (!selected && prune && p.selector.lastNeedsCompleteScores())
+  {
+    // The selection needs every score (its slow path): the whole volume, then again.
+    p.prunedBlocks = 0;
+    if (!p.selector.reset(N, p.stream, error) || !p.harris(params, true, error))
+    {
+      return false;
+    }
+    MCV_CUDA_TRY(cudaEventRecord(p.ev[3], p.stream));
+    selected = p.selector.select(
+      p.scores, p.grid.voxelCount(), N, p.stream, out, error, p.ev[4], p.ev[5], &p.rows);
+  }
+  if (!selected)
   {
     return false;
   }
@@ -451,6 +573,39 @@ bool HarrisPipeline::timeHarrisKernel(
     *ms = p.elapsed(2, 3);
   }
   return true;
+}
+
+void HarrisPipeline::setPruning(Pruning mode, int zChunk, int phaseShare)
+{
+  impl_->pruning = mode;
+  impl_->pruneZChunk = std::max(1, zChunk);
+  impl_->phaseShare = std::max(1, phaseShare);
+}
+
+double HarrisPipeline::lastComputedBlockShare()
+{
+  Impl& p = *impl_;
+  if (p.prunedBlocks <= 0)
+  {
+    return 1.0;
+  }
+  std::vector<float> bounds(static_cast<std::size_t>(p.prunedBlocks));
+  float gates[4] = {};
+  if (cudaMemcpyAsync(bounds.data(), p.blockBound, bounds.size() * sizeof(float),
+        cudaMemcpyDeviceToHost, p.stream) != cudaSuccess ||
+    cudaMemcpyAsync(gates, p.gates, sizeof(gates), cudaMemcpyDeviceToHost, p.stream) != cudaSuccess ||
+    cudaStreamSynchronize(p.stream) != cudaSuccess)
+  {
+    return -1.0;
+  }
+  // The kernel's gate: gate[0] <= bound and not gate[1] <= bound.
+  const auto in = [](float b, const float* g) { return b >= g[0] && !(b >= g[1]); };
+  std::size_t computed = 0;
+  for (float b : bounds)
+  {
+    computed += in(b, gates) || in(b, gates + 2);
+  }
+  return static_cast<double>(computed) / static_cast<double>(bounds.size());
 }
 
 std::size_t HarrisPipeline::deviceBytesHeld() const

@@ -67,6 +67,24 @@ public:
   bool timeHarrisKernel(const HarrisParameters& params, bool withHistogram, double* ms,
     std::string* error);
 
+  // Exact pruning of topN (HarrisBound.cuh): an upper bound of the response per block of
+  // the Harris kernel (tile x zChunk slices); the blocks of the largest bounds (1 /
+  // phaseShare of them) are computed first, then those whose bound reaches the N-th largest
+  // response found there. The same points as without it, bit for bit. Automatic (the
+  // default) prunes volumes of at least pruneMinVoxels voxels, where it was measured
+  // faster than the whole volume (docs/benchmarks.md, section 2).
+  enum class Pruning
+  {
+    Automatic,
+    Always,
+    Never
+  };
+  static constexpr std::size_t pruneMinVoxels = std::size_t(1) << 25;
+  void setPruning(Pruning mode, int zChunk = 16, int phaseShare = 64);
+  // The share of the Harris kernel's blocks the last topN computed (1 when not pruned;
+  // reads the bounds back: for the benchmark, not for timing).
+  double lastComputedBlockShare();
+
   // Bytes of the volume and score buffers it holds now (the selection's are small).
   std::size_t deviceBytesHeld() const;
 

@@ -832,6 +832,7 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   out.scores.clear();
   LastListSize = 0;
   LastSlow = false;
+  LastNeedsComplete = false;
   if (!Hist || !FastList || !Result || !HostResult || N > ResultN)
   {
     return fail(error, "TopNSelector::select called without reset(N)");
@@ -845,6 +846,13 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
     MCV_CUDA_TRY(record(afterDownload));
     MCV_CUDA_TRY(cudaStreamSynchronize(stream));
     return true;
+  }
+  const long long plane = rows ? static_cast<long long>(rows->nx) * rows->ny : 0;
+  const bool byRows = rows && rows->max && plane > 0 && static_cast<long long>(n) % plane == 0;
+  if (Partial && (N > kFastMaxN || ForceSlow || !byRows))
+  {
+    LastNeedsComplete = true; // these read every score
+    return false;
   }
   if (N > kFastMaxN || ForceSlow)
   {
@@ -869,8 +877,7 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
   const long long items = static_cast<long long>(n);
   const int compactBlocks = static_cast<int>(std::max(1ll,
     std::min<long long>((items / 4 + kCompactThreads - 1) / kCompactThreads, 8ll * std::max(SmCount, 1))));
-  const long long plane = rows ? static_cast<long long>(rows->nx) * rows->ny : 0;
-  if (rows && rows->max && plane > 0 && items % plane == 0)
+  if (byRows)
   {
     const long long segments = items / plane * ((rows->ny + 1) / 2) * rows->segmentsPerRow;
     const int rowBlocks = static_cast<int>(std::max(1ll, std::min<long long>(
@@ -896,6 +903,11 @@ bool TopNSelector::select(const float* scores, std::size_t n, int N, cudaStream_
 
   const std::size_t stateOffset = reinterpret_cast<unsigned char*>(State) - Result;
   const SelectState* hostState = reinterpret_cast<const SelectState*>(HostResult + stateOffset);
+  if (hostState->overflow != 0 && Partial)
+  {
+    LastNeedsComplete = true; // the slow path would read every score
+    return false;
+  }
   if (hostState->overflow != 0)
   {
     // 1: the list was longer than the fast capacity, or held more than 2048 ties at the

@@ -102,6 +102,11 @@ public:
   bool lastUsedSlowPath() const { return LastSlow; }
   // Test hook: force the slow path.
   void setForceSlowPath(bool force) { ForceSlow = force; }
+  // The scores are valid only in the blocks the Harris kernel computed (pruned, with their
+  // row maxima): select() then reads no other score. Where it would (the slow path, or no
+  // row maxima), it returns false with lastNeedsCompleteScores() set, and no error.
+  void setScoresPartial(bool partial) { Partial = partial; }
+  bool lastNeedsCompleteScores() const { return LastNeedsComplete; }
 
 private:
   bool selectSlow(const float* scores, std::size_t n, int N, cudaStream_t stream, std::string* error);
@@ -135,6 +140,8 @@ private:
   long long LastListSize = 0;
   bool LastSlow = false;
   bool ForceSlow = false;
+  bool Partial = false;
+  bool LastNeedsComplete = false;
 };
 
 } // namespace detail
