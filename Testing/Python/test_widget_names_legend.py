@@ -5,7 +5,8 @@ MultichannelFeatures -> DimensionReduction (defaults) -> "Gaussian TF Volume" ->
 auto_widgets(4). Known answers:
 - widget_names on a hand-made sample: a widget whose points are 2/3 AAL label 1 is
   "Precentral_L"; one whose T1 mean lies far above the sample's is "ch2 bright", one
-  near it "ch2 mid"; two with the same name get their medians;
+  near it "ch2 mid"; two with the same name get their medians (of the channel that sets
+  each apart when the name is a label's or an atlas's);
 - on the brain: 4 names, none empty, all different, in GaussianWidgetNames;
 - the legend (GaussianWidgetLegend, what the view shows) has one row per drawn widget:
   its name and its share of the drawn voxels within its half maximum, counted here with
@@ -66,6 +67,10 @@ names = mce.widget_names(labels, 3, {"aal": {1: "Precentral_L"}})
 C.check(names == ["Precentral_L 1", "aal 2", "Precentral_L 2"],
         "two widgets of one label numbered in order, a label without a table by its "
         "value: %s" % names)
+labels["ch2"] = [(v,) for v in (10.5, 11.5, 100.5, 101.5, 200.5, 201.5)]
+names = mce.widget_names(labels, 3, {"aal": {1: "Precentral_L"}})
+C.check(names == ["Precentral_L (ch2 ~11.5)", "aal 2", "Precentral_L (ch2 ~202)"],
+        "two widgets of one label told apart by their T1 medians: %s" % names)
 
 # ---- the brain -----------------------------------------------------------------------------
 T.data_file("aal.nii.txt")  # the AAL labels beside aal.nii.gz (scripts/fetch-data.sh), else SKIP

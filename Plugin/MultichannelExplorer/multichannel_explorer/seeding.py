@@ -250,36 +250,47 @@ def widget_names(columns, count, tables, neighbours=None, boundaries=None):
       atlas, at most half the sample's labelled share inside;
     - "<channel> mid" for that channel; else "Widget N".
     Widgets that get the same name are told apart by the median of that channel
-    ("ch2 bright ~96", "ch2 bright ~131") or, for the others, a number. Returns the list."""
+    ("ch2 bright ~96", "ch2 bright ~131"); the others by the median of the channel that
+    sets each apart ("aal boundaries (ch2 ~73)") where those differ, else by a number.
+    Returns the list."""
     labels = columns.get("SeededWidget")
     candidates = _channel_candidates(columns)
     atlases = label_channels(columns, tables, neighbours)
     everyone = range(len(labels or ()))
-    named = []  # (name, channel or None, median)
+    named = []  # (name, channel or None, median, intensity: (channel, median) or None)
     for w in range(count):
         rows = [p for p, v in enumerate(labels or ()) if int(v[0]) == w]
         if not rows:
-            named.append(("Widget %d" % (w + 1), None, 0.0))
+            named.append(("Widget %d" % (w + 1), None, 0.0, None))
             continue
+        intensity = _intensity_name(rows, candidates, atlases, columns)
+        level = (intensity[1], intensity[2]) if intensity is not None else None
         name = (_boundary_name(rows, atlases, boundaries, everyone) or
                 _label_name(rows, atlases, columns, tables))
         if name is not None:
-            named.append((name, None, 0.0))
+            named.append((name, None, 0.0, level))
             continue
-        intensity = _intensity_name(rows, candidates, atlases, columns)
         outside = _outside_name(rows, atlases, columns)
         if intensity is not None and (abs(intensity[3]) > 0.5 or outside is None):
-            named.append(intensity[:3])
+            named.append(intensity[:3] + (level,))
         elif outside is not None:
-            named.append((outside, None, 0.0))
+            named.append((outside, None, 0.0, level))
         else:
-            named.append(("Widget %d" % (w + 1), None, 0.0))
+            named.append(("Widget %d" % (w + 1), None, 0.0, None))
     names = []
-    for w, (name, channel, median) in enumerate(named):
-        if sum(1 for n in named if n[0] == name) > 1:
+    for w, (name, channel, median, level) in enumerate(named):
+        twins = [n for n in named if n[0] == name]
+        if len(twins) > 1:
+            # Told apart by the median of the channel that sets each apart ("aal boundaries
+            # (ch2 ~73)"), when those differ; else numbered in order.
+            levels = ["%s ~%.3g" % t[3] if t[3] else None for t in twins]
             before = sum(1 for n in named[:w] if n[0] == name)
-            name = ("%s ~%.3g" % (name, median) if channel is not None
-                    else "%s %d" % (name, before + 1))
+            if channel is not None:
+                name = "%s ~%.3g" % (name, median)
+            elif None not in levels and len(set(levels)) == len(levels):
+                name = "%s (%s)" % (name, levels[before])
+            else:
+                name = "%s %d" % (name, before + 1)
         names.append(name)
     return names
 
