@@ -3,6 +3,7 @@
 #include "vtkCellArray.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
 #include "vtkImageData.h"
@@ -104,7 +105,8 @@ vtkSmartPointer<vtkPolyData> widgetGlyphSource(const std::vector<mcv::GaussianWi
     verts->InsertNextCell(1);
     verts->InsertCellPoint(points->InsertNextPoint(w.center));
     sigma->InsertNextValue(static_cast<float>(w.sigma));
-    diameter->InsertNextValue(static_cast<float>(2 * w.sigma));
+    // a hidden widget (peak opacity 0) selects nothing: its sphere glyph is not drawn
+    diameter->InsertNextValue(w.opacity > 0 ? static_cast<float>(2 * w.sigma) : 0.0f);
     opacity->InsertNextValue(static_cast<float>(w.opacity));
     color->InsertNextTuple(w.color);
     index->InsertNextValue(static_cast<int>(i));
@@ -159,10 +161,12 @@ DistinctRows distinctRows(const std::vector<float>& packed, int dims)
   return d;
 }
 
-// WidgetOpacity, RGBA (bytes) and DisplayColor of `m` points from their RGBA floats.
-// DisplayColor: the widget colour over light grey by the opacity, so points no widget
+// WidgetOpacity, RGBA (bytes) and DisplayColor of `m` points from their RGBA floats and
+// how strongly the shown widgets select each (`selection`, m values in [0, 1]).
+// DisplayColor: the widget colour over light grey by that selection, so points no widget
 // selects stay visible (the domain is where the user looks for the next structure).
-void addColourArrays(const std::vector<float>& rgbaFloat, vtkIdType m, vtkPointData* outPD)
+void addColourArrays(
+  const std::vector<float>& rgbaFloat, const std::vector<float>& selection, vtkIdType m, vtkPointData* outPD)
 {
   vtkNew<vtkUnsignedCharArray> rgba;
   rgba->SetName("RGBA");
@@ -180,13 +184,14 @@ void addColourArrays(const std::vector<float>& rgbaFloat, vtkIdType m, vtkPointD
   for (vtkIdType s = 0; s < m; ++s)
   {
     const float* c = rgbaFloat.data() + 4 * s;
+    const float blend = selection[static_cast<std::size_t>(s)];
     for (int k = 0; k < 4; ++k)
     {
       rgba->SetTypedComponent(s, k, toByte(c[k]));
     }
     for (int k = 0; k < 3; ++k)
     {
-      displayColor->SetTypedComponent(s, k, toByte(c[3] * c[k] + (1.f - c[3]) * grey));
+      displayColor->SetTypedComponent(s, k, toByte(blend * c[k] + (1.f - blend) * grey));
     }
     opacity->SetValue(s, c[3]);
   }
@@ -194,6 +199,75 @@ void addColourArrays(const std::vector<float>& rgbaFloat, vtkIdType m, vtkPointD
   outPD->AddArray(rgba);
   outPD->AddArray(displayColor);
   outPD->SetScalars(displayColor);
+}
+
+// The widgets with every shown one (peak opacity > 0) at peak opacity 1: the opacity they
+// give a point is how strongly the shown widgets select it, whatever their peak opacities.
+// The domain colours points by that, not by the opacity: a widget of low peak opacity that
+// selects many voxels dominates the volume all the same (its samples add up along each
+// ray), so its points should stand out as clearly as those of a sparse, opaque widget.
+std::vector<mcv::GaussianWidget> selectingWidgets(const std::vector<mcv::GaussianWidget>& widgets)
+{
+  std::vector<mcv::GaussianWidget> selecting = widgets;
+  for (mcv::GaussianWidget& w : selecting)
+  {
+    w.opacity = w.opacity > 0 ? 1.0 : 0.0;
+  }
+  return selecting;
+}
+
+// FocusBounds (field data, one 6-component tuple xmin, xmax, ymin, ymax, zmin, zmax): per
+// axis the sampled points without the far outliers, widened to hold each shown widget's
+// sphere (centre +- sigma). show_dual_domain frames the domain view on it: a few far
+// outliers (ParaView's Reset Camera fits them all) would shrink the dense cloud, where the
+// structures are, to a corner of the view. An outlier is a point cut off from the rest by
+// an empty gap: from the 5th and 95th percentiles the bounds grow outwards through the
+// sorted values as long as no gap between two of them exceeds 5 % of that central range,
+// so continuous arms and sparse fringes stay in view and only isolated points drop out.
+vtkSmartPointer<vtkDoubleArray> focusBounds(
+  const std::vector<float>& xyz, vtkIdType m, int dims, const std::vector<mcv::GaussianWidget>& widgets)
+{
+  double bounds[6] = { 0, 0, 0, 0, 0, 0 };
+  std::vector<float> axis(static_cast<std::size_t>(m));
+  const std::size_t last = axis.size() - 1;
+  for (int a = 0; a < 3; ++a)
+  {
+    for (std::size_t i = 0; i < axis.size(); ++i)
+    {
+      axis[i] = xyz[3 * i + a];
+    }
+    std::sort(axis.begin(), axis.end());
+    std::size_t low = static_cast<std::size_t>(std::floor(0.05 * static_cast<double>(last)));
+    std::size_t high = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(last)));
+    const double gap = 0.05 * (static_cast<double>(axis[high]) - axis[low]);
+    while (low > 0 && axis[low] - axis[low - 1] <= gap)
+    {
+      --low;
+    }
+    while (high < last && axis[high + 1] - axis[high] <= gap)
+    {
+      ++high;
+    }
+    bounds[2 * a] = axis[low];
+    bounds[2 * a + 1] = axis[high];
+  }
+  for (const mcv::GaussianWidget& w : widgets)
+  {
+    if (!(w.opacity > 0))
+    {
+      continue;
+    }
+    for (int a = 0; a < dims; ++a) // 2D: the sphere sits at z = 0 with the points
+    {
+      bounds[2 * a] = std::min(bounds[2 * a], w.center[a] - w.sigma);
+      bounds[2 * a + 1] = std::max(bounds[2 * a + 1], w.center[a] + w.sigma);
+    }
+  }
+  auto array = vtkSmartPointer<vtkDoubleArray>::New();
+  array->SetName("FocusBounds");
+  array->SetNumberOfComponents(6);
+  array->InsertNextTuple(bounds);
+  return array;
 }
 
 } // namespace
@@ -342,6 +416,7 @@ int vtkReducedDomain::RequestMultichannelData(
   }
 
   // ---- Widgets output -------------------------------------------------------------------------
+  domain->GetFieldData()->AddArray(focusBounds(sample.xyz, sample.m, sample.dims, shown));
   widgetOutput->ShallowCopy(widgetGlyphSource(shown));
   this->UpdateProgress(1.0);
   return 1;
@@ -465,10 +540,18 @@ bool vtkReducedDomain::WriteDomain(
   const mcv::CoordinateView view{ s.packed.data(), static_cast<std::size_t>(s.m), s.dims };
   const mcv::TransferFunctionRun run =
     mcv::applyGaussianWidgets(view, widgets.widgets, rgbaFloat.data(), mcv::Device::CPU);
-  if (!run.ok())
+  std::vector<float> selectionRgba(rgbaFloat.size());
+  const mcv::TransferFunctionRun selectionRun = mcv::applyGaussianWidgets(
+    view, selectingWidgets(widgets.widgets), selectionRgba.data(), mcv::Device::CPU);
+  if (!run.ok() || !selectionRun.ok())
   {
-    vtkErrorMacro(<< run.error);
+    vtkErrorMacro(<< (run.ok() ? selectionRun.error : run.error));
     return false;
+  }
+  std::vector<float> selection(static_cast<std::size_t>(s.m));
+  for (std::size_t i = 0; i < selection.size(); ++i)
+  {
+    selection[i] = selectionRgba[4 * i + 3];
   }
   this->UpdateProgress(0.5);
 
@@ -488,7 +571,7 @@ bool vtkReducedDomain::WriteDomain(
       return source == s.coordinates || std::string(source->GetName()) == "Features";
     });
   mcv::vtkhelpers::addVoxelIds(outPD, s.ids);
-  addColourArrays(rgbaFloat, s.m, outPD);
+  addColourArrays(rgbaFloat, selection, s.m, outPD);
   return true;
 }
 

@@ -13,11 +13,17 @@
  * - port 0 `Domain`: vtkPolyData, one vertex per sampled voxel at its reduced
  *   coordinates (z = 0 for 2D), with point arrays `RGBA` (uint8, the colour and opacity
  *   the Gaussian widgets give it: the "Gaussian TF Volume" representation's formula),
- *   `WidgetOpacity` (float), `VoxelId` (the voxel's point id) and copies of the input's
- *   other point arrays (the channel intensities; the coordinates and `Features` arrays
- *   are not copied).
+ *   `WidgetOpacity` (float), `DisplayColor` (uint8 RGB: the widget colour over light
+ *   grey by how strongly the shown widgets select the point, the opacity it would have
+ *   if each shown widget's peak opacity were 1), `VoxelId` (the voxel's point id) and
+ *   copies of the input's other point arrays (the channel intensities; the coordinates
+ *   and `Features` arrays are not copied); and the field array `FocusBounds` (xmin, xmax,
+ *   ymin, ymax, zmin, zmax: per axis the sample without the points cut off from the rest
+ *   by a gap wider than 5 % of its 5th-95th percentile range, widened to each shown
+ *   widget's centre +- sigma), which show_dual_domain frames the view on.
  * - port 1 `Widgets`: vtkPolyData, one vertex per Gaussian widget at its centre, with
- *   `Sigma`, `Diameter` (2 sigma, to scale sphere glyphs), `Opacity`, `Color` (RGB float)
+ *   `Sigma`, `Diameter` (2 sigma, to scale sphere glyphs; 0 for a hidden widget, peak
+ *   opacity 0, whose sphere is then not drawn), `Opacity`, `Color` (RGB float)
  *   and `WidgetIndex`.
  *
  * Automatic widgets: with SeedWidgetCount = n > 0 the filter also clusters the sample's

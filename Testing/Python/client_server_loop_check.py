@@ -242,6 +242,8 @@ def run(mce, out, reference, previous=None):
     cloud_ids = cloud.GetPointData().GetArray("VoxelId")
     answers["domain_ids"] = [int(cloud_ids.GetValue(p)) for p in range(cloud.GetNumberOfPoints())]
     answers["domain_points"] = [list(cloud.GetPoint(p)) for p in range(0, cloud.GetNumberOfPoints(), 97)]
+    # the domain view framed on FocusBounds (piece 0's field data, read through the client)
+    answers["domain_focus"] = [float(v) for v in dual.domain_view.CameraFocalPoint]
     marked = mce.probe(display, voxels[len(voxels) // 2])
     marker = simple.FindSource(mce.PROBE_MARKER)
     answers["probe_marker"] = [float(v) for v in marker.Center] if marker else None
@@ -442,6 +444,8 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         "%d points, %d distinct (built-in %d)" % (len(answers["domain_ids"]),
                                                 len(set(answers["domain_ids"])),
                                                 len(reference["domain_ids"])))
+    row("domain framing", T.close(answers["domain_focus"], reference["domain_focus"], COORD_TOLERANCE),
+        "focal point %s" % ["%.3f" % v for v in answers["domain_focus"]])
     row("domain points", T.close(answers["domain_points"], reference["domain_points"],
                                COORD_TOLERANCE))
     row("probe markers", T.close([answers["probe_marker"], answers["probe_voxel_marker"]],

@@ -41,12 +41,31 @@ def _same_background(source_view, view):
             view.SetPropertyWithName(name, have.GetData())
 
 
+def _frame_focus(domain, view):
+    """Frames `view` on the domain's FocusBounds (the sampled points without those cut off
+    from the rest by an empty gap, and the shown widgets' spheres): a few far outlying
+    points would otherwise shrink the dense cloud to a corner. ParaView's Reset Camera still
+    shows every point.
+    Returns the bounds used, or None (no FocusBounds: the view is left as it is)."""
+    info = domain.GetDataInformation(0).GetFieldDataInformation().GetArrayInformation(
+        "FocusBounds")
+    if info is None or info.GetNumberOfComponents() != 6:
+        return None
+    # one tuple (piece 0's; the other pieces have none): each component's range is its value
+    bounds = [info.GetComponentRange(c)[0] for c in range(6)]
+    view.ResetCamera(*bounds)
+    return bounds
+
+
 def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
                      widget_opacity=0.35):
     """Shows the reduced domain beside the volume: splits the volume view's layout cell
     and puts a render view with the domain's point cloud (a sample of `sample_size`
     voxels at their reduced coordinates, coloured by the widgets over grey) and the
-    widgets as translucent spheres (diameter 2 sigma, the widget's colour).
+    widgets as translucent spheres (diameter 2 sigma, the widget's colour). The view is
+    framed on the points without their far outliers (points cut off from the rest by an
+    empty gap) and on the widgets: ReducedDomain's FocusBounds. Reset Camera shows every
+    point, far outliers included.
 
     `target`: a "Gaussian TF Volume" display, or the volume shown as one in
     `volume_view`. While the returned object lives, every change of the display's
@@ -83,6 +102,9 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
         glyph.ScaleArray = ["POINTS", "Diameter"]
         glyph.ScaleFactor = 1.0
         glyph.GlyphMode = "All Points"
+        # smooth spheres: the default 8 x 8 facets read as octagons at figure size
+        glyph.GlyphType.ThetaResolution = 32
+        glyph.GlyphType.PhiResolution = 32
     spheres = simple.Show(glyph, domain_view)
     simple.ColorBy(spheres, ("POINTS", "Color"))
     with _TracedProperties(spheres):
@@ -94,6 +116,8 @@ def show_dual_domain(target, volume_view=None, sample_size=20000, point_size=3,
         rep.SetScalarBarVisibility(domain_view, False)
     simple.ResetCamera(domain_view)
     simple.Render(domain_view)
+    if _frame_focus(domain, domain_view) is not None:
+        simple.Render(domain_view)
 
     follower = None
     if display is not None:
