@@ -212,10 +212,7 @@ struct HarrisPipeline::Impl
 
   bool ensureScores(std::size_t n, std::string* error)
   {
-    void* p = scores;
-    const bool ok = ensure(p, scoresCap, n * sizeof(float), error);
-    scores = static_cast<float*>(p);
-    return ok;
+    return ensureTyped(scores, scoresCap, n, error);
   }
 
   float elapsed(int a, int b)
@@ -293,12 +290,12 @@ struct HarrisPipeline::Impl
 
   // Whether topN prunes (HarrisBound.cuh): as set (Automatic: a volume of at least
   // pruneMinVoxels), on a 3D grid (the planar response has another bound), with the fast
-  // selection (N <= 2048) and a variant with the gate (not variant 8).
+  // selection (N <= kTopNFastMaxN) and a variant with the gate (not variant 8).
   bool canPrune(const HarrisParameters& params, int N) const
   {
     const bool wanted = pruning == Pruning::Always ||
       (pruning == Pruning::Automatic && grid.voxelCount() >= pruneMinVoxels);
-    return wanted && N > 0 && N <= 2048 && variant != detail::kHarrisPairsVariant &&
+    return wanted && N > 0 && N <= detail::kTopNFastMaxN && variant != detail::kHarrisPairsVariant &&
       !kernelGrid(grid).planar && params.kernelWidth / 2 <= detail::kHarrisMaxRadius;
   }
 
@@ -323,7 +320,7 @@ struct HarrisPipeline::Impl
       return false;
     }
     MCV_CUDA_TRY(cudaMemsetAsync(sliceMax, 0, slices * sizeof(unsigned), stream));
-    MCV_CUDA_TRY(cudaMemsetAsync(rowMax, 0, rowMaxBytes(a), stream));
+    MCV_CUDA_TRY(cudaMemsetAsync(rowMax, 0, rowMaxCount(a) * sizeof(unsigned), stream));
     const int radius = params.kernelWidth / 2;
     MCV_CUDA_TRY(inputIsUint8
         ? detail::launchTraceBound(static_cast<const std::uint8_t*>(input), a, radius, sliceMax, stream)
@@ -344,10 +341,11 @@ struct HarrisPipeline::Impl
     return true;
   }
 
-  static std::size_t rowMaxBytes(const detail::HarrisKernelArgs& a)
+  // Row maxima of a launch: one per 32-wide segment of each pair of x rows and slice.
+  static std::size_t rowMaxCount(const detail::HarrisKernelArgs& a)
   {
     const int segments = (a.nx + detail::kHarrisTileX - 1) / detail::kHarrisTileX;
-    return static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments * sizeof(unsigned);
+    return static_cast<std::size_t>((a.ny + 1) / 2) * a.nz * segments;
   }
 
   // The kernel's arguments for the uploaded volume, its score buffer, and with
@@ -376,10 +374,7 @@ struct HarrisPipeline::Impl
     if (withHistogram)
     {
       // One maximum per 32-wide segment of each pair of x rows of the kernel's grid.
-      void* m = rowMax;
-      const bool ok = ensure(m, rowMaxCap, rowMaxBytes(a), error);
-      rowMax = static_cast<unsigned*>(m);
-      if (!ok)
+      if (!ensureTyped(rowMax, rowMaxCap, rowMaxCount(a), error))
       {
         return false;
       }

@@ -358,6 +358,7 @@ __device__ void bitonicSortIndices(long long* idx, int P)
 }
 
 constexpr int kFastMaxN = 2 * kScanThreads; // survivors gathered in one block
+static_assert(kFastMaxN == kTopNFastMaxN, "the header's fast-path limit is this one");
 constexpr int kFastMaxTies = 2048;           // ties at the threshold sortable in one block
 
 __global__ void __launch_bounds__(kScanThreads) finishKernel(const ListEntry* __restrict__ list,

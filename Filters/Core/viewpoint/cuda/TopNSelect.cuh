@@ -41,6 +41,9 @@ namespace cuda
 namespace detail
 {
 
+// The largest N of the fast path (one block gathers the survivors).
+constexpr int kTopNFastMaxN = 2048;
+
 struct SelectState
 {
   unsigned long long total = 0;    // candidates (R > 0, finite)
