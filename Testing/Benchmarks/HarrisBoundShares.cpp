@@ -14,6 +14,12 @@
 // is >= R at every voxel (R from computeHarrisResponseCPU, the product's own function;
 // the bounds in double from the same gradients and taps).
 //
+// Two cheaper block bounds of the same trace bound are counted beside them: the largest
+// x,y-smoothed |g|^2 of the block's output rows in its 2 R + 1 z-neighbourhood of slices
+// (what the GPU's bound kernel, HarrisBound.cu, forms), and the largest raw |g|^2 of the
+// block dilated by R on every side (no smoothing at all: the Gaussian's weighted mean is at
+// most its largest term).
+//
 // Usage: mcvHarrisBoundShares [--sizes 128,256] [--zchunks 8,16,64] [--n 2048]
 
 #include "HarrisResponse.h"
@@ -97,6 +103,15 @@ void measure(int n, const std::vector<int>& zchunks, int topN)
   }
   std::vector<float> taps(static_cast<std::size_t>(params.kernelWidth));
   mcv::gaussianTaps(params, taps.data());
+  // |g|^2 unsmoothed and smoothed along x and y only (the cheaper block bounds)
+  std::vector<double> rawTrace(static_cast<std::size_t>(count));
+  for (std::int64_t i = 0; i < count; ++i)
+  {
+    rawTrace[i] = g2[0][i] + g2[1][i] + g2[2][i];
+  }
+  std::vector<double> xyTrace(rawTrace);
+  smoothAxis(xyTrace, n, 0, taps.data(), params.kernelWidth);
+  smoothAxis(xyTrace, n, 1, taps.data(), params.kernelWidth);
   for (auto& a : g2)
   {
     for (int axis = 0; axis < 3; ++axis)
@@ -131,10 +146,22 @@ void measure(int n, const std::vector<int>& zchunks, int topN)
     n, topN, tau, 100.0 * voxelsT / count, 100.0 * voxelsH / count,
     static_cast<long long>(violations));
   std::printf("| z chunk | blocks (32 x 16 x z) | with a non-zero voxel | trace bound reaches tau | "
-              "Hadamard bound reaches tau |\n|---|---|---|---|---|\n");
+              "Hadamard bound reaches tau | x,y-smoothed trace (the GPU's bound) | raw squared gradient, "
+              "dilated block |\n|---|---|---|---|---|---|---|\n");
+  const int r = params.kernelWidth / 2;
+  const double cubeFactor = 1.0 / 27.0 - params.k;
+  // The largest of `field` over [x0, x1) x [y0, y1) x [z0, z1), clipped to the grid.
+  auto largest = [&](const std::vector<double>& field, int x0, int x1, int y0, int y1, int z0, int z1) {
+    double m = 0;
+    for (int z = std::max(0, z0); z < std::min(n, z1); ++z)
+      for (int y = std::max(0, y0); y < std::min(n, y1); ++y)
+        for (int x = std::max(0, x0); x < std::min(n, x1); ++x)
+          m = std::max(m, field[(static_cast<std::size_t>(z) * n + y) * n + x]);
+    return m;
+  };
   for (int zc : zchunks)
   {
-    std::int64_t blocks = 0, nonEmpty = 0, passT = 0, passH = 0;
+    std::int64_t blocks = 0, nonEmpty = 0, passT = 0, passH = 0, passXY = 0, passRaw = 0;
     for (int z0 = 0; z0 < n; z0 += zc)
     {
       for (int y0 = 0; y0 < n; y0 += 16)
@@ -156,6 +183,11 @@ void measure(int n, const std::vector<int>& zchunks, int topN)
               }
             }
           }
+          const double xy = largest(xyTrace, x0, x0 + 32, y0, y0 + 16, z0 - r, z0 + zc + r);
+          const double raw =
+            largest(rawTrace, x0 - r, x0 + 32 + r, y0 - r, y0 + 16 + r, z0 - r, z0 + zc + r);
+          passXY += xy * xy * xy * cubeFactor >= tau;
+          passRaw += raw * raw * raw * cubeFactor >= tau;
           ++blocks;
           nonEmpty += any;
           passT += maxT >= tau;
@@ -163,8 +195,9 @@ void measure(int n, const std::vector<int>& zchunks, int topN)
         }
       }
     }
-    std::printf("| %d | %lld | %.1f %% | %.1f %% | %.1f %% |\n", zc, static_cast<long long>(blocks),
-      100.0 * nonEmpty / blocks, 100.0 * passT / blocks, 100.0 * passH / blocks);
+    std::printf("| %d | %lld | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f %% |\n", zc,
+      static_cast<long long>(blocks), 100.0 * nonEmpty / blocks, 100.0 * passT / blocks,
+      100.0 * passH / blocks, 100.0 * passXY / blocks, 100.0 * passRaw / blocks);
   }
 }
 
