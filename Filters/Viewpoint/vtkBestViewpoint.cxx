@@ -34,6 +34,7 @@
 #include "../Common/mcvPrintMembers.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -222,6 +223,8 @@ void vtkBestViewpoint::ResetResults()
   {
     t = 0.0;
   }
+  std::fill(this->VisibleBounds, this->VisibleBounds + 6, 0.0);
+  this->VisibleSupport->Initialize();
   this->ViewValid = 0;
   this->NumberOfPointsFound = 0;
   this->NumberOfNonFiniteVoxels = 0;
@@ -504,6 +507,7 @@ int vtkBestViewpoint::RequestMultichannelData(
 
   WorldFrame frame;
   this->PlaceGrid(image, grid, block, frame);
+  this->ComputeVisibleShape(opacity, grid, block, frame);
   mcv::BestViewpointResult result;
   if (!this->ComputeView(opacity, grid, block, frame, result))
   {
@@ -585,6 +589,114 @@ void vtkBestViewpoint::PlaceGrid(
   }
   center = frame.Point(center);
   std::copy(center.begin(), center.end(), this->DataCenter);
+}
+
+namespace
+{
+// The directions of VisibleSupport: the six axes (their support values are the bounds)
+// and 122 more spread evenly over the sphere (a Fibonacci lattice), so that the support
+// points' hull is within ~1 % of the visible voxels' hull seen from any direction.
+std::vector<mcv::Vec3> supportDirections()
+{
+  std::vector<mcv::Vec3> d{ { 1, 0, 0 }, { -1, 0, 0 }, { 0, 1, 0 }, { 0, -1, 0 }, { 0, 0, 1 },
+    { 0, 0, -1 } };
+  const int n = 122;
+  const double golden = std::acos(-1.0) * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i)
+  {
+    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt(1.0 - z * z);
+    d.push_back({ r * std::cos(golden * i), r * std::sin(golden * i), z });
+  }
+  return d;
+}
+
+// The point of `points` furthest along a direction and how far (-inf: none).
+struct Support
+{
+  double value = -HUGE_VAL;
+  double point[3] = { 0, 0, 0 };
+};
+} // namespace
+
+//------------------------------------------------------------------------------
+void vtkBestViewpoint::ComputeVisibleShape(const std::vector<float>& opacity,
+  const mcv::ImageGrid& grid, const mcv::GridPiece& block, const WorldFrame& frame)
+{
+  // The hull of the visible voxels is that of their x rows' ends (world positions).
+  const std::vector<std::array<int, 3>> ends =
+    mcv::ownedRowEndsAtLeast(opacity.data(), grid, block, kVisibleOpacity);
+  std::vector<mcv::Vec3> points(ends.size());
+  for (std::size_t e = 0; e < ends.size(); ++e)
+  {
+    mcv::Vec3 p;
+    for (int a = 0; a < 3; ++a)
+    {
+      p[a] = grid.origin[a] + ends[e][a] * grid.spacing[a];
+    }
+    points[e] = frame.Point(p);
+  }
+  const std::vector<mcv::Vec3> directions = supportDirections();
+  const int count = static_cast<int>(directions.size());
+  std::vector<Support> support(directions.size());
+#pragma omp parallel for schedule(static)
+  for (int d = 0; d < count; ++d)
+  {
+    Support& best = support[static_cast<std::size_t>(d)];
+    for (const mcv::Vec3& p : points)
+    {
+      const double v = p[0] * directions[d][0] + p[1] * directions[d][1] + p[2] * directions[d][2];
+      if (v > best.value)
+      {
+        best.value = v;
+        std::copy(p.begin(), p.end(), best.point);
+      }
+    }
+  }
+  if (const mcv::Communicator* comm = this->GetCommunicator())
+  {
+    if (mcv::isDistributed(comm))
+    {
+      // every process's support, the furthest of them per direction
+      const std::vector<Support> all = mcv::allGatherValues(*comm, support);
+      for (std::size_t i = 0; i < all.size(); ++i)
+      {
+        Support& best = support[i % support.size()];
+        best = all[i].value > best.value ? all[i] : best;
+      }
+    }
+  }
+  this->VisibleSupport->Initialize();
+  this->VisibleSupport->SetNumberOfComponents(3);
+  if (!(support[0].value > -HUGE_VAL))
+  {
+    // No voxel is visible: the input's bounds (its 8 corners through the frame).
+    std::fill(this->VisibleBounds, this->VisibleBounds + 6, 0.0);
+    for (int corner = 0; corner < 8; ++corner)
+    {
+      mcv::Vec3 p;
+      for (int a = 0; a < 3; ++a)
+      {
+        const int index = (corner >> a) & 1 ? block.wholeDims[a] - 1 - block.offset[a] : -block.offset[a];
+        p[a] = grid.origin[a] + index * grid.spacing[a];
+      }
+      p = frame.Point(p);
+      for (int a = 0; a < 3; ++a)
+      {
+        this->VisibleBounds[2 * a] = corner ? std::min(this->VisibleBounds[2 * a], p[a]) : p[a];
+        this->VisibleBounds[2 * a + 1] = corner ? std::max(this->VisibleBounds[2 * a + 1], p[a]) : p[a];
+      }
+    }
+    return;
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    this->VisibleBounds[2 * a] = 0.0 - support[2 * a + 1].value; // along -axis (0 - : no -0)
+    this->VisibleBounds[2 * a + 1] = support[2 * a].value;
+  }
+  for (const Support& s : support)
+  {
+    this->VisibleSupport->InsertNextTuple(s.point);
+  }
 }
 
 //------------------------------------------------------------------------------

@@ -41,7 +41,9 @@
 #include "mcvEnumPropertyMacro.h"      // for mcvEnumPropertyMacro
 #include "mcvFiltersViewpointModule.h" // for export macro
 #include "mcvPolyDataOutputMacro.h" // for mcvPolyDataOutputMacro
+#include "vtkDoubleArray.h" // for vtkDoubleArray ivar
 #include "vtkGaussianWidgetsAlgorithm.h"
+#include "vtkNew.h" // for vtkNew ivar
 
 #include <string> // for std::string
 #include <vector> // for std::vector
@@ -155,8 +157,22 @@ public:
   vtkGetVector3Macro(EigenvalueSpectrum, double);
   /** Mean of the interest points (HarrisPCA) or centre of the method's estimate. */
   vtkGetVector3Macro(ViewCenter, double);
-  /** Centre of the input's bounds (world coordinates): the camera's focal point. */
+  /** Centre of the input's bounds (world coordinates). */
   vtkGetVector3Macro(DataCenter, double);
+  /**
+   * Bounds (xmin, xmax, ymin, ymax, zmin, zmax, world coordinates) of the voxels whose
+   * opacity is at least kVisibleOpacity (1 %): what the picture shows, which the helpers
+   * fit the camera to. The input's bounds when no voxel is that opaque.
+   */
+  vtkGetVector6Macro(VisibleBounds, double);
+  /**
+   * Support points of the same voxels (3 components): for each of 128 directions spread
+   * over the sphere, the visible voxel furthest along it (world position). Their hull is
+   * within ~1 % of the visible voxels' hull from any direction, so the helpers fit the
+   * camera to the picture's silhouette, not to a box. Empty when no voxel is visible.
+   */
+  vtkDoubleArray* GetVisibleSupport() { return this->VisibleSupport; }
+  static constexpr float kVisibleOpacity = 0.01f;
   /** 1 when the directions are meaningful, 0 (with a warning) otherwise. */
   vtkGetMacro(ViewValid, int);
   /** Number of interest points found (HarrisPCA). */
@@ -198,6 +214,9 @@ protected:
   // that axis of the frame), the frame itself and DataCenter, the whole volume's centre.
   void PlaceGrid(
     vtkImageData* image, mcv::ImageGrid& grid, const mcv::GridPiece& block, WorldFrame& frame);
+  // VisibleBounds and VisibleSupport from the opacity volume, over every process.
+  void ComputeVisibleShape(const std::vector<float>& opacity, const mcv::ImageGrid& grid,
+    const mcv::GridPiece& block, const WorldFrame& frame);
   // The core on the opacity volume; the view directions, centre and timings kept in world
   // coordinates. False after an error was reported.
   bool ComputeView(const std::vector<float>& opacity, const mcv::ImageGrid& grid,
@@ -236,6 +255,8 @@ protected:
   double EigenvalueSpectrum[3] = { 0, 0, 0 };
   double ViewCenter[3] = { 0, 0, 0 };
   double DataCenter[3] = { 0, 0, 0 };
+  double VisibleBounds[6] = { 0, 0, 0, 0, 0, 0 };
+  vtkNew<vtkDoubleArray> VisibleSupport;
   int ViewValid = 0;
   int NumberOfPointsFound = 0;
   vtkIdType NumberOfNonFiniteVoxels = 0;

@@ -563,3 +563,17 @@ def image_ok(mce, path, checker, label, min_stddev=8.0, min_fraction=0.05):
                   "%s: screenshot not blank (luminance stddev %.1f, %.0f%% non-background)"
                   % (label, stats["stddev"], 100 * stats["non_background_fraction"]))
     return stats
+
+
+def support_directions():
+    """The 128 directions of BestViewpoint's VisibleSupport, in its order: the six axes,
+    then 122 on a Fibonacci lattice (vtkBestViewpoint.cxx, supportDirections)."""
+    import math
+    n = 122
+    golden = math.pi * (3.0 - math.sqrt(5.0))
+    directions = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+    for i in range(n):
+        z = 1.0 - (2.0 * i + 1.0) / n
+        r = math.sqrt(1.0 - z * z)
+        directions.append((r * math.cos(golden * i), r * math.sin(golden * i), z))
+    return directions

@@ -99,6 +99,9 @@ def main():
     timings["read+view"] = timed(view)
     view.UpdatePropertyInformation()
     direction = [float(x) for x in view.GetPropertyValue("BestViewDirection")]
+    visible_bounds = [float(x) for x in view.GetPropertyValue("VisibleBounds")]
+    flat = [float(x) for x in view.GetProperty("VisibleSupport")]
+    support = [flat[i:i + 3] for i in range(0, len(flat), 3)]
 
     if args.thin:
         sub = merged  # each process's block: ghost layers around a piece it may not own
@@ -144,7 +147,8 @@ def main():
         assert R == 1, "the reference run is one process"
         os.makedirs(args.reference, exist_ok=True)
         image = reduction.GetClientSideObject().GetOutputDataObject(0)
-        info = {"direction": direction, "origin": list(image.GetOrigin()),
+        info = {"direction": direction, "visible_bounds": visible_bounds, "support": support,
+                "origin": list(image.GetOrigin()),
                 "spacing": list(image.GetSpacing()), "dims": list(image.GetDimensions()),
                 "features": image.GetPointData().GetArray("Features").GetNumberOfComponents(),
                 "timings": timings}
@@ -188,6 +192,15 @@ def main():
     angle = T.angle_deg(direction, ref["direction"], unsigned=True)
     C.check(angle <= 0.5, "best view direction within 0.5 deg of one process (%.2e deg)"
             % angle)
+    C.check(visible_bounds == ref["visible_bounds"],
+            "VisibleBounds equal one process's: %s" % visible_bounds)
+    # each direction's furthest visible voxel: as far along it as one process's (a tie may
+    # pick another voxel at that distance)
+    gaps = [abs(sum((p[a] - r[a]) * d[a] for a in range(3)))
+            for p, r, d in zip(support, ref["support"], T.support_directions())]
+    C.check(len(support) == len(ref["support"]) == 128 and max(gaps) <= 1e-6,
+            "VisibleSupport reaches as far as one process's along each of its %d directions "
+            "(largest difference %.1e)" % (len(support), max(gaps) if gaps else -1))
 
     # Every process's piece, brought to the first one, placed by its extent.
     dims = ref["dims"]

@@ -2,6 +2,7 @@
 #include "TypedChannel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -178,6 +179,47 @@ std::size_t countOwnedAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold)
 {
   return countOwned(block, piece, [&](std::size_t v) { return opacity[v] >= threshold; });
+}
+
+std::vector<std::array<int, 3>> ownedRowEndsAtLeast(
+  const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold)
+{
+  const std::size_t dx = static_cast<std::size_t>(block.dims[0]);
+  const std::size_t dy = static_cast<std::size_t>(block.dims[1]);
+  const int k0 = piece.ownedLo[2], slices = std::max(0, piece.ownedHi[2] - k0 + 1);
+  std::vector<std::vector<std::array<int, 3>>> perSlice(static_cast<std::size_t>(slices));
+#pragma omp parallel for schedule(static)
+  for (int s = 0; s < slices; ++s)
+  {
+    const int k = k0 + s;
+    for (int j = piece.ownedLo[1]; j <= piece.ownedHi[1]; ++j)
+    {
+      const float* row = opacity + (static_cast<std::size_t>(k) * dy + j) * dx;
+      int first = -1, last = -1;
+      for (int i = piece.ownedLo[0]; i <= piece.ownedHi[0]; ++i)
+      {
+        if (row[i] >= threshold)
+        {
+          first = first < 0 ? i : first;
+          last = i;
+        }
+      }
+      if (first >= 0)
+      {
+        perSlice[static_cast<std::size_t>(s)].push_back({ first, j, k });
+        if (last != first)
+        {
+          perSlice[static_cast<std::size_t>(s)].push_back({ last, j, k });
+        }
+      }
+    }
+  }
+  std::vector<std::array<int, 3>> ends;
+  for (const auto& slice : perSlice)
+  {
+    ends.insert(ends.end(), slice.begin(), slice.end());
+  }
+  return ends;
 }
 
 } // namespace mcv

@@ -4,6 +4,7 @@
 #include "ChannelView.h"
 #include "GridPiece.h"
 
+#include <array>
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -40,6 +41,12 @@ std::size_t countNonFiniteVoxels(
 // The voxels of a block that its process owns and whose opacity is at least `threshold`
 // (summed over processes, each voxel of the volume counts once).
 std::size_t countOwnedAtLeast(
+  const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold);
+
+// The first and last voxel (block indices i, j, k) of every x row of the voxels the process
+// owns whose opacity is at least `threshold` (rows without one left out, rows in k, j
+// order): the bounds and the convex hull of those voxels are those of these ends.
+std::vector<std::array<int, 3>> ownedRowEndsAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold);
 
 } // namespace mcv

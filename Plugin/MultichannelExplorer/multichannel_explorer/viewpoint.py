@@ -28,7 +28,9 @@ class ViewpointResult(dict):
 
     Keys: ``direction`` (unit vector the camera looks along), ``which``, ``best``,
     ``worst``, ``view_up``, ``eigenvalues`` (descending, sum 1), ``center`` (focal
-    point), ``valid``, ``device``, ``filter`` (the BestViewpoint proxy), ``entropies``
+    point: the middle of the visible voxels once the camera is set, else the volume's
+    centre), ``visible_bounds`` (the filter's VisibleBounds), ``valid``,
+    ``device``, ``filter`` (the BestViewpoint proxy), ``entropies``
     ({"+": bits, "-": bits} when disambiguate=True, else None), ``sign`` (+1 or -1
     relative to the filter's direction), ``camera_position``.
     """
@@ -92,6 +94,48 @@ def _vec(proxy, name):
     return [float(x) for x in proxy.GetPropertyValue(name)]
 
 
+def _fit_camera(view, points, direction, view_up, margin=1.15):
+    """Points the camera of `view` along `direction` (view-up `view_up`) at the middle of
+    `points` (world positions: the visible voxels' support points) and as close as they
+    allow: every point inside the view, the widest with `margin` (1.15: 15 %) to spare.
+    Perspective: from the view angle and the view's aspect; parallel projection: the
+    parallel scale. Renders the view."""
+    w = _normalized(direction)
+    u = _normalized([c - _dot(view_up, w) * d for c, d in zip(view_up, w)])
+    r = _cross(w, u)
+    frame = [(_dot(p, r), _dot(p, u), _dot(p, w)) for p in points]
+    middle = [(min(c[a] for c in frame) + max(c[a] for c in frame)) / 2.0 for a in range(3)]
+    focal = [middle[0] * r[i] + middle[1] * u[i] + middle[2] * w[i] for i in range(3)]
+    rel = [(x - middle[0], y - middle[1], z - middle[2]) for x, y, z in frame]
+    width, height = [max(1, int(v)) for v in view.ViewSize]
+    aspect = float(width) / height
+    size = max(max(abs(x), abs(y), abs(z)) for x, y, z in rel) or 1.0
+    # the camera stays in front of every point
+    nearest = max(-z for _, _, z in rel) + 0.05 * size
+    if view.CameraParallelProjection:
+        view.CameraParallelScale = margin * max(max(abs(y), abs(x) / aspect) for x, y, _ in rel)
+        distance = max(nearest, 4 * size)
+    else:
+        t = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
+        distance = max(max(margin * max(abs(y), abs(x) / aspect) / t - z for x, y, z in rel),
+                       nearest)
+    simple = _simple()
+    # paraview.simple resets the camera at the session's first Render: not this one's
+    getattr(simple, "_DisableFirstRenderCameraReset", lambda: None)()
+    _place_camera(view, focal, w, distance, u)
+    simple.Render(view)
+
+
+def _visible_points(bvp):
+    """The BestViewpoint filter's VisibleSupport as points, else the corners of its
+    VisibleBounds."""
+    flat = [float(v) for v in bvp.GetProperty("VisibleSupport")]
+    if len(flat) >= 3:
+        return [flat[i:i + 3] for i in range(0, len(flat) - 2, 3)]
+    b = _vec(bvp, "VisibleBounds")
+    return [[b[(c & 1)], b[2 + ((c >> 1) & 1)], b[4 + ((c >> 2) & 1)]] for c in range(8)]
+
+
 def set_camera_direction(view, center, direction, view_up, fill=True):
     """Points the camera of `view` along `direction` (from the camera towards `center`),
     with `view_up`, keeping the current distance; then resets the camera so the visible
@@ -133,8 +177,10 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
       Scalar Opacity Function (and colouring array) unless they are given.
     * which="best": the camera looks along v3 (least variance of the interest points);
       which="worst": along v1. View-up is v2 in both cases.
-    * The focal point is the volume's centre; the camera is then reset (direction kept)
-      so the data fills the view, and the view is rendered.
+    * The camera is fitted (direction kept) to the voxels the picture shows (opacity of
+      at least 1 %; the filter's VisibleSupport, their silhouette from any direction):
+      centred on them, as close as lets every one stay in view with a 15 % margin; the
+      view is rendered.
     * disambiguate=True: v and -v are equally good by variance; both are rendered and
       the one whose image has the higher luminance entropy is kept.
 
@@ -159,13 +205,15 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
     up = _vec(bvp, "ViewUp")
     eig = _vec(bvp, "EigenvalueSpectrum")
     center = _vec(bvp, "DataCenter")
+    visible = _vec(bvp, "VisibleBounds")
+    silhouette = _visible_points(bvp)
     valid = bool(bvp.GetPropertyValue("ViewValid"))
     device = bvp.GetPropertyValue("DeviceUsed")
     direction = best if which == "best" else worst
     result = ViewpointResult(
         direction=direction, which=which, best=best, worst=worst, view_up=up,
-        eigenvalues=eig, center=center, valid=valid, device=device, filter=bvp,
-        entropies=None, sign=1, camera_position=None)
+        eigenvalues=eig, center=center, visible_bounds=visible, valid=valid, device=device,
+        filter=bvp, entropies=None, sign=1, camera_position=None)
     if not valid or sum(d * d for d in direction) < 0.5:
         _warn("no %s view direction for this volume (flat or constant opacity?): "
               "the camera was not changed" % which)
@@ -176,13 +224,15 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
     if disambiguate:
         entropies = {}
         for s, key in ((1, "+"), (-1, "-")):
-            set_camera_direction(view, center, [s * d for d in direction], up)
+            _fit_camera(view, silhouette, [s * d for d in direction], up)
             entropies[key] = _render_entropy(view)
         result["entropies"] = entropies
         sign = 1 if entropies["+"] >= entropies["-"] else -1
     final = [sign * d for d in direction]
-    set_camera_direction(view, center, final, up)
+    _fit_camera(view, silhouette, final, up)
     result["direction"] = final
+    result["center"] = [float(p) for p in view.CameraFocalPoint]
+    result["visible_bounds"] = visible
     result["sign"] = sign
     result["camera_position"] = [float(p) for p in view.CameraPosition]
     return result
