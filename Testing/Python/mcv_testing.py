@@ -512,6 +512,10 @@ def dot(a, b):
     return sum(x * y for x, y in zip(a, b))
 
 
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
 def unit(v):
     n = norm(v)
     return [x / n for x in v] if n > 0 else [0.0 for _ in v]

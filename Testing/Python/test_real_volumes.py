@@ -74,9 +74,17 @@ def run_volume(label, source):
             "%s: camera looks along the best direction (%.4f deg)" % (label, T.angle_deg(cam, best)))
     C.check(T.angle_deg([float(x) for x in view.CameraViewUp], up) < 0.01,
             "%s: camera view-up = ViewUp" % label)
-    centre = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
-    C.check(B.max(B.abs(float(f) - c) for f, c in zip(view.CameraFocalPoint, centre)) < 1e-6,
-            "%s: focal point at the volume centre" % label)
+    # The camera is fitted to what the picture shows (the visible voxels' support points):
+    # their extents along the view's right and up axes are centred on the focal point.
+    flat = [float(v) for v in bvp.GetProperty("VisibleSupport")]
+    focal = [float(f) for f in view.CameraFocalPoint]
+    up_axis = [float(u) for u in view.CameraViewUp]
+    right = T.cross(cam, up_axis)
+    offsets = [[T.dot([flat[i + a] - focal[a] for a in range(3)], axis) for i in range(0, len(flat), 3)]
+               for axis in (right, up_axis)]
+    size = B.max(bounds[2 * a + 1] - bounds[2 * a] for a in range(3))
+    C.check(len(flat) == 3 * 128 and B.all(B.abs(B.max(o) + B.min(o)) < 1e-6 * size for o in offsets),
+            "%s: the visible voxels are centred on the focal point across and up the view" % label)
     shot = os.path.join(out, "%s_best.png" % label)
     SaveScreenshot(shot, view)
     T.image_ok(mce, shot, C, label + " best")
