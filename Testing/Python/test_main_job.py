@@ -262,8 +262,11 @@ if C.check(camera is not None, "report: best_camera recorded"):
     glow = outside & (np.abs(best_rgb - background).max(axis=2) > 2)
     print("silhouette covers %d of %d pixels; %d pixels outside it are not the background %s"
           % (silhouette.sum(), w * h, glow.sum(), background.tolist()))
-    C.check(silhouette.sum() > 0.05 * w * h and outside.sum() > 0.2 * w * h,
-            "the brain's silhouette is neither empty nor everything")
+    # the best view is fitted to what it shows (the brain fills ~3/4 of the picture), so the
+    # pixels left outside the silhouette to look for a glow are fewer, still thousands
+    C.check(silhouette.sum() > 0.05 * w * h and outside.sum() > 0.05 * w * h,
+            "the brain's silhouette is neither empty nor everything (%.0f %% of the picture "
+            "outside it, axes and legend corners left out)" % (100.0 * outside.sum() / (w * h)))
     C.check(glow.sum() <= 0.001 * outside.sum(),
             "no glow around the head: %d pixels outside the brain's silhouette differ from "
             "the background" % glow.sum())
