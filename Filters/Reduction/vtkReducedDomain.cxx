@@ -540,18 +540,13 @@ bool vtkReducedDomain::WriteDomain(
   const mcv::CoordinateView view{ s.packed.data(), static_cast<std::size_t>(s.m), s.dims };
   const mcv::TransferFunctionRun run =
     mcv::applyGaussianWidgets(view, widgets.widgets, rgbaFloat.data(), mcv::Device::CPU);
-  std::vector<float> selectionRgba(rgbaFloat.size());
-  const mcv::TransferFunctionRun selectionRun = mcv::applyGaussianWidgets(
-    view, selectingWidgets(widgets.widgets), selectionRgba.data(), mcv::Device::CPU);
+  std::vector<float> selection(static_cast<std::size_t>(s.m));
+  const mcv::TransferFunctionRun selectionRun = mcv::gaussianWidgetOpacity(
+    view, selectingWidgets(widgets.widgets), selection.data(), mcv::Device::CPU);
   if (!run.ok() || !selectionRun.ok())
   {
     vtkErrorMacro(<< (run.ok() ? selectionRun.error : run.error));
     return false;
-  }
-  std::vector<float> selection(static_cast<std::size_t>(s.m));
-  for (std::size_t i = 0; i < selection.size(); ++i)
-  {
-    selection[i] = selectionRgba[4 * i + 3];
   }
   this->UpdateProgress(0.5);
 
