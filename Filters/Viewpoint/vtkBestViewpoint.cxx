@@ -622,9 +622,10 @@ struct Support
 void vtkBestViewpoint::ComputeVisibleShape(const std::vector<float>& opacity,
   const mcv::ImageGrid& grid, const mcv::GridPiece& block, const WorldFrame& frame)
 {
-  // The hull of the visible voxels is that of their x rows' ends (world positions).
+  // The hull of the visible voxels is that of a few of them (their rows' ends on each
+  // slice's hull), taken to world positions.
   const std::vector<std::array<int, 3>> ends =
-    mcv::ownedRowEndsAtLeast(opacity.data(), grid, block, kVisibleOpacity);
+    mcv::ownedHullCandidatesAtLeast(opacity.data(), grid, block, kVisibleOpacity);
   std::vector<mcv::Vec3> points(ends.size());
   for (std::size_t e = 0; e < ends.size(); ++e)
   {

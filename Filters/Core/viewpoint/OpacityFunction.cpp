@@ -181,7 +181,45 @@ std::size_t countOwnedAtLeast(
   return countOwned(block, piece, [&](std::size_t v) { return opacity[v] >= threshold; });
 }
 
-std::vector<std::array<int, 3>> ownedRowEndsAtLeast(
+namespace
+{
+// The vertices of the 2D convex hull of one slice's row ends (points (i, j, k) of one k,
+// in j then i order), in place: Andrew's monotone chain on (j, i), collinear points left
+// out. The slice's other ends lie inside that hull, so no direction reaches further there.
+void keepSliceHull(std::vector<std::array<int, 3>>& ends)
+{
+  if (ends.size() < 3)
+  {
+    return;
+  }
+  auto turn = [](const std::array<int, 3>& o, const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    return static_cast<long long>(a[1] - o[1]) * (b[0] - o[0]) -
+      static_cast<long long>(a[0] - o[0]) * (b[1] - o[1]);
+  };
+  std::vector<std::array<int, 3>> hull(2 * ends.size());
+  std::size_t h = 0;
+  for (std::size_t p = 0; p < ends.size(); ++p) // lower chain
+  {
+    while (h >= 2 && turn(hull[h - 2], hull[h - 1], ends[p]) <= 0)
+    {
+      --h;
+    }
+    hull[h++] = ends[p];
+  }
+  for (std::size_t p = ends.size() - 1, lower = h + 1; p-- > 0;) // upper chain
+  {
+    while (h >= lower && turn(hull[h - 2], hull[h - 1], ends[p]) <= 0)
+    {
+      --h;
+    }
+    hull[h++] = ends[p];
+  }
+  hull.resize(h - 1); // the last point is the first again
+  ends.swap(hull);
+}
+} // namespace
+
+std::vector<std::array<int, 3>> ownedHullCandidatesAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold)
 {
   const std::size_t dx = static_cast<std::size_t>(block.dims[0]);
@@ -213,6 +251,7 @@ std::vector<std::array<int, 3>> ownedRowEndsAtLeast(
         }
       }
     }
+    keepSliceHull(perSlice[static_cast<std::size_t>(s)]);
   }
   std::vector<std::array<int, 3>> ends;
   for (const auto& slice : perSlice)

@@ -43,10 +43,11 @@ std::size_t countNonFiniteVoxels(
 std::size_t countOwnedAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold);
 
-// The first and last voxel (block indices i, j, k) of every x row of the voxels the process
-// owns whose opacity is at least `threshold` (rows without one left out, rows in k, j
-// order): the bounds and the convex hull of those voxels are those of these ends.
-std::vector<std::array<int, 3>> ownedRowEndsAtLeast(
+// The voxels (block indices i, j, k) the process owns whose opacity is at least
+// `threshold` that can be the furthest along some direction: of each x row its first and
+// last such voxel, and of those, per slice k, only the vertices of the slice's 2D convex
+// hull (in k order). The bounds and the convex hull of all such voxels are those of these.
+std::vector<std::array<int, 3>> ownedHullCandidatesAtLeast(
   const float* opacity, const ImageGrid& block, const GridPiece& piece, float threshold);
 
 } // namespace mcv
