@@ -209,6 +209,14 @@ def run(mce, out, reference, previous=None):
     answers["widget_names"] = [str(n) for n in display.GaussianWidgetNames]
     best = mce.apply_best_viewpoint(red, view)
     answers["best_view"] = [float(v) for v in best.direction]
+    # A shown widget hidden by its name (edit_widget), the best view of what is left, and
+    # the widget shown again (the picture and what follows as before).
+    shown = [n for i, n in enumerate(answers["widget_names"]) if answers["widgets"][8 * i + 7] > 0]
+    mce.edit_widget(display, shown[0], shown=False)
+    answers["edited_widgets"] = [float(v) for v in display.GaussianWidgets]
+    answers["edited_best_view"] = [float(v) for v in mce.apply_best_viewpoint(red, view).direction]
+    mce.edit_widget(display, shown[0], shown=True)
+    mce.apply_best_viewpoint(red, view)
     stage("picture")
     picture = os.path.join(out, "picture.png" if reference else "picture_compare.png")
     # The volume is compared; the widget legend's rows differ (a client of a remote render
@@ -424,6 +432,10 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         str(answers["widget_names"]))
     row("best view", T.close(answers["best_view"], reference["best_view"], 1e-3),
         str(["%.4f" % v for v in answers["best_view"]]))
+    row("edit_widget, its best view",
+        T.close(answers["edited_widgets"], reference["edited_widgets"], 1e-3) and
+        T.close(answers["edited_best_view"], reference["edited_best_view"], 1e-3),
+        str(["%.4f" % v for v in answers["edited_best_view"]]))
     diff = T.picture_difference(ref_picture, picture)
     why = ""
     if answers.get("remote_rendering_available") is False:

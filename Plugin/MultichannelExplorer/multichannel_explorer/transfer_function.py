@@ -10,6 +10,7 @@ from ._common import _TracedProperties, _check_parallel_rendering, _is_represent
 __all__ = [
     "GAUSSIAN_TF_REPRESENTATION",
     "check_widget_values",
+    "edit_widget",
     "show_gaussian_tf",
 ]
 
@@ -48,6 +49,21 @@ def _gaussian_tf_display(source, view):
     except AttributeError:
         return None
     return rep
+
+
+def _gaussian_display(display, what):
+    """`display` when it is a Gaussian TF Volume representation, else ValueError."""
+    # Every image-data display carries the GaussianWidgets property: the representation
+    # type says whether the widgets are what it draws.
+    shown = None
+    if display is not None and _is_representation(display) and \
+            display.GetProperty("GaussianWidgets") is not None:
+        shown = display.SMProxy.GetProperty("Representation").GetElement(0)
+        if shown == GAUSSIAN_TF_REPRESENTATION:
+            return display
+    raise ValueError("%s needs a \"%s\" display (a representation proxy), not %s"
+                     % (what, GAUSSIAN_TF_REPRESENTATION,
+                        "a display shown as %s" % shown if shown else repr(display)))
 
 
 def _widget_values(display):
@@ -149,9 +165,9 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     coordinates; ``blend``: "Composite" or "Maximum Intensity"; ``classification``:
     "Per sample" (the widgets evaluated at every ray sample in the GPU ray caster's
     shader, at most 64 widgets) or "Per voxel" (an RGBA array per voxel, CPU or CUDA).
-    Edit the widgets later with ``display.GaussianWidgets = [...]`` and ``Render()``: per
-    sample only shader uniforms change, per voxel only the colours are recomputed; the
-    volume is not delivered again::
+    Edit the widgets later with ``display.GaussianWidgets = [...]`` (or one of them with
+    edit_widget) and ``Render()``: per sample only shader uniforms change, per voxel only
+    the colours are recomputed; the volume is not delivered again::
 
         display = mce.show_gaussian_tf(reduction, view,
                                        widgets=[(0.2, 0.1, 0, 0.05, 1, 0, 0, 1),
@@ -182,3 +198,89 @@ def show_gaussian_tf(source, view=None, widgets=(), coordinates="ReducedCoordina
     if empty:
         simple.ResetCamera(view)
     return display
+
+
+def _widget_index(names, count, which):
+    """The index of widget `which` (a name of GaussianWidgetNames or an index, negative
+    from the end) among `count` widgets; ValueError naming the choices when there is none."""
+    if isinstance(which, str):
+        matches = [i for i, n in enumerate(names[:count]) if n == which]
+        if len(matches) == 1:
+            return matches[0]
+        if matches:
+            raise ValueError("%d widgets are named %r (widgets %s): give the index"
+                             % (len(matches), which, ", ".join(map(str, matches))))
+        raise ValueError("no widget is named %r; the widgets are %s" % (
+            which, ", ".join("%d %r" % (i, n) for i, n in enumerate(names[:count])) or
+            "none"))
+    index = int(which)
+    if not -count <= index < count:
+        raise ValueError("widget %d does not exist: the display has %d widget%s"
+                         % (index, count, "" if count == 1 else "s"))
+    return index % count
+
+
+def edit_widget(target, which, center=None, sigma=None, color=None, opacity=None,
+                shown=None, name=None, view=None):
+    """Changes one Gaussian widget of `target` (a "Gaussian TF Volume" display, or the
+    volume shown as one in `view`) and returns it (8 numbers, as in GaussianWidgets).
+    `which` is the widget's name (GaussianWidgetNames, e.g. the names auto_widgets gives)
+    or its index (0 is the first, -1 the last). Only what is given changes: `center` (2 or
+    3 reduced coordinates), `sigma`, `color` (r, g, b in [0, 1]), `opacity` (the peak
+    opacity, in [0, 1]), `name`. A hidden widget (the editor's check box, or the cluster of
+    most voxels that auto_widgets seeds hidden) draws nothing: `opacity` sets the opacity
+    it gets back when shown; `shown=True` shows it, `shown=False` hides a shown one (as the
+    editor does: opacity 0 in GaussianWidgets, its opacity kept in GaussianWidgetsHidden).
+    The widgets change in one property update, so follow_best_viewpoint and the reduced
+    domain see the edit once::
+
+        mce.edit_widget(display, 0, color=(0.9, 0.1, 0.1), opacity=0.3)
+        mce.edit_widget(display, 0, shown=False)    # hidden: the camera may turn
+        mce.edit_widget(display, 0, shown=True)     # back, at opacity 0.3
+    """
+    display = _gaussian_display(_source_and_display(target, view)[1], "edit_widget")
+    values = _widget_values(display)
+    count = len(values) // len(WIDGET_FIELDS)
+    names = [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+    index = _widget_index(names, count, which)
+    hidden = [float(v) for v in display.GetProperty("GaussianWidgetsHidden")]
+    if len(hidden) != count:  # the editor ignores a list that does not match: all shown
+        hidden = [-1.0] * count
+    widget = values[8 * index:8 * index + 8]
+    if center is not None:
+        center = [float(c) for c in center]
+        if len(center) not in (2, 3):
+            raise ValueError("a widget's centre is 2 or 3 numbers, not %r" % (center,))
+        widget[0:3] = (center + [0.0])[:3]
+    if sigma is not None:
+        if not float(sigma) > 0:
+            raise ValueError("a widget's sigma is positive, not %r" % (sigma,))
+        widget[3] = float(sigma)
+    if color is not None:
+        color = [float(c) for c in color]
+        if len(color) != 3 or not all(0 <= c <= 1 for c in color):
+            raise ValueError("a widget's colour is 3 numbers in [0, 1], not %r" % (color,))
+        widget[4:7] = color
+    if opacity is not None and not 0 <= float(opacity) <= 1:
+        raise ValueError("a widget's opacity is in [0, 1], not %r" % (opacity,))
+    is_hidden = hidden[index] >= 0
+    peak = float(opacity) if opacity is not None else \
+        (hidden[index] if is_hidden else widget[7])
+    if shown is None:
+        shown = not is_hidden
+    widget[7] = peak if shown else 0.0
+    hidden[index] = -1.0 if shown else peak
+    values[8 * index:8 * index + 8] = widget
+    check_widget_values(widget, "edit_widget", None, first=index)
+    if name is not None:
+        names = (names + [""] * count)[:count]
+        names[index] = str(name)
+    # In one call, as add_widget_at: observers (show_dual_domain, follow_best_viewpoint)
+    # see the whole edit once.
+    with _TracedProperties(display):  # recorded in a trace being recorded
+        display.GaussianWidgetsHidden = hidden if any(h >= 0 for h in hidden) else []
+        if name is not None:
+            display.GaussianWidgetNames = names
+        display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
+        display.SMProxy.UpdateVTKObjects()
+    return widget

@@ -29,10 +29,10 @@ import json
 import math
 import os
 
-from ._common import _is_representation, _simple
+from ._common import _simple
 from .models import _reduction_of, read_model, save_model
-from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, WIDGET_FIELDS,
-                                _coordinates_name, check_widget_values, show_gaussian_tf)
+from .transfer_function import (WIDGET_FIELDS, _coordinates_name, _gaussian_display,
+                                check_widget_values, show_gaussian_tf)
 
 __all__ = [
     "TRANSFER_FUNCTION_FORMAT",
@@ -47,21 +47,6 @@ __all__ = [
 TRANSFER_FUNCTION_FORMAT = "multichannel-explorer-transfer-function"
 TRANSFER_FUNCTION_VERSION = 1
 _EXTENSION = ".mcvtf"
-
-
-def _gaussian_display(display, what):
-    """`display` when it is a Gaussian TF Volume representation, else ValueError."""
-    # Every image-data display carries the GaussianWidgets property: the representation
-    # type says whether the widgets are what it draws.
-    shown = None
-    if display is not None and _is_representation(display) and \
-            display.GetProperty("GaussianWidgets") is not None:
-        shown = display.SMProxy.GetProperty("Representation").GetElement(0)
-        if shown == GAUSSIAN_TF_REPRESENTATION:
-            return display
-    raise ValueError("%s needs a \"%s\" display (a representation proxy), not %s"
-                     % (what, GAUSSIAN_TF_REPRESENTATION,
-                        "a display shown as %s" % shown if shown else repr(display)))
 
 
 def _hidden_list(display):
