@@ -13,7 +13,6 @@ Writes best.png (camera along v3, the direction of least variance of the 3D Harr
 interest points), worst.png (along v1), best_points.png (best view with the interest
 points over the volume) and best_viewpoint.json; prints the directions and eigenvalues.
 """
-import argparse
 import json
 import os
 import sys
@@ -22,15 +21,19 @@ import time
 from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from example_support import DATA, load_plugin, render_view, require  # noqa: E402
+from example_support import DATA, argument_parser, load_plugin, render_view, require  # noqa: E402
 
 
-parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-parser.add_argument("volume", nargs="?",
-                    default=os.path.join(DATA, "ch2.nii.gz"))
-parser.add_argument("output", nargs="?", default=os.path.join("output", "best_viewpoint"))
-parser.add_argument("--plugin", default=None)
-parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"))
+parser = argument_parser(__doc__)
+parser.add_argument("volume", nargs="?", default=os.path.join(DATA, "ch2.nii.gz"),
+                    help="a volume ParaView reads as image data")
+parser.add_argument("output", nargs="?", default=os.path.join("output", "best_viewpoint"),
+                    help="where the images go")
+parser.add_argument("--plugin", default=None,
+                    help="the MultichannelExplorer plugin library (none: $MCV_PLUGIN, then "
+                         "PV_PLUGIN_PATH, then build*/ of this repository)")
+parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"),
+                    help="the pictures' size in pixels")
 args = parser.parse_args(sys.argv[1:])
 
 require(args.volume)

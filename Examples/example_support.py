@@ -10,6 +10,25 @@ REPO = os.path.dirname(HERE)
 DATA = os.environ.get("MCV_DATA_DIR") or os.path.join(REPO, ".cache", "volumes")
 
 
+def argument_parser(doc):
+    """An argparse parser whose --help shows the script's whole docstring `doc` as written
+    and each option's default (where it has one)."""
+    import argparse
+
+    class Formatter(argparse.RawDescriptionHelpFormatter):
+        def _get_help_string(self, action):
+            # A default worth showing: not None, False (a flag) or a required option's.
+            default = action.default
+            if action.help and "%(default)" not in action.help and not action.required and \
+                    not any(default is v for v in (None, False, argparse.SUPPRESS)):
+                shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) \
+                    else "%(default)s"
+                return "%s (default: %s)" % (action.help, shown)
+            return action.help
+
+    return argparse.ArgumentParser(description=doc, formatter_class=Formatter)
+
+
 def find_plugin(explicit=None):
     """The plugin library: `explicit`, $MCV_PLUGIN, PV_PLUGIN_PATH, <repo>/build*/..."""
     candidates = [explicit, os.environ.get("MCV_PLUGIN")]
