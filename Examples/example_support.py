@@ -17,9 +17,11 @@ def argument_parser(doc):
 
     class Formatter(argparse.RawDescriptionHelpFormatter):
         def _get_help_string(self, action):
-            # A default worth showing: not None, False (a flag) or a required option's.
+            # A default worth showing: not a flag's, None, a required option's or
+            # one the help names already.
             default = action.default
-            if action.help and "%(default)" not in action.help and not action.required and \
+            if action.help and "default" not in action.help and not action.required and \
+                    action.nargs != 0 and \
                     not any(default is v for v in (None, False, argparse.SUPPRESS)):
                 shown = " ".join(map(str, default)) if isinstance(default, (list, tuple)) \
                     else "%(default)s"
@@ -27,6 +29,36 @@ def argument_parser(doc):
             return action.help
 
     return argparse.ArgumentParser(description=doc, formatter_class=Formatter)
+
+
+def add_output_options(parser, output, size, what="the pictures"):
+    """--output (default `output`, none: required), --size W H (default `size`) and
+    --plugin, as every example takes them."""
+    parser.add_argument("--output", default=output, required=output is None, metavar="DIR",
+                        help="the folder of %s" % what)
+    parser.add_argument("--size", type=int, nargs=2, default=list(size), metavar=("W", "H"),
+                        help="the pictures' size in pixels")
+    parser.add_argument("--plugin", default=None,
+                        help="the MultichannelExplorer plugin library (none: $MCV_PLUGIN, "
+                             "then PV_PLUGIN_PATH, then build*/ of this repository)")
+
+
+def add_reduction_options(parser, method, features):
+    """The reduction and the seeded widgets, as the main job and the time-series example
+    take them: --method, --features, --reference-size, --widgets, --widget-opacity."""
+    parser.add_argument("--method", default=method, choices=["PCA", "Isomap", "LLE", "UMAP"],
+                        help="the dimension reduction (Isomap: landmark Isomap)")
+    parser.add_argument("--features", default=features, choices=["6D", "24D"],
+                        help="features per channel: 6D intensity and gradient magnitude (2 "
+                             "per channel), 24D all 8 (intensity, gradient x y z and "
+                             "magnitude, Laplacian, 3x3x3 mean and variance)")
+    parser.add_argument("--reference-size", type=int, default=10000,
+                        help="voxels the embedding is fitted on")
+    parser.add_argument("--widgets", type=int, default=4,
+                        help="number of widgets seeded at k-means clusters")
+    parser.add_argument("--widget-opacity", type=float, default=0.5,
+                        help="the seeded widgets' peak opacity (the cluster of most voxels "
+                             "gets 0.05 of it or starts hidden: auto_widgets)")
 
 
 def find_plugin(explicit=None):

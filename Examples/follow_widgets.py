@@ -14,16 +14,11 @@ from paraview import simple
 from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from example_support import DATA, argument_parser, load_plugin, render_view, require  # noqa: E402
+from example_support import (DATA, add_output_options, argument_parser,  # noqa: E402
+                             load_plugin, render_view, require)
 
 parser = argument_parser(__doc__)
-parser.add_argument("--output", default=os.path.join("output", "follow_widgets"),
-                    help="where the pictures go")
-parser.add_argument("--size", type=int, nargs=2, default=[500, 400], metavar=("W", "H"),
-                    help="the pictures' size in pixels")
-parser.add_argument("--plugin", default=None,
-                    help="the MultichannelExplorer plugin library (none: $MCV_PLUGIN, then "
-                         "PV_PLUGIN_PATH, then build*/ of this repository)")
+add_output_options(parser, os.path.join("output", "follow_widgets"), (500, 400))
 args = parser.parse_args(sys.argv[1:])
 paths = [require(os.path.join(DATA, n)) for n in ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")]
 os.makedirs(args.output, exist_ok=True)

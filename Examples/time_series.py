@@ -30,41 +30,28 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import batch_output as B  # noqa: E402
-from example_support import argument_parser, load_plugin, render_view  # noqa: E402
+from example_support import (add_output_options, add_reduction_options,  # noqa: E402
+                             argument_parser, load_plugin, render_view)
 
 
 def parse_args(argv):
     p = argument_parser(__doc__)
     p.add_argument("--input", nargs="+", required=True, metavar="FILE",
                    help="one file with time steps, or one file per time step in order")
-    p.add_argument("--output", required=True, metavar="DIR", help="the output folder")
+    add_output_options(p, None, (640, 480), "the frames, the movie and report.json")
     p.add_argument("--model", metavar="FILE.mcvmodel",
                    help="a .mcvmodel to apply to every step (none: fit one)")
     p.add_argument("--fit-step", type=int, default=0, metavar="N",
                    help="the time step the reduction is fitted on and the widgets seeded at")
     p.add_argument("--fit-all", action="store_true",
                    help="fit on all time steps (widgets are still seeded at --fit-step)")
-    p.add_argument("--method", default="PCA", choices=("PCA", "Isomap", "LLE", "UMAP"),
-                   help="the dimension reduction")
-    p.add_argument("--features", default="6D", choices=("6D", "24D"),
-                   help="features per channel: 6D intensity and gradient magnitude, 24D all 8")
-    p.add_argument("--reference-size", type=int, default=10000,
-                   help="voxels the embedding is fitted on")
-    p.add_argument("--widgets", type=int, default=4,
-                   help="number of widgets seeded at k-means clusters")
-    p.add_argument("--widget-opacity", type=float, default=0.5,
-                   help="the seeded widgets' peak opacity")
+    add_reduction_options(p, "PCA", "6D")
     p.add_argument("--camera", default="fixed", choices=("fixed", "follow"),
                    help="the fit step's best view in every frame, or a turn to each step's")
     p.add_argument("--turn-frames", type=int, default=6,
                    help='frames of each turn between steps ("follow")')
-    p.add_argument("--size", type=int, nargs=2, default=(640, 480), metavar=("W", "H"),
-                   help="the frames' size in pixels")
     p.add_argument("--movie", default="series.ogv",
                    help="movie file name (.ogv or .avi); none: frames only")
-    p.add_argument("--plugin",
-                   help="the MultichannelExplorer plugin library (none: $MCV_PLUGIN, then "
-                        "PV_PLUGIN_PATH, then build*/ of this repository)")
     return p.parse_args(argv)
 
 

@@ -55,7 +55,6 @@ _EARLY_SIGNALS = []
 for _s in (signal.SIGINT, signal.SIGTERM):
     signal.signal(_s, lambda signum, frame: _EARLY_SIGNALS.append(signum))
 
-import argparse  # noqa: E402
 import os  # noqa: E402
 import resource  # noqa: E402
 import sys  # noqa: E402
@@ -66,13 +65,12 @@ from paraview import servermanager, simple
 from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from example_support import DATA, load_plugin, render_view, require  # noqa: E402
+from example_support import (DATA, add_output_options, add_reduction_options,  # noqa: E402
+                             argument_parser, load_plugin, render_view, require)
 import report_figures  # noqa: E402
 import batch_output as B  # noqa: E402
 
-parser = argparse.ArgumentParser(
-    description=__doc__.split("\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter,
-    epilog=__doc__.split("\n", 2)[2])
+parser = argument_parser(__doc__)
 parser.add_argument("--channels", nargs="+", metavar="VOLUME",
                     default=[os.path.join(DATA, n) for n in
                              ("ch2.nii.gz", "aal.nii.gz", "brodmann.nii.gz")],
@@ -83,52 +81,33 @@ parser.add_argument("--input", metavar="FILE", default=None,
                          "or OME-TIFF (.tif, .ome.tif), an OME-Zarr folder (.zarr), or any "
                          "volume ParaView opens; its point arrays are the channels, its first "
                          "time step is used")
-parser.add_argument("--output", default=os.path.join("output", "transfer_function"),
-                    help="folder of the pictures and report.json (default: %(default)s)")
-parser.add_argument("--features", default="24D", choices=["6D", "24D"],
-                    help="features per channel: 6D intensity and gradient magnitude (2 per "
-                         "channel), 24D all 8 (intensity, gradient x y z and magnitude, "
-                         "Laplacian, 3x3x3 mean and variance; default)")
+add_output_options(parser, os.path.join("output", "transfer_function"), (800, 600),
+                   "the pictures and report.json")
+add_reduction_options(parser, "Isomap", "24D")
 parser.add_argument("--chain", default="fused", choices=["fused", "features"],
-                    help="fused: DimensionReduction on the channels (default); features: "
+                    help="fused: DimensionReduction on the channels; features: "
                          "MultichannelFeatures -> DimensionReduction")
 parser.add_argument("--upsample", type=float, default=1.0, metavar="F",
                     help="resample the channels by F along each axis first (trilinear)")
-parser.add_argument("--method", default="Isomap", choices=["PCA", "Isomap", "LLE", "UMAP"],
-                    help="the dimension reduction (default: %(default)s, landmark Isomap)")
-parser.add_argument("--reference-size", type=int, default=10000,
-                    help="voxels the embedding is fitted on (default 10000)")
-parser.add_argument("--neighbors", type=int, default=10,
-                    help="K of Isomap/LLE (default %(default)s)")
+parser.add_argument("--neighbors", type=int, default=10, help="K of Isomap/LLE")
 parser.add_argument("--umap-neighbors", type=int, default=15,
-                    help="K of UMAP (default 15: see DimensionReduction's NumberOfNeighbors)")
-parser.add_argument("--landmarks", type=int, default=500,
-                    help="L of landmark Isomap (default %(default)s)")
-parser.add_argument("--widgets", type=int, default=4,
-                    help="number of widgets seeded at k-means clusters (default %(default)s)")
-parser.add_argument("--widget-opacity", type=float, default=0.5,
-                    help="the seeded widgets' peak opacity (default %(default)s; the cluster "
-                         "of most voxels gets 0.05 of it or starts hidden: auto_widgets)")
+                    help="K of UMAP (see DimensionReduction's NumberOfNeighbors)")
+parser.add_argument("--landmarks", type=int, default=500, help="L of landmark Isomap")
 parser.add_argument("--blend", default="Composite", choices=["Composite", "Maximum Intensity"],
-                    help="how the ray caster blends the samples (default: %(default)s)")
+                    help="how the ray caster blends the samples")
 parser.add_argument("--device", default="Auto", choices=["Auto", "CPU", "GPU"],
-                    help="where the filters compute (default: %(default)s, the GPU when "
-                         "there is a usable one)")
+                    help="where the filters compute (Auto: the GPU when there is a usable one)")
 parser.add_argument("--float16-coordinates", action="store_true",
                     help="store ReducedCoordinates as float16 (half the memory, ~1/2048 "
                          "relative precision; DimensionReduction's CoordinatePrecision)")
 parser.add_argument("--seed", type=int, default=0,
-                    help="random seed of the reference sample and the k-means (default %(default)s)")
-parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"),
-                    help="the volume pictures' size in pixels (default 800 600)")
-parser.add_argument("--plugin", default=None,
-                    help="MultichannelExplorer.so to load (default: the one in build/)")
+                    help="random seed of the reference sample and the k-means")
 parser.add_argument("--no-methods", dest="methods", action="store_false",
                     help="skip methods.png (PCA, Isomap, LLE and UMAP side by side)")
 parser.add_argument("--methods-stride", type=int, default=3,
-                    help="methods.png: every N-th voxel per axis is reduced (default 3)")
+                    help="methods.png: every N-th voxel per axis is reduced")
 parser.add_argument("--methods-sample", type=int, default=20000,
-                    help="methods.png: voxels drawn per method (default 20000)")
+                    help="methods.png: voxels drawn per method")
 parser.add_argument("--no-memory-check", dest="memory_check", action="store_false",
                     help="skip the job's estimate of its peak memory before it starts (the "
                          "filters still check theirs)")
