@@ -10,6 +10,8 @@
   no flip), over about 0.5 s, ending exactly (1e-6) on the filter's direction up to sign.
 * A new best direction within 90 degrees of the negated camera direction: the camera takes
   -v (the nearer sign) and turns by less than 90 degrees.
+* Widgets off the grid's middle: the turn ends on the middle of the voxels they show
+  (VisibleBounds), not on the grid's centre.
 * turn_camera with an explicit view-up ends on it; opposite directions swing about the up.
 """
 import math
@@ -218,6 +220,19 @@ C.check(result_c.sign == -1 and close(result_c.best, v, 1e-12),
         "new direction within 90 deg of -camera (%.0f deg from -v): the camera takes -v"
         % T.angle_deg(towards, [-x for x in v]))
 check_path("no flip", result_c)
+
+# Widgets off the volume's middle: the turn ends with the focal point in the middle of the
+# voxels they show (the filter's VisibleBounds), not at the grid's centre.
+display.GaussianWidgets = [x + 9.0 if i % 8 < 3 else x
+                           for i, x in enumerate(plane_widgets([1.0, 0.0, 0.0], spread=4.0))]
+result_d = follower.state["result"]
+visible = [float(v) for v in result_d.filter.GetProperty("VisibleBounds")]
+middle = [(visible[2 * a] + visible[2 * a + 1]) / 2.0 for a in range(3)]
+focal = list(camera.GetFocalPoint())
+C.check(close(focal, middle, 1e-6) and min(middle) > 5.0,
+        "off-centre widgets: the camera turns about the middle of what they show %s "
+        "(VisibleBounds %s), not the grid's centre (0, 0, 0)"
+        % (["%.2f" % f for f in focal], ["%.1f" % b for b in visible]))
 follower.stop()
 
 # ---- turn_camera with an explicit view-up; opposite directions -------------------------------

@@ -8,6 +8,8 @@ name or index, and nothing else, in one property update:
   (by a negative index); with no widget hidden the hidden list is empty again;
 * hiding a shown widget keeps its opacity; a new name lands in GaussianWidgetNames; a
   centre of 2 numbers gets cz = 0; a source shown as one in a view is taken too;
+* show_widgets shows the widgets named or indexed (a hidden one at its kept opacity) and
+  hides the others keeping theirs, in one modification; all shown again as they were;
 * bad input (unknown or shared name, index past the end, opacity 1.5, a colour of 2
   numbers, sigma 0, a display of another representation) is a ValueError and leaves the
   widgets as they were.
@@ -73,6 +75,29 @@ got = mce.edit_widget(coords, "right", center=(1.5, -2.5), sigma=0.75, view=view
 C.check(got[:4] == [1.5, -2.5, 0.0, 0.75],
         "a source shown in the view, a 2-number centre (cz 0) and sigma: %s" % got[:4])
 
+# show_widgets: those named shown (a hidden one at its kept opacity), the rest hidden
+# with theirs kept, in one modification; then all shown again as they were.
+count = len(modified)
+start, start_hidden = widgets(), hidden()
+C.check(mce.show_widgets(display, ["gone", 2]) == [0, 2] and len(modified) == count + 1,
+        "show_widgets(['gone', 2]): widgets 0 and 2 shown, one modification")
+C.check([widgets()[8 * i + 7] for i in range(3)] == [0.5, 0.0, 0.6] and
+        hidden() == [-1.0, 0.2, -1.0],
+        "... widget 0 back at 0.5, widget 1 hidden keeping 0.2: %s, %s"
+        % ([widgets()[8 * i + 7] for i in range(3)], hidden()))
+mce.show_widgets(display, range(3))
+C.check([widgets()[8 * i + 7] for i in range(3)] == [0.5, 0.2, 0.6] and hidden() == [],
+        "show_widgets(range(3)): every widget at its opacity, none hidden: %s"
+        % [widgets()[8 * i + 7] for i in range(3)])
+mce.show_widgets(display, [])
+C.check(widgets()[7::8] == [0.0, 0.0, 0.0] and hidden() == [0.5, 0.2, 0.6],
+        "show_widgets([]): all hidden, each opacity kept: %s" % hidden())
+mce.show_widgets(display, "right")
+C.check(widgets()[7::8] == [0.0, 0.2, 0.0] and widgets()[:7] == start[:7],
+        "show_widgets('right'): that one alone, centres and colours untouched")
+display.GaussianWidgetsHidden = start_hidden
+display.GaussianWidgets = start
+
 before, before_hidden, count = widgets(), hidden(), len(modified)
 display.GaussianWidgetNames = ["gone", "right", "right"]
 for which, args, words in [
@@ -88,6 +113,13 @@ for which, args, words in [
     except ValueError as error:
         message = str(error)
     C.check(words in message, "edit_widget(%r, %s) refused: %s" % (which, args, message))
+try:
+    mce.show_widgets(display, [0, "nope"])
+    message = "no error"
+except ValueError as error:
+    message = str(error)
+C.check("no widget is named 'nope'" in message, "show_widgets([0, 'nope']) refused: %s"
+        % message)
 C.check(widgets() == before and hidden() == before_hidden and len(modified) == count,
         "the refused edits changed nothing")
 outline = Show(wavelet, view)

@@ -28,8 +28,9 @@ The package, one module per capability (every public name is also here, at the t
                         stop_following
     images              image_entropy, image_statistics (and PNG reading)
     transfer_function   GAUSSIAN_TF_REPRESENTATION, show_gaussian_tf, edit_widget
-                        (one widget by name or index), check_widget_values (nan,
-                        inf, absurd widget values: an error)
+                        (one widget by name or index), show_widgets (those shown,
+                        the rest hidden), check_widget_values (nan, inf, absurd
+                        widget values: an error)
     states              check_state_file, load_state (a state file's widgets checked
                         before ParaView loads them: its loader reads "nan" as 0),
                         save_state, state_plugin_lines (Python state files that load
@@ -76,7 +77,7 @@ from .reduction import reduce_multichannel
 from .seeding import auto_widgets, label_channels, widget_names
 from .states import check_state_file, load_state, save_state, state_plugin_lines
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, check_widget_values,
-                                edit_widget, show_gaussian_tf)
+                                edit_widget, show_gaussian_tf, show_widgets)
 from .transfer_function_files import (TRANSFER_FUNCTION_VERSION, apply_transfer_function,
                                       load_transfer_function, read_transfer_function,
                                       save_transfer_function)
@@ -122,6 +123,7 @@ __all__ = [
     "presentable_opacity",
     "check_widget_values",
     "edit_widget",
+    "show_widgets",
     "check_state_file",
     "load_state",
     "save_state",

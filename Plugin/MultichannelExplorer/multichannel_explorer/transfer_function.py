@@ -12,6 +12,7 @@ __all__ = [
     "check_widget_values",
     "edit_widget",
     "show_gaussian_tf",
+    "show_widgets",
 ]
 
 
@@ -239,13 +240,9 @@ def edit_widget(target, which, center=None, sigma=None, color=None, opacity=None
         mce.edit_widget(display, 0, shown=True)     # back, at opacity 0.3
     """
     display = _gaussian_display(_source_and_display(target, view)[1], "edit_widget")
-    values = _widget_values(display)
-    count = len(values) // len(WIDGET_FIELDS)
-    names = [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+    values, hidden, names = _widget_state(display)
+    count = len(hidden)
     index = _widget_index(names, count, which)
-    hidden = [float(v) for v in display.GetProperty("GaussianWidgetsHidden")]
-    if len(hidden) != count:  # the editor ignores a list that does not match: all shown
-        hidden = [-1.0] * count
     widget = values[8 * index:8 * index + 8]
     if center is not None:
         center = [float(c) for c in center]
@@ -275,12 +272,53 @@ def edit_widget(target, which, center=None, sigma=None, color=None, opacity=None
     if name is not None:
         names = (names + [""] * count)[:count]
         names[index] = str(name)
-    # In one call, as add_widget_at: observers (show_dual_domain, follow_best_viewpoint)
-    # see the whole edit once.
+    _set_widget_state(display, values, hidden, names if name is not None else None)
+    return widget
+
+
+def show_widgets(target, which, view=None):
+    """Shows the widgets `which` (names of GaussianWidgetNames or indices, as edit_widget
+    takes them) of `target` (a "Gaussian TF Volume" display, or the volume shown as one in
+    `view`) and hides every other one, as the editor's check boxes would, in one property
+    update (follow_best_viewpoint turns the camera once). A widget shown again gets back
+    the opacity it had; a hidden one keeps its own. Returns the indices shown::
+
+        mce.show_widgets(display, [0])            # the first widget alone
+        mce.show_widgets(display, range(len(display.GaussianWidgets) // 8))  # all again
+    """
+    display = _gaussian_display(_source_and_display(target, view)[1], "show_widgets")
+    values, hidden, names = _widget_state(display)
+    count = len(hidden)
+    if isinstance(which, (str, int)):
+        which = [which]
+    chosen = sorted(set(_widget_index(names, count, w) for w in which))
+    for index in range(count):
+        peak = hidden[index] if hidden[index] >= 0 else values[8 * index + 7]
+        shown = index in chosen
+        values[8 * index + 7] = peak if shown else 0.0
+        hidden[index] = -1.0 if shown else peak
+    _set_widget_state(display, values, hidden)
+    return chosen
+
+
+def _widget_state(display):
+    """(GaussianWidgets, GaussianWidgetsHidden, GaussianWidgetNames) of `display` as lists;
+    the hidden list with one entry per widget (-1: shown), as the editor reads it."""
+    values = _widget_values(display)
+    count = len(values) // len(WIDGET_FIELDS)
+    hidden = [float(v) for v in display.GetProperty("GaussianWidgetsHidden")]
+    if len(hidden) != count:  # the editor ignores a list that does not match: all shown
+        hidden = [-1.0] * count
+    return values, hidden, [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+
+
+def _set_widget_state(display, values, hidden, names=None):
+    """Sets the widgets, which are hidden and (unless None) their names in one call, as
+    add_widget_at does: observers (show_dual_domain, follow_best_viewpoint) see the whole
+    edit once."""
     with _TracedProperties(display):  # recorded in a trace being recorded
         display.GaussianWidgetsHidden = hidden if any(h >= 0 for h in hidden) else []
-        if name is not None:
+        if names is not None:
             display.GaussianWidgetNames = names
         display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
         display.SMProxy.UpdateVTKObjects()
-    return widget

@@ -389,8 +389,10 @@ def follow_best_viewpoint(display, view=None, frames=4, which="best", duration=0
     `display` shows: now, and after every change of its GaussianWidgets the best
     viewpoint is recomputed from the widgets' opacity and the camera turns there
     (turn_camera: about `duration` seconds, at least `frames` rendered steps, the view-up
-    carried along, the distance kept). Of the two equally good directions v and -v the
-    one nearer the current camera is taken, so the camera never flips to the other side.
+    carried along, the distance kept, the focal point sliding to the middle of the voxels
+    the widgets show: the filter's VisibleBounds). Of the two equally good directions v
+    and -v the one nearer the current camera is taken, so the camera never flips to the
+    other side.
     Returns an object with .stop() (also stop_following()) and .state["result"]: the
     last update's ViewpointResult (direction, best, sign, steps, ...)."""
     simple = _simple()
@@ -417,7 +419,11 @@ def follow_best_viewpoint(display, view=None, frames=4, which="best", duration=0
             return
         sign = _continuous_sign(_camera_state(view)[1], best)
         direction = [sign * d for d in best]
-        steps = turn_camera(view, _vec(bvp, "DataCenter"), direction, None, frames, duration)
+        # Turned about the middle of what the widgets show (the input's middle when no
+        # voxel is visible: VisibleBounds are then the input's bounds).
+        visible = _vec(bvp, "VisibleBounds")
+        center = [(visible[2 * a] + visible[2 * a + 1]) / 2.0 for a in range(3)]
+        steps = turn_camera(view, center, direction, None, frames, duration)
         state["result"] = ViewpointResult(direction=direction, best=best, sign=sign,
                                           steps=steps, filter=bvp, which=which,
                                           eigenvalues=_vec(bvp, "EigenvalueSpectrum"))
