@@ -1,4 +1,4 @@
-"""Best and worst viewpoints of a volume, as images: the plugin's main job.
+"""Best and worst viewpoints of a volume, as images: the best-viewpoint capability alone.
 
     xvfb-run -a pvbatch Examples/best_viewpoint.py [VOLUME] [OUTPUT_DIR] [--plugin PATH]
 
@@ -9,15 +9,18 @@ OUTPUT_DIR  where the images go (default: output/best_viewpoint).
 --plugin    the MultichannelExplorer plugin library (default: $MCV_PLUGIN, then
             PV_PLUGIN_PATH, then the build folders of this repository).
 
-Writes best.png (camera along v3, the direction of least variance of the 3D Harris
-interest points), worst.png (along v1), best_points.png (best view with the interest
-points over the volume) and best_viewpoint.json; prints the directions and eigenvalues.
+The volume's opacity: 0 up to Otsu's threshold of its histogram (the background), then a
+ramp to 1 at its maximum. Writes best.png (camera along v3, the direction of least variance
+of the 3D Harris interest points), worst.png (along v1), best_points.png (best view with the
+interest points over the volume) and best_viewpoint.json (an error when a picture is
+empty); prints the directions and eigenvalues.
 """
 import json
 import os
 import sys
 import time
 
+from paraview import servermanager
 from paraview.simple import *  # noqa: F401,F403
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -54,12 +57,47 @@ print("volume   %s: %s, extent %s, array '%s' range %s" % (
     args.volume, volume.GetXMLLabel(), info.GetExtent(), array,
     volume.PointData[array].GetRange()))
 
+
+
+def otsu_threshold(source, name, bins=256):
+    """Otsu's threshold of point array `name`: the value that best splits its histogram in
+    two classes (background, tissue). The histogram is ParaView's Histogram filter's, so
+    it is computed where the data is (every process's piece under MPI)."""
+    histogram = Histogram(Input=source, SelectInputArray=["POINTS", name], BinCount=bins)
+    table = servermanager.Fetch(histogram)
+    counts = table.GetRowData().GetArray("bin_values")
+    extents = table.GetRowData().GetArray("bin_extents")
+    n = [counts.GetValue(i) for i in range(counts.GetNumberOfTuples())]
+    x = [extents.GetValue(i) for i in range(extents.GetNumberOfTuples())]
+    Delete(histogram)
+    total, weighted = float(sum(n)), sum(c * v for c, v in zip(n, x))
+    best, threshold, below, below_sum = -1.0, x[0], 0.0, 0.0
+    for c, v in zip(n[:-1], x[:-1]):
+        below += c
+        below_sum += c * v
+        above = total - below
+        if below and above:
+            between = below * above * (below_sum / below - (weighted - below_sum) / above) ** 2
+            if between > best:
+                best, threshold = between, v
+    return threshold
+
+
 view = render_view(args.size)
 display = Show(volume, view)
 display.SetRepresentationType("Volume")
 ColorBy(display, ("POINTS", array))
 display.RescaleTransferFunctionToDataRange(True, False)
 GetColorTransferFunction(array).ApplyPreset("Grayscale", True)
+# Opacity 0 up to Otsu's threshold, then a ramp to 1: the background (scanner noise around
+# the head) draws nothing, where ParaView's default ramp from the minimum would fill the
+# grid's box with a haze, and the best view and its framing would count that haze as
+# something to show.
+low, high = volume.PointData[array].GetRange()
+threshold = otsu_threshold(volume, array)
+GetOpacityTransferFunction(array).Points = [low, 0.0, 0.5, 0.0, threshold, 0.0, 0.5, 0.0,
+                                            high, 1.0, 0.5, 0.0]
+print("opacity  0 up to %.4g (Otsu's threshold), a ramp to 1 at %.4g" % (threshold, high))
 
 # 3. Best view: camera along v3, the side of higher image entropy (disambiguate=True).
 start = time.time()
@@ -85,7 +123,12 @@ Hide(best.filter, view)
 worst = mce.apply_best_viewpoint(volume, view, which="worst", disambiguate=True)
 SaveScreenshot(os.path.join(args.output, "worst.png"), view)
 
-# 5. Report.
+# 5. Report (an error when a picture came out empty).
+for name in ("best", "best_points", "worst"):
+    drawn = mce.image_statistics(os.path.join(args.output, name + ".png"))
+    if not drawn["non_background_fraction"] > 0.02:  # the orientation axes alone: ~0.5 %
+        sys.exit("%s.png: nothing drawn (%.1f %% of the pixels)"
+                 % (name, 100 * drawn["non_background_fraction"]))
 bvp = best.filter
 timings = [float(x) for x in bvp.GetPropertyValue("StageTimings")]
 eig = best.eigenvalues
