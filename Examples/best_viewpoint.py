@@ -62,7 +62,8 @@ print("volume   %s: %s, extent %s, array '%s' range %s" % (
 def otsu_threshold(source, name, bins=256):
     """Otsu's threshold of point array `name`: the value that best splits its histogram in
     two classes (background, tissue). The histogram is ParaView's Histogram filter's, so
-    it is computed where the data is (every process's piece under MPI)."""
+    it is computed where the data is (every process's piece under MPI). Written here: VTK
+    and ParaView have no Otsu filter (ITK's is not a dependency)."""
     histogram = Histogram(Input=source, SelectInputArray=["POINTS", name], BinCount=bins)
     table = servermanager.Fetch(histogram)
     counts = table.GetRowData().GetArray("bin_values")

@@ -9,8 +9,9 @@ import numbers
 from ._common import _TracedProperties, _find_filter, _simple
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
-from .transfer_function import (_coordinates_name, _gaussian_tf_display, _source_and_display,
-                                _domain_size, _widget_values, check_widget_values)
+from .transfer_function import (_coordinates_name, _domain_size, _gaussian_tf_display,
+                                _set_widget_state, _source_and_display, _widget_state,
+                                _widget_values, check_widget_values)
 from .viewpoint import ViewpointResult
 
 __all__ = [
@@ -258,15 +259,7 @@ def add_widget_at(target, coords, sigma=None, opacity=None, color=None, view=Non
     if name is None:
         labels = (hit.get("labels") or {}) if hit is not None else {}
         name = sorted(labels.values())[0] if labels else "Widget %d" % count
-    names = [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+    _, hidden, names = _widget_state(display)
     names = (names + [""] * count)[:count - 1] + [str(name)]
-    hidden = [float(v) for v in display.GetProperty("GaussianWidgetsHidden")]
-    # In one call: element-wise assignment (display.GaussianWidgets = ...) first grows the
-    # list with zeros, and observers (show_dual_domain) would see a widget of sigma 0.
-    with _TracedProperties(display):  # recorded in a trace being recorded
-        if len(hidden) == count - 1:  # the editor's hidden list keeps matching
-            display.GaussianWidgetsHidden = hidden + [-1.0]
-        display.GaussianWidgetNames = names
-        display.SMProxy.GetProperty("GaussianWidgets").SetElements(values, len(values))
-        display.SMProxy.UpdateVTKObjects()
+    _set_widget_state(display, values, hidden + [-1.0], names)
     return widget

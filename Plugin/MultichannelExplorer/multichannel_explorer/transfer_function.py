@@ -313,9 +313,10 @@ def _widget_state(display):
 
 
 def _set_widget_state(display, values, hidden, names=None):
-    """Sets the widgets, which are hidden and (unless None) their names in one call, as
-    add_widget_at does: observers (show_dual_domain, follow_best_viewpoint) see the whole
-    edit once."""
+    """Sets the widgets, which are hidden and (unless None) their names in one call:
+    observers (show_dual_domain, follow_best_viewpoint) see the whole edit once. The
+    widgets go in through SetElements: element-wise assignment (display.GaussianWidgets =
+    ...) first grows the list with zeros, and observers would see a widget of sigma 0."""
     with _TracedProperties(display):  # recorded in a trace being recorded
         display.GaussianWidgetsHidden = hidden if any(h >= 0 for h in hidden) else []
         if names is not None:
