@@ -260,6 +260,14 @@ def camera_of(view):
             "size": [int(v) for v in view.ViewSize], "background": list(view.Background)}
 
 
+def restore_camera(view, camera):
+    """The view's camera as camera_of() saw it."""
+    view.CameraPosition = camera["position"]
+    view.CameraFocalPoint = camera["focal_point"]
+    view.CameraViewUp = camera["view_up"]
+    view.CameraParallelScale = camera["parallel_scale"]
+
+
 def neighbors(method):
     return args.umap_neighbors if method == "UMAP" else args.neighbors
 
@@ -357,7 +365,7 @@ def main():
     worst = mce.apply_best_viewpoint(reduction, view, which="worst", disambiguate=True)
     job.check("worst viewpoint")
     job.screenshot("worst.png", view, args.size)
-    mce.apply_best_viewpoint(reduction, view, disambiguate=True)
+    restore_camera(view, best_camera)  # the best view again, without computing it again
 
     # The reduced domain beside the volume, and the eigenvalue spectrum.
     dual = timed("dual domain", lambda: mce.show_dual_domain(display, view))

@@ -87,6 +87,18 @@ stats = T.image_ok(mce, shot, C, "disambiguated")
 C.check(stats is not None and B.abs(stats["entropy"] - B.max(ent.values())) < 0.05,
         "disambiguate: the final image has the winning entropy (%.3f vs %.3f)"
         % (stats["entropy"] if stats else -1, B.max(ent.values())))
+# Each side's entropy is that of the picture from that side (the screenshots are taken
+# without a render of their own before them: the camera they see must be the new one).
+for s, key in ((1, "+"), (-1, "-")):
+    multichannel_explorer.viewpoint._fit_camera(
+        view, multichannel_explorer.viewpoint._visible_points(result.filter),
+        [s * d for d in result.best], result.view_up)
+    side = os.path.join(out, "helpers_side%s.png" % ("plus" if s > 0 else "minus"))
+    SaveScreenshot(side, view)
+    side_entropy = mce.image_entropy(side)
+    C.check(B.abs(side_entropy - ent[key]) < 0.05,
+            "disambiguate: the %sv3 entropy is its picture's (%.3f vs %.3f)"
+            % (key, side_entropy, ent[key]))
 result = mce.apply_best_viewpoint(den, view, which="worst", disambiguate=True)
 cam = T.camera_direction(view)
 C.check(T.angle_deg(cam, [result.sign * d for d in result.worst]) < 0.01,

@@ -94,12 +94,13 @@ def _vec(proxy, name):
     return [float(x) for x in proxy.GetPropertyValue(name)]
 
 
-def _fit_camera(view, points, direction, view_up, margin=1.15):
+def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
     """Points the camera of `view` along `direction` (view-up `view_up`) at the middle of
     `points` (world positions: the visible voxels' support points) and as close as they
     allow: every point inside the view, the widest with `margin` (1.15: 15 %) to spare.
     Perspective: from the view angle and the view's aspect; parallel projection: the
-    parallel scale. Renders the view."""
+    parallel scale. Renders the view unless render=False (a screenshot that follows renders it
+    anyway)."""
     w = _normalized(direction)
     u = _normalized([c - _dot(view_up, w) * d for c, d in zip(view_up, w)])
     r = _cross(w, u)
@@ -123,7 +124,8 @@ def _fit_camera(view, points, direction, view_up, margin=1.15):
     # paraview.simple resets the camera at the session's first Render: not this one's
     getattr(simple, "_DisableFirstRenderCameraReset", lambda: None)()
     _place_camera(view, focal, w, distance, u)
-    simple.Render(view)
+    if render:
+        simple.Render(view)
 
 
 def _visible_points(bvp):
@@ -221,15 +223,21 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
         return result
 
     sign = 1
+    final = direction
     if disambiguate:
+        # Each side is rendered once, by the screenshot its entropy is taken from; "+" last,
+        # so that when it is kept (ties included) the camera is already there.
         entropies = {}
-        for s, key in ((1, "+"), (-1, "-")):
-            _fit_camera(view, silhouette, [s * d for d in direction], up)
+        for s, key in ((-1, "-"), (1, "+")):
+            _fit_camera(view, silhouette, [s * d for d in direction], up, render=False)
             entropies[key] = _render_entropy(view)
         result["entropies"] = entropies
         sign = 1 if entropies["+"] >= entropies["-"] else -1
-    final = [sign * d for d in direction]
-    _fit_camera(view, silhouette, final, up)
+        final = [sign * d for d in direction]
+    if disambiguate and sign == 1:
+        simple.Render(view)  # the screenshot rendered offscreen: show it in the view
+    else:
+        _fit_camera(view, silhouette, final, up)
     result["direction"] = final
     result["center"] = [float(p) for p in view.CameraFocalPoint]
     result["visible_bounds"] = visible
@@ -352,8 +360,10 @@ def _place_camera(view, focal, direction, distance, up):
 
 def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, on_step=None):
     """Turns the camera of `view` smoothly to look along `direction` at `center`: about
-    `duration` seconds of rendered steps (as many as fit, at least `frames`; frames <= 1:
-    at once), the last one exactly along `direction`.
+    `duration` seconds of rendered steps (as many as fit), the last one exactly along
+    `direction`. A slow renderer still shows at least `frames` steps of a turn of 90
+    degrees or more, and proportionally fewer of a smaller one: a step is at most
+    90 / frames degrees (a turn under that is one step); frames <= 1: at once.
 
     The direction turns on the great circle (slerp about the focal point, the distance
     kept; the focal point slides to `center`). The view-up turns with it (carried along
@@ -370,8 +380,15 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, o
     roll = 0.0
     if view_up is not None:
         roll = _signed_angle(carried_up, _perpendicular(goal, view_up), goal)
+    # How far the picture moves: the turn, the roll, the focal point's slide (as seen from
+    # the camera). A small move needs few steps for the eye to follow it, and each step is
+    # a render: on a software renderer a widget edit while following would otherwise wait
+    # for `frames` renders however little the view changes.
+    slide = math.sqrt(sum((b - a) ** 2 for a, b in zip(focal0, center)))
+    move = max(abs(angle), abs(roll), math.atan2(slide, distance))
+    least_steps = min(int(frames), max(1, int(math.ceil(move / (math.pi / 2) * frames - 1e-9))))
     steps = 0
-    for t in _animation_fractions(duration, frames):
+    for t in _animation_fractions(duration, least_steps):
         d = _slerp(start, goal, t, up0)
         up = _rotate(_perpendicular(d, _rotate(up0, axis, t * angle)), d, t * roll)
         focal = [a + t * (b - a) for a, b in zip(focal0, center)]
@@ -388,7 +405,8 @@ def follow_best_viewpoint(display, view=None, frames=4, which="best", duration=0
     """Keeps the camera of `view` on the best view of what a "Gaussian TF Volume"
     `display` shows: now, and after every change of its GaussianWidgets the best
     viewpoint is recomputed from the widgets' opacity and the camera turns there
-    (turn_camera: about `duration` seconds, at least `frames` rendered steps, the view-up
+    (turn_camera: about `duration` seconds, at least `frames` rendered steps for a turn of
+    90 degrees, fewer for a smaller one, the view-up
     carried along, the distance kept, the focal point sliding to the middle of the voxels
     the widgets show: the filter's VisibleBounds). Of the two equally good directions v
     and -v the one nearer the current camera is taken, so the camera never flips to the
