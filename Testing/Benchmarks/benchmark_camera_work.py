@@ -10,7 +10,7 @@ former way against the present one, in one run, beside one plain Render() of the
 Chain (the README's): Colin27 T1 + AAL + Brodmann -> MergeChannels -> reduce_multichannel
 (Isomap, 6D) -> "Gaussian TF Volume" with 4 seeded widgets, the camera at the best view.
 
-- Best View, former (main before this change, 6bd1f2b.. f95108c, reproduced below): each
+- Best View, former (main before this change, f95108c, reproduced below): each
   side fitted and rendered, then its screenshot (a second render) for the entropy, then the
   kept side fitted and rendered again: five renders. Present: each side rendered once, by
   its screenshot, "+" last; one render to show the kept side: three.
