@@ -256,15 +256,16 @@ C.check(close(path[-1][1], [-x for x in goal], 1e-6)
         and max(T.angle_deg(p[1], q[1]) for p, q in zip(path, path[1:])) <= 180.0 / FRAMES + 1e-4,
         "turn_camera to the opposite direction: swings about the view-up (no roll)")
 
-# ---- a slow renderer: as many steps as the move needs (duration 0: exactly that many) ----------
-def turned_by(degrees, slide=0.0):
-    """Steps of a turn by `degrees` about the view-up, the focal point slid by `slide`."""
+# ---- a slow renderer: as many steps as the move needs; duration 0: exactly `frames` ------------
+def turned_by(degrees, slide=0.0, duration=1e-6):
+    """Steps of a turn by `degrees` about the view-up, the focal point slid by `slide`;
+    every render outlasts a duration of 1e-6 s: the slowest renderer."""
     focal, direction = list(camera.GetFocalPoint()), list(camera.GetDirectionOfProjection())
     up = T.unit(list(camera.GetViewUp()))
     goal = vp._rotate(direction, up, math.radians(degrees))
     start_turn()
     steps = mce.turn_camera(view, [f + slide * u for f, u in zip(focal, up)], goal,
-                            frames=FRAMES, duration=0)
+                            frames=FRAMES, duration=duration)
     return steps, len(path)
 
 
@@ -274,4 +275,8 @@ for degrees, slide, want in ((5.0, 0.0, 1), (14.0, 0.0, 1), (16.0, 0.0, 2), (50.
     C.check(got == (want, want),
             "turn_camera, slow renderer: a %.0f deg turn%s in %d rendered steps (%s)"
             % (degrees, " and a slide of half the distance" if slide else "", want, got))
+got = turned_by(5.0, duration=0)
+C.check(got == (FRAMES, FRAMES),
+        "turn_camera, duration 0 (a batch script's movie frames): a 5 deg turn in exactly "
+        "frames = %d steps (%s)" % (FRAMES, got))
 C.finish()

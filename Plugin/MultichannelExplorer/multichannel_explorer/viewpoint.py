@@ -363,7 +363,8 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, o
     `duration` seconds of rendered steps (as many as fit), the last one exactly along
     `direction`. A slow renderer still shows at least `frames` steps of a turn of 90
     degrees or more, and proportionally fewer of a smaller one: a step is at most
-    90 / frames degrees (a turn under that is one step); frames <= 1: at once.
+    90 / frames degrees (a turn under that is one step); duration 0: exactly `frames`
+    equal steps; frames <= 1: at once.
 
     The direction turns on the great circle (slerp about the focal point, the distance
     kept; the focal point slides to `center`). The view-up turns with it (carried along
@@ -386,7 +387,9 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, o
     # for `frames` renders however little the view changes.
     slide = math.sqrt(sum((b - a) ** 2 for a, b in zip(focal0, center)))
     move = max(abs(angle), abs(roll), math.atan2(slide, distance))
-    least_steps = min(int(frames), max(1, int(math.ceil(move / (math.pi / 2) * frames - 1e-9))))
+    # (A batch script that saves every step as a movie frame, duration 0, gets `frames`.)
+    least_steps = int(frames) if not duration > 0 else min(
+        int(frames), max(1, int(math.ceil(move / (math.pi / 2) * frames - 1e-9))))
     steps = 0
     for t in _animation_fractions(duration, least_steps):
         d = _slerp(start, goal, t, up0)
