@@ -216,6 +216,13 @@ def run(mce, out, reference, previous=None):
     answers["edited_widgets"] = [float(v) for v in display.GaussianWidgets]
     answers["edited_best_view"] = [float(v) for v in mce.apply_best_viewpoint(red, view).direction]
     mce.edit_widget(display, shown[0], shown=True)
+    # The Best View button's call: each side's entropy from its screenshot (no render of
+    # its own before it), the kept side shown; its picture must have the winning entropy.
+    sided = mce.apply_best_viewpoint(red, view, disambiguate=True)
+    final = os.path.join(out, "disambiguated.png" if reference else "disambiguated_compare.png")
+    simple.SaveScreenshot(final, view)
+    answers["disambiguated"] = dict(sign=sided.sign, entropies=sided.entropies,
+                                    final_entropy=mce.image_entropy(final))
     mce.apply_best_viewpoint(red, view)
     stage("picture")
     picture = os.path.join(out, "picture.png" if reference else "picture_compare.png")
@@ -436,6 +443,14 @@ def compare(C, reference, answers, ref_picture, picture, processes):
         T.close(answers["edited_widgets"], reference["edited_widgets"], 1e-3) and
         T.close(answers["edited_best_view"], reference["edited_best_view"], 1e-3),
         str(["%.4f" % v for v in answers["edited_best_view"]]))
+    sided, ref_sided = answers["disambiguated"], reference["disambiguated"]
+    row("best view, disambiguated",
+        sided["sign"] == ref_sided["sign"] and
+        abs(sided["final_entropy"] - max(sided["entropies"].values())) < 0.05,
+        "sign %+d (built-in %+d), entropies %s, its picture's %.3f"
+        % (sided["sign"], ref_sided["sign"],
+           {k: round(v, 3) for k, v in sorted(sided["entropies"].items())},
+           sided["final_entropy"]))
     diff = T.picture_difference(ref_picture, picture)
     why = ""
     if answers.get("remote_rendering_available") is False:
@@ -524,6 +539,10 @@ def main():
         C.check(bool(message), "%s: %s" % (name, message))
     if args.reference:
         ground_truth_checks(C, answers, red)
+        sided = answers["disambiguated"]
+        C.check(abs(sided["final_entropy"] - max(sided["entropies"].values())) < 0.05,
+                "built-in: the disambiguated best view shows the side of higher entropy "
+                "(%s, its picture's %.3f)" % (sided["entropies"], sided["final_entropy"]))
         C.check(not T.blank_picture(picture), "built-in: the picture shows the volume (%s)"
                 % picture)
         listed = sorted([answers["brush_ids"][-1], 5, answers["brush_ids"][-1]] +
