@@ -5,11 +5,16 @@
 Default: the Colin27 T1 (ch2) with the AAL and Brodmann atlases (mricron-data), three
 volumes on one grid. Each channel gets its own best viewpoint (its own range mapped
 linearly to opacity), then all of them together (opacity = the maximum over channels).
-Writes <file name>.png per channel and all.png and prints each direction and its angle to the
-all-channel one: channels that show different structures prefer different views.
+Writes <channel>.png per channel (named after its point array, as MergeChannels names the
+channels, characters other than letters, digits, '.', '-' and '_' replaced by '_'), all.png,
+and report.json (each picture's channels, colouring array and best direction), and prints each
+direction and its angle to the all-channel one: channels that show different structures
+prefer different views.
 """
+import json
 import math
 import os
+import re
 import sys
 
 from paraview import simple
@@ -34,8 +39,9 @@ mce = load_plugin(args.plugin)
 # The channels on one grid: one point array each.
 volume = simple.MergeChannels(Input=[OpenDataFile(p) for p in args.channels])
 volume.UpdatePipeline()
-names = volume.PointData.keys()  # one array per file, in file order
-labels = [os.path.basename(p).split(".")[0] for p in args.channels]
+# One array per channel, named by MergeChannels (not in the order of the files: the
+# pictures are named after the arrays they show).
+names = volume.PointData.keys()
 
 view = render_view(args.size)
 display = Show(volume, view)
@@ -51,15 +57,20 @@ def best_view_of(channels, image):
     if not result.valid:
         sys.exit("no best view for %s" % ", ".join(channels))
     SaveScreenshot(os.path.join(args.output, image), view)
+    views.append(dict(image=image, channels=list(channels), coloured_by=display.ColorArrayName[1],
+                      direction=[float(d) for d in result.direction]))
     return result
 
 
+views = []
 everything = best_view_of(names, "all.png")
 print("%-12s %-28s %s" % ("channels", "best direction", "angle to all-channel view"))
-for name, label in zip(names, labels):
-    result = best_view_of([name], "%s.png" % label)
+for name in names:
+    result = best_view_of([name], "%s.png" % re.sub(r"[^A-Za-z0-9_.-]+", "_", name))
     cosine = abs(sum(a * b for a, b in zip(result.direction, everything.direction)))
     print("%-12s (%+.3f, %+.3f, %+.3f)   %5.1f deg" % (
-        (label,) + tuple(result.direction) + (math.degrees(math.acos(min(1.0, cosine))),)))
+        (name,) + tuple(result.direction) + (math.degrees(math.acos(min(1.0, cosine))),)))
 print("%-12s (%+.3f, %+.3f, %+.3f)" % (("all",) + tuple(everything.direction)))
+with open(os.path.join(args.output, "report.json"), "w") as f:
+    json.dump(views, f, indent=1)
 print("output: %s" % os.path.abspath(args.output))
