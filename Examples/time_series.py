@@ -133,8 +133,12 @@ def main(argv):
                                                                  view.CameraPosition)]
                 if sum(a * b for a, b in zip(direction, current)) < 0:
                     direction = [-v for v in direction]  # v and -v are equally good: the nearer
+                # Turned about the middle of the voxels shown (VisibleBounds), as
+                # follow_best_viewpoint does: the grid's centre would push them off-centre.
+                visible = [float(v) for v in goal.GetPropertyValue("VisibleBounds")]
+                middle = [(visible[2 * a] + visible[2 * a + 1]) / 2.0 for a in range(3)]
                 if bool(goal.GetPropertyValue("ViewValid")):
-                    mce.turn_camera(view, goal.GetPropertyValue("DataCenter"), direction,
+                    mce.turn_camera(view, middle, direction,
                                     goal.GetPropertyValue("ViewUp"), frames=args.turn_frames,
                                     duration=0, on_step=save_frame)
             else:
