@@ -16,7 +16,7 @@ fits once on all steps instead (FitTime "All time steps": the normalisation of e
 reference sample drawn across them), for a series whose later steps hold what the first lacks.
 Widgets: seeded once at the fit step (auto_widgets) and kept for every step.
 Camera: "fixed" (default) looks from the best viewpoint of the fit step in every frame;
-"follow" turns smoothly to each step's best viewpoint (--turn-frames frames between steps).
+"follow" turns smoothly to each step's best viewpoint, framed on what it shows (--turn-frames frames between steps).
 Outputs (written into a staging folder and switched in when complete, batch_output.py):
   OUTPUT/frames/frame_NNNN.png one per time step (and the turning frames of "follow")
   OUTPUT/<movie>               the frames as a movie through ParaView's SaveAnimation
@@ -133,14 +133,12 @@ def main(argv):
                                                                  view.CameraPosition)]
                 if sum(a * b for a, b in zip(direction, current)) < 0:
                     direction = [-v for v in direction]  # v and -v are equally good: the nearer
-                # Turned about the middle of the voxels shown (VisibleBounds), as
-                # follow_best_viewpoint does: the grid's centre would push them off-centre.
-                visible = [float(v) for v in goal.GetPropertyValue("VisibleBounds")]
-                middle = [(visible[2 * a] + visible[2 * a + 1]) / 2.0 for a in range(3)]
+                # The turn ends framed on the voxels shown, as the first frame is
+                # (apply_best_viewpoint): centred, every one in view.
                 if bool(goal.GetPropertyValue("ViewValid")):
-                    mce.turn_camera(view, middle, direction,
+                    mce.turn_camera(view, None, direction,
                                     goal.GetPropertyValue("ViewUp"), frames=args.turn_frames,
-                                    duration=0, on_step=save_frame)
+                                    duration=0, on_step=save_frame, fit=goal)
             else:
                 simple.Render(view)
                 save_frame()

@@ -256,6 +256,27 @@ C.check(close(path[-1][1], [-x for x in goal], 1e-6)
         and max(T.angle_deg(p[1], q[1]) for p, q in zip(path, path[1:])) <= 180.0 / FRAMES + 1e-4,
         "turn_camera to the opposite direction: swings about the view-up (no roll)")
 
+# ---- turn_camera(fit=...): the turn ends framed as apply_best_viewpoint frames ---------------
+display.GaussianWidgets = plane_widgets([1.0, 2.0, 2.0])
+framed = mce.apply_best_viewpoint(coords, view)
+want = (list(camera.GetPosition()), list(camera.GetFocalPoint()), list(camera.GetViewUp()))
+camera.Azimuth(40.0)
+camera.Dolly(0.5)  # twice as far
+camera.OrthogonalizeViewUp()
+Render(view)
+start_turn()
+steps = mce.turn_camera(view, None, framed.direction, framed.view_up, frames=FRAMES, fit=framed.filter)
+got = (list(camera.GetPosition()), list(camera.GetFocalPoint()), list(camera.GetViewUp()))
+scale = camera.GetDistance()
+C.check(close(got[0], want[0], 1e-6 * scale) and close(got[1], want[1], 1e-6 * scale)
+        and close(got[2], want[2], 1e-6),
+        "turn_camera(fit=...): ends on apply_best_viewpoint's camera (position off by %.2g)"
+        % max(abs(a - b) for a, b in zip(got[0], want[0])))
+distances = [p[3] for p in path]
+C.check(len(path) == steps and all(y < x for x, y in zip(distances, distances[1:])),
+        "turn_camera(fit=...): the distance shrinks at every step (%s)"
+        % ["%.1f" % d for d in distances])
+
 # ---- a slow renderer: as many steps as the move needs; duration 0: exactly `frames` ------------
 def turned_by(degrees, slide=0.0, duration=1e-6):
     """Steps of a turn by `degrees` about the view-up, the focal point slid by `slide`;

@@ -51,6 +51,18 @@ def _simple():
     return simple
 
 
+def _view_time(view=None):
+    """The time the helpers update their filters at: `view`'s time (the time step it
+    shows), else the active view's, else the animation's (the time keeper's). A proxy's
+    UpdatePipeline() without a time re-runs at whatever time was last asked of it (the
+    first time step for a new filter), not the one on screen."""
+    simple = _simple()
+    view = view if view is not None else simple.GetActiveView()
+    if view is not None and hasattr(view, "ViewTime"):
+        return float(view.ViewTime)
+    return float(simple.GetTimeKeeper().Time)
+
+
 def _filter(name):
     """The paraview.simple constructor of the plugin's filter `name`. LoadPlugin(...,
     ns=globals()) adds the plugin's filters to the caller's namespace only; they are added

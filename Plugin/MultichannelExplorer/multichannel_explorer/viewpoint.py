@@ -7,7 +7,7 @@ import math
 import time
 
 from ._common import (_FILTER_XML_NAME, _Follower, _TracedProperties, _filter, _find_filter, _followers,
-                      _is_representation, _simple, _warn)
+                      _is_representation, _simple, _view_time, _warn)
 from .images import _render_entropy
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
                                 _gaussian_tf_display, _volume_display, _widget_values)
@@ -44,7 +44,8 @@ class ViewpointResult(dict):
 
 def best_viewpoint_filter(source, view=None, **filter_properties):
     """Creates (or reuses) the BestViewpoint filter on `source`, sets its properties,
-    updates it and its information properties, and returns it.
+    updates it (at the time step `view` shows, else the active view's) and its
+    information properties, and returns it.
 
     When `source` is shown as a Volume in `view` and neither OpacityFunction nor
     Channels is given, the filter follows that display: its Scalar Opacity Function and
@@ -85,7 +86,7 @@ def best_viewpoint_filter(source, view=None, **filter_properties):
                 bvp.GetProperty("OpacityFunction").SetData(None)
                 continue
             setattr(bvp, key, value)
-    bvp.UpdatePipeline()
+    bvp.UpdatePipeline(_view_time(view))  # the time step on screen
     bvp.UpdatePropertyInformation()
     return bvp
 
@@ -101,6 +102,19 @@ def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
     Perspective: from the view angle and the view's aspect; parallel projection: the
     parallel scale. Renders the view unless render=False (a screenshot that follows renders it
     anyway)."""
+    focal, w, distance, u, scale = _fitted_camera(view, points, direction, view_up, margin)
+    if scale is not None:
+        view.CameraParallelScale = scale
+    simple = _simple()
+    # paraview.simple resets the camera at the session's first Render: not this one's
+    getattr(simple, "_DisableFirstRenderCameraReset", lambda: None)()
+    _place_camera(view, focal, w, distance, u)
+    if render:
+        simple.Render(view)
+
+
+def _fitted_camera(view, points, direction, view_up, margin=1.15):
+    """(focal point, direction, distance, view-up, parallel scale or None) of _fit_camera."""
     w = _normalized(direction)
     u = _normalized([c - _dot(view_up, w) * d for c, d in zip(view_up, w)])
     r = _cross(w, u)
@@ -113,19 +127,15 @@ def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
     size = max(max(abs(x), abs(y), abs(z)) for x, y, z in rel) or 1.0
     # the camera stays in front of every point
     nearest = max(-z for _, _, z in rel) + 0.05 * size
+    scale = None
     if view.CameraParallelProjection:
-        view.CameraParallelScale = margin * max(max(abs(y), abs(x) / aspect) for x, y, _ in rel)
+        scale = margin * max(max(abs(y), abs(x) / aspect) for x, y, _ in rel)
         distance = max(nearest, 4 * size)
     else:
         t = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
         distance = max(max(margin * max(abs(y), abs(x) / aspect) / t - z for x, y, z in rel),
                        nearest)
-    simple = _simple()
-    # paraview.simple resets the camera at the session's first Render: not this one's
-    getattr(simple, "_DisableFirstRenderCameraReset", lambda: None)()
-    _place_camera(view, focal, w, distance, u)
-    if render:
-        simple.Render(view)
+    return focal, w, distance, u, scale
 
 
 def _visible_points(bvp):
@@ -358,7 +368,8 @@ def _place_camera(view, focal, direction, distance, up):
     view.CameraViewUp = list(up)
 
 
-def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, on_step=None):
+def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, on_step=None,
+                fit=None):
     """Turns the camera of `view` smoothly to look along `direction` at `center`: about
     `duration` seconds of rendered steps (as many as fit), the last one exactly along
     `direction`. A slow renderer still shows at least `frames` steps of a turn of 90
@@ -371,22 +382,34 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, o
     the same rotation, so the picture does not roll); with `view_up` given, the roll
     needed to end on it is spread over the steps. ``on_step(i)`` (optional) is called after
     each rendered step (a batch script saves the frames there; with duration=0 the turn has
-    exactly `frames` steps). Returns the number of rendered steps."""
+    exactly `frames` steps). ``fit`` (optional): a BestViewpoint filter (what
+    best_viewpoint_filter returns); the turn then ends framed on the voxels it shows, as
+    apply_best_viewpoint frames them (`center` is not used): the focal point slides to
+    their middle and the distance (or parallel scale) changes over the steps. Returns the
+    number of rendered steps."""
     simple = _simple()
-    focal0, start, distance, up0 = _camera_state(view)
+    focal0, start, distance0, up0 = _camera_state(view)
     goal = _normalized([float(d) for d in direction])
-    center = [float(c) for c in center]
     axis, angle = _turn_axis(start, goal, up0)
     carried_up = _perpendicular(goal, _rotate(up0, axis, angle))
     roll = 0.0
     if view_up is not None:
         roll = _signed_angle(carried_up, _perpendicular(goal, view_up), goal)
+    distance, scale0, scale = distance0, float(view.CameraParallelScale), None
+    if fit is not None:  # framed as the turn will end: its direction and view-up
+        center, _, fitted, _, scale = _fitted_camera(
+            view, _visible_points(fit), goal, view_up if view_up is not None else carried_up)
+        distance = fitted if fitted > 0 else distance0
+    center = [float(c) for c in center]
     # How far the picture moves: the turn, the roll, the focal point's slide (as seen from
     # the camera). A small move needs few steps for the eye to follow it, and each step is
     # a render: on a software renderer a widget edit while following would otherwise wait
     # for `frames` renders however little the view changes.
     slide = math.sqrt(sum((b - a) ** 2 for a, b in zip(focal0, center)))
-    move = max(abs(angle), abs(roll), math.atan2(slide, distance))
+    zoom = abs(math.log(distance / distance0))
+    if scale is not None and scale > 0 < scale0:
+        zoom = max(zoom, abs(math.log(scale / scale0)))
+    move = max(abs(angle), abs(roll), math.atan2(slide, distance0), zoom)
     # (A batch script that saves every step as a movie frame, duration 0, gets `frames`.)
     least_steps = int(frames) if not duration > 0 else min(
         int(frames), max(1, int(math.ceil(move / (math.pi / 2) * frames - 1e-9))))
@@ -395,7 +418,11 @@ def turn_camera(view, center, direction, view_up=None, frames=4, duration=0.5, o
         d = _slerp(start, goal, t, up0)
         up = _rotate(_perpendicular(d, _rotate(up0, axis, t * angle)), d, t * roll)
         focal = [a + t * (b - a) for a, b in zip(focal0, center)]
-        _place_camera(view, focal, d, distance, _perpendicular(d, up))
+        if scale is not None:
+            view.CameraParallelScale = scale0 * (scale / scale0) ** t if scale0 > 0 < scale else scale
+        # a zoom at a constant rate: the distance changes geometrically
+        _place_camera(view, focal, d, distance0 * (distance / distance0) ** t,
+                      _perpendicular(d, up))
         simple.Render(view)
         if on_step is not None:
             on_step(steps)
