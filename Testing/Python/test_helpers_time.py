@@ -8,7 +8,9 @@ the interest points are the blobs, so the best view of step t is its plane's nor
   when its BestViewpoint filter was last updated at another step (a filter's UpdatePipeline()
   without a time re-runs at the time last asked of it, not at the view's);
 - best_viewpoint_filter(volume, view) gives step t's direction; with no view, the active
-  view's step.
+  view's step;
+- probe(volume, voxel) at step t reads that step's value (a voxel on a blob of one step
+  only), in any order of steps.
 """
 import math
 import os
@@ -46,12 +48,12 @@ def blobs_on_plane(normal):
     return volume
 
 
-files = []
+files, volumes = [], []
 for step, normal in enumerate(NORMALS):
     image = vtkImageData()
     image.SetDimensions(N, N, N)
-    values = numpy_to_vtk(np.ascontiguousarray(blobs_on_plane(np.array(normal))).ravel()
-                          .astype(np.float32), deep=True)
+    volumes.append(blobs_on_plane(np.array(normal)).astype(np.float32))  # [z, y, x]
+    values = numpy_to_vtk(np.ascontiguousarray(volumes[-1]).ravel(), deep=True)
     values.SetName("blobs")
     image.GetPointData().SetScalars(values)
     files.append(os.path.join(out, "blobs_%d.vti" % step))
@@ -101,4 +103,21 @@ for name, bvp in (("best_viewpoint_filter(volume, view)", mce.best_viewpoint_fil
     direction = [float(v) for v in bvp.GetPropertyValue("BestViewDirection")]
     C.check(angle_to(direction, NORMALS[2]) < 3.0,
             "%s at step 2: its plane's normal (%.2f deg)" % (name, angle_to(direction, NORMALS[2])))
+
+# A voxel where the steps differ most: on a blob of one step, off the others'. probe needs
+# reduced coordinates: 0.1 x the position, every step.
+reduced = simple.Calculator(Input=series, Function="0.1*coords",
+                            ResultArrayName="ReducedCoordinates", ResultArrayType="Float")
+spread = np.max(volumes, axis=0) - np.min(volumes, axis=0)
+k, j, i = [int(v) for v in np.unravel_index(int(np.argmax(spread)), spread.shape)]
+for step in (1, 0, 2, 1):
+    at(step)
+    hit = mce.probe(reduced, (i, j, k), view=view, mark=False)
+    value = hit["values"]["blobs"]
+    got = float(value[0] if isinstance(value, (list, tuple)) else value)
+    want = float(volumes[step][k, j, i])
+    C.check(abs(got - want) < 1e-6,
+            "view at step %d: probe of voxel (%d, %d, %d) reads its value %.4f (got %.4f; the "
+            "steps' values %s)" % (step, i, j, k, want, got,
+                                   ["%.3f" % float(v[k, j, i]) for v in volumes]))
 C.finish()

@@ -12,7 +12,7 @@ holds the voxel, and ID selections count ids within each process's piece).
 """
 
 from ._common import (_check_server_alive, _check_server_plugin, _coordinate_tuple, _is_float16,
-                      _remote_hint, _same_proxy, _simple)
+                      _remote_hint, _same_proxy, _simple, _view_time)
 
 # Point arrays of the volume that are not channels (ModelDistance: an applied model's
 # distances; VoxelId and VoxelIJK: ExtractVoxels').
@@ -31,7 +31,7 @@ class _Grid(object):
     while the volume's extent and bounds stay the same."""
 
     def __init__(self, source):
-        source.UpdatePipeline()
+        source.UpdatePipeline(_view_time())  # the time step on screen
         _check_server_alive()  # a server lost during the update leaves no extent
         info = source.GetDataInformation()
         extent = [int(v) for v in info.GetExtent()]
@@ -142,7 +142,7 @@ def _fetch_voxels(source, ids):
     extract = _extract_voxels_proxy(source, ids)
     # Updated as a pipeline first (each process its piece): fetched straight away, the
     # reduction's request leaves the pieces of the processes other than the first empty.
-    extract.UpdatePipeline()
+    extract.UpdatePipeline(_view_time())  # the time step on screen
     return servermanager.Fetch(extract)
 
 

@@ -10,7 +10,7 @@ is copied to the client but the ids.
 """
 
 from ._common import (_TracedProperties, _check_server_alive, _filter, _find_filter,
-                      _remote_hint, _same_proxy, _simple)
+                      _remote_hint, _same_proxy, _simple, _view_time)
 from ._voxels import _find_or_create, _views_showing
 from .transfer_function import _source_and_display
 
@@ -37,7 +37,7 @@ def _ids_in_box(domain, box):
     from paraview import servermanager
 
     pairs = _box_pairs(box)
-    domain.UpdatePipeline()
+    domain.UpdatePipeline(_view_time())  # the time step on screen
     cloud = servermanager.Fetch(domain)
     ids = cloud.GetPointData().GetArray("VoxelId")
     found = []
@@ -61,6 +61,7 @@ def _ids_selected(domain, selection):
                              "or a box")
         selection = servermanager._getPyProxy(sm_selection)
     extract = servermanager.filters.ExtractSelection(Input=domain, Selection=selection)
+    extract.UpdatePipeline(_view_time())  # the time step on screen
     picked = servermanager.Fetch(extract)
     ids = picked.GetPointData().GetArray("VoxelId") if picked is not None else None
     if ids is None:
@@ -113,7 +114,7 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
     ids = sorted(set(ids))
     # The whole extent's voxel count (the number of points would count the points that
     # neighbouring pieces share twice on several processes).
-    source.UpdatePipeline()
+    source.UpdatePipeline(_view_time())
     _check_server_alive()  # a server lost during the update leaves no extent
     extent = source.GetDataInformation().GetExtent()
     count = 1

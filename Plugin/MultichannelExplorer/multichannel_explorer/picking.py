@@ -10,7 +10,7 @@ one nearest the depth where half of the opacity seen through that pixel has accu
 
 import math
 
-from ._common import _coordinate_tuple
+from ._common import _coordinate_tuple, _view_time
 from ._voxels import _Grid, _fetch_voxels, _views_showing
 from .probing import probe
 from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
@@ -235,6 +235,7 @@ def probe_domain_at_pixel(view, x, y, domain=None, tolerance=5, **probe_args):
     else:
         half = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
         per_pixel = lambda t: 2.0 * half * t / height  # noqa: E731
+    domain.UpdatePipeline(_view_time(view))  # the time step on screen
     cloud = servermanager.Fetch(domain)
     ids = cloud.GetPointData().GetArray("VoxelId")
     best, best_t = None, None

@@ -6,7 +6,7 @@ pixel of the volume view (the GUI's Probe toggle) is in picking.py.
 
 import numbers
 
-from ._common import _TracedProperties, _find_filter, _simple
+from ._common import _TracedProperties, _find_filter, _simple, _view_time
 from ._voxels import (_NOT_CHANNELS, _Grid, _coordinate_range, _find_or_create,
                       _views_showing, _voxel_values)
 from .transfer_function import (_coordinates_name, _domain_size, _gaussian_tf_display,
@@ -195,7 +195,7 @@ def presentable_opacity(source, coords, sigma, peak=ADDED_WIDGET_PEAK, coordinat
     if widgets:
         props["GaussianWidgets"] = list(widgets)
     domain = reduced_domain_filter(source, **props)
-    domain.UpdatePipeline()
+    domain.UpdatePipeline(_view_time())  # the time step on screen
     domain.UpdatePropertyInformation()
     ray = float(domain.GetProperty("ForegroundRayLength")[0])
     points = servermanager.Fetch(domain).GetPoints()

@@ -5,7 +5,7 @@ and names that say what each widget selects.
 
 from collections import Counter
 
-from ._common import _TracedProperties
+from ._common import _TracedProperties, _view_time
 from ._voxels import _NOT_CHANNELS, _fetch_voxels, label_tables
 from .dual_domain import reduced_domain_filter
 from .transfer_function import _coordinates_name, _source_and_display, check_widget_values
@@ -335,7 +335,7 @@ def auto_widgets(target, count=4, view=None, opacity=0.5, seed=0, sample_size=20
     if display is not None:
         props["Coordinates"] = ["POINTS", _coordinates_name(display)]
     domain = reduced_domain_filter(source, **props)
-    domain.UpdatePipeline()
+    domain.UpdatePipeline(_view_time(view))  # the time step on screen
     domain.UpdatePropertyInformation()
     widgets = [float(v) for v in domain.GetProperty("SeededWidgets")]
     details = [float(v) for v in domain.GetProperty("SeededWidgetDetails")]
