@@ -16,7 +16,8 @@ fits once on all steps instead (FitTime "All time steps": the normalisation of e
 reference sample drawn across them), for a series whose later steps hold what the first lacks.
 Widgets: seeded once at the fit step (auto_widgets) and kept for every step.
 Camera: "fixed" (default) looks from the best viewpoint of the fit step in every frame;
-"follow" turns smoothly to each step's best viewpoint, framed on what it shows (--turn-frames frames between steps).
+"follow" turns smoothly to each step's best viewpoint, framed on what it shows
+(--turn-frames frames between steps).
 Outputs (written into a staging folder and switched in when complete, batch_output.py):
   OUTPUT/frames/frame_NNNN.png one per time step (and the turning frames of "follow")
   OUTPUT/<movie>               the frames as a movie through ParaView's SaveAnimation

@@ -114,7 +114,7 @@ def brush(target, selection=None, voxel_ids=None, box=None, view=None,
     ids = sorted(set(ids))
     # The whole extent's voxel count (the number of points would count the points that
     # neighbouring pieces share twice on several processes).
-    source.UpdatePipeline(_view_time())
+    source.UpdatePipeline(_view_time(view))  # the time step on screen
     _check_server_alive()  # a server lost during the update leaves no extent
     extent = source.GetDataInformation().GetExtent()
     count = 1

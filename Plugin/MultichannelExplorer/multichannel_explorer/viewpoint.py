@@ -100,8 +100,8 @@ def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
     `points` (world positions: the visible voxels' support points) and as close as they
     allow: every point inside the view, the widest with `margin` (1.15: 15 %) to spare.
     Perspective: from the view angle and the view's aspect; parallel projection: the
-    parallel scale. Renders the view unless render=False (a screenshot that follows renders it
-    anyway)."""
+    parallel scale. Renders the view unless render=False (a screenshot that follows renders
+    it anyway)."""
     focal, w, distance, u, scale = _fitted_camera(view, points, direction, view_up, margin)
     if scale is not None:
         view.CameraParallelScale = scale
@@ -436,9 +436,9 @@ def follow_best_viewpoint(display, view=None, frames=4, which="best", duration=0
     `display` shows: now, and after every change of its GaussianWidgets the best
     viewpoint is recomputed from the widgets' opacity and the camera turns there
     (turn_camera: about `duration` seconds, at least `frames` rendered steps for a turn of
-    90 degrees, fewer for a smaller one, the view-up
-    carried along, the distance kept, the focal point sliding to the middle of the voxels
-    the widgets show: the filter's VisibleBounds). Of the two equally good directions v
+    90 degrees, fewer for a smaller one, the view-up carried along, the distance kept, the
+    focal point sliding to the middle of the voxels the widgets show: the filter's
+    VisibleBounds). Of the two equally good directions v
     and -v the one nearer the current camera is taken, so the camera never flips to the
     other side.
     Returns an object with .stop() (also stop_following()) and .state["result"]: the
