@@ -603,12 +603,17 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     key << rows.back() << '|' << widget.color[0] << ',' << widget.color[1] << ','
         << widget.color[2] << '\n';
   }
+  // Rows of 20 pixels (text of about 14) in a view 560 pixels tall or more, smaller in a
+  // smaller view down to 13 (text of about 9, still readable): a fixed size covered a
+  // fifth of a 320 x 240 frame and the top of the volume that fills it.
+  int* viewSize = internals.LegendRenderer ? internals.LegendRenderer->GetSize() : nullptr;
+  const int viewHeight = viewSize && viewSize[1] > 0 ? viewSize[1] : 600;
+  const double rowPixels = std::min(20.0, std::max(13.0, std::round(viewHeight / 28.0)));
   // At most 16 rows, and no taller than half the view: the rest is one row that counts
   // them (10 000 widgets would make a box 200 000 pixels tall that veils the whole view).
-  int* viewSize = internals.LegendRenderer ? internals.LegendRenderer->GetSize() : nullptr;
   const size_t kLegendRows = std::max<size_t>(2,
-    std::min<size_t>(16, viewSize && viewSize[1] > 0 ? static_cast<size_t>((viewSize[1] / 2 - 8) / 20) : 16));
-  key << kLegendRows << '|';
+    std::min<size_t>(16, static_cast<size_t>(std::max(0.0, (viewHeight / 2 - 8) / rowPixels))));
+  key << kLegendRows << '|' << rowPixels << '|';
   static const mcv::GaussianWidget moreSwatch = [] {
     mcv::GaussianWidget grey;
     grey.color[0] = grey.color[1] = grey.color[2] = 0.5;
@@ -672,12 +677,12 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     legend->SetEntry(static_cast<int>(r), swatch.Get(), entry.c_str(), unset);
     longest = std::max(longest, entry.size());
   }
-  // Top right, a fixed size in pixels whatever the view's size (the legend box scales
-  // its text to the box): 20 pixels a row (text of about 14 pixels), 8 pixels a character
-  // plus the swatch; 10 pixels from the view's corner.
-  const double height = 20.0 * static_cast<double>(rows.size()) + 8.0;
-  const double width = 44.0 + 8.0 * static_cast<double>(longest);
-  legend->GetPositionCoordinate()->SetValue(-width - 10.0, -height - 10.0);
+  // Top right, sized in pixels (the legend box scales its text to the box): rowPixels a
+  // row, 0.4 of it a character plus the swatch; half a row from the view's corner.
+  const double height = rowPixels * static_cast<double>(rows.size()) + 8.0;
+  const double width = 2.2 * rowPixels + 0.4 * rowPixels * static_cast<double>(longest);
+  const double gap = std::round(rowPixels / 2);
+  legend->GetPositionCoordinate()->SetValue(-width - gap, -height - gap);
   legend->GetPosition2Coordinate()->SetValue(width, height);
 }
 

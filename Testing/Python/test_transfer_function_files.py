@@ -7,8 +7,10 @@ Known answers:
   (<stem>.mcvmodel) and names it relatively with its checksum; a display whose reduction
   applies a model names that model and writes none;
 - loading onto another display (a reduction of the same volume with another fit) gives
-  exactly the saved GaussianWidgets and GaussianWidgetsHidden, switches that reduction to
-  the model, and its ReducedCoordinates are then the first display's, bit for bit;
+  exactly the saved GaussianWidgets, GaussianWidgetsHidden and GaussianWidgetNames (the
+  display's own names replaced; a file without names clears them), switches that
+  reduction to the model, and its ReducedCoordinates are then the first display's, bit
+  for bit;
 - applied to two volumes whose lower slices are identical (the upper half of the T1 changed),
   the widgets are identical and every voxel of the unchanged slices gets the same
   coordinates, hence the same colour; on its own fit volume no voxel is out of the model;
@@ -59,6 +61,10 @@ def hidden_of(display):
     return [float(v) for v in display.GaussianWidgetsHidden]
 
 
+def names_of(display):
+    return [str(v) for v in display.GetProperty("GaussianWidgetNames")]
+
+
 def source_count():
     return len(simple.GetSources())
 
@@ -88,8 +94,10 @@ for i, (q, colour) in enumerate(((0.3, (1, 0, 0)), (0.5, (0, 1, 0)), (0.7, (0, 0
     centre = [float(v) for v in np.quantile(fit_coords, q, axis=0)]
     WIDGETS += centre + [0.07 * size] + list(colour) + [0.0 if i == 2 else 0.8]
 HIDDEN = [-1.0, -1.0, 0.65]  # the third widget hidden in the editor, 0.65 remembered
+NAMES = ["grey matter", "", "white matter (hidden)"]  # the second widget has no name
 display = mce.show_gaussian_tf(fitted, view, widgets=WIDGETS)
 display.GaussianWidgetsHidden = HIDDEN
+display.GaussianWidgetNames = NAMES
 tf_path = os.path.join(OUT, "brain.mcvtf")
 saved = mce.save_transfer_function(display, tf_path)
 model_path = os.path.join(OUT, "brain.mcvmodel")
@@ -110,6 +118,9 @@ C.check([w["hidden"] for w in content["widgets"]] == [False, False, True] and
         [w["sigma"] for w in content["widgets"]] == WIDGETS[3::8] and
         [w["colour"] for w in content["widgets"]] == [WIDGETS[i + 4:i + 7] for i in (0, 8, 16)],
         "the widgets: sigmas, colours exactly, the hidden one with its remembered opacity")
+C.check([w.get("name") for w in content["widgets"]] == [NAMES[0], None, NAMES[2]],
+        "the widgets' names, none for the widget without one: %s"
+        % [w.get("name") for w in content["widgets"]])
 C.check(str(fitted.ModelFile) == "" and np.array_equal(coordinates(fitted), fit_coords),
         "saving does not change the fitted reduction (no ModelFile, same coordinates)")
 
@@ -120,9 +131,12 @@ other.UpdatePipeline()
 other_before = coordinates(other)
 view2 = simple.CreateView("RenderView")
 display2 = mce.show_gaussian_tf(other, view2, widgets=[0.1, 0.1, 0.1, 0.3, 1, 1, 0, 1])
+display2.GaussianWidgetNames = ["its own widget"]
 loaded = mce.load_transfer_function(display2, tf_path)
-C.check(widgets_of(display2) == WIDGETS and hidden_of(display2) == HIDDEN,
-        "load on another display: GaussianWidgets and GaussianWidgetsHidden identical")
+C.check(widgets_of(display2) == WIDGETS and hidden_of(display2) == HIDDEN and
+        names_of(display2) == NAMES and loaded.names == NAMES,
+        "load on another display: GaussianWidgets, GaussianWidgetsHidden and "
+        "GaussianWidgetNames identical: %s" % names_of(display2))
 other_after = coordinates(other)
 C.check(os.path.abspath(str(other.ModelFile)) == model_path and
         other_after is not None and np.array_equal(other_after, fit_coords) and
@@ -142,6 +156,19 @@ C.check(again_content["model"]["file"] == os.path.join("..", "brain.mcvmodel") a
         "a display with a ModelFile: the file names that model (%s), no new model written"
         % again_content["model"]["file"])
 
+# A file saved before names were kept (no "name"): loading it clears the display's names,
+# which named other widgets.
+unnamed = dict(content, widgets=[{k: v for k, v in w.items() if k != "name"}
+                                 for w in content["widgets"]])
+unnamed_path = os.path.join(OUT, "unnamed.mcvtf")
+with open(unnamed_path, "w") as f:
+    json.dump(unnamed, f)
+mce.load_transfer_function(display2, unnamed_path)
+C.check(widgets_of(display2) == WIDGETS and names_of(display2) == [],
+        "a file without names: the same widgets, the display's names cleared: %s"
+        % names_of(display2))
+mce.load_transfer_function(display2, tf_path)
+
 # --- apply to two volumes ----------------------------------------------------------------
 before = source_count()
 vol_a = simple.OpenDataFile(fit_path)
@@ -154,8 +181,8 @@ coords_a, coords_b = coordinates(red_a), coordinates(red_b)
 far = (nz // 2) - 3  # slices more than 2 from the change
 C.check(disp_a.Representation == "Gaussian TF Volume" and
         widgets_of(disp_a) == WIDGETS and widgets_of(disp_b) == WIDGETS and
-        hidden_of(disp_b) == HIDDEN,
-        "apply: both volumes shown as Gaussian TF Volume with the file's widgets")
+        hidden_of(disp_b) == HIDDEN and names_of(disp_b) == NAMES,
+        "apply: both volumes shown as Gaussian TF Volume with the file's widgets and names")
 C.check(np.array_equal(coords_a, fit_coords) and
         np.array_equal(coords_a[:far * plane], coords_b[:far * plane]),
         "apply: on the fit volume the fit's coordinates; the unchanged slices of the other "
@@ -275,6 +302,7 @@ with open(os.path.join(other_dir, "brain.mcvtf"), "w") as f:
 nan_text = json.dumps(dict(json.loads(good), widgets=[dict(content["widgets"][0], sigma=0.5)]))
 nan_text = nan_text.replace('"sigma": 0.5', '"sigma": NaN')
 future = dict(json.loads(good), version=2)
+number_name = dict(json.loads(good), widgets=[dict(content["widgets"][0], name=5)])
 no_model_dir = os.path.join(OUT, "no_model")
 os.makedirs(no_model_dir)
 bad = {
@@ -286,6 +314,8 @@ bad = {
                       "without its model"),
     "checksum": (os.path.join(other_dir, "brain.mcvtf"), None, "another reduction model"),
     "nan": (os.path.join(bad_dir, "nan.mcvtf"), nan_text, "widget 0's sigma is nan"),
+    "name": (os.path.join(bad_dir, "name.mcvtf"), json.dumps(number_name),
+             "widget 0's name is 5, not text"),
     "missing_file": (os.path.join(bad_dir, "nothing.mcvtf"), None, "cannot be read"),
 }
 for name, (path, text, words) in bad.items():

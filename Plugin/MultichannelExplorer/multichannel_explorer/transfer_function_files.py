@@ -17,12 +17,13 @@ The file is JSON (UTF-8)::
       "model": {"file": "brain.mcvmodel",             # relative to this file when possible
                 "crc32": 1234567890, "method": "PCA", "channels": ["ch2", "aal"]},
       "widgets": [{"centre": [cx, cy, cz], "sigma": s, "colour": [r, g, b],
-                   "opacity": a, "hidden": false}, ...]
+                   "opacity": a, "hidden": false, "name": "ch2 mid"}, ...]
     }
 
 A hidden widget (the editor's eye button) has ``"hidden": true`` and its peak opacity in
 ``"opacity"``: the display holds 0 for it in GaussianWidgets and the opacity in
-GaussianWidgetsHidden, and gets both back on loading.
+GaussianWidgetsHidden, and gets both back on loading. ``"name"`` (optional, only for a
+widget that has one) is its GaussianWidgetNames entry, the legend's and the editor's name.
 """
 
 import json
@@ -32,7 +33,7 @@ import os
 from ._common import _simple
 from .models import _reduction_of, read_model, save_model
 from .transfer_function import (WIDGET_FIELDS, _coordinates_name, _gaussian_display,
-                                check_widget_values, show_gaussian_tf)
+                                _set_widget_state, check_widget_values, show_gaussian_tf)
 
 __all__ = [
     "TRANSFER_FUNCTION_FORMAT",
@@ -84,13 +85,19 @@ def transfer_function_text(display, model_path, tf_path):
     widgets = [float(v) for v in display.GetProperty("GaussianWidgets")]
     check_widget_values(widgets, "GaussianWidgets of the display")
     hidden = _hidden_list(display)
+    names = [str(v) for v in display.GetProperty("GaussianWidgetNames")]
     entries = []
     n = len(WIDGET_FIELDS)
     for i in range(len(widgets) // n):
         w = widgets[i * n:(i + 1) * n]
         is_hidden = bool(hidden) and hidden[i] >= 0
-        entries.append({"centre": w[0:3], "sigma": w[3], "colour": w[4:7],
-                        "opacity": hidden[i] if is_hidden else w[7], "hidden": is_hidden})
+        entry = {"centre": w[0:3], "sigma": w[3], "colour": w[4:7],
+                 "opacity": hidden[i] if is_hidden else w[7], "hidden": is_hidden}
+        if i < len(names) and names[i]:
+            # the legend's and the panel's name ("ch2 mid", an atlas region): a volume the
+            # file is applied to shows the same names beside the same colours
+            entry["name"] = names[i]
+        entries.append(entry)
     folder = os.path.dirname(os.path.abspath(tf_path))
     try:
         reference = os.path.relpath(os.path.abspath(model_path), folder)
@@ -159,10 +166,12 @@ class TransferFunctionFile(object):
 
     ``path``, ``model`` (absolute path of its model, which exists and has the checksum the
     file names), ``model_header`` (read_model's dict), ``coordinates``, ``channels``,
-    ``widgets`` (the flat GaussianWidgets list, 0 opacity for hidden widgets) and
-    ``hidden`` (the GaussianWidgetsHidden list, [] when no widget is hidden)."""
+    ``widgets`` (the flat GaussianWidgets list, 0 opacity for hidden widgets),
+    ``hidden`` (the GaussianWidgetsHidden list, [] when no widget is hidden) and ``names``
+    (the GaussianWidgetNames list, "" for a widget without one; [] when none has one)."""
 
-    def __init__(self, path, model, model_header, coordinates, channels, widgets, hidden):
+    def __init__(self, path, model, model_header, coordinates, channels, widgets, hidden,
+                 names=None):
         self.path = path
         self.model = model
         self.model_header = model_header
@@ -170,6 +179,7 @@ class TransferFunctionFile(object):
         self.channels = channels
         self.widgets = widgets
         self.hidden = hidden
+        self.names = names or []
 
 
 def read_transfer_function(path):
@@ -220,7 +230,7 @@ def read_transfer_function(path):
         entries = content.get("widgets")
         if not isinstance(entries, list):
             raise ValueError("\"widgets\" is %r, not a list" % (entries,))
-        widgets, hidden = [], []
+        widgets, hidden, names = [], [], []
         for i, w in enumerate(entries):
             where = "widget %d" % i
             if not isinstance(w, dict):
@@ -232,6 +242,10 @@ def read_transfer_function(path):
             is_hidden = w.get("hidden", False)
             if not isinstance(is_hidden, bool):
                 raise ValueError("%s's hidden is %r, not true or false" % (where, is_hidden))
+            name = w.get("name", "")  # optional: files saved before names were kept
+            if not isinstance(name, str):
+                raise ValueError("%s's name is %r, not text" % (where, name))
+            names.append(name)
             widgets.extend(centre + [sigma] + colour + [0.0 if is_hidden else opacity])
             hidden.append(opacity if is_hidden else -1.0)
         check_widget_values(widgets, "widgets")
@@ -242,6 +256,8 @@ def read_transfer_function(path):
         raise ValueError("The transfer function %s is not valid: %s." % (path, e))
     if not any(h >= 0 for h in hidden):
         hidden = []
+    if not any(names):
+        names = []
     model_path = model["file"]
     if not os.path.isabs(model_path):
         model_path = os.path.join(os.path.dirname(path), model_path)
@@ -257,21 +273,22 @@ def read_transfer_function(path):
                          "model was refitted or replaced; the widgets would colour other "
                          "tissue)." % (path, model_path, int(header["crc32"]), crc))
     return TransferFunctionFile(path, model_path, header, coordinates, channels, widgets,
-                                hidden)
+                                hidden, names)
 
 
 def _set_widgets(display, tf):
+    """The file's widgets, which are hidden and their names (none: the display's names
+    are cleared, they named other widgets) in one property update."""
     display.CoordinateArray = tf.coordinates
-    display.GaussianWidgets = tf.widgets
-    display.GaussianWidgetsHidden = tf.hidden
+    _set_widget_state(display, tf.widgets, tf.hidden, tf.names)
 
 
 def load_transfer_function(display, path):
     """Loads the transfer-function file `path` onto `display` (a "Gaussian TF Volume"
     representation): sets the ModelFile of the DimensionReduction upstream of the display
     to the file's model (so the coordinates are the model's, those the widgets were placed
-    in), then the widgets, hidden ones included, and the coordinate array. The file and
-    its model are checked first (read_transfer_function): on any error (ValueError naming
+    in), then the widgets, hidden ones included, their names and the coordinate array.
+    The file and its model are checked first (read_transfer_function): on any error (ValueError naming
     the file) nothing is changed. Returns the TransferFunctionFile read."""
     display = _gaussian_display(display, "load_transfer_function")
     tf = read_transfer_function(path)
