@@ -5,6 +5,7 @@ Drawn with matplotlib (Agg, no display): ParaView's chart views cannot colour so
 one series differently, and matplotlib renders the same under pvbatch as anywhere else.
 Import it from an example with ``sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))``.
 """
+import collections
 import math
 import textwrap
 
@@ -105,11 +106,24 @@ def _panel_title(name, variance_retained, trustworthiness, variance_spectrum):
     return "%s\n%s, %s" % (name, variance, trust)
 
 
-def point_colours(rgba, opacity, threshold=0.1):
-    """Per voxel: the colour of the widgets that select it (RGBA of ReducedDomain, 0..255)
-    where their opacity reaches `threshold`, else grey. Full colours, not the domain
-    view's blend over grey by opacity, which is too pale to tell apart in a small plot."""
-    return [tuple(c[:3]) if a >= threshold else GREY for c, a in zip(rgba, opacity)]
+def widget_colours(points, widgets):
+    """Per point (reduced coordinates): the colour (0..255) of the shown widget whose
+    Gaussian is the largest there where it reaches half its peak (within 1.18 sigma of
+    its centre), else grey. `widgets`: the flat GaussianWidgets list (8 numbers each; a
+    hidden widget has opacity 0). Each widget's own voxels in full colour whatever its
+    peak opacity: a threshold on the opacity drew none of a faint widget's (the brain's
+    "ch2 mid" at 0.09), and the blend of the domain view is too pale in a small plot."""
+    shown = [widgets[i:i + 8] for i in range(0, len(widgets) - 7, 8) if widgets[i + 7] > 0]
+    colours = []
+    for p in points:
+        best, colour = 0.5, GREY
+        for cx, cy, cz, sigma, r, g, b, _ in shown:
+            d2 = sum((x - m) ** 2 for x, m in zip(p, (cx, cy, cz)))
+            weight = math.exp(-d2 / (2.0 * sigma * sigma))
+            if weight >= best:
+                best, colour = weight, tuple(int(round(255 * v)) for v in (r, g, b))
+        colours.append(colour)
+    return colours
 
 
 GREY = (190, 190, 190)
@@ -120,14 +134,17 @@ def methods_figure(path, panels, caption, size=None):
     sampled voxels in the same colours, 500 x 600 pixels each unless `size` says. `panels`:
     dicts with name, x, y, colours (RGB 0..255 per point), variance_retained,
     trustworthiness. Grey voxels (no widget) are drawn first so the coloured ones stay on
-    top."""
+    top, and the colours of fewer points over those of more."""
     plt = _pyplot()
     size = size or (500 * len(panels), 600)
     fig, axes = plt.subplots(1, len(panels), figsize=(size[0] / 100.0, size[1] / 100.0),
                              dpi=100)
     for ax, panel in zip(axes, panels):
         colours = panel["colours"]
-        order = sorted(range(len(colours)), key=lambda i: _spread(colours[i]))
+        # grey first, then each colour by how many points it has, the rarest on top
+        count = collections.Counter(colours)
+        order = sorted(range(len(colours)),
+                       key=lambda i: (_spread(colours[i]) > 0, -count[colours[i]]))
         ax.scatter([panel["x"][i] for i in order], [panel["y"][i] for i in order],
                    c=[_rgb(colours[i]) for i in order], s=3, linewidths=0)
         ax.set_title(_panel_title(panel["name"], panel["variance_retained"],

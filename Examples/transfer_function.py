@@ -415,16 +415,18 @@ def main():
 
     def method_panels():
         """The same sampled voxels of the coarse grid in the domains of PCA, Isomap, LLE and
-        UMAP, each coloured as the main domain's widgets colour it (ReducedDomain's RGBA and
-        WidgetOpacity on the main domain's coordinates of those voxels)."""
+        UMAP, each in the colour of the main domain's widget that selects it there (at the
+        main domain's coordinates of those voxels, ReducedDomain's points)."""
         coarse_features = coarse(features)
         shown = job.watch(simple.ReducedDomain(
             Input=coarse(reduction), SampleSize=args.methods_sample, RandomSeed=args.seed,
             GaussianWidgets=widgets))
         shown.Coordinates = ["POINTS", "ReducedCoordinates"]
         voxels = fetch_array(shown, "VoxelId")
-        colours = report_figures.point_colours(fetch_array(shown, "RGBA").tolist(),
-                                               fetch_array(shown, "WidgetOpacity").tolist())
+        cloud = servermanager.Fetch(shown)  # points at the main domain's coordinates
+        colours = report_figures.widget_colours(
+            [cloud.GetPoint(i) for i in range(cloud.GetNumberOfPoints())],
+            [float(v) for v in widgets])
         panels = []
         for method in ("PCA", "Isomap", "LLE", "UMAP"):
             start = time.time()
@@ -446,7 +448,7 @@ def main():
         caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
                    "reference sample (seed=%d, K=%d, UMAP's K=%d, L=%d); the same %d voxels "
                    "drawn at dimensions 1-2, in the colour of the %s domain's widget that "
-                   "selects them (opacity at least 0.1; the others grey)"
+                   "selects them (within 1.18 sigma of its centre: half its peak; the others grey)"
                    % (args.features, _every(args.methods_stride), grid, args.reference_size,
                       args.seed, args.neighbors, args.umap_neighbors, args.landmarks, drawn,
                       args.method))

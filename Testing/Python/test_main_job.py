@@ -139,6 +139,16 @@ if os.path.exists(os.path.join(out, "methods.png")):
     counts = panel_points(os.path.join(out, "methods.png"), len(names))
     C.check(all(c > 200 and g > 1000 for c, g in counts),
             "methods.png: four panels with points, widget-coloured and grey (%s)" % counts)
+    # Every shown widget's voxels in its colour in every panel, a faint widget's too (an
+    # opacity threshold left the seeded "ch2 mid" widget, peak 0.09, without a point).
+    shown_rgb = [[int(round(255 * v)) for v in w[4:7]] for w in report["widgets"] if w[7] > 0]
+    pixels = rgb_pixels(os.path.join(out, "methods.png")).astype(int)
+    width = pixels.shape[1] // len(names)
+    per_panel = [[int((abs(pixels[:, i * width:(i + 1) * width] - rgb).max(axis=2) <= 12).sum())
+                  for rgb in shown_rgb] for i in range(len(names))]
+    C.check(len(shown_rgb) >= 2 and all(n >= 10 for row in per_panel for n in row),
+            "methods.png: each shown widget's colour %s in every panel (pixels: %s)"
+            % (shown_rgb, per_panel))
 
 
 def hue(rgb):
