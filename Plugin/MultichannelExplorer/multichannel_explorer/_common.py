@@ -63,6 +63,14 @@ def _view_time(view=None):
     return float(simple.GetTimeKeeper().Time)
 
 
+def _display_view(display):
+    """The view that holds `display` (a representation proxy), else None."""
+    for view in _simple().GetViews():
+        if any(_same_proxy(rep, display) for rep in view.Representations):
+            return view
+    return None
+
+
 def _filter(name):
     """The paraview.simple constructor of the plugin's filter `name`. LoadPlugin(...,
     ns=globals()) adds the plugin's filters to the caller's namespace only; they are added

@@ -15,7 +15,7 @@ bar what is running; scripts call ``explore_multichannel``::
 import os
 import re
 
-from ._common import _filter, _gui_text, _same_proxy, _simple, _warn
+from ._common import _filter, _gui_text, _same_proxy, _simple, _view_time, _warn
 
 __all__ = [
     "explore_multichannel",
@@ -169,13 +169,15 @@ def _steps(sources, view, widgets, gather):
         yield "Merging %d channels (%s)" % (len(sources), name)
         volume = _filter("MergeChannels")(Input=list(sources))
         _rename(volume, "Channels of %s" % name)
-        volume.UpdatePipeline()
+        volume.UpdatePipeline(_view_time(view))  # the time step on screen
         result["merged"] = volume
 
     yield "Computing features and reducing them (DimensionReduction; progress below)"
     reduction = _filter("DimensionReduction")(Input=volume)
     _rename(reduction, "Exploration of %s" % name)
-    reduction.UpdatePipeline()
+    # At the step on screen: a new filter updated without a time reduces the first step,
+    # and the view then reduces its own step again (twice the work for a series).
+    reduction.UpdatePipeline(_view_time(view))
     result["reduction"] = reduction
 
     yield "Showing the volume as Gaussian TF Volume and seeding %d widgets" % widgets
@@ -277,10 +279,10 @@ def show_spectrum(target=None, view=None, fraction=0.4, leading=20):
     if reduction is None:
         raise ValueError("Show Spectrum needs a DimensionReduction (or a filter or display "
                          "downstream of one) as the active source")
-    reduction.UpdatePipeline()
-    reduction.UpdatePropertyInformation()
     if view is None:
         view = simple.GetActiveView()
+    reduction.UpdatePipeline(_view_time(view))  # the spectrum of the time step on screen
+    reduction.UpdatePropertyInformation()
     chart = simple.CreateView("XYBarChartView")
     layout = simple.GetLayout(view) if view is not None else None
     if layout is not None:

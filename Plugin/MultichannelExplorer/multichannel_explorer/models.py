@@ -12,7 +12,7 @@ import os
 import struct
 import zlib
 
-from ._common import _filter, _is_representation, _simple
+from ._common import _filter, _is_representation, _simple, _view_time
 
 __all__ = [
     "MODEL_FORMAT_VERSION",
@@ -79,10 +79,12 @@ def _reduction_of(target):
     raise ValueError("%r is not a DimensionReduction and has none upstream." % (target,))
 
 
-def save_model(reduction, path):
+def save_model(reduction, path, view=None):
     """Writes the reduction model that `reduction` (a DimensionReduction, or a source or
     display downstream of one) fitted to `path` (`.mcvmodel`; written by the server, like
-    every ParaView writer). Updates the reduction first. Returns the absolute path.
+    every ParaView writer). Updates the reduction first, at the time step `view` shows
+    (default: the active view's; with FitTime "Each time step" each step has its own
+    fit). Returns the absolute path.
 
     Apply it to other volumes with ``reduce_multichannel(volume, model=path)`` or
     DimensionReduction's ModelFile: no new fit, the channels matched by name, the same
@@ -99,7 +101,10 @@ def save_model(reduction, path):
     path = os.path.abspath(str(path))
     if not path.endswith(".mcvmodel"):
         raise ValueError("A reduction model file ends in .mcvmodel (got %s)." % path)
-    reduction.UpdatePipeline()
+    # With FitTime "Each time step" every step has its own fit: the one on screen. Updated
+    # without a time, the reduction (and a new writer) would keep the step it last ran.
+    time = _view_time(view)
+    reduction.UpdatePipeline(time)
     spectrum = reduction.GetDataInformation(1).DataInformation
     if spectrum.GetFieldDataInformation().GetArrayInformation("ReductionModel") is None:
         raise ValueError("This DimensionReduction has no model to save: it failed, or it "
@@ -120,7 +125,7 @@ def save_model(reduction, path):
     writer = servermanager._getPyProxy(made)
     writer.SMProxy.GetProperty("Input").SetInputConnection(0, reduction.SMProxy, 1)
     writer.FileName = path
-    writer.UpdatePipeline()
+    writer.UpdatePipeline(time)
     del writer
     if not remote:
         # The writer reports its errors to the log only: the file itself says whether it

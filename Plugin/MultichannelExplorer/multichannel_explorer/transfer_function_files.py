@@ -30,7 +30,7 @@ import json
 import math
 import os
 
-from ._common import _simple
+from ._common import _display_view, _simple, _view_time
 from .models import _reduction_of, read_model, save_model
 from .transfer_function import (WIDGET_FIELDS, _coordinates_name, _gaussian_display,
                                 _set_widget_state, check_widget_values, show_gaussian_tf)
@@ -144,7 +144,9 @@ def save_transfer_function(display, path):
     if model:
         model = os.path.abspath(model)
     else:
-        model = save_model(reduction, path[:-len(_EXTENSION)] + ".mcvmodel")
+        # the fit of the time step the display's view shows
+        model = save_model(reduction, path[:-len(_EXTENSION)] + ".mcvmodel",
+                           _display_view(display))
     _write_file(path, transfer_function_text(display, model, path))
     return path
 
@@ -296,12 +298,13 @@ def load_transfer_function(display, path):
     current = str(reduction.ModelFile or "")
     if not current or os.path.abspath(current) != tf.model:
         reduction.ModelFile = tf.model
-        said = _run_reduction(reduction, tf.coordinates)
+        time = _view_time(_display_view(display))
+        said = _run_reduction(reduction, tf.coordinates, time)
         if said is not None:
             # The volume cannot take this model (a channel is missing): back to what it
             # was, widgets untouched.
             reduction.ModelFile = current
-            reduction.UpdatePipeline()
+            reduction.UpdatePipeline(time)
             raise ValueError("The transfer function %s cannot be loaded onto this display: "
                              "%s" % (tf.path, said))
     _set_widgets(display, tf)
@@ -340,12 +343,13 @@ class _ErrorCatcher(object):
         return text[marker + 3:].strip() if marker >= 0 else text
 
 
-def _run_reduction(reduction, coordinates):
-    """Updates `reduction`; None when its output has the array `coordinates`, else what
-    went wrong (the reduction's own error message when this process runs it)."""
+def _run_reduction(reduction, coordinates, time):
+    """Updates `reduction` at `time` (the step on screen: the view then draws what was
+    computed); None when its output has the array `coordinates`, else what went wrong
+    (the reduction's own error message when this process runs it)."""
     catcher = _ErrorCatcher(reduction.GetClientSideObject())
     try:
-        reduction.UpdatePipeline()
+        reduction.UpdatePipeline(time)
     finally:
         catcher.stop()
     info = reduction.GetDataInformation().DataInformation.GetPointDataInformation()
@@ -377,7 +381,7 @@ def apply_transfer_function(volume, path, view=None, **props):
     simple = _simple()
     tf = read_transfer_function(path)
     reduction, _ = reduce_multichannel(volume, model=tf.model, **props)
-    said = _run_reduction(reduction, tf.coordinates)
+    said = _run_reduction(reduction, tf.coordinates, _view_time(view))  # the step on screen
     if said is not None:
         simple.Delete(reduction)
         raise ValueError("The transfer function %s cannot be applied to %s: %s"
