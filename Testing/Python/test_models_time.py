@@ -12,7 +12,8 @@ the view at step t and the reduction last updated at another step:
 - the model save_model writes, applied to the series (ModelFile) at step t, gives step
   t's on-screen coordinates bit for bit; the three steps' models differ (crc32);
 - so does the model save_transfer_function writes beside the widgets;
-- show_spectrum updates the reduction at step t: its VarianceRetained is step t's.
+- show_spectrum updates the reduction at step t: its VarianceRetained is step t's;
+- explore_multichannel with the view at step 1 runs its reduction once, at step 1.
 """
 import os
 import shutil
@@ -107,6 +108,42 @@ for shown in (2, 0, 1):
     C.check(spectrum_variance == variance,
             "step %d: show_spectrum shows step %d's fit (variance retained %.6f, the "
             "step's own %.6f)" % (shown, shown, spectrum_variance, variance))
+
+# explore_multichannel at step 1: one reduction run, at step 1 (a new filter updated
+# without a time ran the first step, then the view ran step 1 again: twice the work).
+import multichannel_explorer.exploration as exploration  # noqa: E402
+from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline  # noqa: E402
+
+runs = []
+plain_filter = exploration._filter
+
+
+def observed_filter(name):
+    """The exploration's filter constructors; a DimensionReduction notes the time step
+    of each of its runs (None: no time asked)."""
+    ctor = plain_filter(name)
+    if name != "DimensionReduction":
+        return ctor
+
+    def make(**props):
+        proxy = ctor(**props)
+
+        def started(algorithm, event):
+            info = algorithm.GetOutputInformation(0)
+            key = vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP()
+            runs.append(info.Get(key) if info.Has(key) else None)
+
+        proxy.GetClientSideObject().AddObserver("StartEvent", started)
+        return proxy
+    return make
+
+
+exploration._filter = observed_filter
+scene.AnimationTime = times[1]
+explored = mce.explore_multichannel([series], view, widgets=2)
+exploration._filter = plain_filter
+C.check(runs == [times[1]], "explore_multichannel at step 1 reduces step 1 once (runs at %s)"
+        % runs)
 
 C.check(len(set(crcs.values())) == 3,
         "each step has its own fit: three different models %s"
