@@ -115,7 +115,7 @@ def _unused_readers_like(source):
         if proxy.SMProxy.GetXMLGroup() != "sources":
             continue
         try:
-            proxy.UpdatePipeline()
+            proxy.UpdatePipeline(_view_time())
             if proxy.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData" or \
                     _grid(proxy) != grid or _channel_count(proxy) < 1:
                 continue
@@ -148,7 +148,7 @@ def _steps(sources, view, widgets, gather):
         raise ValueError("select the channel readers (e.g. ch2, aal and brodmann, Ctrl+click in "
                          "the Pipeline Browser) or one multichannel volume first")
     for s in sources:
-        s.UpdatePipeline()
+        s.UpdatePipeline(_view_time(view))  # a series: the step on screen, read once
         if s.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData":
             raise ValueError("%s is no volume (image data): select the channel readers or one "
                              "multichannel volume" % _registered_name(s))
