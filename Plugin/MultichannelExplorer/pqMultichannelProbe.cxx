@@ -16,6 +16,7 @@
 #include <QEvent>
 #include <QLabel>
 #include <QMouseEvent>
+#include <QRect>
 #include <QWidget>
 
 #include <algorithm>
@@ -115,7 +116,8 @@ bool pqMultichannelProbe::eventFilter(QObject* watched, QEvent* event)
                   "multichannel_explorer._gui.probe(%1, %2)\n")
             .arg(x)
             .arg(y));
-        this->showText(widget, text);
+        const QPoint probed = mouse->pos();
+        this->showText(widget, text, &probed);
         // The markers: drawn once the answer is up (the helper does not render).
         pqApplicationCore::instance()->render();
       }
@@ -165,8 +167,10 @@ QString pqMultichannelProbe::runPython(const QString& code)
 }
 
 //-----------------------------------------------------------------------------
-void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text)
+void pqMultichannelProbe::showText(QWidget* viewWidget, const QString& text, const QPoint* probed)
 {
+  this->HasProbedPoint = probed != nullptr;
+  this->ProbedPoint = probed ? *probed : QPoint();
   if (!this->Label || this->Label->parentWidget() != viewWidget)
   {
     delete this->Label;
@@ -212,13 +216,24 @@ void pqMultichannelProbe::placeLabel()
   // now, so that switching them on never puts them under it), and never higher than the
   // middle + 12 pixels. A view too narrow for the label right of the axes gets it as far
   // right as it fits (over the axes rather than cut); a label taller than the lower half
-  // (a view under about twice its height) is cut at the view's bottom edge.
+  // (a view under about twice its height) is cut at the view's bottom edge. Where it
+  // would cover the probed pixel (and the marker drawn there), it goes to the bottom
+  // right corner if that keeps clear of it (12 pixels around).
   const QWidget* view = this->Label->parentWidget();
   const int width = view->width();
   const int height = view->height();
   const int besideAxes = height / 4 + 8;
-  const int x = besideAxes + this->Label->width() + 8 <= width
-    ? besideAxes
-    : std::max(8, width - this->Label->width() - 8);
-  this->Label->move(x, std::max(height / 2 + 12, height - this->Label->height() - 8));
+  const int rightmost = std::max(8, width - this->Label->width() - 8);
+  int x = besideAxes + this->Label->width() + 8 <= width ? besideAxes : rightmost;
+  const int y = std::max(height / 2 + 12, height - this->Label->height() - 8);
+  auto covers = [this, y](int left) {
+    return QRect(QPoint(left, y), this->Label->size())
+      .adjusted(-12, -12, 12, 12)
+      .contains(this->ProbedPoint);
+  };
+  if (this->HasProbedPoint && covers(x) && !covers(rightmost))
+  {
+    x = rightmost;
+  }
+  this->Label->move(x, y);
 }

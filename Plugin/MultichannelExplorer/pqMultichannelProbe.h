@@ -24,7 +24,8 @@ class pqView;
  *   is marked in both views. Its values appear in a small label over the view (at the
  *   bottom, right of the orientation axes' corner, in the view's lower half, so neither
  *   the axes nor the widget legend, which keeps to the upper half from the top right
- *   corner, is under it; object name "MultichannelProbeLabel")
+ *   corner, is under it; at the bottom right instead when it would cover the probed
+ *   pixel; object name "MultichannelProbeLabel")
  *   until the next probe or the toggle goes off; the hourglass cursor shows while the helper works, and the views are rendered
  *   with the markers once the label is up. The click also makes the view active
  *   (ParaView's own handling of the press).
@@ -59,8 +60,11 @@ private:
   // Runs `code` in ParaView's Python, then returns the text the helper left in
   // multichannel_explorer._gui.text (empty when Python is missing).
   QString runPython(const QString& code);
-  void showText(QWidget* viewWidget, const QString& text);
-  // Bottom left of its view, below the view's middle (again at every resize of the view).
+  // `probed`: the clicked point in the view widget's coordinates, which the label keeps
+  // clear of; none for Brush and Add Widget Here.
+  void showText(QWidget* viewWidget, const QString& text, const QPoint* probed = nullptr);
+  // Bottom left of its view, below the view's middle, or bottom right when that covers
+  // the probed point (again at every resize of the view).
   void placeLabel();
 
   QAction* ProbeAction;
@@ -70,6 +74,8 @@ private:
   QPointer<QLabel> Label;
   QPoint PressPosition;
   bool Pressed = false;
+  QPoint ProbedPoint; // the label keeps clear of it while HasProbedPoint
+  bool HasProbedPoint = false;
 };
 
 #endif

@@ -23,8 +23,9 @@ path, rc = arguments()
 state = load_state(path)
 check(rc == 0, "paraview ran the test script and exited (status %d)" % rc)
 probes = [e for e in state.get("events", []) if e["event"] == "probe"]
-check(len(probes) == 1 and probes[0]["point_id"] is not None,
-      "the click in the volume view probed a voxel (%s)" % probes)
+check(len(probes) == 2 and probes[0]["point_id"] is not None,
+      "the click in the middle of the volume view probed a voxel, then the low click "
+      "probed (%s)" % probes)
 
 
 def rgb(png):
@@ -94,4 +95,27 @@ else:
               "box %s" % (corner, drawn, axes))
         check(apart(label, corner),
               "the label %s keeps off the orientation axes' square %s" % (label, corner))
+
+# The second click, low in the view where the label sat after the first: the label moves
+# clear of the probed pixel (it would hide the marker drawn there).
+try:
+    width, height, pixels = rgb(state.get("screenshot_low", ""))
+except (OSError, subprocess.CalledProcessError, ValueError) as error:
+    check(False, "the second screenshot %s could be read (%s)"
+          % (state.get("screenshot_low"), error))
+else:
+    labels, label = box(width, height, pixels, LABEL)
+    legends, legend = box(width, height, pixels, LEGEND)
+    _, view = box(width, height, pixels, BACKGROUND)
+    check(labels > 2000 and label is not None and view is not None and legend is not None,
+          "after the low click: the label %s, the legend %s and the view %s are in the "
+          "window" % (label, legend, view))
+    if label and view and legend and len(probes) == 2:
+        # VTK display pixels (origin bottom left) to the window's (origin top left).
+        px, py = probes[1]["pixel"]
+        click = (view[0] + px, view[3] - py)
+        inside = label[0] - 4 <= click[0] <= label[2] + 4 and label[1] - 4 <= click[1] <= label[3] + 4
+        check(not inside, "the label %s keeps clear of the probed pixel %s" % (label, click))
+        check(apart(label, legend), "the label %s and the legend %s do not overlap"
+              % (label, legend))
 finish("gui_legend_probe")

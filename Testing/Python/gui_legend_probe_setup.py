@@ -1,6 +1,6 @@
 """GUI test: the probe's label covers neither the widget legend nor the orientation axes,
 part 1 (run by `paraview --script=` before gui_legend_probe_click.xml switches Probe on
-and clicks the middle of the volume view).
+and clicks the middle of the volume view, then low in it, where the label first sits).
 
 A synthetic volume with known ReducedCoordinates (0.1 of the voxel position), small in the
 middle of a magenta view, is shown as a Gaussian TF Volume with one opaque widget whose
@@ -9,8 +9,9 @@ wide, with ParaView's orientation axes at the bottom left (shown, as by default)
 probe's label is a dark box over the view, the legend a dark translucent box: over
 magenta they have colours no other part of the window has, (71, 16, 71) and
 (102, 13, 102). probe_at_pixel is wrapped to record the probe, and a screenshot of the
-whole window is taken 2 s after it, once the label is shown: gui_legend_probe_window.png,
-which gui_legend_probe_check.py reads."""
+whole window is taken 2 s after it, once the label is shown: gui_legend_probe_window.png
+after the first, gui_legend_probe_low.png after the second, which
+gui_legend_probe_check.py reads."""
 import os
 
 from paraview.simple import *  # noqa: F401,F403
@@ -19,7 +20,8 @@ import gui_setup as G
 
 out = G.output_dir()
 window_png = G.removed(os.path.join(out, "gui_legend_probe_window.png"))
-state = G.State("legend_probe", events=[], screenshot=window_png,
+low_png = G.removed(os.path.join(out, "gui_legend_probe_low.png"))
+state = G.State("legend_probe", events=[], screenshot=window_png, screenshot_low=low_png,
                 widget_name="Frontal_Inf_Orb_L, Frontal_Inf_Tri_L and Frontal_Inf_Oper_L (AAL)")
 
 wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -6, 6])
@@ -54,7 +56,7 @@ def probe_at_pixel(v, x, y, *args, **kwargs):
                             "view_size": [int(s) for s in v.ViewSize],
                             "point_id": hit.point_id if hit else None})
     state.save()
-    G.screenshot(window_png)
+    G.screenshot(window_png if len(state["events"]) == 1 else low_png)
     return hit
 
 
