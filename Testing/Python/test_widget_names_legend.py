@@ -124,6 +124,12 @@ display.GaussianWidgetNames = renamed
 shown = legend()
 C.check(shown == expected_legend(widgets, renamed) and "Grey matter" in shown,
         "a rename shows in the legend:\n%s" % shown)
+display.GaussianWidgetNames = ["Scalp\nand skull", "Grey\tmatter", "Ventricles\r\n", "Eyes"]
+shown = legend()
+C.check(shown == expected_legend(widgets, ["Scalp and skull", "Grey matter", "Ventricles  ",
+                                           "Eyes"]),
+        "a line break or tab in a name is a space: still one row per widget:\n%s" % shown)
+display.GaussianWidgetNames = renamed
 
 
 # Many widgets: at most 16 rows (and no taller than half the view), the rest counted in one.
