@@ -300,6 +300,22 @@ def brain_subset(step):
                                 SampleRateI=step, SampleRateJ=step, SampleRateK=step)
 
 
+def open_series(files, checker):
+    """`files` opened as one time series (a step per file), the animation on its steps:
+    (reader, its time values, the animation scene); `checker` checks there is a step per
+    file."""
+    from paraview import simple
+
+    series = simple.OpenDataFile(files)
+    series.UpdatePipelineInformation()
+    times = [float(t) for t in series.TimestepValues]
+    checker.check(len(times) == len(files), "the %d files are one series of %d time steps %s"
+                  % (len(files), len(files), times))
+    scene = simple.GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    return series, times, scene
+
+
 def render_view(size, background=(0.0, 0.0, 0.0), axes=False):
     """A new render view of `size` pixels with its own `background` colour (not the colour
     palette's) and the orientation axes shown or not."""

@@ -62,12 +62,7 @@ for step, normal in enumerate(NORMALS):
     writer.SetInputData(image)
     writer.Write()
 
-series = simple.OpenDataFile(files)
-series.UpdatePipelineInformation()
-times = [float(t) for t in series.TimestepValues]
-C.check(len(times) == 3, "the three files are one series of 3 time steps %s" % times)
-scene = simple.GetAnimationScene()
-scene.UpdateAnimationUsingDataTimeSteps()
+series, times, scene = T.open_series(files, C)
 view = T.render_view([300, 300])
 display = simple.Show(series, view)
 display.SetRepresentationType("Volume")

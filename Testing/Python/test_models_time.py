@@ -42,12 +42,7 @@ for step in range(3):
     files.append(T.write_vti(os.path.join(OUT, "step_%d.vti" % step),
                              [("ch2", bright), ("aal", aal)]))
 
-series = simple.OpenDataFile(files)
-series.UpdatePipelineInformation()
-times = [float(t) for t in series.TimestepValues]
-C.check(len(times) == 3, "the three files are one series of 3 time steps %s" % times)
-scene = simple.GetAnimationScene()
-scene.UpdateAnimationUsingDataTimeSteps()
+series, times, scene = T.open_series(files, C)
 view = T.render_view([200, 200])
 simple.SetActiveView(view)
 _, reduction = mce.reduce_multichannel(series, "PCA", "6D", ReferenceSampleSize=2000)
