@@ -167,6 +167,35 @@ diff_on = np.abs(top_right(with_legend) - top_right(without)).mean()
 C.check(diff_on > 3.0, "ShowWidgetLegend 0 takes the legend out of the picture (top-right "
         "corner differs by %.1f grey levels on average)" % diff_on)
 
+
+def legend_box(size):
+    """(width, height) in pixels of what the legend changes in a picture of `size`."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    shots = []
+    for shown in (1, 0):
+        display.ShowWidgetLegend = shown
+        path = os.path.join(out, "legend_%dx%d_%d.png" % (size[0], size[1], shown))
+        simple.SaveScreenshot(path, view, ImageResolution=list(size))
+        reader = vtkPNGReader()
+        reader.SetFileName(path)
+        reader.Update()
+        shots.append(vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
+                     .reshape(size[1], size[0], -1)[:, :, :3].astype(int))
+    display.ShowWidgetLegend = 1
+    changed = np.abs(shots[0] - shots[1]).max(axis=2) > 0
+    rows, cols = np.where(changed.any(axis=1))[0], np.where(changed.any(axis=0))[0]
+    return (int(cols.max() - cols.min() + 1), int(rows.max() - rows.min() + 1)) \
+        if len(rows) else (0, 0)
+
+
+# The legend's size follows the view's height (rows of 13 to 20 pixels): in a small frame
+# it keeps to a corner instead of covering a fifth of it.
+large, small = legend_box((600, 600)), legend_box((320, 240))
+C.check(0 < small[1] < 0.8 * large[1] and small[1] <= 0.22 * 240 and
+        0 < small[0] < 0.8 * large[0],
+        "the legend (3 rows) is %d x %d pixels in a 600 x 600 picture, %d x %d in a "
+        "320 x 240 one (at most 22%% of its height)" % (large + small))
+
 # ---- state file ------------------------------------------------------------------------------
 hidden = [float(v) for v in display.GaussianWidgetsHidden]
 state = os.path.join(out, "names.pvsm")
