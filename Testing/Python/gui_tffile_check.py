@@ -2,7 +2,8 @@
 with the state file and paraview's exit status): Save... wrote saved.mcvtf with the two
 widgets and the fitted model beside it (saved.mcvmodel); Add made three widgets; Load...
 set the reduction's ModelFile to that model and the two widgets again; Edit > Undo took
-both back in one step (three widgets, no ModelFile)."""
+both back in one step (three widgets, no ModelFile). The widgets' names go into the file and
+come back with Load...."""
 import json
 import os
 
@@ -30,6 +31,8 @@ if content:
     check(values == initial and content["model"]["file"] == "saved.mcvmodel" and
           os.path.exists(model),
           "Save... wrote the two widgets exactly, and the model saved.mcvmodel beside them")
+    check([w.get("name") for w in content["widgets"]] == state.get("initial_names"),
+          "Save... wrote the widgets' names %s" % [w.get("name") for w in content["widgets"]])
 widgets = [v for k, v in events if k == "widgets"]
 models = [v for k, v in events if k == "model"]
 check(len(widgets) >= 1 and len(widgets[0]) == 24 and widgets[0][:16] == initial,
@@ -39,6 +42,9 @@ check(len(models) >= 1 and os.path.normpath(models[0]) == os.path.normpath(model
 after_load = [i for i, (k, v) in enumerate(events) if k == "widgets" and v == initial]
 check(len(after_load) >= 1 and len(widgets) >= 2 and widgets[1] == initial,
       "Load... set the two saved widgets again")
+names = state.get("names_at_widgets", [])
+check(len(names) >= 2 and names[1] == state.get("initial_names"),
+      "Load... set their names again, with the widgets: %s" % names[1:2])
 check(len(events) >= 2 and events[-1][0] in ("widgets", "model") and
       widgets[-1] == widgets[0] and models[-1] == "",
       "Edit > Undo: the three widgets and no ModelFile again (one undo step)")

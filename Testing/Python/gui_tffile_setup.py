@@ -35,11 +35,14 @@ for q, colour in ((0.3, (1.0, 0.2, 0.1)), (0.7, (0.1, 0.5, 1.0))):
         list(colour) + [0.8]
 view = GetActiveViewOrCreate("RenderView")
 display = mce.show_gaussian_tf(reduction, view, widgets=WIDGETS)
+NAMES = ["grey matter", "white matter"]
+display.GaussianWidgetNames = NAMES
 ResetCamera(view)
 Render(view)
 SetActiveSource(reduction)  # the Properties panel shows its display: the editor
 
-state = G.State("tffile", in_folder=out, initial=WIDGETS, events=[], folder=out)
+state = G.State("tffile", in_folder=out, initial=WIDGETS, initial_names=NAMES, events=[],
+                names_at_widgets=[], folder=out)
 save = state.save
 # The splitter under the Pipeline Browser moved up in the screenshot: the editor's buttons
 # in view.
@@ -51,6 +54,8 @@ def record(kind):
     def on_change(*unused):
         if kind == "widgets":
             value = [float(v) for v in display.GaussianWidgets]
+            state["names_at_widgets"].append(
+                [str(v) for v in display.GetProperty("GaussianWidgetNames")])
         else:
             value = str(reduction.ModelFile)
         state["events"].append([kind, value])
