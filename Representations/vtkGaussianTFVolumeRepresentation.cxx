@@ -593,7 +593,8 @@ void vtkGaussianTFVolumeRepresentation::UpdateLegend()
     std::ostringstream row;
     std::string name = w < internals.Names.size() ? internals.Names[w] : std::string();
     // One row per widget: a line break or tab in a name (a script's, a file's) is a space.
-    std::replace_if(name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == '\t'; }, ' ');
+    std::replace_if(
+      name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r' || c == '\t'; }, ' ');
     row << (name.empty() ? "Widget " + std::to_string(w + 1) : name);
     if (w < internals.Shares.size())
     {

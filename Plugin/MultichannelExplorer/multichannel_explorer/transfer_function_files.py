@@ -290,8 +290,9 @@ def load_transfer_function(display, path):
     representation): sets the ModelFile of the DimensionReduction upstream of the display
     to the file's model (so the coordinates are the model's, those the widgets were placed
     in), then the widgets, hidden ones included, their names and the coordinate array.
-    The file and its model are checked first (read_transfer_function): on any error (ValueError naming
-    the file) nothing is changed. Returns the TransferFunctionFile read."""
+    The file and its model are checked first (read_transfer_function): on any error
+    (ValueError naming the file) nothing is changed. Returns the TransferFunctionFile
+    read."""
     display = _gaussian_display(display, "load_transfer_function")
     tf = read_transfer_function(path)
     reduction = _reduction_of(display)
