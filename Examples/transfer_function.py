@@ -385,10 +385,12 @@ def main():
         return job.watch(simple.ExtractSubset(Input=source, SampleRateI=rate,
                                               SampleRateJ=rate, SampleRateK=rate))
 
-    def fetch_array(source, name, port=0):
+    def fetch_array(source, name, port=0, data=None):
+        """The point array `name` of `source`'s output (`data`: that output, already
+        fetched), as numpy."""
         from vtkmodules.util.numpy_support import vtk_to_numpy
 
-        data = servermanager.Fetch(source, idx=port)
+        data = data or servermanager.Fetch(source, idx=port)
         array = data.GetPointData().GetArray(name)
         job.check("fetching %s" % name)
         if array is None:
@@ -422,8 +424,8 @@ def main():
             Input=coarse(reduction), SampleSize=args.methods_sample, RandomSeed=args.seed,
             GaussianWidgets=widgets))
         shown.Coordinates = ["POINTS", "ReducedCoordinates"]
-        voxels = fetch_array(shown, "VoxelId")
         cloud = servermanager.Fetch(shown)  # points at the main domain's coordinates
+        voxels = fetch_array(shown, "VoxelId", data=cloud)
         colours = report_figures.widget_colours(
             [cloud.GetPoint(i) for i in range(cloud.GetNumberOfPoints())],
             [float(v) for v in widgets])
@@ -448,7 +450,8 @@ def main():
         caption = ("%s features of %s (%d voxels); each method fitted on the same %d-voxel "
                    "reference sample (seed=%d, K=%d, UMAP's K=%d, L=%d); the same %d voxels "
                    "drawn at dimensions 1-2, in the colour of the %s domain's widget that "
-                   "selects them (within 1.18 sigma of its centre: half its peak; the others grey)"
+                   "selects them (within 1.18 sigma of its centre: half its peak; the others "
+                   "grey)"
                    % (args.features, _every(args.methods_stride), grid, args.reference_size,
                       args.seed, args.neighbors, args.umap_neighbors, args.landmarks, drawn,
                       args.method))

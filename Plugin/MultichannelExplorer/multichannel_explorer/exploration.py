@@ -103,9 +103,10 @@ def _consumers(proxy):
     return found
 
 
-def _unused_readers_like(source):
+def _unused_readers_like(source, time):
     """Readers (sources without an input) that nothing consumes yet, on `source`'s grid,
-    in the order they were created: the other channels opened with it."""
+    in the order they were created: the other channels opened with it (each read at
+    `time`)."""
     grid = _grid(source)
     readers = []
     for (name, gid), proxy in sorted(_simple().GetSources().items(),
@@ -115,7 +116,7 @@ def _unused_readers_like(source):
         if proxy.SMProxy.GetXMLGroup() != "sources":
             continue
         try:
-            proxy.UpdatePipeline(_view_time())
+            proxy.UpdatePipeline(time)
             if proxy.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData" or \
                     _grid(proxy) != grid or _channel_count(proxy) < 1:
                 continue
@@ -147,13 +148,14 @@ def _steps(sources, view, widgets, gather):
     if not sources:
         raise ValueError("select the channel readers (e.g. ch2, aal and brodmann, Ctrl+click in "
                          "the Pipeline Browser) or one multichannel volume first")
+    time = _view_time(view)  # a series: everything at the step on screen, read once
     for s in sources:
-        s.UpdatePipeline(_view_time(view))  # a series: the step on screen, read once
+        s.UpdatePipeline(time)
         if s.GetDataInformation().GetDataSetTypeAsString() != "vtkImageData":
             raise ValueError("%s is no volume (image data): select the channel readers or one "
                              "multichannel volume" % _registered_name(s))
     if len(sources) == 1 and _channel_count(sources[0]) == 1 and gather:
-        sources = _unused_readers_like(sources[0])
+        sources = _unused_readers_like(sources[0], time)
     if len(sources) == 1 and _channel_count(sources[0]) < 2:
         raise ValueError("%s has one channel: a multichannel exploration needs several. Open "
                          "the other channels (files on the same grid), select them all and "
@@ -169,7 +171,7 @@ def _steps(sources, view, widgets, gather):
         yield "Merging %d channels (%s)" % (len(sources), name)
         volume = _filter("MergeChannels")(Input=list(sources))
         _rename(volume, "Channels of %s" % name)
-        volume.UpdatePipeline(_view_time(view))  # the time step on screen
+        volume.UpdatePipeline(time)
         result["merged"] = volume
 
     yield "Computing features and reducing them (DimensionReduction; progress below)"
@@ -177,7 +179,7 @@ def _steps(sources, view, widgets, gather):
     _rename(reduction, "Exploration of %s" % name)
     # At the step on screen: a new filter updated without a time reduces the first step,
     # and the view then reduces its own step again (twice the work for a series).
-    reduction.UpdatePipeline(_view_time(view))
+    reduction.UpdatePipeline(time)
     result["reduction"] = reduction
 
     yield "Showing the volume as Gaussian TF Volume and seeding %d widgets" % widgets
