@@ -269,6 +269,14 @@ int checkedRequestInformation(vtkAlgorithm* reader, vtkInformationVector* output
 }
 
 //------------------------------------------------------------------------------
+std::string caughtErrors(vtkObject* object, const std::function<void()>& run)
+{
+  ReportedErrors errors(object);
+  run();
+  return errors.Text;
+}
+
+//------------------------------------------------------------------------------
 int checkedRequestData(vtkAlgorithm* reader, vtkInformationVector* outputVector,
   const std::string& what, bool refused, const std::function<int()>& readData)
 {

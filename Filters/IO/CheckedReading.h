@@ -10,6 +10,7 @@
 #include <string>     // for std::string
 
 class vtkAlgorithm;
+class vtkObject;
 class vtkImageReader2;
 class vtkInformation;
 class vtkInformationVector;
@@ -57,6 +58,9 @@ std::string checkFitsInMemory(double voxels, double bytesPerVoxel);
 int checkedRequestInformation(vtkAlgorithm* reader, vtkInformationVector* outputVector,
   const std::string& what, const std::function<std::string()>& readHeader);
 
+// Runs `run` with the errors that `object` reports caught instead of printed; returns their
+// text ("" when none), each without the "ERROR: In file, line N / Class (0x...): " head.
+std::string caughtErrors(vtkObject* object, const std::function<void()>& run);
 // RequestData of a checked reader: nothing when the header was `refused`; else `readData`
 // (the reader's own RequestData), and an error that the reader reports while reading (a
 // corrupt strip, a read that failed) refuses the whole volume. Returns 1 when it was read.

@@ -262,6 +262,7 @@ public:
   std::vector<std::vector<std::uint64_t>> Directories;
   int Bits = 0;
   int Format = 0;
+  std::string Contents; // what the file holds besides its grid (vtkCheckedTIFFReader::Contents)
 
   // Builds the map of the file `name` (whose directories are `pages`) when its first page's
   // description is ImageJ's or OME-XML, and checks the files and pages it names. "" when
@@ -361,6 +362,12 @@ public:
     this->Bits = first.BitsPerSample;
     this->Format = std::max(first.SampleFormat, 1);
     this->HasMap = true;
+    std::string names;
+    for (const std::string& channel : this->Map.ChannelNames)
+    {
+      names += (names.empty() ? "" : ", ") + channel;
+    }
+    this->Contents = "channels " + names + " of " + typeName(this->Bits, this->Format);
     return "";
   }
 };
@@ -431,6 +438,10 @@ std::vector<std::string> vtkCheckedTIFFReader::Files()
   {
     files.emplace_back(this->GetFileName());
   }
+  if (this->OneImageSet)
+  {
+    files.resize(1);
+  }
   return files;
 }
 
@@ -463,6 +474,13 @@ std::string vtkCheckedTIFFReader::CheckFiles()
       problem = "is " + pixels(pages[0]) + " where the first file is " + pixels(first) +
         " (the slices of a stack must match)";
     }
+    if (problem.empty() && files.size() > 1 && pages.size() > 1)
+    {
+      // Only the first page would be read: a volume taken for a slice.
+      problem = "holds " + std::to_string(pages.size()) +
+        " pages, where a stack of 2D slices takes one page per file (a list of files whose "
+        "first file holds several pages is read as a time series of volumes instead)";
+    }
     if (problem.empty() && files.size() == 1)
     {
       problem = this->Internals->Build(files[0], pages);
@@ -479,6 +497,7 @@ std::string vtkCheckedTIFFReader::CheckFiles()
         this->Internals->Bits / 8.0);
     }
     first = i == 0 ? pages[0] : first;
+    this->Internals->Contents = pixels(first);
     slices += files.size() > 1 ? 1.0 : static_cast<double>(pages.size());
   }
   return mcv::checkFitsInMemory(static_cast<double>(first.Width) * first.Height * slices,
@@ -495,8 +514,13 @@ int vtkCheckedTIFFReader::RequestInformation(
   outInfo->Remove(vtkStreamingDemandDrivenPipeline::TIME_RANGE());
   outInfo->Remove(vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT());
   this->Internals->HasMap = false;
+  this->ClassifyList();
   // The files first: libtiff would stop quietly at a cut directory.
   this->Refused = !mcv::checkedRequestInformation(this, outputVector, this->Describe(), [&] {
+    if (this->Series)
+    {
+      return this->SeriesInformation(outInfo);
+    }
     const std::string problem = this->CheckFiles();
     if (!problem.empty())
     {
@@ -527,9 +551,10 @@ int vtkCheckedTIFFReader::RequestData(
 {
   return mcv::checkedRequestData(this, outputVector, this->Describe(), this->Refused, [&] {
     LibtiffErrors errors;
-    const int ok = this->Internals->HasMap
-      ? this->ReadPlanes(outputVector->GetInformationObject(0))
-      : this->Superclass::RequestData(request, inputVector, outputVector);
+    vtkInformation* outInfo = outputVector->GetInformationObject(0);
+    const int ok = this->Series ? this->ReadSeriesStep(outInfo)
+      : this->Internals->HasMap ? this->ReadPlanes(outInfo)
+                                : this->Superclass::RequestData(request, inputVector, outputVector);
     if (!LibtiffErrors::First().empty())
     {
       vtkErrorMacro(<< LibtiffErrors::First()); // caught by checkedRequestData
@@ -544,7 +569,8 @@ std::string vtkCheckedTIFFReader::Describe()
   const std::vector<std::string> files = this->Files();
   if (files.size() > 1)
   {
-    return "TIFF stack of " + std::to_string(files.size()) + " files";
+    return "TIFF " + std::string(this->Series ? "time series" : "stack") + " of " +
+      std::to_string(files.size()) + " files";
   }
   return "TIFF file '" + (files.empty() ? std::string() : files[0]) + "'";
 }
@@ -710,3 +736,15 @@ int vtkCheckedTIFFReader::ReadPlanes(vtkInformation* outInfo)
   return 1;
 }
 
+
+//------------------------------------------------------------------------------
+std::string vtkCheckedTIFFReader::Contents()
+{
+  return this->Internals->Contents;
+}
+
+//------------------------------------------------------------------------------
+int vtkCheckedTIFFReader::Frames()
+{
+  return this->Internals->HasMap ? this->Internals->Map.SizeT : 1;
+}

@@ -18,8 +18,14 @@
  * (CheckedReading.h).
  *
  * One file: its pages are the slices (as vtkTIFFReader reads them). Several files
- * (AddFileName, the FileNames property in ParaView): one slice each, in the order given,
- * as ParaView's TIFF Series Reader with ReadAsImageStack.
+ * (AddFileName, the FileNames property in ParaView) of one page each: one slice each, in
+ * the order given, as ParaView's TIFF Series Reader with ReadAsImageStack. Several files
+ * whose first holds a volume (several pages, or an ImageJ hyperstack or OME-TIFF) are a
+ * time series instead, as ParaView's readers of other formats take a list of files: time
+ * step i (time value i) is file i, read by a reader of its own when that step is asked for;
+ * every file must hold one frame of the same grid and channels (an error names the file
+ * that does not). A list whose first file is an OME-TIFF naming the others as parts of
+ * one image (a multi-file OME-TIFF set) is that image, read from its first file.
  *
  * Two kinds of file hold channels and time points in their pages, and say so in the
  * ImageDescription of their first page:
@@ -39,6 +45,7 @@
 
 #include "mcvCheckedReaderMacros.h" // for mcvCheckedReaderMembersMacro
 #include "mcvIOVolPackModule.h"      // for export macro
+#include "vtkSmartPointer.h" // for vtkSmartPointer
 #include "vtkTIFFReader.h"
 
 #include <string> // for std::string
@@ -84,7 +91,21 @@ private:
   std::string PlaneMapInformation(vtkInformation* outInfo);
   int ReadPlanes(vtkInformation* outInfo);
 
+  // A time series of volume files (one file per step): the step readers, and the steps'
+  // information and the step read by RequestData (vtkCheckedTIFFReaderSeries.cxx).
+  // Sets Series and OneImageSet from the listed files' first (its pages and OME-XML).
+  void ClassifyList();
+  std::string SeriesInformation(vtkInformation* outInfo);
+  int ReadSeriesStep(vtkInformation* outInfo);
+  // What one file holds besides its grid: its channels and sample type ("channels DAPI, GFP
+  // of uint16"), or its pages' pixels; and its frames.
+  std::string Contents();
+  int Frames();
+
   std::vector<std::string> Stack;
+  bool Series = false;      // the listed files are a time series of volumes
+  bool OneImageSet = false; // the listed files are the parts of one OME-TIFF: read the first
+  std::vector<vtkSmartPointer<vtkCheckedTIFFReader>> Steps;
   class vtkInternals;
   vtkInternals* Internals;
 };

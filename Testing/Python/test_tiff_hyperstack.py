@@ -13,7 +13,7 @@ written:
   zlib-compressed pages; a multi-page TIFF that is not ImageJ stays one array;
 - OME-TIFF from tifffile in two DimensionOrders (XYZCT with PhysicalSize in nm and tiled
   pages; XYCZT), Bio-Formats style (hand-made OME-XML, one TiffData per plane, XYZTC order,
-  a set of two files linked by UUID FileName); OpenDataFile picks the checked reader for
+  a set of two files linked by UUID FileName, opened by its first file or by both); OpenDataFile picks the checked reader for
   .ome.tif and .ome.tiff;
 - bad files, each an error naming the file and the problem, 0 points: images= other than
   channels x slices x frames, missing pages, an unknown unit, OME SizeC other than the
@@ -252,6 +252,12 @@ for t in range(2):
                  bioformats_xml("XYCZT", 3, NAMES, blocks) if t == 0 else None)
 proxy, msgs = open_checked(os.path.join(folder, "set_t0.ome.tif"))
 check_volume("OME file set (UUID FileName)", proxy, msgs, bf, list(NAMES), (2.0, 2.0, 2.0),
+             "µm", times=[0.0, 1.5], time_unit="s")
+simple.Delete(proxy)
+# Both files of the set selected (as the GUI's file dialog groups them): the same image,
+# not a time series of its parts.
+proxy, msgs = open_checked([os.path.join(folder, "set_t%d.ome.tif" % t) for t in range(2)])
+check_volume("OME file set, both files listed", proxy, msgs, bf, list(NAMES), (2.0, 2.0, 2.0),
              "µm", times=[0.0, 1.5], time_unit="s")
 simple.Delete(proxy)
 
