@@ -78,7 +78,10 @@ def main(argv):
         times = list(getattr(source, "TimestepValues", []) or [0.0])
         if isinstance(times, float):
             times = [times]
-        fit_step = min(max(args.fit_step, 0), len(times) - 1)
+        if not 0 <= args.fit_step < len(times):
+            raise B.JobError("--fit-step %d: the input has %d time step(s), 0 to %d"
+                             % (args.fit_step, len(times), len(times) - 1))
+        fit_step = args.fit_step
         if args.model:
             mce.read_model(args.model)  # a clear error before anything runs
             _, reduction = mce.reduce_multichannel(source, model=os.path.abspath(args.model))

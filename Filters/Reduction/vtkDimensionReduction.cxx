@@ -510,6 +510,7 @@ bool vtkDimensionReduction::ChooseModel(vtkImageData* image, Run& run)
     run.model = internals.ReadModel;
     run.modelBytes = &internals.ReadBytes;
     run.modelSource = this->ModelFile;
+    run.modelFromFile = true;
   }
   else if (internals.ApplyOneStep && internals.OneStepModel)
   {
@@ -539,7 +540,7 @@ bool vtkDimensionReduction::ChooseModel(vtkImageData* image, Run& run)
     {
       std::ostringstream os;
       os << "The volume's spacing (" << spacing[0] << ", " << spacing[1] << ", " << spacing[2]
-         << ") differs from that of the volume the model " << run.modelSource << " was fitted on (" << fitted[0]
+         << ") differs from that of the volume the model" << run.ModelNamed() << " was fitted on (" << fitted[0]
          << ", " << fitted[1] << ", " << fitted[2] << (run.model->features.lengthUnit.empty() ? "" : " ")
          << run.model->features.lengthUnit
          << "): gradients are per world unit, so the same tissue may get other features and coordinates.";
@@ -589,7 +590,7 @@ bool vtkDimensionReduction::ReduceRows(vtkImageData* image, Run& run)
   run.method = run.model ? mcv::reductionMethodName(run.model->reduction.method) : methodName(this->Method);
   if (!result.ok())
   {
-    vtkErrorMacro(<< run.method << (run.model ? " (the model " + run.modelSource + ")" : std::string()) << " on "
+    vtkErrorMacro(<< run.method << (run.model ? " (the model" + run.ModelNamed() + ")" : std::string()) << " on "
                   << what << ": " << result.error);
     return false;
   }
@@ -719,10 +720,10 @@ bool vtkDimensionReduction::StoreResults(const Run& run)
   if (run.model && result.outOfModelVoxels > 0)
   {
     std::ostringstream os;
-    os << result.outOfModelVoxels << " voxel(s) lie outside the reduction model " << run.modelSource
-       << " (farther than " << mcv::kOutOfModelRatio
-       << " x its reference radius from every reference): they get the colour of the nearest known tissue; "
-          "see the point array ModelDistance.";
+    os << result.outOfModelVoxels << " voxel(s) lie outside the reduction model" << run.ModelNamed()
+       << ": farther than " << mcv::kOutOfModelRatio
+       << " x its reference radius from every reference, they get the colour of the nearest known tissue "
+          "(see the point array ModelDistance).";
     this->ReportWarnings({ os.str() });
   }
   if (result.outputDimension != this->OutputDimension)

@@ -87,6 +87,12 @@ struct vtkDimensionReduction::Run
   std::shared_ptr<const mcv::vtkhelpers::ModelFile> model;
   const std::vector<char>* modelBytes = nullptr;
   std::string modelSource;
+  bool modelFromFile = false;
+  // The model as messages name it: " 'brain.mcvmodel'" or " (the fit of time 20)".
+  std::string ModelNamed() const
+  {
+    return this->modelFromFile ? " '" + this->modelSource + "'" : " (" + this->modelSource + ")";
+  }
   bool fromChannels = false; // the features are computed from the channels (fused)
   vtkSmartPointer<vtkUnsignedCharArray> foreground;
   bool half = false; // float16 coordinates

@@ -7,7 +7,8 @@ Known answers:
   frame 2 (the brightening) differs; the model is written and reads back; the movie is
   written through SaveAnimation; report.json lists every step and file;
 - the same series with that model (--model): the same frames, pixel for pixel;
-- --camera follow: one frame for step 0 and --turn-frames frames for each later step.
+- --camera follow: one frame for step 0 and --turn-frames frames for each later step;
+- --fit-step beyond the steps: an error, nothing written.
 """
 import os
 import sys
@@ -84,4 +85,13 @@ names = sorted(os.listdir(os.path.join(follow, "frames")))
 C.check(len(names) == 1 + 2 * 3 and [s["frame"] for s in followed["steps"]][-1] ==
         "frames/frame_0006.png",
         "--camera follow: 1 + 2 x 3 frames (%d)" % len(names))
+
+# A fit step the series does not have is an error, not a quiet other step.
+missing = os.path.join(work, "fit_step_9")
+plugin = ["--plugin", os.environ["MCV_PLUGIN"]] if os.environ.get("MCV_PLUGIN") else []
+run = T.run_pvbatch("pvbatch", [os.path.join(T.REPO, "Examples", "time_series.py"), "--input",
+                                stack, "--output", missing, "--fit-step", "9"] + plugin)
+C.check(run.returncode != 0 and "--fit-step 9: the input has 3 time step(s), 0 to 2" in
+        run.stdout and not os.path.exists(missing),
+        "--fit-step 9 on 3 steps: exit %d, the error names the steps, no output" % run.returncode)
 C.finish()
