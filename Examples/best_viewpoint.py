@@ -1,19 +1,22 @@
 """Best and worst viewpoints of a volume, as images: the best-viewpoint capability alone.
 
-    xvfb-run -a pvbatch Examples/best_viewpoint.py [VOLUME] [OUTPUT_DIR] [--plugin PATH]
+    xvfb-run -a pvbatch Examples/best_viewpoint.py [VOLUME] [OUTPUT_DIR | --output DIR]
+        [--size W H] [--plugin PATH]
 
 VOLUME      a volume ParaView can read as image data (default: Colin27 ch2.nii.gz from
             the project's data folder, .cache/volumes). .nii/.nii.gz and VolPack .den are
             read by the plugin's readers.
-OUTPUT_DIR  where the images go (default: output/best_viewpoint).
+OUTPUT_DIR  where the images go (default: output/best_viewpoint; --output DIR says the same).
 --plugin    the MultichannelExplorer plugin library (default: $MCV_PLUGIN, then
             PV_PLUGIN_PATH, then the build folders of this repository).
 
 The volume's opacity: 0 up to Otsu's threshold of its histogram (the background), then a
-ramp to 1 at its maximum. Writes best.png (camera along v3, the direction of least variance
-of the 3D Harris interest points), worst.png (along v1), best_points.png (best view with the
-interest points over the volume) and best_viewpoint.json (an error when a picture is
-empty); prints the directions and eigenvalues.
+ramp to 1 at its maximum; a volume of several components per voxel (a 4D NIfTI file read
+with TimeAsVector, e.g. diffusion MRI) is shown and analysed by its magnitude. Writes
+best.png (camera along v3, the direction of least variance of the 3D Harris interest
+points), worst.png (along v1), best_points.png (best view with the interest points over the
+volume, drawn fainter) and best_viewpoint.json; prints the directions and eigenvalues. A
+picture that comes out empty ends the script with an error (and no best_viewpoint.json).
 """
 import json
 import os
@@ -32,12 +35,15 @@ parser.add_argument("volume", nargs="?", default=os.path.join(DATA, "ch2.nii.gz"
                     help="a volume ParaView reads as image data")
 parser.add_argument("output", nargs="?", default=os.path.join("output", "best_viewpoint"),
                     help="where the images go")
+parser.add_argument("--output", dest="output_option", metavar="DIR",
+                    help="where the images go (as OUTPUT_DIR, the other examples' spelling)")
 parser.add_argument("--plugin", default=None,
                     help="the MultichannelExplorer plugin library (none: $MCV_PLUGIN, then "
                          "PV_PLUGIN_PATH, then build*/ of this repository)")
 parser.add_argument("--size", type=int, nargs=2, default=[800, 600], metavar=("W", "H"),
                     help="the pictures' size in pixels")
 args = parser.parse_args(sys.argv[1:])
+args.output = args.output_option or args.output
 
 require(args.volume)
 os.makedirs(args.output, exist_ok=True)
@@ -56,6 +62,17 @@ array = volume.PointData.keys()[0]
 print("volume   %s: %s, extent %s, array '%s' range %s" % (
     args.volume, volume.GetXMLLabel(), info.GetExtent(), array,
     volume.PointData[array].GetRange()))
+components = volume.PointData[array].GetNumberOfComponents()
+if components > 1:
+    # ParaView draws a vector array by its magnitude; the opacity the best view is found
+    # for must be that of the picture, so both take the magnitude as one array.
+    volume = PythonCalculator(Input=volume, ArrayName=array + "_magnitude", Expression=(
+        "numpy.sqrt(numpy.sum(numpy.square(inputs[0].PointData[%r].astype(numpy.float64)), "
+        "axis=1))" % array))
+    volume.UpdatePipeline()
+    array = array + "_magnitude"
+    print("         %d components per voxel: shown and analysed by their magnitude '%s', "
+          "range %s" % (components, array, volume.PointData[array].GetRange()))
 
 
 
@@ -109,15 +126,19 @@ if not best.valid:
 SaveScreenshot(os.path.join(args.output, "best.png"), view)
 
 # ... with the interest points over the volume (orange spheres; colour them by the
-# HarrisScore array to see the response strength).
+# HarrisScore array to see the response strength). Most of them lie inside the volume, so
+# it is drawn ten times fainter for this picture (its opacity unit distance x10).
 points = Show(best.filter, view)
 points.SetRepresentationType("Points")
 ColorBy(points, None)
 points.AmbientColor = points.DiffuseColor = [1.0, 0.45, 0.1]
 points.PointSize = 5
 points.RenderPointsAsSpheres = 1
+unit_distance = display.ScalarOpacityUnitDistance
+display.ScalarOpacityUnitDistance = 10 * unit_distance
 Render(view)
 SaveScreenshot(os.path.join(args.output, "best_points.png"), view)
+display.ScalarOpacityUnitDistance = unit_distance
 Hide(best.filter, view)
 
 # 4. Worst view: camera along v1 (most variance: structures hide each other).

@@ -139,9 +139,11 @@ def main(argv):
                     direction = [-v for v in direction]  # v and -v are equally good: the nearer
                 # The turn ends framed on the voxels shown, as the first frame is
                 # (apply_best_viewpoint): centred, every one in view.
+                up = [float(v) for v in goal.GetPropertyValue("ViewUp")]
+                if sum(a * float(b) for a, b in zip(up, view.CameraViewUp)) < 0:
+                    up = [-v for v in up]  # v2's sign is free: the one that rolls the least
                 if bool(goal.GetPropertyValue("ViewValid")):
-                    mce.turn_camera(view, None, direction,
-                                    goal.GetPropertyValue("ViewUp"), frames=args.turn_frames,
+                    mce.turn_camera(view, None, direction, up, frames=args.turn_frames,
                                     duration=0, on_step=save_frame, fit=goal)
             else:
                 simple.Render(view)

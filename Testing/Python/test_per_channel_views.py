@@ -4,7 +4,7 @@ each picture shows the channel it is named after, at that channel's best view.
 Known answers:
 - MergeChannels names the channels after the files but does not keep the files' order:
   every channel array has its picture, named after it, coloured by it (report.json's
-  coloured_by), and all.png shows them together;
+  coloured_by), and all.png shows them together (the array all_channels);
 - each picture's direction is the best view of its channel alone, computed here by a
   BestViewpoint filter of its own (Channels = that channel, the default opacity: the
   channel's range linearly, as the example asks with OpacityFunction=None), up to the sign;
@@ -31,7 +31,10 @@ names = list(volume.PointData.keys())
 by_image = {v["image"]: v for v in report}
 C.check(sorted(by_image) == sorted(["all.png"] + [n + ".png" for n in names]),
         "one picture per channel array, named after it, and all.png: %s" % sorted(by_image))
-C.check(by_image.get("all.png", {}).get("channels") == names, "all.png: every channel")
+C.check(by_image.get("all.png", {}).get("channels") == names and
+        by_image["all.png"].get("coloured_by") == "all_channels",
+        "all.png: the view of every channel, drawn by all_channels (%s)"
+        % by_image.get("all.png", {}).get("coloured_by"))
 directions = {}
 for name in names:
     view = by_image.get(name + ".png")

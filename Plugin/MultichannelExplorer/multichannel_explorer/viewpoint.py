@@ -95,6 +95,17 @@ def _vec(proxy, name):
     return [float(x) for x in proxy.GetPropertyValue(name)]
 
 
+def _upright(view_up):
+    """v2 or -v2, whichever keeps the volume upright: the sign of v2 is arbitrary (PCA),
+    and the wrong one shows a head or a cell upside down. Up is the side of +z (a scan's
+    superior side, a stack's last slice) when v2 leans along z, else of +y (anterior in a
+    top view, ParaView's own default up), else of +x."""
+    for axis in (2, 1, 0):
+        if abs(view_up[axis]) >= 0.1:
+            return [float(c) for c in view_up] if view_up[axis] > 0 else [-float(c) for c in view_up]
+    return [float(c) for c in view_up]
+
+
 def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
     """Points the camera of `view` along `direction` (view-up `view_up`) at the middle of
     `points` (world positions: the visible voxels' support points) and as close as they
@@ -188,7 +199,8 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
       When `source` is shown as a Volume in `view`, the filter uses that display's
       Scalar Opacity Function (and colouring array) unless they are given.
     * which="best": the camera looks along v3 (least variance of the interest points);
-      which="worst": along v1. View-up is v2 in both cases.
+      which="worst": along v1. View-up is v2 in both cases, signed so that the volume is
+      upright (towards +z where v2 leans along z, else +y).
     * The camera is fitted (direction kept) to the voxels the picture shows (opacity of
       at least 1 %; the filter's VisibleSupport, their silhouette from any direction):
       centred on them, as close as lets every one stay in view with a 15 % margin; the
@@ -214,7 +226,7 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
     bvp = best_viewpoint_filter(source, view, **filter_properties)
     best = _vec(bvp, "BestViewDirection")
     worst = _vec(bvp, "WorstViewDirection")
-    up = _vec(bvp, "ViewUp")
+    up = _upright(_vec(bvp, "ViewUp"))
     eig = _vec(bvp, "EigenvalueSpectrum")
     center = _vec(bvp, "DataCenter")
     visible = _vec(bvp, "VisibleBounds")
