@@ -12,7 +12,8 @@ auto_widgets(4). Known answers:
   its name and its share of the drawn voxels within its half maximum, counted here with
   numpy on the same voxels (every 7th: 7.1 M / 10^6) and formatted the same way;
   a rename shows in the legend; ShowWidgetLegend 0 removes it from the picture (the
-  top-right corner changes);
+  top-right corner changes); the camera fitted with the legend leaves its corner empty
+  (and its estimate of the legend's size is the drawn one's);
 - names and hidden widgets survive a state file (SaveState, ResetSession, LoadState);
 - probe() of a voxel whose AAL value is 1 says aal = 1, label "Precentral_L" (the line
   of aal.nii.txt), and its other values equal the volume's at that voxel, bit for bit;
@@ -195,6 +196,49 @@ C.check(0 < small[1] < 0.8 * large[1] and small[1] <= 0.22 * 240 and
         0 < small[0] < 0.8 * large[0],
         "the legend (3 rows) is %d x %d pixels in a 600 x 600 picture, %d x %d in a "
         "320 x 240 one (at most 22%% of its height)" % (large + small))
+
+
+# The camera's fit keeps the volume from under the legend (apply_best_viewpoint sizes the
+# legend as the representation does): fitted at 320 x 240 with the legend shown, the
+# picture without the legend has nothing drawn in the legend's corner; fitted without a
+# legend, the volume does reach into it (the check can fail).
+def corner_pixels(size, box, legend_shown):
+    """Pixels drawn (not the background) in the legend's top right `box` (fractions of the
+    view) of a picture of `size`, the camera fitted with the legend shown or not, the
+    picture without it."""
+    from vtkmodules.vtkIOImage import vtkPNGReader
+    view.ViewSize = list(size)
+    display.ShowWidgetLegend = legend_shown
+    mce.apply_best_viewpoint(reduction, view)
+    display.ShowWidgetLegend = 0
+    path = os.path.join(out, "fit_%dx%d_legend%d.png" % (size[0], size[1], legend_shown))
+    simple.SaveScreenshot(path, view, ImageResolution=list(size))
+    display.ShowWidgetLegend = 1
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    shot = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()) \
+        .reshape(size[1], size[0], -1)[:, :, :3].astype(int)
+    corner = shot[size[1] - int(round(box[1] * size[1])):, size[0] - int(round(box[0] * size[0])):]
+    return int((np.abs(corner - shot[0, 0]).max(axis=2) > 8).sum())
+
+
+view.ViewSize = [320, 240]
+estimate = mce.viewpoint._legend_fraction(view)
+gap = 7  # round(13 / 2): rows of 13 pixels at 240
+C.check(estimate is not None and abs(estimate[1] * 240 - gap - small[1]) <= 3 and
+        abs(estimate[0] * 320 - gap - small[0]) <= 0.25 * small[0],
+        "the fit's estimate of the legend (%s of 320 x 240, gap included) is the drawn "
+        "one's %d x %d pixels" % (estimate and ["%.3f" % f for f in estimate], small[0],
+                                  small[1]))
+box = estimate or (0.0, 0.0)
+under_fitted = corner_pixels((320, 240), box, 1)
+under_plain = corner_pixels((320, 240), box, 0)
+C.check(under_fitted == 0 and under_plain > 0,
+        "fitted with the legend, nothing is drawn under it (%d pixels in its %dx%d corner); "
+        "fitted without, %d are" % (under_fitted, round(box[0] * 320), round(box[1] * 240),
+                                    under_plain))
+view.ViewSize = [500, 500]
 
 # ---- state file ------------------------------------------------------------------------------
 hidden = [float(v) for v in display.GaussianWidgetsHidden]

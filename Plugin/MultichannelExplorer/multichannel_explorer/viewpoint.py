@@ -9,7 +9,7 @@ import time
 from ._common import (_FILTER_XML_NAME, _Follower, _TracedProperties, _filter, _find_filter, _followers,
                       _is_representation, _simple, _view_time, _warn)
 from .images import _render_entropy
-from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, _coordinates_name,
+from .transfer_function import (GAUSSIAN_TF_REPRESENTATION, WIDGET_FIELDS, _coordinates_name,
                                 _gaussian_tf_display, _volume_display, _widget_values)
 
 __all__ = [
@@ -125,28 +125,83 @@ def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
 
 
 def _fitted_camera(view, points, direction, view_up, margin=1.15):
-    """(focal point, direction, distance, view-up, parallel scale or None) of _fit_camera."""
+    """(focal point, direction, distance, view-up, parallel scale or None) of _fit_camera.
+    Where the points would reach under the widget legend in the view's top right corner,
+    they are fitted below it instead: the top band of the legend's height is left out."""
     w = _normalized(direction)
     u = _normalized([c - _dot(view_up, w) * d for c, d in zip(view_up, w)])
     r = _cross(w, u)
     frame = [(_dot(p, r), _dot(p, u), _dot(p, w)) for p in points]
     middle = [(min(c[a] for c in frame) + max(c[a] for c in frame)) / 2.0 for a in range(3)]
-    focal = [middle[0] * r[i] + middle[1] * u[i] + middle[2] * w[i] for i in range(3)]
     rel = [(x - middle[0], y - middle[1], z - middle[2]) for x, y, z in frame]
     width, height = [max(1, int(v)) for v in view.ViewSize]
     aspect = float(width) / height
     size = max(max(abs(x), abs(y), abs(z)) for x, y, z in rel) or 1.0
     # the camera stays in front of every point
     nearest = max(-z for _, _, z in rel) + 0.05 * size
-    scale = None
-    if view.CameraParallelProjection:
-        scale = margin * max(max(abs(y), abs(x) / aspect) for x, y, _ in rel)
-        distance = max(nearest, 4 * size)
-    else:
-        t = math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
-        distance = max(max(margin * max(abs(y), abs(x) / aspect) / t - z for x, y, z in rel),
-                       nearest)
+    parallel = bool(view.CameraParallelProjection)
+    t = 1.0 if parallel else math.tan(math.radians(float(view.CameraViewAngle)) / 2.0)
+
+    def fit(top):
+        """(distance, scale, shift along u) with the top `top` of the view's height left out."""
+        reach = [max(abs(y) / (1.0 - top), abs(x) / aspect) for x, y, _ in rel]
+        if parallel:
+            scale = margin * max(reach)
+            return max(nearest, 4 * size), scale, top * scale
+        distance = max(max(margin * e / t - z for e, (_, _, z) in zip(reach, rel)), nearest)
+        return distance, None, top * distance * t
+
+    distance, scale, shift = fit(0.0)
+    legend = _legend_fraction(view)
+    if legend is not None and any(_in_corner(x, y, z, distance, scale, t, aspect, legend)
+                                  for x, y, z in rel):
+        distance, scale, shift = fit(min(legend[1], 0.5))
+    middle[1] += shift  # the points sit below the band left out
+    focal = [middle[0] * r[i] + middle[1] * u[i] + middle[2] * w[i] for i in range(3)]
     return focal, w, distance, u, scale
+
+
+def _in_corner(x, y, z, distance, scale, t, aspect, corner):
+    """Whether a point (relative to the focal point, camera frame) falls in the top right
+    corner of the picture of `corner` = (width, height) fractions of the view."""
+    depth = scale if scale is not None else (distance + z) * t
+    if depth <= 0:
+        return False
+    return x / (depth * aspect) >= 1.0 - 2.0 * corner[0] and y / depth >= 1.0 - 2.0 * corner[1]
+
+
+def _legend_fraction(view):
+    """(width, height) of the widget legend in `view`, gap to the corner included, as
+    fractions of the view; None when no visible Gaussian TF Volume shows one. Sized as
+    vtkGaussianTFVolumeRepresentation::UpdateLegend sizes it: one row per drawn widget (peak
+    opacity above 0), rows of 13-20 pixels by the view's height (at most 16 and half the
+    view), 0.4 of a row a character plus 2.2 rows for the swatch; the shares' text is not
+    known before the render: taken as "  12.3%"."""
+    width, height = [max(1, int(v)) for v in view.ViewSize]
+    row = min(20.0, max(13.0, float(round(height / 28.0))))
+    most = max(2, min(16, int(max(0.0, (height / 2.0 - 8) / row))))
+    box = None
+    for rep in getattr(view, "Representations", []):
+        try:
+            if not rep.Visibility or rep.Representation != GAUSSIAN_TF_REPRESENTATION or \
+                    not rep.ShowWidgetLegend:
+                continue
+            names = [str(n) for n in rep.GaussianWidgetNames]
+        except AttributeError:
+            continue
+        values, n = _widget_values(rep), len(WIDGET_FIELDS)
+        rows = [names[i] if i < len(names) and names[i] else "Widget %d" % (i + 1)
+                for i in range(len(values) // n) if values[i * n + n - 1] > 0]
+        if len(rows) > most:
+            rows = rows[:most - 1] + ["+ %d more widgets" % (len(rows) - most + 1)]
+        if not rows:
+            continue
+        longest = max(len(" " + name + "  12.3%") for name in rows)
+        gap = round(row / 2)
+        corner = ((2.2 * row + 0.4 * row * longest + gap) / width,
+                  (row * len(rows) + 8.0 + gap) / height)
+        box = corner if box is None else (max(box[0], corner[0]), max(box[1], corner[1]))
+    return box
 
 
 def _visible_points(bvp):
@@ -203,8 +258,9 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
       upright (towards +z where v2 leans along z, else +y).
     * The camera is fitted (direction kept) to the voxels the picture shows (opacity of
       at least 1 %; the filter's VisibleSupport, their silhouette from any direction):
-      centred on them, as close as lets every one stay in view with a 15 % margin; the
-      view is rendered.
+      centred on them, as close as lets every one stay in view with a 15 % margin, and
+      below the widget legend of a Gaussian TF Volume where it would cover them; the view
+      is rendered.
     * disambiguate=True: v and -v are equally good by variance; both are rendered and
       the one whose image has the higher luminance entropy is kept.
 
