@@ -9,7 +9,8 @@ Known answers:
   keeps off the picture's edges (before, the view was fitted to the voxels of the first
   component's opacity while the picture showed the magnitude's: worst.png ran off three
   edges);
-- the camera's view-up is v2 signed towards +z where v2 leans along z (upright).
+- the camera's view-up is v2 signed towards the positive side of the axis it lies closest
+  to (upright).
 """
 import json
 import os
@@ -55,6 +56,7 @@ if C.check(os.path.exists(report), "best_viewpoint.json written"):
     with open(report) as f:
         summary = json.load(f)
     up = summary["view_up"]
-    leading = 2 if abs(up[2]) >= 0.1 else 1
-    C.check(up[leading] > 0, "view-up %s points to +%s (upright)" % (up, "zy"[2 - leading]))
+    leading = max((2, 1, 0), key=lambda a: abs(up[a]))
+    C.check(up[leading] > 0, "view-up %s points to +%s, the axis it lies closest to (upright)"
+            % (up, "xyz"[leading]))
 C.finish()

@@ -97,13 +97,11 @@ def _vec(proxy, name):
 
 def _upright(view_up):
     """v2 or -v2, whichever keeps the volume upright: the sign of v2 is arbitrary (PCA),
-    and the wrong one shows a head or a cell upside down. Up is the side of +z (a scan's
-    superior side, a stack's last slice) when v2 leans along z, else of +y (anterior in a
-    top view, ParaView's own default up), else of +x."""
-    for axis in (2, 1, 0):
-        if abs(view_up[axis]) >= 0.1:
-            return [float(c) for c in view_up] if view_up[axis] > 0 else [-float(c) for c in view_up]
-    return [float(c) for c in view_up]
+    and the wrong one shows a head or a cell upside down. Up is the positive side of the
+    axis v2 lies closest to: +z (superior in a scan) in a side or front view, +y (anterior,
+    as axial images are shown; ParaView's own default up) in a view from above or below."""
+    axis = max((2, 1, 0), key=lambda a: abs(view_up[a]))  # a tie goes to z, then y
+    return [float(c) for c in view_up] if view_up[axis] >= 0 else [-float(c) for c in view_up]
 
 
 def _fit_camera(view, points, direction, view_up, margin=1.15, render=True):
@@ -255,7 +253,7 @@ def apply_best_viewpoint(source, view=None, which="best", disambiguate=False,
       Scalar Opacity Function (and colouring array) unless they are given.
     * which="best": the camera looks along v3 (least variance of the interest points);
       which="worst": along v1. View-up is v2 in both cases, signed so that the volume is
-      upright (towards +z where v2 leans along z, else +y).
+      upright (towards the positive side of the axis v2 lies closest to).
     * The camera is fitted (direction kept) to the voxels the picture shows (opacity of
       at least 1 %; the filter's VisibleSupport, their silhouette from any direction):
       centred on them, as close as lets every one stay in view with a 15 % margin, and
