@@ -47,7 +47,8 @@ colour means the same tissue in every thumbnail. A volume without a channel of t
 gets an error entry naming the channel. Each record and caption gives the volume's share
 of voxels outside the model (DimensionReduction's NumberOfOutOfModelVoxels over its
 voxels): what the widgets were never placed for. The file is checked before any volume;
-snapshots of another transfer function (or none) are not reused on resume.
+snapshots of another transfer function (or none), or of another --size, are not reused
+on resume.
 
 Isolation: each volume is rendered by a separate pvbatch process (a fresh session: no
 proxy, view or transfer function leaks from one file into the next), under a time limit
@@ -666,6 +667,7 @@ def commit_volume(record, staged, paths):
                 record["thumbnail"] = os.path.relpath(staged["final_thumbnail"],
                                                       paths["output"])
                 record["thumbnail_bytes"] = os.path.getsize(staged["thumbnail"])
+                record["thumbnail_size"] = paths.get("size")
         try:
             if record["status"] == "ok":
                 os.replace(staged["thumbnail"], staged["final_thumbnail"])
@@ -750,6 +752,8 @@ def load_finished(vol, paths):
             return None
         if "thumbnail_bytes" in record and os.path.getsize(thumbnail) != record["thumbnail_bytes"]:
             return None  # a thumbnail of another render than the record's (a cut commit)
+        if record.get("thumbnail_size") != paths.get("size"):
+            return None  # rendered at another --size
     return record
 
 
@@ -894,7 +898,7 @@ def main(argv):
         if not os.environ.get("PV_PLUGIN_PATH"):
             args.plugin = find_plugin()
 
-    paths = {"output": os.path.abspath(args.output)}
+    paths = {"output": os.path.abspath(args.output), "size": list(args.size)}
     if args.transfer_function:
         # Checked once, before any volume: a bad file (or a missing model) stops the run.
         args.transfer_function = os.path.abspath(args.transfer_function)

@@ -288,6 +288,31 @@ checker.check(proc.returncode == 0 and "1 processed, %d skipped" % (total - 1) i
               and load_index()["ch2_half.vti"]["status"] == "ok",
               "resume: the volume without a record is redone, the rest skipped")
 
+# 4b. Resume at another --size: the volume is rendered again at that size, then reused.
+sized_in, sized_out = os.path.join(work, "sized"), os.path.join(work, "sized_index")
+os.makedirs(sized_in)
+shutil.copy(den, sized_in)
+
+
+def sized_run(*extra):
+    cmd = [PVBATCH, SCRIPT, "--input", sized_in, "--output", sized_out] + list(extra)
+    if os.environ.get("MCV_PLUGIN"):
+        cmd += ["--plugin", os.environ["MCV_PLUGIN"]]
+    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          universal_newlines=True, env=env)
+    thumbnail = os.path.join(sized_out, "thumbnails", "brainsmall.den.png")
+    return proc, mce.image_statistics(thumbnail)["pixels"] if os.path.exists(thumbnail) else 0
+
+
+first, _ = sized_run()
+again, pixels = sized_run("--size", "160", "120")
+same, _ = sized_run("--size", "160", "120")
+checker.check(first.returncode == 0 and again.returncode == 0 and
+              "1 processed, 0 skipped" in again.stdout and pixels == 160 * 120 and
+              "0 processed, 1 skipped" in same.stdout,
+              "resume with another --size renders the volume again at 160 x 120 (%d pixels), "
+              "then reuses it" % pixels)
+
 # 5. A volume over the time limit becomes an error entry; no success -> exit code 1.
 slow_in = os.path.join(work, "slow")
 os.makedirs(slow_in)
