@@ -390,7 +390,7 @@ def main():
         fetched), as numpy."""
         from vtkmodules.util.numpy_support import vtk_to_numpy
 
-        data = data or servermanager.Fetch(source, idx=port)
+        data = servermanager.Fetch(source, idx=port) if data is None else data
         array = data.GetPointData().GetArray(name)
         job.check("fetching %s" % name)
         if array is None:

@@ -91,10 +91,12 @@ private:
   std::string PlaneMapInformation(vtkInformation* outInfo);
   int ReadPlanes(vtkInformation* outInfo);
 
-  // A time series of volume files (one file per step): the step readers, and the steps'
-  // information and the step read by RequestData (vtkCheckedTIFFReaderSeries.cxx).
-  // Sets Series and OneImageSet from the listed files' first (its pages and OME-XML).
+  // A time series of volume files (one file per step, vtkCheckedTIFFReaderSeries.cxx).
+  // ClassifyList sets Series and OneImageSet from the listed files' first (its pages and
+  // OME-XML); a step is read by a reader of its own (StepReader: this reader's spacing
+  // settings), for the series' information and for the step RequestData asks for.
   void ClassifyList();
+  vtkSmartPointer<vtkCheckedTIFFReader> StepReader(const std::string& file);
   std::string SeriesInformation(vtkInformation* outInfo);
   int ReadSeriesStep(vtkInformation* outInfo);
   // What one file holds besides its grid: its channels and sample type ("channels DAPI, GFP
@@ -105,7 +107,6 @@ private:
   std::vector<std::string> Stack;
   bool Series = false;      // the listed files are a time series of volumes
   bool OneImageSet = false; // the listed files are the parts of one OME-TIFF: read the first
-  std::vector<vtkSmartPointer<vtkCheckedTIFFReader>> Steps;
   class vtkInternals;
   vtkInternals* Internals;
 };

@@ -12,7 +12,6 @@
 
 #include "vtkImageData.h"
 #include "vtkInformation.h"
-#include "vtkNew.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtksys/SystemTools.hxx"
 
@@ -91,22 +90,26 @@ void vtkCheckedTIFFReader::ClassifyList()
 }
 
 //------------------------------------------------------------------------------
+vtkSmartPointer<vtkCheckedTIFFReader> vtkCheckedTIFFReader::StepReader(const std::string& file)
+{
+  auto step = vtkSmartPointer<vtkCheckedTIFFReader>::New();
+  step->AddFileName(file.c_str());
+  step->SetSpacingSpecifiedFlag(this->GetSpacingSpecifiedFlag());
+  step->SetDataSpacing(this->GetDataSpacing());
+  step->SetDataOrigin(this->GetDataOrigin());
+  return step;
+}
+
+//------------------------------------------------------------------------------
 std::string vtkCheckedTIFFReader::SeriesInformation(vtkInformation* outInfo)
 {
   const std::vector<std::string> files = this->Files();
-  this->Steps.resize(files.size());
+  vtkSmartPointer<vtkCheckedTIFFReader> first; // its information is the series'
   std::string firstGrid, firstContents;
   for (std::size_t i = 0; i < files.size(); ++i)
   {
-    vtkSmartPointer<vtkCheckedTIFFReader>& step = this->Steps[i];
-    if (!step || step->Files() != std::vector<std::string>{ files[i] })
-    {
-      step = vtkSmartPointer<vtkCheckedTIFFReader>::New();
-      step->AddFileName(files[i].c_str());
-    }
-    step->SetSpacingSpecifiedFlag(this->GetSpacingSpecifiedFlag());
-    step->SetDataSpacing(this->GetDataSpacing());
-    step->SetDataOrigin(this->GetDataOrigin());
+    // Each file's header with every check of a single file (no data is read).
+    vtkSmartPointer<vtkCheckedTIFFReader> step = this->StepReader(files[i]);
     std::ostringstream which;
     which << "has a file '" << files[i] << "' (time step " << i + 1 << ") that ";
     const std::string error = mcv::caughtErrors(step, [&] { step->UpdateInformation(); });
@@ -125,6 +128,7 @@ std::string vtkCheckedTIFFReader::SeriesInformation(vtkInformation* outInfo)
     const std::string contents = step->Contents();
     if (i == 0)
     {
+      first = step;
       firstGrid = grid;
       firstContents = contents;
     }
@@ -135,12 +139,12 @@ std::string vtkCheckedTIFFReader::SeriesInformation(vtkInformation* outInfo)
         ": the files of a time series must share one grid and one set of channels";
     }
   }
-  vtkInformation* first = this->Steps[0]->GetOutputInformation(0);
-  outInfo->CopyEntry(first, vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
-  outInfo->CopyEntry(first, vtkDataObject::SPACING());
-  outInfo->CopyEntry(first, vtkDataObject::ORIGIN());
-  outInfo->CopyEntry(first, vtkDataObject::POINT_DATA_VECTOR(), 1);
-  outInfo->CopyEntry(first, vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT());
+  vtkInformation* info = first->GetOutputInformation(0);
+  outInfo->CopyEntry(info, vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT());
+  outInfo->CopyEntry(info, vtkDataObject::SPACING());
+  outInfo->CopyEntry(info, vtkDataObject::ORIGIN());
+  outInfo->CopyEntry(info, vtkDataObject::POINT_DATA_VECTOR(), 1);
+  outInfo->CopyEntry(info, vtkAlgorithm::CAN_PRODUCE_SUB_EXTENT());
   std::vector<double> times(files.size());
   for (std::size_t i = 0; i < times.size(); ++i)
   {
@@ -158,21 +162,18 @@ int vtkCheckedTIFFReader::ReadSeriesStep(vtkInformation* outInfo)
 {
   // The step: the last whose time is at or before the requested time (as ParaView's
   // readers snap), the first before it.
+  const std::vector<std::string> files = this->Files();
   std::size_t index = 0;
   if (outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP()))
   {
     const double time = outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_TIME_STEP());
-    const double last = static_cast<double>(this->Steps.size() - 1);
+    const double last = static_cast<double>(files.size() - 1);
     index = static_cast<std::size_t>(std::floor(std::min(std::max(time, 0.0), last) + 1e-9));
   }
   // A reader of its own for this read, dropped with its data once the output holds it: one
   // volume in memory, not one per step visited (and no reader's state left from another
   // read: vtkTIFFReader reads a multi-page file wrongly when it runs again).
-  vtkNew<vtkCheckedTIFFReader> step;
-  step->AddFileName(this->Files()[index].c_str());
-  step->SetSpacingSpecifiedFlag(this->GetSpacingSpecifiedFlag());
-  step->SetDataSpacing(this->GetDataSpacing());
-  step->SetDataOrigin(this->GetDataOrigin());
+  vtkSmartPointer<vtkCheckedTIFFReader> step = this->StepReader(files[index]);
   int extent[6];
   outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), extent);
   vtkImageData* output = vtkImageData::GetData(outInfo);
